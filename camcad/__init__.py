@@ -1,0 +1,8 @@
+"""camcad: cam mechanism design from drawn acceleration laws.
+
+Units at every interface: cam angle in degrees, lengths in mm, speeds in rpm,
+forces in N, stresses in MPa. Inside the library, angles are radians unless a
+name ends in ``_deg``.
+"""
+
+__version__ = "0.1.0"

@@ -1,0 +1,147 @@
+"""`camcad check` and `camcad fix`: the area balance of a drawn law, and its correction."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from . import app
+from .common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, PhasesOpt, XDegOpt, console,
+                     load_law_from_options, parse_pair, print_json)
+
+TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")]
+
+
+@app.command()
+def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
+          lift: LiftOpt = None, phases: PhasesOpt = None, x_deg: XDegOpt = False, tol: TolOpt = 1e-5,
+          plot: Annotated[Optional[Path], typer.Option("--plot", help="Write a PNG of a, v, s with the areas.")] = None,
+          as_json: JsonOpt = False) -> None:
+    """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."""
+    from ..balance import check as balance_check
+
+    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
+    report = balance_check(loaded.law, tol)
+    payload = {"source": loaded.source, "notes": list(loaded.notes), **report.to_dict()}
+    if plot is not None:
+        from ..plots.balance import plot_balance
+
+        payload["plot"] = str(plot_balance(loaded.law, report, plot, title=law_file.name))
+    if as_json:
+        print_json(payload)
+    else:
+        _print_report(payload, loaded)
+    raise typer.Exit(0 if report.balanced else 1)
+
+
+@app.command()
+def fix(law_file: LawArg,
+        output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Corrected file (default <name>.fixed.dxf).")] = None,
+        mode: Annotated[str, typer.Option("--mode", help="min-change | extrema | extrema-resample | keypoints | "
+                                                         "segment | phase | phase-keypoints")] = "min-change",
+        method: Annotated[str, typer.Option("--method", help="exact (linear solve) or iterate (the source's loop).")] = "exact",
+        step: Annotated[float, typer.Option("--step", help="Resampling step of iterate and extrema-resample (deg).")] = 0.1,
+        segment: Annotated[Optional[str], typer.Option("--segment", help="A:B, the angle range mode segment may change (deg).")] = None,
+        move: Annotated[Optional[str], typer.Option("--move", help="X:Y, set the point at X deg to a = Y (input units) and rebalance the rest.")] = None,
+        max_stretch: Annotated[float, typer.Option("--max-stretch", help="Largest phase stretch of phase-keypoints (fraction).")] = 0.05,
+        layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0, lift: LiftOpt = None,
+        phases: PhasesOpt = None, x_deg: XDegOpt = False, tol: TolOpt = 1e-5,
+        no_plots: Annotated[bool, typer.Option("--no-plots", help="Do not write the PNG beside the output.")] = False,
+        as_json: JsonOpt = False) -> None:
+    """Correct an unbalanced law with the smallest change and write a corrected copy of the drawing."""
+    from ..balance import correct
+    from ..errors import CamcadError
+
+    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
+    segment_deg = parse_pair(segment, "--segment", "60:180") if segment else None
+    move_pair = parse_pair(move, "--move", "75:12.5") if move else None
+    if move_pair is not None:
+        move_pair = (move_pair[0], move_pair[1] * loaded.y_scale)  # input units -> law units
+    out = output or law_file.with_name(law_file.stem + ".fixed" + (law_file.suffix if loaded.curve is None
+                                                                    else ".dxf"))
+    if out.resolve() == law_file.resolve():
+        raise CamcadError("the output would overwrite the input", str(out), "give another name with -o")
+    result = correct(loaded.law, mode, tol=tol, method=method, step_deg=step, segment_deg=segment_deg,
+                     move=move_pair, max_stretch=max_stretch, where=str(law_file))
+    written, notes = _write(loaded, result, out)
+    payload = {
+        "source": loaded.source, "notes": list(loaded.notes) + list(result.notes) + notes,
+        **result.before.to_dict(),
+        "mode": mode, "method": method, "output": str(written),
+        "max_change": result.max_change / loaded.y_scale, "rms_change": result.rms_change / loaded.y_scale,
+        "iterations": result.iterations, "resampled": result.resampled,
+        "after": result.after.to_dict(),
+    }
+    if not no_plots:
+        from ..plots.balance import plot_balance
+
+        payload["plot"] = str(plot_balance(loaded.law, result.before, written.with_suffix(".png"),
+                                           corrected=result.law, title=f"{law_file.name}, fix --mode {mode}"))
+    if as_json:
+        print_json(payload)
+    else:
+        _print_report(payload, loaded, fixed=True)
+    raise typer.Exit(0 if result.after.balanced else 1)
+
+
+def _write(loaded, result, out: Path):
+    from ..io.law_write import write_corrected_drawing, write_law_dxf
+
+    if loaded.curve is not None and out.suffix.lower() == ".dxf":
+        return write_corrected_drawing(loaded, result.law, out, resampled=result.resampled)
+    theta_deg = loaded.theta_to_x(result.law.x) if loaded.curve is not None else result.law.x * 180 / 3.141592653589793
+    accel = loaded.a_to_y(result.law.a)
+    if out.suffix.lower() == ".dxf":
+        return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
+    from ..io.atomic import write_atomic
+    from ..io.table_read import write_table
+
+    table = loaded.table
+    delimiter = table.delimiter if table is not None else ","
+    decimal_comma = table.decimal_comma if table is not None else False
+    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
+    return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
+
+
+def _print_report(payload: dict, loaded, fixed: bool = False) -> None:
+    from rich.table import Table
+
+    out = console()
+    out.print(f"[bold]{payload['source']}[/bold]")
+    for note in payload["notes"]:
+        out.print(f"  note: {note}")
+    phase_table = Table(title="phases", show_lines=False)
+    for column in ("phase", "from (deg)", "to (deg)", "area + (mm/rad)", "area - (mm/rad)", "v at end (mm/rad)",
+                   "displacement (mm)"):
+        phase_table.add_column(column, justify="right")
+    for row in payload["phases"]:
+        phase_table.add_row(row["kind"], f"{row['start_deg']:.4f}", f"{row['end_deg']:.4f}",
+                            f"{row['area_positive']:.6g}", f"{row['area_negative']:.6g}", f"{row['v_end']:.3e}",
+                            f"{row['displacement']:.6g}")
+    out.print(phase_table)
+    closures = Table(title="balance conditions" + (" (before -> after)" if fixed else ""))
+    closures.add_column("condition")
+    closures.add_column("residual", justify="right")
+    if fixed:
+        closures.add_column("after", justify="right")
+    after = payload.get("after", {}).get("conditions", [])
+    for i, cond in enumerate(payload["conditions"]):
+        cells = [cond["name"], f"{cond['residual']:.3e}"]
+        if fixed:
+            cells.append(f"{after[i]['residual']:.3e}" if i < len(after) else "")
+        closures.add_row(*cells)
+    out.print(closures)
+    out.print(f"rise {payload['rise']:.6g} mm, return {payload['return']:.6g} mm, tolerance {payload['tolerance_abs']:.3g} "
+              f"(= {payload['tolerance']:g} x rise)")
+    if fixed:
+        verdict = "balanced" if payload["after"]["balanced"] else "STILL NOT balanced"
+        out.print(f"mode {payload['mode']} ({payload['method']}): max change {payload['max_change']:.4g}, "
+                  f"RMS change {payload['rms_change']:.4g} (input y units); {verdict}")
+        out.print(f"written: {payload['output']}" + (f", plot {payload['plot']}" if payload.get("plot") else ""))
+    else:
+        verdict = "[green]balanced[/green]" if payload["balanced"] else "[red]NOT balanced[/red]: run camcad fix"
+        out.print(verdict)
+        if payload.get("plot"):
+            out.print(f"plot: {payload['plot']}")

@@ -1,0 +1,287 @@
+"""The batten study's multi-mass model: flywheel, elastic main shaft, cam, position function, elastic driven chain.
+
+Seed 001 (PhD abstract, Novosibirsk, batten of the STB loom) names the elements — J0 moment of
+inertia of the pulley/flywheel, J1 of the cam, J2 of the driven mass, c1 reduced stiffness of the
+main shaft between cam and flywheel, c2 the variable reduced stiffness of the driven system, ψ the
+dissipation coefficient, M0 the driving torque, Π(φ) the position (transfer) function — but its
+equations are images that did not survive. They are derived here with Lagrange's equations.
+
+Generalised coordinates: φ0 flywheel angle, φ1 cam angle (rad), q the driven coordinate (m for a
+translating output, rad for an oscillating one). The cam imposes Π(φ1) on the input end of the
+driven chain; the chain's spring c2(φ1) and damper b2 connect that end to the driven mass.
+
+    T = ½ J0 φ̇0² + ½ J1 φ̇1² + ½ J2 q̇²
+    V = ½ c1 (φ0 − φ1)² + ½ c2(φ1) (Π(φ1) − q)²
+    R = ½ b1 (φ̇0 − φ̇1)² + ½ b2 (Π'(φ1) φ̇1 − q̇)²        (Rayleigh dissipation function)
+    d/dt ∂T/∂q̇_i + ∂R/∂q̇_i + ∂V/∂q_i = Q_i,   Q = (M0, 0, M2)
+
+give, with the twist torque M_s = c1 (φ0 − φ1) + b1 (φ̇0 − φ̇1) and the chain force
+F2 = c2 (Π − q) + b2 (Π' φ̇1 − q̇):
+
+    J0 φ̈0 = M0 − M_s
+    J1 φ̈1 = M_s − Π'(φ1) F2 − ½ c2'(φ1) (Π − q)²
+    J2 q̈  = F2 + M2(t)
+
+Π' = dΠ/dφ and c2' = dc2/dφ1; the last term of the cam equation comes from the stiffness varying
+with the cam angle. M2 is an external load on the driven mass (the source's summary dynamic load at
+the start of motion). Dissipation: b2 = 2 ζ2 √(c2 J2), b1 = 2 ζ1 √(c1 J0 J1/(J0 + J1)) with ζ = ψ/(4π).
+
+Limits (the source: "the shaft is much stiffer than the driven chain, so q1 and its derivatives can
+be taken zero"):
+- rigid shaft, c1 = ∞: φ0 ≡ φ1 and (J0 + J1) φ̈1 = M0 − Π' F2 − ½ c2' (Π − q)²;
+- speed drive: the flywheel turns at a prescribed constant speed, φ0 = ω t (M0 is whatever it takes);
+- rigid shaft with a speed drive: φ1 = ω t and J2 q̈ + b2 (q̇ − Π' ω) + c2 (q − Π) = M2 — exactly the
+  single-DOF follower of ``sdof`` with y = q/scale, s = Π/scale, ωn² = c2/J2, ζ = b2/(2√(c2 J2)).
+
+Drives: ``SpeedDrive(rpm)`` or ``MotorDrive(torque, no_load_rpm, slope)`` with the linear static
+characteristic M0 = torque + slope (ω_idle − φ̇0) (N·m; slope N·m·s/rad).
+
+Units: SI throughout (kg·m², N·m/rad, N/m or N·m/rad, s); the law's displacement (mm or rad) is
+turned into Π by ``position_scale`` (1e-3 for mm → m, 1 for rad).
+Source: seed 001; Lagrange's equations with dissipation as in Vulfson, Dynamics of Cyclic
+Machines (2015), ch. 1–3.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..errors import CamcadError
+from ..law.law import MotionLaw
+from .sdof import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
+
+
+@dataclass(frozen=True)
+class MultiMassModel:
+    """Parameters of the multi-mass model (module docstring), SI units.
+
+    flywheel_inertia J0, cam_inertia J1 (kg·m²); shaft_stiffness c1 (N·m/rad, math.inf for a rigid
+    shaft); driven_inertia J2 (kg, or kg·m² for a rad output); driven_stiffness c2 (N/m or N·m/rad,
+    nominal); damping_ratio ζ2 of the chain and shaft_damping_ratio ζ1; stiffness φ(φ1) = c2(φ1)/c2;
+    position_scale: output units per unit of the law's displacement (1e-3 for mm → m).
+    """
+
+    flywheel_inertia: float
+    cam_inertia: float
+    shaft_stiffness: float
+    driven_inertia: float
+    driven_stiffness: float
+    damping_ratio: float = 0.0
+    shaft_damping_ratio: float = 0.0
+    stiffness: StiffnessTable | None = None
+    position_scale: float = 1e-3
+
+    @classmethod
+    def from_follower(cls, follower: ElasticFollower, flywheel_inertia: float, cam_inertia: float,
+                      shaft_stiffness: float = math.inf, shaft_damping_ratio: float | None = None,
+                      position_scale: float = 1e-3) -> "MultiMassModel":
+        """The chain of a single-DOF follower (its mass, fn, ζ and stiffness variation) on a shaft."""
+        if follower.mass_kg is None:
+            raise CamcadError("the multi-mass model needs the driven mass", "dynamics", "give mass_kg")
+        zeta = follower.damping_ratio
+        return cls(flywheel_inertia, cam_inertia, shaft_stiffness, follower.mass_kg,
+                   follower.mass_kg * follower.omega_n**2, zeta,
+                   zeta if shaft_damping_ratio is None else shaft_damping_ratio, follower.stiffness, position_scale)
+
+    @property
+    def rigid_shaft(self) -> bool:
+        return math.isinf(self.shaft_stiffness)
+
+    @property
+    def chain_damping(self) -> float:
+        """b2 = 2 ζ2 √(c2 J2) (N·s/m or N·m·s/rad)."""
+        return 2.0 * self.damping_ratio * math.sqrt(self.driven_stiffness * self.driven_inertia)
+
+    def shaft_damping(self, speed_drive: bool) -> float:
+        """b1 = 2 ζ1 √(c1 J_red) (N·m·s/rad); J_red = J1 under a speed drive, J0J1/(J0+J1) otherwise."""
+        if self.rigid_shaft:
+            return 0.0
+        reduced = self.cam_inertia if speed_drive else \
+            self.flywheel_inertia * self.cam_inertia / (self.flywheel_inertia + self.cam_inertia)
+        return 2.0 * self.shaft_damping_ratio * math.sqrt(self.shaft_stiffness * reduced)
+
+
+@dataclass(frozen=True)
+class SpeedDrive:
+    """The flywheel turns at a constant ``rpm`` whatever the load (an ideal speed source)."""
+
+    rpm: float
+
+    @property
+    def nominal_rpm(self) -> float:
+        return self.rpm
+
+
+@dataclass(frozen=True)
+class MotorDrive:
+    """Driving torque on the flywheel M0 = torque + slope (ω_idle − φ̇0), N·m (linear static characteristic).
+
+    torque (N·m), no_load_rpm (ω_idle = 2π no_load_rpm/60), slope (N·m·s/rad, ≥ 0).
+    """
+
+    no_load_rpm: float
+    slope: float = 0.0
+    torque: float = 0.0
+
+    @property
+    def nominal_rpm(self) -> float:
+        return self.no_load_rpm
+
+    def __call__(self, speed: float) -> float:
+        return self.torque + self.slope * (rpm_to_rad_s(self.no_load_rpm) - speed)
+
+
+@dataclass(frozen=True)
+class MultiMassResult:
+    """Time histories of the multi-mass model at the ``time`` samples (s).
+
+    phi0, phi1 (rad), q (output units), their rates, the driven acceleration q̈, and the law's
+    quantities at the cam angle: dynamic_error = (q − Π(φ1))/scale in the law's unit (mm or rad),
+    accel_elastic = q̈/scale (law units/s²), accel_rigid = d²Π/dt²/scale at the actual cam motion.
+    """
+
+    time: np.ndarray
+    phi0: np.ndarray
+    phi1: np.ndarray
+    q: np.ndarray
+    dphi0: np.ndarray
+    dphi1: np.ndarray
+    dq: np.ndarray
+    ddq: np.ndarray
+    dynamic_error: np.ndarray
+    accel_elastic: np.ndarray
+    accel_rigid: np.ndarray
+
+    @property
+    def cam_speed_rpm(self) -> np.ndarray:
+        return self.dphi1 * 60.0 / (2.0 * math.pi)
+
+    def energy(self, model: MultiMassModel, law: MotionLaw) -> np.ndarray:
+        """T + V (J) along the solution (module docstring), for the conservation check of the undamped free model."""
+        pi = law.kinematics(self.phi1).s * model.position_scale
+        c2 = model.driven_stiffness * (1.0 if model.stiffness is None else model.stiffness(self.phi1))
+        kinetic = 0.5 * (model.flywheel_inertia * self.dphi0**2 + model.cam_inertia * self.dphi1**2
+                         + model.driven_inertia * self.dq**2)
+        twist = 0.0 if model.rigid_shaft else 0.5 * model.shaft_stiffness * (self.phi0 - self.phi1)**2
+        return kinetic + twist + 0.5 * c2 * (pi - self.q)**2
+
+
+class _Equations:
+    """Accelerations of the model for one combination of shaft (rigid/elastic) and drive (speed/torque)."""
+
+    def __init__(self, model: MultiMassModel, law: MotionLaw, drive, load: Callable[[float], float] | None):
+        self.m = model
+        self.law = law
+        self.scale = model.position_scale
+        self.speed_drive = isinstance(drive, SpeedDrive)
+        self.omega = rpm_to_rad_s(drive.nominal_rpm)
+        self.drive = drive
+        self.load = load
+        self.b1 = model.shaft_damping(self.speed_drive)
+        self.b2 = model.chain_damping
+
+    def chain(self, phi1: float, dphi1: float, q: float, dq: float) -> tuple[float, float]:
+        """Chain force F2 (N or N·m) and the chain's torque on the cam Π' F2 + ½ c2' (Π − q)² (N·m)."""
+        kin = self.law.kinematics(np.array([phi1]))
+        pi, dpi = kin.s[0] * self.scale, kin.v[0] * self.scale
+        stiffness = self.m.stiffness
+        c2 = self.m.driven_stiffness * (1.0 if stiffness is None else float(stiffness(phi1)))
+        dc2 = 0.0 if stiffness is None else self.m.driven_stiffness * float(stiffness.derivative(phi1))
+        stretch = pi - q
+        force = c2 * stretch + self.b2 * (dpi * dphi1 - dq)
+        return force, dpi * force + 0.5 * dc2 * stretch**2
+
+    def external(self, t: float) -> float:
+        return 0.0 if self.load is None else float(self.load(t))
+
+    def state_names(self) -> tuple[str, ...]:
+        if self.m.rigid_shaft and self.speed_drive:
+            return ("q", "dq")
+        if self.m.rigid_shaft or self.speed_drive:
+            return ("phi1", "q", "dphi1", "dq")
+        return ("phi0", "phi1", "q", "dphi0", "dphi1", "dq")
+
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        m = self.m
+        if m.rigid_shaft and self.speed_drive:
+            q, dq = y
+            force, _ = self.chain(self.omega * t, self.omega, q, dq)
+            return np.array([dq, (force + self.external(t)) / m.driven_inertia])
+        if m.rigid_shaft:
+            phi1, q, dphi1, dq = y
+            force, torque = self.chain(phi1, dphi1, q, dq)
+            ddphi1 = (self.drive(dphi1) - torque) / (m.flywheel_inertia + m.cam_inertia)
+            return np.array([dphi1, dq, ddphi1, (force + self.external(t)) / m.driven_inertia])
+        if self.speed_drive:
+            phi1, q, dphi1, dq = y
+            phi0, dphi0 = self.omega * t, self.omega
+        else:
+            phi0, phi1, q, dphi0, dphi1, dq = y
+        shaft = m.shaft_stiffness * (phi0 - phi1) + self.b1 * (dphi0 - dphi1)
+        force, torque = self.chain(phi1, dphi1, q, dq)
+        ddphi1 = (shaft - torque) / m.cam_inertia
+        ddq = (force + self.external(t)) / m.driven_inertia
+        if self.speed_drive:
+            return np.array([dphi1, dq, ddphi1, ddq])
+        ddphi0 = (self.drive(dphi0) - shaft) / m.flywheel_inertia
+        return np.array([dphi0, dphi1, dq, ddphi0, ddphi1, ddq])
+
+    def initial(self, q0: float, dq0: float) -> np.ndarray:
+        w = self.omega
+        values = {"phi0": 0.0, "phi1": 0.0, "q": q0, "dphi0": w, "dphi1": w, "dq": dq0}
+        return np.array([values[name] for name in self.state_names()])
+
+    def unpack(self, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarray]:
+        named = dict(zip(self.state_names(), y))
+        w = self.omega
+        if "phi1" not in named:
+            named["phi1"], named["dphi1"] = w * t, np.full_like(t, w)
+        if "phi0" not in named:
+            if self.speed_drive:
+                named["phi0"], named["dphi0"] = w * t, np.full_like(t, w)
+            else:
+                named["phi0"], named["dphi0"] = named["phi1"], named["dphi1"]
+        return named
+
+
+def simulate(model: MultiMassModel, law: MotionLaw, drive: SpeedDrive | MotorDrive, duration_s: float, *,
+             samples: int = 2001, q0: float | None = None, dq0: float | None = None,
+             load: Callable[[float], float] | None = None, method: str = "RK45", rtol: float = 1e-9,
+             atol: float | None = None) -> MultiMassResult:
+    """March the model from t = 0 to ``duration_s`` (s) with solve_ivp; histories at ``samples`` instants.
+
+    Start: φ0 = φ1 = 0 turning at the drive's nominal speed, the driven mass on its kinematic
+    position and velocity (q = Π(0), q̇ = Π'(0) ω) unless ``q0``/``dq0`` (output units, per s) say
+    otherwise. ``load(t)`` is the external load M2 on the driven mass (N or N·m).
+    Knobs: ``method`` (solve_ivp method), ``rtol``, ``atol`` (default rtol × 1e-3 × lift in output units).
+    """
+    from scipy.integrate import solve_ivp
+
+    if method not in SOLVERS:
+        raise CamcadError(f"unknown solver {method!r}", "--solver", f"choose one of {', '.join(SOLVERS)}")
+    eq = _Equations(model, law, drive, load)
+    kin0 = law.kinematics(np.array([0.0]))
+    q_start = kin0.s[0] * model.position_scale if q0 is None else q0
+    dq_start = kin0.v[0] * model.position_scale * eq.omega if dq0 is None else dq0
+    lift = float(np.ptp(law.kinematics(np.linspace(0.0, law.cycle, 1025)).s)) * model.position_scale
+    atol = rtol * 1e-3 * (lift or 1.0) if atol is None else atol
+    time = np.linspace(0.0, duration_s, samples)
+    sol = solve_ivp(eq.rhs, (0.0, duration_s), eq.initial(q_start, dq_start), method=method, rtol=rtol,
+                    atol=atol, t_eval=time)
+    if not sol.success:
+        raise CamcadError(f"the multi-mass integration failed: {sol.message}", "dynamics",
+                          "loosen the tolerance or choose another solver")
+    named = eq.unpack(time, sol.y)
+    names = eq.state_names()
+    rates = np.array([eq.rhs(t, y) for t, y in zip(time, sol.y.T)]).T
+    ddq = rates[names.index("dq")]
+    ddphi1 = rates[names.index("dphi1")] if "dphi1" in names else np.zeros_like(time)
+    kin = law.kinematics(named["phi1"])
+    scale = model.position_scale
+    accel_rigid = kin.a * named["dphi1"]**2 + kin.v * ddphi1
+    return MultiMassResult(time, named["phi0"], named["phi1"], named["q"], named["dphi0"], named["dphi1"],
+                           named["dq"], ddq, named["q"] / scale - kin.s, ddq / scale, accel_rigid)

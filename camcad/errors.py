@@ -1,0 +1,26 @@
+"""The one error type users see: what is wrong, where, and how to fix it."""
+
+from __future__ import annotations
+
+
+class CamcadError(Exception):
+    """A problem with the user's input or request; the CLI prints it on one line and exits 2.
+
+    Parameters
+    ----------
+    what:  what is wrong ("vertex 17 goes back in x").
+    where: the file, entity and vertex it concerns ("accel.dxf, LWPOLYLINE 2F").
+    fix:   how to fix it ("redraw the vertex or pick another curve with --handle").
+    """
+
+    def __init__(self, what: str, where: str = "", fix: str = "") -> None:
+        self.what = what
+        self.where = where
+        self.fix = fix
+        super().__init__(self.message())
+
+    def message(self) -> str:
+        text = f"{self.where}: {self.what}" if self.where else self.what
+        if self.fix:
+            text += f"; {self.fix}"
+        return " ".join(text.split())

@@ -1,0 +1,1 @@
+"""Reading laws (DXF, tables) and writing DXF, CSV and JSON outputs."""

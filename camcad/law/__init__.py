@@ -1,0 +1,7 @@
+"""Motion laws: the common interface, drawn (piecewise-linear) laws, standard closed forms, phases."""
+
+from .law import (Kinematics, MotionLaw, Phase, PiecewiseLinearLaw, integrate_exact,
+                  integrate_trapezoid)
+
+__all__ = ["Kinematics", "MotionLaw", "Phase", "PiecewiseLinearLaw", "integrate_exact",
+           "integrate_trapezoid"]

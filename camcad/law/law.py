@@ -1,0 +1,238 @@
+"""Motion laws: the common interface, and the piecewise-linear acceleration law integrated exactly.
+
+Conventions (SPEC.md): the cam angle θ is in radians inside the library; the
+follower displacement s is in mm (or in rad of arm swing for an oscillating
+follower); v = ds/dθ, a = d²s/dθ², j = d³s/dθ³ are analogs per radian of cam
+angle (mm/rad, mm/rad², mm/rad³). A law is periodic with period ``cycle``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+PHASE_KINDS = ("rise", "return", "dwell")
+
+
+@dataclass(frozen=True)
+class Phase:
+    """One phase of the cycle: ``kind`` in {"rise", "return", "dwell"}, from ``start`` to ``end`` (rad)."""
+
+    kind: str
+    start: float
+    end: float
+
+    def __post_init__(self) -> None:
+        if self.kind not in PHASE_KINDS:
+            raise ValueError(f"phase kind must be one of {PHASE_KINDS}, not {self.kind!r}")
+        if not self.end > self.start:
+            raise ValueError(f"phase must have end > start, got {self.start}..{self.end}")
+
+    @property
+    def width(self) -> float:
+        return self.end - self.start
+
+    def as_deg(self) -> dict:
+        return {"kind": self.kind, "start_deg": float(np.degrees(self.start)),
+                "end_deg": float(np.degrees(self.end))}
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """s, v, a, j of a law sampled at ``theta`` (rad); units mm, mm/rad, mm/rad², mm/rad³."""
+
+    theta: np.ndarray
+    s: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    j: np.ndarray
+
+
+@runtime_checkable
+class MotionLaw(Protocol):
+    """What every law offers: periodic s, v, a, j at any θ (rad), its cycle and its phases."""
+
+    @property
+    def cycle(self) -> float: ...
+
+    @property
+    def phases(self) -> tuple[Phase, ...]: ...
+
+    def kinematics(self, theta: np.ndarray) -> Kinematics: ...
+
+
+def displacement(law: MotionLaw, theta) -> np.ndarray:
+    return law.kinematics(np.asarray(theta, dtype=float)).s
+
+
+def velocity(law: MotionLaw, theta) -> np.ndarray:
+    return law.kinematics(np.asarray(theta, dtype=float)).v
+
+
+def acceleration(law: MotionLaw, theta) -> np.ndarray:
+    return law.kinematics(np.asarray(theta, dtype=float)).a
+
+
+def jerk(law: MotionLaw, theta) -> np.ndarray:
+    return law.kinematics(np.asarray(theta, dtype=float)).j
+
+
+def wrap(theta, cycle: float) -> np.ndarray:
+    """θ reduced to [0, cycle]; the cycle end itself is kept (not folded to 0) so s(cycle) is reachable."""
+    theta = np.asarray(theta, dtype=float)
+    wrapped = np.mod(theta, cycle)
+    # keep exact multiples > 0 at the end of the cycle: s(T) of an unbalanced law differs from s(0)
+    at_end = (wrapped == 0.0) & (theta > 0.0)
+    return np.where(at_end, cycle, wrapped)
+
+
+def lift_of(law: MotionLaw, samples: int = 4097) -> float:
+    """Total stroke max(s) − min(s) (mm), sampled at the knots' resolution of the law."""
+    theta = np.linspace(0.0, law.cycle, samples)
+    s = law.kinematics(theta).s
+    return float(s.max() - s.min())
+
+
+# --------------------------------------------------------------------------------------------
+# Exact integration of a piecewise-linear acceleration
+# --------------------------------------------------------------------------------------------
+
+def integrate_exact(x: np.ndarray, a: np.ndarray, v0: float = 0.0, s0: float = 0.0
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Velocity and displacement at the knots of a piecewise-linear acceleration, exactly.
+
+    On a segment of length L from knot k to k+1 the acceleration is linear, so
+        v_{k+1} = v_k + L (a_k + a_{k+1}) / 2
+        s_{k+1} = s_k + v_k L + L² (2 a_k + a_{k+1}) / 6
+    (the velocity is piecewise quadratic and the displacement piecewise cubic).
+    Zero-length segments (vertical jumps of a) add nothing. Exact up to round-off.
+
+    Parameters
+    ----------
+    x : knots (rad), non-decreasing; a repeated x is a jump of acceleration.
+    a : acceleration analog at the knots (mm/rad²).
+    v0, s0 : velocity (mm/rad) and displacement (mm) at x[0].
+
+    Returns
+    -------
+    v, s : arrays like x.
+    """
+    x = np.asarray(x, dtype=float)
+    a = np.asarray(a, dtype=float)
+    length = np.diff(x)
+    dv = length * (a[:-1] + a[1:]) / 2.0
+    v = np.concatenate(([v0], v0 + np.cumsum(dv)))
+    ds = v[:-1] * length + length**2 * (2.0 * a[:-1] + a[1:]) / 6.0
+    s = np.concatenate(([s0], s0 + np.cumsum(ds)))
+    return v, s
+
+
+def integrate_trapezoid(x: np.ndarray, a: np.ndarray, step: float, v0: float = 0.0, s0: float = 0.0
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The source's method: resample a at a uniform step, then integrate twice with the trapezoidal rule.
+
+    Dupliak & Kotsiyba (2018), seed 003: "recompute all points of the graph with a step
+    (default 0.1), then integrate again with the trapezoid method". The grid covers
+    [x0, x_end] with the last interval shortened to end exactly at x_end.
+
+    Error: resampling a piecewise-linear a at points that miss its knots replaces it by
+    chords, an O(step²·|Δa'|) change near each knot; the trapezoidal rule on the
+    quadratic v adds at most step²/12 · max|a'| · (x_end − x0) to s. Both are measured
+    against ``integrate_exact`` in the tests and the benchmark.
+
+    Returns
+    -------
+    grid, a_grid, v_grid, s_grid
+    """
+    x = np.asarray(x, dtype=float)
+    a = np.asarray(a, dtype=float)
+    grid = uniform_grid(float(x[0]), float(x[-1]), step)
+    a_grid = sample_piecewise_linear(x, a, grid)
+    dx = np.diff(grid)
+    v = np.concatenate(([v0], v0 + np.cumsum(dx * (a_grid[:-1] + a_grid[1:]) / 2.0)))
+    s = np.concatenate(([s0], s0 + np.cumsum(dx * (v[:-1] + v[1:]) / 2.0)))
+    return grid, a_grid, v, s
+
+
+def uniform_grid(start: float, end: float, step: float) -> np.ndarray:
+    """Points start, start+step, … with the end included exactly (last interval may be short)."""
+    if step <= 0:
+        raise ValueError("step must be positive")
+    count = int(np.floor((end - start) / step + 1e-9))
+    grid = start + step * np.arange(count + 1)
+    if end - grid[-1] > 1e-12 * max(1.0, abs(end)):
+        grid = np.append(grid, end)
+    else:
+        grid[-1] = end
+    return grid
+
+
+def sample_piecewise_linear(x: np.ndarray, y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Value of the polyline (x, y) at t; at a jump (repeated x) the right-hand value is taken."""
+    index = segment_index(x, t)
+    x0, x1 = x[index], x[index + 1]
+    length = x1 - x0
+    frac = np.divide(t - x0, length, out=np.zeros_like(t, dtype=float), where=length > 0)
+    return y[index] + frac * (y[index + 1] - y[index])
+
+
+def segment_index(x: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Index k of the segment [x_k, x_{k+1}] holding t; jumps resolve to the right-hand segment."""
+    index = np.searchsorted(x, t, side="right") - 1
+    return np.clip(index, 0, len(x) - 2)
+
+
+@dataclass(frozen=True)
+class PiecewiseLinearLaw:
+    """A motion law whose acceleration analog is piecewise linear in θ (a drawn polyline).
+
+    Knots ``x`` (rad) are non-decreasing; a repeated knot is a jump of acceleration.
+    Velocity and displacement are the exact piecewise-quadratic and -cubic integrals
+    (see ``integrate_exact``), starting from rest at s = 0 at x[0] = 0 unless v0/s0 say otherwise.
+    The jerk is the slope of each segment (the Dirac part at a jump is not represented).
+    """
+
+    x: np.ndarray
+    a: np.ndarray
+    cycle: float
+    phases: tuple[Phase, ...] = ()
+    v0: float = 0.0
+    s0: float = 0.0
+    v_knots: np.ndarray = field(init=False, repr=False, compare=False)
+    s_knots: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        x = np.ascontiguousarray(self.x, dtype=float)
+        a = np.ascontiguousarray(self.a, dtype=float)
+        if x.ndim != 1 or x.shape != a.shape or len(x) < 2:
+            raise ValueError("x and a must be 1-D arrays of equal length >= 2")
+        if np.any(np.diff(x) < 0):
+            raise ValueError("knots must be non-decreasing")
+        v, s = integrate_exact(x, a, self.v0, self.s0)
+        for name, value in (("x", x), ("a", a), ("v_knots", v), ("s_knots", s)):
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+
+    def kinematics(self, theta) -> Kinematics:
+        theta = np.asarray(theta, dtype=float)
+        t_cycle = wrap(theta, self.cycle)
+        x = self.x
+        k = segment_index(x, t_cycle)
+        length = x[k + 1] - x[k]
+        slope = np.divide(self.a[k + 1] - self.a[k], length,
+                          out=np.zeros_like(length), where=length > 0)
+        t = t_cycle - x[k]
+        a0, v0, s0 = self.a[k], self.v_knots[k], self.s_knots[k]
+        a = a0 + slope * t
+        v = v0 + a0 * t + slope * t**2 / 2.0
+        s = s0 + v0 * t + a0 * t**2 / 2.0 + slope * t**3 / 6.0
+        return Kinematics(theta=theta, s=s, v=v, a=a, j=slope)
+
+    def with_ordinates(self, a: np.ndarray) -> "PiecewiseLinearLaw":
+        """The same knots and phases with new acceleration ordinates."""
+        return PiecewiseLinearLaw(self.x, a, self.cycle, self.phases, self.v0, self.s0)
+
+    def with_phases(self, phases: tuple[Phase, ...]) -> "PiecewiseLinearLaw":
+        return PiecewiseLinearLaw(self.x, self.a, self.cycle, tuple(phases), self.v0, self.s0)

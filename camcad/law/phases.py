@@ -1,0 +1,237 @@
+"""Phases of a cycle (rise, far dwell, return, near dwell) detected from a drawn acceleration law.
+
+How a drawn law shows its phases:
+- a dwell is a stretch of zero acceleration of positive length at either end of the cycle, or
+  between two lobes of the *same* sign (− 0 − is a far dwell, + 0 + a near dwell); a zero stretch
+  between lobes of opposite signs (+ 0 −) is the constant-velocity part of a motion;
+- between dwells the follower moves; the motion is cut into a rise and a return where the
+  velocity (integrated from rest at the start of the motion) changes sign and then reaches at
+  least half of the motion's peak speed — a smaller excursion is the drawing's imbalance, not a phase;
+- a motion that starts with positive acceleration is a rise, with negative a return.
+Within a rise, the accelerating part is where a > 0 and the decelerating part where a < 0; within
+a return the reverse.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import CamcadError
+from .law import Phase, PiecewiseLinearLaw
+
+#: |a| at or below this fraction of max|a| counts as zero acceleration
+ZERO_FRACTION = 1e-6
+#: a velocity excursion must reach this fraction of the motion's peak speed to be a phase of its own
+SPLIT_FRACTION = 0.5
+
+
+def zero_threshold(a: np.ndarray) -> float:
+    peak = float(np.max(np.abs(a))) if len(a) else 0.0
+    return ZERO_FRACTION * peak
+
+
+def sign_runs(x: np.ndarray, a: np.ndarray) -> list[tuple[int, float, float]]:
+    """Maximal runs of constant sign (+1, −1, 0) of a piecewise-linear a, as (sign, start, end) in x.
+
+    Zero crossings inside a segment split it exactly (linear interpolation); zero-length
+    segments (jumps) carry no run of their own.
+    """
+    eps = zero_threshold(a)
+    runs: list[tuple[int, float, float]] = []
+
+    def add(sign: int, start: float, end: float) -> None:
+        if end <= start:
+            return
+        if runs and runs[-1][0] == sign and runs[-1][2] >= start:
+            runs[-1] = (sign, runs[-1][1], end)
+        else:
+            runs.append((sign, start, end))
+
+    for k in range(len(x) - 1):
+        x0, x1, a0, a1 = x[k], x[k + 1], a[k], a[k + 1]
+        if x1 <= x0:
+            continue
+        s0 = 0 if abs(a0) <= eps else int(np.sign(a0))
+        s1 = 0 if abs(a1) <= eps else int(np.sign(a1))
+        if s0 == s1:
+            add(s0, x0, x1)
+        elif s0 == 0 or s1 == 0:
+            add(s0 or s1, x0, x1)  # a lobe starting or ending at a vertex on the axis
+        else:
+            crossing = x0 + (x1 - x0) * a0 / (a0 - a1)
+            add(s0, x0, crossing)
+            add(s1, crossing, x1)
+    return runs
+
+
+def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -> tuple[Phase, ...]:
+    """Rise, return and dwell phases of the piecewise-linear law (x rad, a mm/rad²) over [0, cycle]."""
+    runs = sign_runs(x, a)
+    if not any(sign for sign, _, _ in runs):
+        raise CamcadError("the acceleration is zero everywhere: there is no motion", where,
+                          "pick the curve that holds the law (--layer/--handle)")
+    dwell_flags = []
+    for index, (sign, start, end) in enumerate(runs):
+        if sign != 0:
+            dwell_flags.append(False)
+            continue
+        before = next((runs[i][0] for i in range(index - 1, -1, -1) if runs[i][0]), None)
+        after = next((runs[i][0] for i in range(index + 1, len(runs)) if runs[i][0]), None)
+        dwell_flags.append(before is None or after is None or before == after)
+    phases: list[Phase] = []
+    motion_start = None
+    for (sign, start, end), is_dwell in zip(runs, dwell_flags):
+        if is_dwell:
+            if motion_start is not None:
+                phases.extend(_split_motion(x, a, motion_start, start))
+                motion_start = None
+            phases.append(Phase("dwell", start, end))
+        elif motion_start is None:
+            motion_start = start
+    if motion_start is not None:
+        phases.extend(_split_motion(x, a, motion_start, runs[-1][2]))
+    return _merge_dwells(phases)
+
+
+def _merge_dwells(phases: list[Phase]) -> tuple[Phase, ...]:
+    merged: list[Phase] = []
+    for phase in phases:
+        if merged and merged[-1].kind == phase.kind == "dwell":
+            merged[-1] = Phase("dwell", merged[-1].start, phase.end)
+        else:
+            merged.append(phase)
+    return tuple(merged)
+
+
+def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> list[Phase]:
+    """Cut one motion (between dwells) into rises and returns at the sign changes of velocity."""
+    law = _motion_law(x, a, start, end)
+    grid = np.unique(np.concatenate(([start, end], x[(x > start) & (x < end)])))
+    # velocity is quadratic on each segment: a few interior samples catch every sign change
+    fine = np.unique(np.concatenate([np.linspace(g0, g1, 9) for g0, g1 in zip(grid[:-1], grid[1:])]))
+    v = law.kinematics(fine - start).v
+    peak = float(np.max(np.abs(v)))
+    first_sign = 1 if _first_lobe_sign(x, a, start, end) > 0 else -1
+    if peak == 0.0:
+        return [Phase("rise" if first_sign > 0 else "return", start, end)]
+    significant = np.abs(v) >= SPLIT_FRACTION * peak
+    cuts = [start]
+    current = first_sign
+    for i in range(1, len(fine)):
+        if np.sign(v[i]) == -current and significant[i:].any():
+            # the velocity changed sign; it is a phase only if it then grows to a significant speed
+            # with the new sign before changing back
+            ahead = v[i:]
+            back = np.flatnonzero(np.sign(ahead) == current)
+            stretch = ahead[: back[0]] if len(back) else ahead
+            if np.any(np.abs(stretch) >= SPLIT_FRACTION * peak):
+                lo, hi = fine[i - 1], fine[i]
+                root = brentq(lambda t: float(law.kinematics(np.array([t - start])).v[0]), lo, hi,
+                              xtol=1e-15, rtol=4 * np.finfo(float).eps) if v[i - 1] != 0 else lo
+                cuts.append(root)
+                current = -current
+    cuts.append(end)
+    kinds = []
+    sign = first_sign
+    for _ in range(len(cuts) - 1):
+        kinds.append("rise" if sign > 0 else "return")
+        sign = -sign
+    return [Phase(kind, c0, c1) for kind, c0, c1 in zip(kinds, cuts[:-1], cuts[1:]) if c1 > c0]
+
+
+def _first_lobe_sign(x: np.ndarray, a: np.ndarray, start: float, end: float) -> int:
+    for sign, r0, r1 in sign_runs(x, a):
+        if sign and r1 > start and r0 < end:
+            return sign
+    return 1
+
+
+def _motion_law(x: np.ndarray, a: np.ndarray, start: float, end: float) -> PiecewiseLinearLaw:
+    """The law restricted to [start, end], shifted to start at 0 from rest."""
+    from .law import sample_piecewise_linear
+
+    inner = (x > start) & (x < end)
+    xs = np.concatenate(([start], x[inner], [end]))
+    a_start = sample_piecewise_linear(x, a, np.array([start]))[0]
+    a_end = _left_value(x, a, end)
+    as_ = np.concatenate(([a_start], a[inner], [a_end]))
+    return PiecewiseLinearLaw(xs - start, as_, cycle=end - start)
+
+
+def _left_value(x: np.ndarray, a: np.ndarray, t: float) -> float:
+    """a(t−): the value arriving at t from the left (the left side of a jump)."""
+    index = np.searchsorted(x, t, side="left")
+    if index < len(x) and x[index] == t:
+        return float(a[index])
+    from .law import sample_piecewise_linear
+
+    return float(sample_piecewise_linear(x, a, np.array([t]))[0])
+
+
+def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[Phase, ...]:
+    """Phases from "0:90:rise,90:180:dwell,..." (deg); they must cover [0, cycle] without gaps."""
+    phases = []
+    items = [item.strip() for item in text.split(",") if item.strip()]
+    if not items:
+        raise CamcadError("no phases given", where, 'write e.g. "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"')
+    for item in items:
+        parts = item.split(":")
+        if len(parts) != 3:
+            raise CamcadError(f"phase {item!r} is not start:end:kind", where,
+                              'write e.g. "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"')
+        try:
+            start, end = float(parts[0]), float(parts[1])
+        except ValueError:
+            raise CamcadError(f"phase {item!r}: start and end must be numbers (deg)", where,
+                              'write e.g. "0:90:rise"') from None
+        kind = parts[2].strip().lower()
+        if kind not in ("rise", "return", "dwell"):
+            raise CamcadError(f"phase {item!r}: kind must be rise, return or dwell", where, "fix the kind")
+        if not end > start:
+            raise CamcadError(f"phase {item!r} ends before it starts", where, "give start < end")
+        phases.append(Phase(kind, float(np.radians(start)), float(np.radians(end))))
+    tol = 1e-9 * max(cycle_deg, 1.0)
+    if abs(np.degrees(phases[0].start)) > tol or abs(np.degrees(phases[-1].end) - cycle_deg) > tol:
+        raise CamcadError(f"phases cover {np.degrees(phases[0].start):g}..{np.degrees(phases[-1].end):g} deg, "
+                          f"not the cycle 0..{cycle_deg:g}", where, "make the first start 0 and the last end the cycle")
+    for before, after in zip(phases[:-1], phases[1:]):
+        if abs(np.degrees(after.start - before.end)) > tol:
+            raise CamcadError(f"gap or overlap between phases at {np.degrees(before.end):g} and "
+                              f"{np.degrees(after.start):g} deg", where, "make each phase start where the previous ends")
+    return tuple(phases)
+
+
+def phase_integrals(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[float, float]:
+    """(∫ max(a, 0), ∫ min(a, 0)) over [start, end], exact for piecewise-linear a (θ in rad)."""
+    xs, as_ = restrict(x, a, start, end)
+    # split segments at zero crossings so each piece has one sign and the trapezoid is exact
+    pos = neg = 0.0
+    for x0, x1, a0, a1 in zip(xs[:-1], xs[1:], as_[:-1], as_[1:]):
+        length = x1 - x0
+        if length <= 0:
+            continue
+        if a0 * a1 < 0:
+            cut = length * a0 / (a0 - a1)
+            first, second = cut * a0 / 2.0, (length - cut) * a1 / 2.0
+            pos += max(first, 0.0) + max(second, 0.0)
+            neg += min(first, 0.0) + min(second, 0.0)
+        else:
+            area = length * (a0 + a1) / 2.0
+            if area >= 0:
+                pos += area
+            else:
+                neg += area
+    return pos, neg
+
+
+def restrict(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
+    """The polyline cut to [start, end], with interpolated end points (right value at a start jump)."""
+    from .law import sample_piecewise_linear
+
+    inner = (x > start) & (x < end)
+    xs = np.concatenate(([start], x[inner], [end]))
+    a_start = sample_piecewise_linear(x, a, np.array([start]))[0]
+    as_ = np.concatenate(([a_start], a[inner], [_left_value(x, a, end)]))
+    return xs, as_
+

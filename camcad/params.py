@@ -1,0 +1,134 @@
+"""Validated reading of parameter tables (scene TOML sections): units, types, unknown keys.
+
+Every scene section is read through ``read_table`` so that a typo, a missing value or a
+wrong type gets the same clear one-line error everywhere.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import CamcadError
+
+_MISSING = object()
+
+
+@dataclass(frozen=True)
+class Field:
+    """One key of a table: its type ("float", "int", "str", "bool", "list", "table"), unit and limits."""
+
+    name: str
+    kind: str = "float"
+    unit: str = ""
+    required: bool = False
+    default: Any = None
+    minimum: float | None = None       # inclusive
+    maximum: float | None = None       # inclusive
+    positive: bool = False             # strictly > 0
+    choices: tuple[str, ...] = ()
+    help: str = ""
+
+
+def _describe(field: Field) -> str:
+    unit = f" ({field.unit})" if field.unit else ""
+    return f"'{field.name}'{unit}"
+
+
+def nearest_name(name: str, valid: list[str]) -> str:
+    """'did you mean …' text for an unknown key, or the list of valid keys."""
+    close = difflib.get_close_matches(name, valid, n=1, cutoff=0.5)
+    if close:
+        return f"did you mean '{close[0]}'? valid keys: {', '.join(valid)}"
+    return f"valid keys: {', '.join(valid)}"
+
+
+def read_table(table: Any, fields: list[Field], where: str) -> dict[str, Any]:
+    """Check ``table`` against ``fields``; return {name: value} with defaults filled in.
+
+    Raises CamcadError for a key not in ``fields`` (naming the nearest valid one), a missing
+    required key, a value of the wrong type, a non-finite number, or a value out of range.
+    ``where`` names the file and section, e.g. "scene.toml [follower]".
+    """
+    if not isinstance(table, dict):
+        raise CamcadError(f"expected a table of keys, got {type(table).__name__}", where,
+                          "write it as a [section] with key = value lines")
+    by_name = {field.name: field for field in fields}
+    for key in table:
+        if key not in by_name:
+            raise CamcadError(f"unknown key '{key}'", where, nearest_name(key, list(by_name)))
+    values: dict[str, Any] = {}
+    for field in fields:
+        raw = table.get(field.name, _MISSING)
+        if raw is _MISSING:
+            if field.required:
+                raise CamcadError(f"missing value {_describe(field)}", where,
+                                  f"add {field.name} = ...{' ' + field.help if field.help else ''}")
+            values[field.name] = field.default
+            continue
+        values[field.name] = _coerce(raw, field, where)
+    return values
+
+
+def _coerce(raw: Any, field: Field, where: str) -> Any:
+    name = _describe(field)
+    if field.kind == "float":
+        if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+            raise CamcadError(f"{name} must be a number, got {raw!r}", where,
+                              f"write {field.name} = 12.5 (a plain number in {field.unit or 'its unit'})")
+        value = float(raw)
+        if not math.isfinite(value):
+            raise CamcadError(f"{name} must be finite, got {raw!r}", where, "give a finite number")
+        _check_range(value, field, where)
+        return value
+    if field.kind == "int":
+        if isinstance(raw, bool) or not isinstance(raw, int):
+            raise CamcadError(f"{name} must be a whole number, got {raw!r}", where,
+                              f"write {field.name} = 3")
+        _check_range(raw, field, where)
+        return raw
+    if field.kind == "str":
+        if not isinstance(raw, str):
+            raise CamcadError(f"{name} must be text, got {raw!r}", where,
+                              f'write {field.name} = "..." in quotes')
+        if field.choices and raw not in field.choices:
+            raise CamcadError(f"{name} is {raw!r}, not one of {', '.join(field.choices)}", where,
+                              nearest_name(raw, list(field.choices)).replace("valid keys", "choices"))
+        return raw
+    if field.kind == "bool":
+        if not isinstance(raw, bool):
+            raise CamcadError(f"{name} must be true or false, got {raw!r}", where,
+                              f"write {field.name} = true")
+        return raw
+    if field.kind == "list":
+        if not isinstance(raw, list):
+            raise CamcadError(f"{name} must be a list, got {raw!r}", where,
+                              f"write {field.name} = [ ... ]")
+        return raw
+    if field.kind == "table":
+        if not isinstance(raw, dict):
+            raise CamcadError(f"{name} must be a table, got {raw!r}", where,
+                              f"write it as [.{field.name}] or {field.name} = {{ ... }}")
+        return raw
+    if field.kind == "number_or_list":
+        if isinstance(raw, list):
+            return [_coerce(item, Field(field.name, "float", field.unit, minimum=field.minimum,
+                                        maximum=field.maximum, positive=field.positive), where)
+                    for item in raw]
+        return _coerce(raw, Field(field.name, "float", field.unit, minimum=field.minimum,
+                                  maximum=field.maximum, positive=field.positive), where)
+    raise ValueError(f"unknown field kind {field.kind!r}")
+
+
+def _check_range(value: float, field: Field, where: str) -> None:
+    name = _describe(field)
+    if field.positive and not value > 0:
+        raise CamcadError(f"{name} must be positive, got {value:g}", where, "give a value > 0")
+    if field.minimum is not None and value < field.minimum:
+        raise CamcadError(f"{name} must be at least {field.minimum:g}, got {value:g}", where,
+                          f"give a value >= {field.minimum:g}")
+    if field.maximum is not None and value > field.maximum:
+        raise CamcadError(f"{name} must be at most {field.maximum:g}, got {value:g}", where,
+                          f"give a value <= {field.maximum:g}")

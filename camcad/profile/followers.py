@@ -1,0 +1,363 @@
+"""Followers: what touches the cam, where it sits, and the design limits that go with it.
+
+Frames and signs (SPEC.md): the cam centre is the origin of the fixed frame; the cam turns
+counter-clockwise by default (``cw`` flips it). A translating follower moves along +y on
+the line x = e (offset e, mm). An oscillating follower pivots at A = (C, 0) (C the pivot
+distance, mm); its arm of length L carries the roller centre B = A + L·(−cos γ, sin γ), where
+γ = γ0 + ψ is the angle between the line A→O and the arm, γ0 the arm angle on the base
+circle and ψ the swing (rad): a larger γ puts the roller farther from the cam centre.
+
+A second roller on the same follower gives the conjugate pair (cam and counter-cam): for a
+translating follower it sits ``pair_distance`` mm below the first on the follower axis and
+touches the counter-cam from the other side; for an oscillating follower it is on a second
+arm of the same length turned by ``pair_angle_deg`` from the first, on the other side of the
+line of centres. ``groove`` asks for the outer flank of a groove (face) cam as well.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..errors import CamcadError
+from ..law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
+from ..params import Field, read_table
+from . import defaults
+
+FOLLOWER_KINDS = ("roller", "flat", "oscillating", "knife")
+
+
+@dataclass(frozen=True)
+class Follower:
+    """A follower and its design limits (lengths in mm, angles in deg).
+
+    kind            "roller" (translating roller), "knife" (roller with Rr = 0), "flat"
+                    (translating flat face perpendicular to its axis) or "oscillating"
+                    (oscillating roller).
+    base_radius     Rb, base-circle radius of the cam profile (mm).
+    roller_radius   Rr (mm); 0 for a knife edge; not used by "flat".
+    offset          e, translating followers: axis at x = e (mm).
+    pivot, arm      C and L of the oscillating follower (mm).
+    cw              the cam turns clockwise.
+    pressure_angle_limit_rise_deg, pressure_angle_limit_return_deg
+                    limits of |pressure angle| while the roller moves away from (rise) or
+                    toward (return) the cam centre; None means not checked. Dwells use the
+                    rise limit.
+    reversible      the cam runs both ways, so each moving phase is a working stroke in one
+                    direction: the rise limit then applies to returns too.
+    groove          also build the outer flank of a groove cam (roller followers).
+    pair_distance   translating conjugate pair: distance between the two roller centres (mm).
+    pair_angle_deg  oscillating conjugate pair: angle between the two arms (deg).
+    rho_min         smallest allowed radius of curvature of convex parts of the profile (mm);
+                    None means only "no undercut".
+    """
+
+    kind: str
+    base_radius: float
+    roller_radius: float = 0.0
+    offset: float = 0.0
+    pivot: float | None = None
+    arm: float | None = None
+    cw: bool = False
+    pressure_angle_limit_rise_deg: float | None = defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG
+    pressure_angle_limit_return_deg: float | None = defaults.PRESSURE_ANGLE_LIMIT_RETURN_DEG
+    reversible: bool = False
+    groove: bool = False
+    pair_distance: float | None = None
+    pair_angle_deg: float | None = None
+    rho_min: float | None = None
+
+    @property
+    def sigma(self) -> float:
+        """+1 for counter-clockwise rotation, −1 for clockwise."""
+        return -1.0 if self.cw else 1.0
+
+    @property
+    def has_roller(self) -> bool:
+        return self.kind in ("roller", "knife", "oscillating")
+
+    @property
+    def prime_radius(self) -> float:
+        """Rp = Rb + Rr (mm): radius of the pitch curve's base circle (Rb for a flat face)."""
+        return self.base_radius + (self.roller_radius if self.has_roller else 0.0)
+
+    @property
+    def has_pair(self) -> bool:
+        return self.pair_distance is not None or self.pair_angle_deg is not None
+
+    def with_base_radius(self, base_radius: float) -> "Follower":
+        return replace(self, base_radius=float(base_radius))
+
+    def describe(self) -> str:
+        """One ASCII line for the drawing and the report."""
+        turn = "CW" if self.cw else "CCW"
+        if self.kind == "flat":
+            text = f"translating flat face, Rb {self.base_radius:.6g} mm, e {self.offset:.6g} mm"
+        elif self.kind == "oscillating":
+            text = (f"oscillating roller, Rb {self.base_radius:.6g} mm, Rr {self.roller_radius:.6g} mm, "
+                    f"pivot C {self.pivot:.6g} mm, arm L {self.arm:.6g} mm")
+        elif self.kind == "knife" or self.roller_radius == 0.0:
+            text = f"translating knife edge, Rb {self.base_radius:.6g} mm, e {self.offset:.6g} mm"
+        else:
+            text = (f"translating roller, Rb {self.base_radius:.6g} mm, Rr {self.roller_radius:.6g} mm, "
+                    f"e {self.offset:.6g} mm")
+        return f"{text}, {turn}"
+
+    def validate(self, where: str = "follower") -> "Follower":
+        """Raise CamcadError for a follower that cannot work; return self."""
+        if self.kind not in FOLLOWER_KINDS:
+            raise CamcadError(f"follower type {self.kind!r} is unknown", where,
+                              f"use one of {', '.join(FOLLOWER_KINDS)}")
+        for name in ("base_radius", "roller_radius", "offset"):
+            if not math.isfinite(getattr(self, name)):
+                raise CamcadError(f"{name} must be finite", where, "give a number in mm")
+        if not self.base_radius > 0.0:
+            raise CamcadError(f"base radius must be positive, got {self.base_radius:g} mm", where,
+                              "give --rb / base_radius > 0")
+        if self.roller_radius < 0.0:
+            raise CamcadError(f"roller radius must be >= 0, got {self.roller_radius:g} mm", where,
+                              "give --rr / roller_radius >= 0 (0 is a knife edge)")
+        if self.kind == "knife" and self.roller_radius != 0.0:
+            raise CamcadError("a knife-edge follower has no roller", where,
+                              "drop the roller radius or use type roller")
+        for name in ("pressure_angle_limit_rise_deg", "pressure_angle_limit_return_deg"):
+            value = getattr(self, name)
+            if value is not None and not 0.0 < value < 90.0:
+                raise CamcadError(f"{name.replace('_deg', '')} is {value:g} deg", where,
+                                  "give a limit between 0 and 90 deg")
+        if self.rho_min is not None and not self.rho_min >= 0.0:
+            raise CamcadError(f"curvature limit must be >= 0, got {self.rho_min:g} mm", where,
+                              "give the smallest allowed radius of curvature in mm")
+        if self.kind in ("roller", "knife", "flat"):
+            if abs(self.offset) >= self.prime_radius:
+                raise CamcadError(f"offset |e| = {abs(self.offset):g} mm is not less than Rb + Rr = "
+                                  f"{self.prime_radius:g} mm", where,
+                                  "reduce the offset or enlarge the base circle")
+            if self.pair_angle_deg is not None:
+                raise CamcadError("pair_angle is for an oscillating follower", where,
+                                  "use pair_distance (mm) for a translating conjugate pair")
+        if self.kind == "oscillating":
+            if self.pivot is None or self.arm is None:
+                raise CamcadError("an oscillating follower needs its pivot distance and arm length", where,
+                                  "give --pivot C and --arm L (mm), or pivot = ... and arm = ...")
+            if not (self.pivot > 0.0 and self.arm > 0.0):
+                raise CamcadError("pivot distance and arm length must be positive", where,
+                                  "give C > 0 and L > 0 in mm")
+            rp = self.prime_radius
+            if not abs(self.pivot - self.arm) < rp < self.pivot + self.arm:
+                raise CamcadError(f"the roller cannot reach the base circle: Rb + Rr = {rp:g} mm must lie "
+                                  f"between |C - L| = {abs(self.pivot - self.arm):g} and C + L = "
+                                  f"{self.pivot + self.arm:g} mm", where,
+                                  "change the pivot distance, the arm or the base radius")
+            if self.pair_distance is not None:
+                raise CamcadError("pair_distance is for a translating follower", where,
+                                  "use pair_angle (deg) for an oscillating conjugate pair")
+        if self.kind == "flat" and (self.groove or self.has_pair):
+            raise CamcadError("groove and conjugate cams are built for roller followers", where,
+                              "use a roller or oscillating follower")
+        if self.groove and self.roller_radius == 0.0:
+            raise CamcadError("a groove needs a roller (Rr > 0)", where, "give a roller radius")
+        if self.pair_distance is not None and not self.pair_distance > 0.0:
+            raise CamcadError("pair distance must be positive", where, "give the roller-centre distance in mm")
+        if self.pair_angle_deg is not None and not 0.0 < self.pair_angle_deg < 180.0:
+            raise CamcadError("pair angle must be between 0 and 180 deg", where,
+                              "give the angle between the two arms in deg")
+        return self
+
+    def as_dict(self) -> dict:
+        return {"type": self.kind, "base_radius_mm": self.base_radius,
+                "roller_radius_mm": self.roller_radius if self.has_roller else None,
+                "offset_mm": self.offset if self.kind != "oscillating" else None,
+                "pivot_mm": self.pivot, "arm_mm": self.arm, "cw": self.cw,
+                "pressure_angle_limit_rise_deg": self.pressure_angle_limit_rise_deg,
+                "pressure_angle_limit_return_deg": self.pressure_angle_limit_return_deg,
+                "reversible": self.reversible, "groove": self.groove,
+                "pair_distance_mm": self.pair_distance, "pair_angle_deg": self.pair_angle_deg,
+                "rho_min_mm": self.rho_min}
+
+
+def arm_angle_on_base_circle(follower: Follower) -> float:
+    """γ0 (rad): arm angle of the oscillating follower with the roller on the base circle.
+
+    Law of cosines in the triangle cam centre O – pivot A – roller centre B:
+        (Rb + Rr)² = C² + L² − 2 C L cos γ0.
+    """
+    c, arm, rp = follower.pivot, follower.arm, follower.prime_radius
+    return math.acos((c**2 + arm**2 - rp**2) / (2.0 * c * arm))
+
+
+# --------------------------------------------------------------------------------------------
+# Scene section [follower]
+# --------------------------------------------------------------------------------------------
+
+FOLLOWER_FIELDS: list[Field] = [
+    Field("type", "str", choices=FOLLOWER_KINDS, default="roller",
+          help="roller, knife, flat or oscillating"),
+    Field("base_radius", "float", "mm", positive=True, help="base-circle radius of the profile"),
+    Field("roller_radius", "float", "mm", minimum=0.0, help="roller radius (0 = knife edge)"),
+    Field("offset", "float", "mm", default=0.0, help="offset e of a translating follower's axis"),
+    Field("pivot", "float", "mm", positive=True, help="pivot distance C of an oscillating follower"),
+    Field("arm", "float", "mm", positive=True, help="arm length L of an oscillating follower"),
+    Field("initial_angle", "float", "deg", minimum=0.0, maximum=180.0,
+          help="arm angle γ0 on the base circle (oscillating; instead of base_radius)"),
+    Field("pressure_angle_limit_rise", "float", "deg", minimum=0.0, maximum=90.0,
+          default=defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG),
+    Field("pressure_angle_limit_return", "float", "deg", minimum=0.0, maximum=90.0,
+          default=defaults.PRESSURE_ANGLE_LIMIT_RETURN_DEG),
+    Field("reversible", "bool", default=False),
+    Field("cw", "bool", default=False),
+    Field("groove", "bool", default=False),
+    Field("pair_distance", "float", "mm", positive=True),
+    Field("pair_angle", "float", "deg", minimum=0.0, maximum=180.0),
+    Field("rho_min", "float", "mm", minimum=0.0, help="smallest convex radius of curvature allowed"),
+    Field("swing", "float", "deg", positive=True,
+          help="total swing of an oscillating follower (scales the law)"),
+]
+
+
+def parse_follower(table, where: str) -> Follower:
+    """The scene's ``[follower]`` table (mm, deg) → a validated ``Follower``.
+
+    ``roller_radius`` is required for roller and oscillating followers, ``pivot`` and ``arm``
+    for oscillating ones; an oscillating follower takes ``base_radius`` or ``initial_angle``
+    (γ0, then Rb = √(C² + L² − 2CL cos γ0) − Rr). ``swing`` is read by ``swing_of``.
+    """
+    values = read_table(table, FOLLOWER_FIELDS, where)
+    kind = values["type"]
+    roller = values["roller_radius"]
+    if kind == "knife":
+        if roller not in (None, 0.0):
+            raise CamcadError("a knife-edge follower has no roller", where, "drop roller_radius")
+        roller = 0.0
+    elif kind in ("roller", "oscillating") and roller is None:
+        raise CamcadError(f"missing value 'roller_radius' (mm) for a {kind} follower", where,
+                          "add roller_radius = ... (0 for a knife edge)")
+    elif kind == "flat":
+        if roller not in (None, 0.0):
+            raise CamcadError("a flat-faced follower has no roller", where, "drop roller_radius")
+        roller = 0.0
+    if kind != "oscillating":
+        for key in ("pivot", "arm", "initial_angle", "pair_angle", "swing"):
+            if values[key] is not None:
+                raise CamcadError(f"'{key}' is for an oscillating follower, this one is {kind!r}", where,
+                                  f"drop {key} or set type = \"oscillating\"")
+    base = values["base_radius"]
+    if kind == "oscillating":
+        if values["pivot"] is None or values["arm"] is None:
+            raise CamcadError("an oscillating follower needs 'pivot' and 'arm' (mm)", where,
+                              "add pivot = ... and arm = ...")
+        if values["initial_angle"] is not None:
+            if base is not None:
+                raise CamcadError("give base_radius or initial_angle, not both", where,
+                                  "drop one of them: each fixes the other")
+            c, arm, gamma0 = values["pivot"], values["arm"], math.radians(values["initial_angle"])
+            base = math.sqrt(c**2 + arm**2 - 2.0 * c * arm * math.cos(gamma0)) - roller
+            if not base > 0.0:
+                raise CamcadError(f"initial_angle {values['initial_angle']:g} deg gives base radius "
+                                  f"{base:g} mm", where, "use a larger initial angle")
+    if base is None:
+        raise CamcadError("missing value 'base_radius' (mm)", where, "add base_radius = ...")
+    follower = Follower(
+        kind=kind, base_radius=base, roller_radius=roller, offset=values["offset"],
+        pivot=values["pivot"], arm=values["arm"], cw=values["cw"],
+        pressure_angle_limit_rise_deg=_limit(values["pressure_angle_limit_rise"]),
+        pressure_angle_limit_return_deg=_limit(values["pressure_angle_limit_return"]),
+        reversible=values["reversible"], groove=values["groove"],
+        pair_distance=values["pair_distance"], pair_angle_deg=values["pair_angle"],
+        rho_min=values["rho_min"])
+    return follower.validate(where)
+
+
+def swing_of(table, where: str) -> float | None:
+    """The ``swing`` (deg) of a scene's [follower] table, or None."""
+    return read_table(table, FOLLOWER_FIELDS, where)["swing"]
+
+
+def _limit(value: float | None) -> float | None:
+    """A limit of 0 or 90 deg means "not checked" in a scene file."""
+    if value is None or value <= 0.0 or value >= 90.0:
+        return None
+    return value
+
+
+# --------------------------------------------------------------------------------------------
+# Laws in follower units
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ScaledLaw:
+    """``law`` with s, v, a, j multiplied by ``factor`` (e.g. mm of lift → rad of swing)."""
+
+    law: MotionLaw
+    factor: float
+
+    @property
+    def cycle(self) -> float:
+        return self.law.cycle
+
+    @property
+    def phases(self) -> tuple[Phase, ...]:
+        return self.law.phases
+
+    def kinematics(self, theta) -> Kinematics:
+        kin = self.law.kinematics(theta)
+        f = self.factor
+        return Kinematics(kin.theta, kin.s * f, kin.v * f, kin.a * f, kin.j * f)
+
+    def breakpoints(self) -> np.ndarray:
+        return law_breakpoints(self.law)
+
+    def describe(self) -> str:
+        return describe_law(self.law)
+
+
+def swing_law(law: MotionLaw, *, arm_mm: float | None = None, swing_deg: float | None = None,
+              samples: int = 8193) -> ScaledLaw:
+    """An oscillating follower's law ψ(θ) in rad from a lift law in mm.
+
+    With ``swing_deg`` the law is scaled so that its stroke max(s) − min(s) equals the swing;
+    otherwise s is the arc travelled by the roller centre, ψ = s / L (``arm_mm``).
+    """
+    if swing_deg is not None:
+        theta = np.linspace(0.0, law.cycle, samples)
+        stroke = float(np.ptp(law.kinematics(theta).s))
+        if not stroke > 0.0:
+            raise CamcadError("the law has no stroke to scale to a swing", "law",
+                              "check the law: its displacement is constant")
+        return ScaledLaw(law, math.radians(swing_deg) / stroke)
+    if arm_mm is None or not arm_mm > 0.0:
+        raise CamcadError("an oscillating follower needs its arm length to turn lift into swing",
+                          "follower", "give --arm L, or --swing DEG")
+    return ScaledLaw(law, 1.0 / arm_mm)
+
+
+def law_breakpoints(law: MotionLaw) -> np.ndarray:
+    """θ (rad) in [0, cycle] where the law may be non-smooth: phase ends, knots, inner pieces."""
+    points = {0.0, float(law.cycle)}
+    for phase in law.phases:
+        points.update((float(phase.start), float(phase.end)))
+    inner = getattr(law, "breakpoints", None)
+    if inner is not None:
+        points.update(float(x) for x in np.asarray(inner()))
+    if isinstance(law, PiecewiseLinearLaw):
+        points.update(float(x) for x in law.x)
+    return np.array(sorted(p for p in points if 0.0 <= p <= law.cycle))
+
+
+def describe_law(law: MotionLaw) -> str:
+    """One ASCII line describing the law."""
+    describe = getattr(law, "describe", None)
+    if describe is not None:
+        return describe()
+    if isinstance(law, PiecewiseLinearLaw):
+        return f"drawn acceleration polyline, {len(law.x)} knots, cycle {math.degrees(law.cycle):.6g} deg"
+    return type(law).__name__
+
+
+def describe_phases(law: MotionLaw) -> str:
+    """E.g. "rise 0-120, dwell 120-180, return 180-300, dwell 300-360" (deg), or "not given"."""
+    if not law.phases:
+        return "not given"
+    return ", ".join(f"{p.kind} {math.degrees(p.start):.6g}-{math.degrees(p.end):.6g}" for p in law.phases)

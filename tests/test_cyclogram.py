@@ -1,0 +1,333 @@
+"""Cyclogram network, LP optimisation, conflicts, phase-angle limits and phase feedback.
+
+Independent references: a longest-path dynamic programme over a topological order written here
+(for precedence-only networks, the LP optimum must equal it), hand-worked networks (comments give
+the arithmetic), and the source's linear rebound relation a = −0.003 t + 0.208 (Podgorny et al.
+2018), whose limit a ≤ 0.1 mm gives t ≥ (0.208 − 0.1)/0.003 = 36 deg in closed form.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from camcad.cyclogram import (Constraint, LinearRelation, Operation, PhaseLimit, find_conflict,
+                              format_phases, least_phase_angle, longest_path_times, make_network,
+                              operation_timing, optimise, parse_cyclogram, retime_phases, stretch_phase,
+                              vibration_limits, constraints_of)
+from camcad.errors import CamcadError
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
+
+
+# ---------------------------------------------------------------- hand-made network
+
+def hand_network(cycle_deg: float = 360.0):
+    # S -> X (>= 10), X -> E (>= 10), S -> Y (>= 40), Y -> E (>= 0), X -> Y in [0, 5].
+    # Y >= 40 and Y <= X + 5 force X >= 35, so E >= X + 10 = 45: makespan 45 along
+    # S -> Y (lower bound) , Y -> X (upper bound of X->Y, stepping back), X -> E (lower bound).
+    # The path S -> X -> E alone would give 20, S -> Y -> E 40.
+    ops = [Operation("S", "X", 10), Operation("X", "E", 10), Operation("S", "Y", 40),
+           Operation("Y", "E", 0), Operation("X", "Y", 0, 5)]
+    return make_network(ops, cycle_deg=cycle_deg)
+
+
+def test_active_bounds_on_a_hand_made_case():
+    result = optimise(hand_network())
+    assert result.feasible
+    assert result.makespan_deg == pytest.approx(45.0, abs=1e-9)
+    expected_times = {"S": 0.0, "X": 35.0, "Y": 40.0, "E": 45.0}     # earliest schedule
+    for event, time in expected_times.items():
+        assert result.event_times_deg[event] == pytest.approx(time, abs=1e-9)
+    assert result.phase_angles_deg["S->X"] == pytest.approx(35.0, abs=1e-9)   # slack on S->X
+    assert list(result.critical_path) == ["S", "Y", "X", "E"]
+    assert {(c.label, c.kind) for c in result.active} == {("S->Y", "min"), ("X->Y", "max"), ("X->E", "min")}
+    assert sorted(result.active_bounds) == ["S->Y", "X->E", "X->Y"]
+    report = result.report()
+    for key in ("makespan_deg", "event_times_deg", "phase_angles_deg", "critical_path", "active_bounds",
+                "feasible"):
+        assert key in report
+    json.dumps(report)
+
+
+def test_phase_limit_raises_a_lower_bound_and_becomes_the_active_one():
+    # a vibration limit of 42 deg on S->Y lifts the makespan to 42 − 5 + 10 = 47
+    limit = PhaseLimit(42.0, 0.1, 0.1, True, "vibration")
+    result = optimise(hand_network(), {"S->Y": [limit]})
+    assert result.makespan_deg == pytest.approx(47.0, abs=1e-9)
+    assert any(c.label == "S->Y" and c.source == "vibration" for c in result.active)
+    # a limit below the designer's bound changes nothing
+    low = PhaseLimit(30.0, 0.1, 0.1, True, "vibration")
+    assert optimise(hand_network(), {"S->Y": [low]}).makespan_deg == pytest.approx(45.0, abs=1e-9)
+
+
+# ---------------------------------------------------------------- infeasible and cyclic networks
+
+def test_infeasible_network_names_its_conflicting_constraints():
+    # with the cycle capped at 40 deg the 45-deg path cannot fit: the conflict is exactly
+    # S->Y >= 40, X->Y <= 5, X->E >= 10 and makespan <= 40 (excess 40 − 5 + 10 − 40 = 5 deg)
+    network = hand_network(cycle_deg=40.0)
+    result = optimise(network, strict=False)
+    assert not result.feasible
+    assert {(c.label, c.kind) for c in result.conflict} == {
+        ("S->Y", "min"), ("X->Y", "max"), ("X->E", "min"), ("makespan", "cycle")}
+    assert sum(c.weight for c in result.conflict) == pytest.approx(5.0)
+    with pytest.raises(CamcadError) as err:
+        optimise(network)
+    message = err.value.message()
+    for text in ("t(S->Y) >= 40", "t(X->Y) <= 5", "t(X->E) >= 10", "makespan", "by at least 5 deg"):
+        assert text in message
+    assert "\n" not in message
+
+
+def test_smallest_conflict_is_found():
+    # two conflicts: a phase limit of 8 deg on X->Y against its upper bound 5 (two constraints),
+    # and the long one through the cycle cap of 40 deg (four). The smallest is reported.
+    limit = PhaseLimit(8.0, 0.5, 0.4, True, "contact")
+    result = optimise(hand_network(cycle_deg=40.0), {"X->Y": [limit]}, strict=False)
+    assert {(c.label, c.kind, c.source) for c in result.conflict} == {
+        ("X->Y", "min", "contact"), ("X->Y", "max", "bounds_deg")}
+    # the Bellman–Ford fallback (for large networks) finds some positive simple cycle
+    constraints = constraints_of(hand_network(cycle_deg=40.0), {"X->Y": [limit]})
+    cycle = find_conflict(["S", "X", "Y", "E"], constraints, dense_limit=0)
+    assert cycle and sum(c.weight for c in cycle) > 0
+    assert all(a.head == b.tail for a, b in zip(cycle, cycle[1:] + cycle[:1]))   # closed
+
+
+def test_cyclic_network_is_rejected_with_the_cycle_named():
+    ops = [Operation("1", "2", 10), Operation("2", "3", 10), Operation("3", "4", 5), Operation("4", "2", 5),
+           Operation("3", "5", 1)]
+    with pytest.raises(CamcadError, match=r"the operations form a cycle: 2 -> 3 -> 4 -> 2"):
+        make_network(ops)
+
+
+@pytest.mark.parametrize("ops, pattern", [
+    ([Operation("1", "2"), Operation("1", "2", 5)], "two operations join 1 to 2"),
+    ([Operation("1", "1")], "same event"),
+    ([Operation("1", "2", 30, 20)], "min > max"),
+    ([Operation("1", "3"), Operation("2", "3")], "2 first events"),
+    ([Operation("1", "2"), Operation("1", "3")], "2 last events"),
+])
+def test_malformed_networks(ops, pattern):
+    with pytest.raises(CamcadError, match=pattern):
+        make_network(ops)
+
+
+# ---------------------------------------------------------------- LP = longest path (property)
+
+@st.composite
+def precedence_networks(draw):
+    """A random DAG on events 0..n−1 (arcs i < j), every event on a path from 0 to n−1."""
+    n = draw(st.integers(2, 11))
+    arcs = {}
+    for j in range(1, n):   # at least one predecessor each
+        i = draw(st.integers(0, j - 1))
+        arcs[(i, j)] = None
+    for i in range(n - 1):  # at least one successor each
+        j = draw(st.integers(i + 1, n - 1))
+        arcs[(i, j)] = None
+    extra = draw(st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, n - 1)), max_size=2 * n))
+    for i, j in extra:
+        if i < j:
+            arcs[(i, j)] = None
+    return n, {arc: draw(st.floats(0.0, 100.0, allow_nan=False)) for arc in arcs}
+
+
+def dp_longest_path(n, weights):
+    # events are numbered in topological order (arcs i < j): one forward sweep
+    earliest = [0.0] + [-math.inf] * (n - 1)
+    for j in range(1, n):
+        earliest[j] = max(earliest[i] + w for (i, jj), w in weights.items() if jj == j)
+    return earliest
+
+
+@settings(max_examples=60, deadline=None)
+@given(precedence_networks())
+def test_lp_equals_longest_path_on_precedence_networks(case):
+    n, weights = case
+    ops = [Operation(str(i), str(j), w) for (i, j), w in weights.items()]
+    network = make_network(ops, cycle_deg=1e6)
+    result = optimise(network)
+    earliest = dp_longest_path(n, weights)
+    assert result.makespan_deg == pytest.approx(earliest[-1], rel=1e-9, abs=1e-9)
+    for k in range(n):
+        assert result.event_times_deg[str(k)] == pytest.approx(earliest[k], rel=1e-9, abs=1e-9)
+    # the critical path is a chain of operations whose lower bounds add up to the makespan
+    path = result.critical_path
+    assert path[0] == "0" and path[-1] == str(n - 1)
+    total = sum(weights[(int(a), int(b))] for a, b in zip(path[:-1], path[1:]))
+    assert total == pytest.approx(earliest[-1], rel=1e-9, abs=1e-9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(precedence_networks(), st.data())
+def test_lp_agrees_with_bellman_ford_with_upper_bounds(case, data):
+    # with upper bounds the constraint graph has backward arcs; the LP (earliest schedule) must equal
+    # Bellman–Ford longest paths, and be infeasible exactly when those find a positive cycle
+    n, weights = case
+    ops = []
+    for (i, j), w in weights.items():
+        upper = data.draw(st.one_of(st.just(math.inf), st.floats(w, w + 80.0)))
+        ops.append(Operation(str(i), str(j), w, upper))
+    network = make_network(ops, cycle_deg=1e6)
+    try:
+        reference = longest_path_times(network)
+    except CamcadError:
+        reference = None
+    result = optimise(network, strict=False)
+    assert result.feasible == (reference is not None)
+    if reference is None:
+        assert sum(c.weight for c in result.conflict) > 0
+        return
+    for event, time in reference.items():
+        assert result.event_times_deg[event] == pytest.approx(time, rel=1e-9, abs=1e-7)
+
+
+# ---------------------------------------------------------------- phase-angle limits
+
+def test_vibration_limit_from_the_source_relation():
+    # a(3,7) = −0.003 t + 0.208 mm ≤ 0.1 mm  ⇔  t ≥ 36 deg (closed form)
+    relation = LinearRelation(-0.003, 0.208)
+    limit = least_phase_angle(relation, 0.1, 10.0, 60.0, source="vibration")
+    assert limit.angle_deg == pytest.approx(36.0, abs=1e-9)
+    assert relation.solve(0.1) == pytest.approx(36.0, abs=1e-12)
+    assert limit.binding and limit.evaluations < 10
+    with pytest.raises(CamcadError, match="even the longest phase angle 30 deg"):
+        least_phase_angle(relation, 0.1, 10.0, 30.0, source="vibration")
+    ops = [Operation("1", "2", 20, 80, amplitude=relation, amplitude_limit_mm=0.1)]
+    limits = vibration_limits(make_network(ops))
+    assert limits["1->2"][0].angle_deg == pytest.approx(36.0, abs=1e-9)
+
+
+# ---------------------------------------------------------------- TOML section
+
+def section(text: str) -> dict:
+    return tomllib.loads(text)["cyclogram"]
+
+
+GOOD = """
+[cyclogram]
+cycle_deg = 360.0
+[[cyclogram.operations]]
+from = 1
+to = 2
+bounds_deg = [20.0, 60.0]
+mechanism = "lift"
+phase = "rise"
+[[cyclogram.operations]]
+from = 2
+to = 3
+bounds_deg = [10.0, inf]
+amplitude_limit_mm = 0.1
+amplitude_slope_mm_per_deg = -0.003
+amplitude_intercept_mm = 0.208
+"""
+
+
+def test_parse_cyclogram_reads_a_section():
+    network = parse_cyclogram(section(GOOD), "g.toml [cyclogram]", mechanisms=["lift"])
+    assert network.start == "1" and network.end == "3"
+    assert network.operation("1->2").phase == "rise"
+    result = optimise(network, vibration_limits(network))
+    assert result.makespan_deg == pytest.approx(56.0, abs=1e-9)     # 20 + 36
+
+
+@pytest.mark.parametrize("edit, pattern", [
+    (lambda t: t.replace("bounds_deg = [20.0, 60.0]", "bound_deg = [20.0, 60.0]"), "did you mean 'bounds_deg'"),
+    (lambda t: t.replace("bounds_deg = [20.0, 60.0]", "bounds_deg = [60.0, 20.0]"), "min > max"),
+    (lambda t: t.replace("bounds_deg = [20.0, 60.0]", "bounds_deg = [20.0]"), r"\[min, max\]"),
+    (lambda t: t.replace("bounds_deg = [20.0, 60.0]", ""), "missing value 'bounds_deg'"),
+    (lambda t: t.replace('mechanism = "lift"', 'mechanism = "lfit"'), "did you mean 'lift'"),
+    (lambda t: t.replace("amplitude_intercept_mm = 0.208", ""), "needs amplitude_limit_mm"),
+    (lambda t: t.replace("cycle_deg = 360.0", "cycle_deg = \"360\""), "must be a number"),
+    (lambda t: t.replace("to = 3", "to = 1"), "cycle: 1 -> 2 -> 1"),
+])
+def test_parse_cyclogram_errors(edit, pattern):
+    with pytest.raises(CamcadError, match=pattern) as err:
+        parse_cyclogram(section(edit(GOOD)), "g.toml [cyclogram]", mechanisms=["lift"])
+    assert "g.toml [cyclogram]" in err.value.message()
+
+
+# ---------------------------------------------------------------- feeding angles back
+
+def test_retime_and_stretch_phases():
+    phases = [(0, 90, "dwell"), (90, 180, "rise"), (180, 270, "dwell"), (270, 360, "return")]
+    # the cyclogram starts the rise at 40 deg for 50 deg and the return at 200 deg for 60 deg
+    new = retime_phases(phases, {("rise", 1): (40.0, 50.0), ("return", 1): (200.0, 60.0)})
+    assert new == [(0.0, 40.0, "dwell"), (40.0, 90.0, "rise"), (90.0, 200.0, "dwell"),
+                   (200.0, 260.0, "return"), (260.0, 360.0, "dwell")]
+    assert format_phases(new) == "0:40:dwell,40:90:rise,90:200:dwell,200:260:return,260:360:dwell"
+    with pytest.raises(CamcadError, match="overlap"):
+        retime_phases(phases, {("rise", 1): (250.0, 50.0)})
+    with pytest.raises(CamcadError, match="no return number 2"):
+        retime_phases(phases, {("return", 2): (10.0, 5.0)})
+    with pytest.raises(CamcadError, match="across the cycle"):
+        retime_phases(phases, {("return", 1): (330.0, 60.0)})
+    # stretching the rise to 120 deg takes 30 deg from the following dwell
+    assert stretch_phase(phases, 1, 120.0) == [(0, 90, "dwell"), (90, 210, "rise"), (210, 270, "dwell"),
+                                               (270, 360, "return")]
+    with pytest.raises(CamcadError, match="no neighbouring dwell"):
+        stretch_phase(phases, 1, 300.0)
+
+
+def test_operation_timing_feeds_the_mechanisms():
+    network = parse_cyclogram(section(GOOD), "g", mechanisms=["lift"])
+    result = optimise(network, vibration_limits(network))
+    assert operation_timing(result) == {"lift": {("rise", 1): (pytest.approx(0.0), pytest.approx(20.0))}}
+
+
+# ---------------------------------------------------------------- the sample group scene
+
+def test_sample_scene_has_a_limiting_operation():
+    scene = tomllib.loads(SAMPLE.read_text())
+    network = parse_cyclogram(scene["cyclogram"], "loom_group1.toml [cyclogram]",
+                              mechanisms=list(scene["mechanisms"]))
+    limits = vibration_limits(network)
+    # the shuttle lift's operation 3->7 carries the source's rebound relation: t ≥ 36 deg
+    assert limits["3->7"][0].angle_deg == pytest.approx(36.0, abs=1e-9)
+    result = optimise(network, limits)
+    assert any(c.label == "3->7" and c.source == "vibration" for c in result.active)
+    assert result.phase_angles_deg["3->7"] == pytest.approx(36.0, abs=1e-7)
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", "from camcad.cli import main; main()", *args],
+                          capture_output=True, text=True, cwd=ROOT, timeout=300)
+
+
+def test_cli_cyclogram_on_the_sample(tmp_path):
+    done = run_cli("cyclogram", str(SAMPLE), "--json", "-o", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    payload = json.loads(done.stdout)["cyclogram"]
+    for key in ("makespan_deg", "event_times_deg", "phase_angles_deg", "critical_path", "active_bounds",
+                "feasible"):
+        assert key in payload
+    assert payload["feasible"] and "3->7" in payload["active_bounds"]
+    for name in ("cyclogram.json", "cyclogram.png", "network.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    saved = json.loads((tmp_path / "cyclogram.json").read_text())
+    assert saved["cyclogram"]["makespan_deg"] == payload["makespan_deg"]
+    # every operation's phase angle is the difference of its event times
+    times = payload["event_times_deg"]
+    for label, angle in payload["phase_angles_deg"].items():
+        tail, head = label.split("->")
+        assert angle == pytest.approx(times[head] - times[tail], abs=1e-9)
+
+
+def test_cli_cyclogram_bad_scene(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(GOOD.replace("to = 3", "to = 1"))
+    done = run_cli("cyclogram", str(scene), "--json")
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.startswith("camcad: error:") and "cycle: 1 -> 2 -> 1" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
