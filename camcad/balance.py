@@ -505,22 +505,22 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
                 continue
             t_lo, r_lo = 0.0, r0
             trial = 0.01
-            direction = None
-            while evaluations < max_iterations:
-                r_try = f(trial)
-                evaluations += 1
-                if direction is None:
-                    direction = 1.0 if abs(r_try) < abs(r0) else -1.0
-                    if direction < 0:
-                        trial = -trial
-                        continue
-                if np.sign(r_try) != np.sign(r_lo):
-                    break
-                t_lo, r_lo = trial, r_try
-                trial *= 2.0
-                if abs(trial) > 1e6:
-                    raise CamcadError(f"the iterative loop cannot balance the {conds[i].name} with mode {mode}",
-                                      where, "use --method exact")
+            r_try = f(trial)
+            evaluations += 1
+            if np.sign(r_try) == np.sign(r0):
+                # no crossing within the first trial step: go the way the residual shrinks, doubling
+                if abs(r_try) >= abs(r0):
+                    trial = -trial
+                    r_try = f(trial)
+                    evaluations += 1
+                while np.sign(r_try) == np.sign(r_lo) and evaluations < max_iterations:
+                    t_lo, r_lo = trial, r_try
+                    trial *= 2.0
+                    if abs(trial) > 1e6:
+                        raise CamcadError(f"the iterative loop cannot balance the {conds[i].name} with mode {mode}",
+                                          where, "use --method exact")
+                    r_try = f(trial)
+                    evaluations += 1
             t_hi = trial
             mid = t_lo
             while evaluations < max_iterations:

@@ -9,10 +9,12 @@ text and dimensions. Block references are exploded. All coordinates are WCS, dra
 from __future__ import annotations
 
 import io
+import logging
 import math
 import re
 from collections import Counter
-from dataclasses import dataclass, field
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -46,6 +48,7 @@ class Curve:
     flatten_tol: float = 0.0
     handles: tuple[str, ...] = ()
     vertex_refs: tuple[tuple[tuple[str, str], ...], ...] = ()
+    hidden: bool = False  # on a layer that is off or frozen (as camcad's kept originals are)
 
     @property
     def label(self) -> str:
@@ -78,6 +81,37 @@ class CurveSet:
 # Opening
 # ---------------------------------------------------------------------------------------------
 
+@contextmanager
+def ezdxf_messages():
+    """Collect what ezdxf logs while reading (repairs of a damaged file) instead of printing it.
+
+    Yields a list that fills with the messages; the logger is restored afterwards.
+    """
+    messages: list[str] = []
+
+    class _Collect(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            messages.append(" ".join(record.getMessage().split()))
+
+    logger = logging.getLogger("ezdxf")
+    handler = _Collect(level=logging.WARNING)
+    propagate = logger.propagate
+    logger.addHandler(handler)
+    logger.propagate = False
+    try:
+        yield messages
+    finally:
+        logger.removeHandler(handler)
+        logger.propagate = propagate
+
+
+def summarise_messages(messages: list[str], limit: int = 3) -> list[str]:
+    """ezdxf's repair messages as notes: the first few, then a count."""
+    notes = [f"ezdxf: {m}" for m in messages[:limit]]
+    if len(messages) > limit:
+        notes.append(f"ezdxf: ... and {len(messages) - limit} more repair messages")
+    return notes
+
 _ACADVER = re.compile(rb"\$ACADVER")
 _SUBCLASS = re.compile(rb"(?m)^\s*100\s*\r?\n\s*AcDb")
 
@@ -88,7 +122,16 @@ def open_drawing(path: str | Path) -> Drawing:
     Files with R2000 entities but no $ACADVER (ENTITIES-only excerpts) get $ACADVER = AC1015
     injected before loading, because ezdxf would otherwise read them as R12 and silently drop
     their subclass data (closed flags, widths, spline degree) — dxf-interop.md, trap 1.
+    What ezdxf logs about repairs becomes the drawing's notes.
     """
+    with ezdxf_messages() as messages:
+        drawing = _open_drawing(path)
+    if messages:
+        drawing = replace(drawing, notes=drawing.notes + tuple(summarise_messages(messages)))
+    return drawing
+
+
+def _open_drawing(path: str | Path) -> Drawing:
     import ezdxf
     from ezdxf.lldxf.validator import dwg_version, is_binary_dxf_file
 
@@ -193,10 +236,38 @@ def collect_curves(drawing: Drawing, *, flatten_tol: float | None = None,
     notes: list[str] = []
     curves: list[Curve] = []
     pieces: list[tuple[str, str, str, np.ndarray]] = []  # (kind, handle, layer, points) of LINE/ARC
+    with ezdxf_messages() as messages:
+        _gather(drawing, counts, notes, curves, pieces, flatten_tol)
+    notes.extend(summarise_messages(messages))
+    with ezdxf_messages() as messages:
+        curves.extend(_chains(pieces, join_tol))
+    notes.extend(summarise_messages(messages))
+    hidden = _hidden_layers(drawing.doc)
+    curves = [replace(c, hidden=c.layer.upper() in hidden) for c in curves]
+    return CurveSet(tuple(curves), counts, tuple(notes))
+
+
+def _hidden_layers(doc) -> set[str]:
+    names = set()
+    for layer in doc.layers:
+        try:
+            if not layer.is_on() or layer.is_frozen():
+                names.add(layer.dxf.name.upper())
+        except Exception:  # noqa: BLE001 - a damaged layer table entry hides nothing
+            continue
+    return names
+
+
+def _gather(drawing, counts, notes, curves, pieces, flatten_tol) -> None:
     for entity, handle in _model_entities(drawing.doc):
         kind = entity.dxftype()
         counts[kind] += 1
-        layer = str(entity.dxf.get("layer", "0"))
+        if kind not in CURVE_TYPES:
+            continue
+        try:
+            layer = str(entity.dxf.get("layer", "0"))
+        except Exception:  # noqa: BLE001 - very old entity types have no layer attribute
+            layer = "0"
         try:
             if kind == "LWPOLYLINE":
                 curves.append(_lwpolyline_curve(entity, handle, layer, flatten_tol))
@@ -208,15 +279,14 @@ def collect_curves(drawing: Drawing, *, flatten_tol: float | None = None,
                 curves.append(_spline_curve(entity, handle, layer, flatten_tol))
             elif kind == "LINE":
                 start, end = entity.dxf.start, entity.dxf.end
-                pieces.append(("LINE", handle, layer, np.array([[start.x, start.y], [end.x, end.y]])))
+                ends = _checked(np.array([[start.x, start.y], [end.x, end.y]]))
+                pieces.append(("LINE", handle, layer, ends))
             elif kind == "ARC":
-                pieces.append(("ARC", handle, layer, _arc_points(entity, flatten_tol)))
+                pieces.append(("ARC", handle, layer, _checked(_arc_points(entity, flatten_tol))))
         except CamcadError:
             raise
         except Exception as err:  # noqa: BLE001 - a malformed entity is skipped and reported
             notes.append(f"{kind} {handle} on layer {layer} skipped: {_short(err)}")
-    curves.extend(_chains(pieces, join_tol))
-    return CurveSet(tuple(curves), counts, tuple(notes))
 
 
 def _model_entities(doc):
@@ -239,12 +309,13 @@ def _model_entities(doc):
         yield from walk(entity, handle, 0)
 
 
-def _checked(points: np.ndarray, label: str) -> np.ndarray:
+def _checked(points: np.ndarray) -> np.ndarray:
+    """The points, or ValueError naming the first vertex with a NaN or infinite coordinate."""
     finite = np.isfinite(points).all(axis=1)
     if not finite.all():
         index = int(np.flatnonzero(~finite)[0])
-        raise CamcadError(f"vertex {index} has a non-finite coordinate ({points[index, 0]}, {points[index, 1]})",
-                          label, "fix or delete that vertex in your CAD program")
+        raise ValueError(f"vertex {index} has a non-finite coordinate ({points[index, 0]}, {points[index, 1]}); "
+                         "fix or delete that vertex in your CAD program")
     return points
 
 
@@ -262,9 +333,8 @@ def _tolerance(points: np.ndarray, flatten_tol: float | None) -> float:
 
 
 def _lwpolyline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve:
-    label = f"LWPOLYLINE {handle} on layer {layer}"
     points = np.array([[p.x, p.y] for p in entity.vertices_in_wcs()], dtype=float).reshape(-1, 2)
-    points = _checked(points, label)
+    points = _checked(points)
     bulges = [b for *_, b in entity.get_points("xyb")]
     closed = bool(entity.closed)
     if any(b for b in bulges):
@@ -277,15 +347,14 @@ def _lwpolyline_curve(entity, handle: str, layer: str, flatten_tol: float | None
 def _polyline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve | None:
     if not (entity.is_2d_polyline or entity.is_3d_polyline):
         return None  # polyface and polygon meshes are surfaces, not curves
-    label = f"POLYLINE {handle} on layer {layer}"
     if entity.is_2d_polyline:
         points = np.array([[p.x, p.y] for p in entity.points_in_wcs()], dtype=float).reshape(-1, 2)
     else:
         xyz = np.array([[p.x, p.y, p.z] for p in entity.points()], dtype=float).reshape(-1, 3)
         if len(xyz) and np.ptp(xyz[:, 2]) > 1e-9 * max(_size(xyz[:, :2]), 1.0):
-            return None  # a space curve is not a law drawn in the plane
+            raise ValueError("a 3D polyline whose z varies is not a law drawn in the plane")
         points = xyz[:, :2]
-    points = _checked(points, label)
+    points = _checked(points)
     closed = bool(entity.is_closed)
     bulges = [v.dxf.get("bulge", 0.0) for v in entity.vertices]
     if any(b for b in bulges):
@@ -319,13 +388,12 @@ def _arc_points(arc, tol: float | None) -> np.ndarray:
 
 
 def _spline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve:
-    label = f"SPLINE {handle} on layer {layer}"
     frame = [tuple(p)[:2] for p in entity.control_points] or [tuple(p)[:2] for p in entity.fit_points]
     frame_points = np.array(frame, dtype=float).reshape(-1, 2)
-    _checked(frame_points, label)
+    _checked(frame_points)
     tol = _tolerance(frame_points, flatten_tol)
     points = np.array([[p.x, p.y] for p in entity.flattening(tol)], dtype=float).reshape(-1, 2)
-    return Curve(_checked(points, label), "SPLINE", handle, layer, editable=False,
+    return Curve(_checked(points), "SPLINE", handle, layer, editable=False,
                  closed=bool(entity.closed), flatten_tol=tol, handles=(handle,))
 
 
@@ -339,11 +407,6 @@ def _chains(pieces: list[tuple[str, str, str, np.ndarray]], join_tol: float | No
     ends = np.array([[p[3][0], p[3][-1]] for p in pieces]).reshape(-1, 2)  # 2 ends per piece
     if join_tol is None:
         join_tol = max(_size(ends) * DEFAULT_JOIN_FRACTION, 1e-12)
-    if not np.isfinite(ends).all():
-        bad = int(np.flatnonzero(~np.isfinite(ends).all(axis=1))[0]) // 2
-        kind, handle, layer, _ = pieces[bad]
-        raise CamcadError("an end point has a non-finite coordinate", f"{kind} {handle} on layer {layer}",
-                          "fix or delete it in your CAD program")
     layers = [p[2] for p in pieces]
     nodes = DisjointSet(range(len(ends)))
     for i, j in cKDTree(ends).query_pairs(join_tol):

@@ -88,8 +88,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     curve = loaded.curve
     entities = [doc.entitydb.get(h) for h in curve.handles]
     in_block = any(e is None or e.dxftype() == "INSERT" for e in entities)
-    x_new = loaded.theta_to_x(law.x)
-    y_new = loaded.a_to_y(law.a)
+    x_new, y_new = _drawing_coordinates(loaded, law)
     if curve.editable and not resampled and not in_block and len(law.x) == int(loaded.vertex_map.lo.max()) + 1:
         xs = loaded.vertex_map.ordinates(x_new)
         ys = loaded.vertex_map.ordinates(y_new)
@@ -121,6 +120,28 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
         raise CamcadError(f"cannot write the corrected drawing ({err.strerror})", str(out),
                           "choose another output with -o") from None
     return out, notes
+
+
+def _drawing_coordinates(loaded, law) -> tuple[np.ndarray, np.ndarray]:
+    """Drawing x, y of each law vertex; a vertex the correction did not move keeps its drawn coordinates
+    bit for bit (no round trip through the angle mapping)."""
+    x_new = loaded.theta_to_x(law.x)
+    y_new = loaded.a_to_y(law.a)
+    if len(law.x) != len(loaded.law.x):
+        return x_new, y_new
+    vmap = loaded.vertex_map
+    exact = vmap.lo == vmap.hi
+    first_point = np.full(len(law.x), -1)
+    for point in np.flatnonzero(exact)[::-1]:
+        first_point[vmap.lo[point]] = point
+    has_point = first_point >= 0
+    same_x = has_point.copy()
+    same_x[has_point] = law.x[has_point] == loaded.law.x[has_point]
+    same_y = has_point.copy()
+    same_y[has_point] = law.a[has_point] == loaded.law.a[has_point]
+    x_new[same_x] = loaded.curve.points[first_point[same_x], 0]
+    y_new[same_y] = loaded.curve.points[first_point[same_y], 1]
+    return x_new, y_new
 
 
 def _move_vertices(curve, entities, xs: np.ndarray, ys: np.ndarray) -> None:

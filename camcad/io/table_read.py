@@ -47,7 +47,7 @@ def read_table(path: str | Path) -> Table:
     if not rows:
         raise CamcadError("the table is empty", where, "add rows 'angle_deg, acceleration'")
     delimiter = _delimiter([content for _, content in rows[:50]])
-    decimal_comma = delimiter in (";", "\t") and any(re.search(r"\d,\d", c) for _, c in rows[:50])
+    decimal_comma = delimiter in (";", "\t") and any(re.search(r"\d,\d", c) for _, c in rows)
     theta, accel, lines = [], [], []
     for index, (number, content) in enumerate(rows):
         fields = _split(content, delimiter)

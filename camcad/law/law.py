@@ -135,7 +135,9 @@ def integrate_trapezoid(x: np.ndarray, a: np.ndarray, step: float, v0: float = 0
 
     Dupliak & Kotsiyba (2018), seed 003: "recompute all points of the graph with a step
     (default 0.1), then integrate again with the trapezoid method". The grid covers
-    [x0, x_end] with the last interval shortened to end exactly at x_end.
+    [x0, x_end] with the last interval shortened to end exactly at x_end. A jump of the
+    acceleration (a repeated knot) keeps both its values at its own angle, so a vertical
+    segment stays vertical instead of becoming a one-step ramp.
 
     Error: resampling a piecewise-linear a at points that miss its knots replaces it by
     chords, an O(step²·|Δa'|) change near each knot; the trapezoidal rule on the
@@ -148,12 +150,31 @@ def integrate_trapezoid(x: np.ndarray, a: np.ndarray, step: float, v0: float = 0
     """
     x = np.asarray(x, dtype=float)
     a = np.asarray(a, dtype=float)
-    grid = uniform_grid(float(x[0]), float(x[-1]), step)
-    a_grid = sample_piecewise_linear(x, a, grid)
+    grid, a_grid = resample(x, a, step)
     dx = np.diff(grid)
     v = np.concatenate(([v0], v0 + np.cumsum(dx * (a_grid[:-1] + a_grid[1:]) / 2.0)))
     s = np.concatenate(([s0], s0 + np.cumsum(dx * (v[:-1] + v[1:]) / 2.0)))
     return grid, a_grid, v, s
+
+
+def resample(x: np.ndarray, a: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """The polyline sampled every ``step`` from x[0] to x[-1]; each jump keeps its two values."""
+    grid = uniform_grid(float(x[0]), float(x[-1]), step)
+    a_grid = sample_piecewise_linear(x, a, grid)
+    jump = np.flatnonzero(np.diff(x) == 0)
+    if len(jump) == 0:
+        return grid, a_grid
+    at = x[jump]
+    cut = np.searchsorted(grid, at)
+    on_grid = (cut < len(grid)) & (grid[np.minimum(cut, len(grid) - 1)] == at)
+    # drop grid points that coincide with a jump, then insert (left, right) at each jump
+    keep = np.ones(len(grid), dtype=bool)
+    keep[cut[on_grid]] = False
+    grid, a_grid = grid[keep], a_grid[keep]
+    cut = np.searchsorted(grid, at)
+    grid = np.insert(grid, np.repeat(cut, 2), np.repeat(at, 2))
+    a_grid = np.insert(a_grid, np.repeat(cut, 2), np.column_stack((a[jump], a[jump + 1])).ravel())
+    return grid, a_grid
 
 
 def uniform_grid(start: float, end: float, step: float) -> np.ndarray:

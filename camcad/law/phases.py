@@ -203,26 +203,20 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
 
 
 def phase_integrals(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[float, float]:
-    """(∫ max(a, 0), ∫ min(a, 0)) over [start, end], exact for piecewise-linear a (θ in rad)."""
+    """(∫ max(a, 0), ∫ min(a, 0)) over [start, end], exact for piecewise-linear a (θ in rad).
+
+    A segment whose ends have opposite signs is cut at its zero crossing, so each piece has one
+    sign and its trapezoid area is exact.
+    """
     xs, as_ = restrict(x, a, start, end)
-    # split segments at zero crossings so each piece has one sign and the trapezoid is exact
-    pos = neg = 0.0
-    for x0, x1, a0, a1 in zip(xs[:-1], xs[1:], as_[:-1], as_[1:]):
-        length = x1 - x0
-        if length <= 0:
-            continue
-        if a0 * a1 < 0:
-            cut = length * a0 / (a0 - a1)
-            first, second = cut * a0 / 2.0, (length - cut) * a1 / 2.0
-            pos += max(first, 0.0) + max(second, 0.0)
-            neg += min(first, 0.0) + min(second, 0.0)
-        else:
-            area = length * (a0 + a1) / 2.0
-            if area >= 0:
-                pos += area
-            else:
-                neg += area
-    return pos, neg
+    length = np.diff(xs)
+    a0, a1 = as_[:-1], as_[1:]
+    crossing = a0 * a1 < 0
+    cut = np.divide(length * a0, a0 - a1, out=np.zeros_like(length), where=crossing)
+    first = np.where(crossing, cut * a0 / 2.0, length * (a0 + a1) / 2.0)
+    second = np.where(crossing, (length - cut) * a1 / 2.0, 0.0)
+    pieces = np.concatenate((first, second))
+    return float(pieces[pieces > 0].sum()), float(pieces[pieces < 0].sum())
 
 
 def restrict(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:

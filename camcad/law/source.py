@@ -166,8 +166,16 @@ def select_curve(curve_set: CurveSet, where: str, layer: str | None = None,
             raise CamcadError(f"no curve on layer {layer}", where,
                               f"layers with curves: {', '.join(layers) or 'none'}")
         curves = on_layer
+    else:
+        # curves on layers that are off or frozen (camcad's kept originals among them) are not
+        # candidates unless asked for by --layer or --handle
+        visible = [c for c in curves if not c.hidden]
+        if visible:
+            curves = visible
     if not curves:
-        raise CamcadError("no curve found", where,
+        skipped = [n for n in curve_set.notes if " skipped: " in n]
+        why = f" ({skipped[0]})" if skipped else ""
+        raise CamcadError(f"no curve found{why}", where,
                           f"the drawing holds {_counts_text(curve_set)}; draw the law as a polyline, "
                           "a chain of lines or a spline")
     lawlike = [c for c in curves if not law_problem(c)]

@@ -1,0 +1,5 @@
+"""``python -m camcad`` is the ``camcad`` command."""
+
+from .cli import main
+
+main()

@@ -1,0 +1,172 @@
+"""Area balance: the linear conditions, the exact least change, the source's modes and loop."""
+
+import numpy as np
+import pytest
+from scipy.linalg import null_space
+
+from camcad import balance
+from camcad.errors import CamcadError
+from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.phases import detect_phases
+from camcad.law.source import load_law
+from conftest import SAMPLES
+
+UNBALANCED = ["dxf/fig2_rise_area_too_large.dxf", "dxf/drrd_return_short.dxf", "dxf/constant_accel_jumps.dxf",
+              "dxf/r12_polyline_harmonic.dxf", "dxf/spline_law.dxf", "dxf/line_chain_trapezoid.dxf",
+              "dxf/drawing_with_axes_grid_text.dxf", "law_table.csv", "law_table_semicolon.txt"]
+SOURCE_MODES = ["extrema", "extrema-resample", "keypoints", "phase", "phase-keypoints"]
+
+
+def _unbalanced_cycloidal(n=181, seed=0):
+    from camcad.law.standard import compose
+
+    law = compose([("dwell", 60), ("rise", 120), ("dwell", 60), ("return", 120)], 25.0)
+    theta = np.linspace(0, 2 * np.pi, n)
+    a = law.kinematics(theta).a
+    rng = np.random.default_rng(seed)
+    a = a * (1 + 0.05 * rng.standard_normal(n)) * (np.abs(a) > 0)
+    return PiecewiseLinearLaw(theta, a, 2 * np.pi, detect_phases(theta, a, 2 * np.pi))
+
+
+def test_condition_rows_equal_the_exact_integrals_anywhere():
+    # C @ a must equal v(θ) and s(θ) of the exact integrator, also for θ inside a segment.
+    law = _unbalanced_cycloidal()
+    thetas = [0.3, 1.7, np.pi, 4.4, 2 * np.pi]
+    conds = tuple(balance.Condition("v", "v", t) for t in thetas) + \
+        tuple(balance.Condition("s", "s", t) for t in thetas)
+    values = balance.functional_rows(law.x, conds) @ law.a
+    kin = law.kinematics(np.array(thetas))
+    assert values[:5] == pytest.approx(kin.v, abs=1e-12)
+    assert values[5:] == pytest.approx(kin.s, abs=1e-11)
+
+
+def test_mass_matrix_gives_the_l2_norm_of_the_polyline():
+    # ∫ a² dθ of a polyline against dense trapezoid quadrature (independent, converges as h²)
+    law = _unbalanced_cycloidal()
+    exact = law.a @ (balance.mass_matrix(law.x) @ law.a)
+    t = np.linspace(0, 2 * np.pi, 2_000_001)
+    dense = np.trapezoid(np.interp(t, law.x, law.a) ** 2, t)
+    assert exact == pytest.approx(dense, rel=1e-9)
+
+
+def test_min_change_is_the_least_change_and_balances_exactly():
+    law = _unbalanced_cycloidal()
+    result = balance.correct(law, "min-change")
+    scale = result.before.rise
+    assert np.max(np.abs(result.after.residuals)) <= 1e-9 * scale
+    # Optimality (KKT): the change is M-orthogonal to every change that keeps the conditions,
+    # i.e. to the null space of C restricted to the movable vertices.
+    free = balance._free_vertices(law, np.zeros(len(law.x), bool))
+    rows = balance.functional_rows(law.x, balance.conditions(law))[:, free]
+    delta = (result.law.a - law.a)[free]
+    mass = balance.mass_matrix(law.x).toarray()[np.ix_(free, free)]
+    z = null_space(rows)
+    assert np.max(np.abs(z.T @ (mass @ delta))) <= 1e-9 * np.linalg.norm(mass @ delta)
+    # and it is no larger than the RMS of any random feasible correction
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        other = delta + z @ rng.standard_normal(z.shape[1]) * 0.1
+        assert other @ mass @ other >= delta @ mass @ delta
+
+
+def test_fixing_a_balanced_law_changes_nothing():
+    loaded = load_law(SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf")
+    for mode in balance.MODES:
+        result = balance.correct(loaded.law, mode, segment_deg=(0, 360))
+        assert result.max_change == 0.0
+        assert np.array_equal(result.law.a, loaded.law.a)
+
+
+@pytest.mark.parametrize("name", UNBALANCED)
+def test_min_change_balances_every_sample_and_changes_it_least(name):
+    loaded = load_law(SAMPLES / name)
+    before = balance.check(loaded.law)
+    assert not before.balanced
+    best = balance.correct(loaded.law, "min-change")
+    lift = before.rise
+    assert np.max(np.abs(best.after.residuals)) <= 1e-9 * lift
+    for mode in SOURCE_MODES:
+        other = balance.correct(loaded.law, mode)
+        assert other.after.balanced, mode
+        assert best.rms_change <= other.rms_change * (1 + 1e-9), mode
+
+
+@pytest.mark.parametrize("name", UNBALANCED[:4])
+@pytest.mark.parametrize("mode", ["min-change", "keypoints", "extrema-resample"])
+def test_iterative_loop_reaches_the_requested_tolerance(name, mode):
+    loaded = load_law(SAMPLES / name)
+    tol = 1e-5
+    result = balance.correct(loaded.law, mode, method="iterate", step_deg=0.1, tol=tol)
+    # measured with the exact integrator, not the loop's own trapezoid
+    assert np.max(np.abs(result.after.residuals)) <= tol * result.before.rise
+    assert result.iterations > 1
+
+
+def test_segment_mode_that_cannot_reach_an_unbalanced_phase_says_so():
+    # the return's own areas differ (its decelerating lobe is drawn 5 % high); points of the rise
+    # cannot change the return's own balance, only shift the velocity it starts from
+    loaded = load_law(SAMPLES / "dxf" / "r12_polyline_harmonic.dxf")
+    with pytest.raises(CamcadError, match="segment") as err:
+        balance.correct(loaded.law, "segment", segment_deg=(40, 180))
+    assert "min-change" in str(err.value)
+
+
+def test_segment_mode_covering_the_motions_balances():
+    loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
+    result = balance.correct(loaded.law, "segment", segment_deg=(60, 360))
+    assert result.after.balanced
+    changed = np.flatnonzero(result.law.a != loaded.law.a)
+    assert np.degrees(loaded.law.x[changed]).min() >= 60 - 1e-9
+
+
+def test_move_holds_the_users_point():
+    loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
+    target_deg, value = 90.0, float(loaded.law.a[np.argmin(np.abs(loaded.law.x - np.radians(90)))] * 0.9)
+    result = balance.correct(loaded.law, "min-change", move=(target_deg, value))
+    index = int(np.argmin(np.abs(loaded.law.x - np.radians(target_deg))))
+    assert result.law.a[index] == value
+    assert result.after.balanced
+
+
+def test_phase_mode_keeps_the_ordinates_and_moves_the_angles():
+    loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
+    result = balance.correct(loaded.law, "phase")
+    assert np.array_equal(result.law.a, loaded.law.a)
+    assert not np.array_equal(result.law.x, loaded.law.x)
+    assert np.max(np.abs(result.after.residuals)) <= 1e-9 * result.before.rise
+    assert result.law.x[0] == 0 and result.law.x[-1] == pytest.approx(2 * np.pi)
+
+
+def test_extrema_mode_moves_only_the_extrema():
+    smooth = _unbalanced_cycloidal(seed=0)
+    theta = smooth.x
+    from camcad.law.standard import compose
+
+    a = compose([("dwell", 60), ("rise", 120), ("dwell", 60), ("return", 120)], 25.0).kinematics(theta).a
+    a = np.where((theta > np.radians(60)) & (theta < np.radians(120)), a * 1.05, a)
+    law = PiecewiseLinearLaw(theta, a, 2 * np.pi, detect_phases(theta, a, 2 * np.pi))
+    result = balance.correct(law, "extrema")
+    changed = np.flatnonzero(result.law.a != law.a)
+    groups = balance.extremum_groups(law.a, balance._free_vertices(law, np.zeros(len(law.x), bool)))
+    assert set(changed) <= set(np.concatenate(groups))
+    assert len(groups) == 4  # one peak per lobe of a dwell-rise-dwell-return law
+    assert result.after.balanced
+
+
+def test_difference_norms_against_dense_sampling():
+    law = _unbalanced_cycloidal()
+    other = balance.correct(law, "extrema-resample").law
+    max_change, rms = balance.difference_norms(law, other)
+    t = np.linspace(0, 2 * np.pi, 4_000_001)
+    diff = other.kinematics(t).a - law.kinematics(t).a
+    assert rms == pytest.approx(np.sqrt(np.trapezoid(diff**2, t) / (2 * np.pi)), rel=1e-6)
+    assert max_change == pytest.approx(np.abs(diff).max(), rel=1e-6)
+
+
+def test_tiny_and_huge_scales_balance_alike():
+    law = _unbalanced_cycloidal()
+    base = balance.correct(law, "min-change")
+    for factor in (1e-6, 1e6):
+        scaled = balance.correct(law.with_ordinates(law.a * factor), "min-change")
+        assert scaled.law.a == pytest.approx(base.law.a * factor, rel=1e-9, abs=1e-12 * factor * np.abs(law.a).max())
+        assert np.max(np.abs(scaled.after.residuals)) <= 1e-9 * scaled.before.rise

@@ -1,0 +1,240 @@
+"""`camcad check` and `camcad fix` end to end: JSON keys, round trips through DXF, bad input."""
+
+import shutil
+from collections import Counter
+
+import ezdxf
+import numpy as np
+import pytest
+
+from conftest import SAMPLES, file_digest
+
+UNBALANCED_DXF = ["fig2_rise_area_too_large.dxf", "drrd_return_short.dxf", "constant_accel_jumps.dxf",
+                  "r12_polyline_harmonic.dxf", "spline_law.dxf", "line_chain_trapezoid.dxf",
+                  "drawing_with_axes_grid_text.dxf"]
+CHECK_KEYS = {"areas", "velocity_closure", "displacement_closure", "rise", "return", "balanced", "tolerance"}
+
+
+def _copy(tmp_path, name):
+    target = tmp_path / name.split("/")[-1]
+    shutil.copy(SAMPLES / name, target)
+    return target
+
+
+def test_check_json_keys_and_exit_codes(cli):
+    good = cli("check", SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf", "--json")
+    assert good.code == 0
+    payload = good.json()
+    assert CHECK_KEYS <= set(payload)
+    assert payload["balanced"] is True
+    bad = cli("check", SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf", "--json")
+    assert bad.code == 1 and bad.json()["balanced"] is False
+    human = cli("check", SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
+    assert "NOT balanced" in human.out and "displacement closure" in human.out
+
+
+@pytest.mark.parametrize("name", UNBALANCED_DXF)
+def test_fix_round_trip_keeps_the_drawing_and_balances(cli, tmp_path, name):
+    source = _copy(tmp_path, "dxf/" + name)
+    digest = file_digest(source)
+    out = tmp_path / "fixed.dxf"
+    result = cli("fix", source, "-o", out, "--json", "--no-plots")
+    assert result.code == 0, result.err
+    payload = result.json()
+    assert {"mode", "output", "max_change", "rms_change", "iterations", "after"} <= set(payload)
+    lift = payload["rise"]
+    after = payload["after"]
+    assert abs(after["displacement_closure"]) <= 1e-9 * lift
+    assert max(abs(v) for v in after["velocity_closure"].values()) <= 1e-9 * lift
+    assert file_digest(source) == digest  # the input is never modified
+    # round trip: the written drawing re-reads as balanced (same phases)
+    again = cli("check", out, "--json", "--tol", "1e-8")
+    assert again.code == 0, again.out + again.err
+    # the written DXF passes ezdxf's audit, and holds the input's entities and layers plus the original
+    doc_in, doc_out = ezdxf.readfile(source), ezdxf.readfile(out)
+    auditor = doc_out.audit()
+    assert not auditor.has_errors
+    layers_in = {layer.dxf.name for layer in doc_in.layers}
+    layers_out = {layer.dxf.name for layer in doc_out.layers}
+    assert layers_out == layers_in | {"CAMCAD_ORIGINAL"}
+    assert not doc_out.layers.get("CAMCAD_ORIGINAL").is_on()
+    count_in = Counter(e.dxftype() for e in doc_in.modelspace())
+    count_out = Counter(e.dxftype() for e in doc_out.modelspace() if e.dxf.layer != "CAMCAD_ORIGINAL")
+    kept = Counter(e.dxftype() for e in doc_out.modelspace() if e.dxf.layer == "CAMCAD_ORIGINAL")
+    editable = name not in ("spline_law.dxf",)
+    if editable:
+        assert count_out == count_in          # same entity types and counts, edited in place
+        assert kept == Counter({k: v for k, v in count_in.items() if k in ("LWPOLYLINE", "POLYLINE", "LINE")
+                                and payload["source"].split(", ")[1].startswith(k)}) or sum(kept.values()) >= 1
+    else:
+        assert kept == Counter({"SPLINE": 1})
+        assert count_out["LWPOLYLINE"] == 1
+    for var in ("$ACADVER", "$INSUNITS"):
+        if var in doc_in.header:
+            assert doc_out.header.get(var) == doc_in.header.get(var)
+
+
+def test_fix_same_vertex_count_and_x_for_vertex_modes(cli, tmp_path):
+    source = _copy(tmp_path, "dxf/fig2_rise_area_too_large.dxf")
+    out = tmp_path / "f.dxf"
+    assert cli("fix", source, "-o", out, "--no-plots").code == 0
+    before = ezdxf.readfile(source).modelspace().query("LWPOLYLINE")[0]
+    after = ezdxf.readfile(out).modelspace().query("LWPOLYLINE[layer=='ACCEL']")[0]
+    xy0 = np.array(before.get_points("xy"))
+    xy1 = np.array(after.get_points("xy"))
+    assert xy0.shape == xy1.shape
+    assert np.array_equal(xy0[:, 0], xy1[:, 0])
+    assert not np.array_equal(xy0[:, 1], xy1[:, 1])
+
+
+def test_fixing_a_balanced_drawing_changes_nothing(cli, tmp_path):
+    source = _copy(tmp_path, "dxf/balanced_drdr_cycloidal.dxf")
+    out = tmp_path / "f.dxf"
+    result = cli("fix", source, "-o", out, "--json", "--no-plots")
+    assert result.code == 0
+    assert result.json()["max_change"] == 0
+    before = np.array(ezdxf.readfile(source).modelspace().query("LWPOLYLINE")[0].get_points("xy"))
+    after = np.array(ezdxf.readfile(out).modelspace().query("LWPOLYLINE[layer=='ACCEL']")[0].get_points("xy"))
+    assert np.array_equal(before, after)
+
+
+def test_fix_table_writes_a_table_and_iterate_meets_its_tolerance(cli, tmp_path):
+    source = _copy(tmp_path, "law_table_semicolon.txt")
+    result = cli("fix", source, "--method", "iterate", "--mode", "keypoints", "--tol", "1e-5", "--json", "--no-plots")
+    assert result.code == 0, result.err
+    out = tmp_path / "law_table_semicolon.fixed.txt"
+    assert out.exists() and ";" in out.read_text() and "," in out.read_text()  # same dialect (decimal comma)
+    again = cli("check", out, "--json", "--tol", "1e-5")
+    assert again.code == 0
+
+
+@pytest.mark.parametrize("mode", ["extrema", "extrema-resample", "keypoints", "phase", "phase-keypoints"])
+def test_every_mode_from_the_command_line(cli, tmp_path, mode):
+    source = _copy(tmp_path, "dxf/fig2_rise_area_too_large.dxf")
+    out = tmp_path / f"{mode}.dxf"
+    result = cli("fix", source, "--mode", mode, "-o", out, "--json", "--no-plots")
+    assert result.code == 0, result.err
+    assert cli("check", out).code == 0
+
+
+def test_fix_writes_a_plot(cli, tmp_path):
+    source = _copy(tmp_path, "dxf/fig2_rise_area_too_large.dxf")
+    result = cli("fix", source, "--json")
+    assert result.code == 0
+    png = tmp_path / "fig2_rise_area_too_large.fixed.png"
+    assert png.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# --- bad input: exit 2, one line "camcad: error: what, where; how to fix", input untouched -------
+
+def _ambiguous(path):
+    doc = ezdxf.new()
+    msp = doc.modelspace()
+    x = np.linspace(0, 360, 50)
+    msp.add_lwpolyline(list(zip(x, np.sin(np.radians(x) * 2))), dxfattribs={"layer": "A"})
+    msp.add_lwpolyline(list(zip(x, np.cos(np.radians(x) * 2))), dxfattribs={"layer": "B"})
+    doc.saveas(path)
+
+
+def _two_vertices(path):
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([(0, 0), (360, 5)])
+    doc.saveas(path)
+
+
+def _nan_vertex(path):
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([(0, 0), (90, 1), (180, -1), (270, 2), (360, 0)])
+    doc.saveas(path)
+    text = path.read_text().replace("\n270.0\n", "\nnan\n", 1)
+    path.write_text(text)
+
+
+def _inf_vertex(path):
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([(0, 0), (90, 1), (180, -1), (270, 2), (360, 0)])
+    doc.saveas(path)
+    path.write_text(path.read_text().replace("\n270.0\n", "\ninf\n", 1))
+
+
+def _no_curve(path):
+    doc = ezdxf.new()
+    doc.modelspace().add_text("only text")
+    doc.modelspace().add_circle((0, 0), 5)
+    doc.saveas(path)
+
+
+def _truncated(path):
+    data = (SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf").read_bytes()
+    path.write_bytes(data[: len(data) // 3])
+
+
+def _short_table(path):
+    path.write_text("0,0\n90,1\n180,-1\n")
+
+
+def _bad_row(path):
+    path.write_text("0,0\n90,abc\n360,0\n")
+
+
+BAD_INPUTS = [
+    ("not_dxf.dxf", lambda p: p.write_text("hello, this is not a drawing\n"), "not a DXF file"),
+    ("image.dxf", lambda p: p.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(range(256)) * 4), "not a DXF"),
+    ("empty.dxf", lambda p: p.write_bytes(b""), "empty"),
+    ("truncated.dxf", _truncated, ""),
+    ("nocurve.dxf", _no_curve, "no curve found"),
+    ("ambiguous.dxf", _ambiguous, "--handle"),
+    ("two.dxf", _two_vertices, "at least 3"),
+    ("nan.dxf", _nan_vertex, "non-finite"),
+    ("inf.dxf", _inf_vertex, "non-finite"),
+    ("short.csv", _short_table, "not the cycle"),
+    ("badrow.csv", _bad_row, "line 2"),
+    ("missing.dxf", None, "file not found"),
+]
+
+
+@pytest.mark.parametrize("name,make,expected", BAD_INPUTS, ids=[b[0] for b in BAD_INPUTS])
+def test_bad_input_gets_one_clear_line_and_exit_2(cli, tmp_path, name, make, expected):
+    path = tmp_path / name
+    if make is not None:
+        make(path)
+        digest = file_digest(path)
+    for command in ("check", "fix"):
+        result = cli(command, path)
+        assert result.code == 2, (command, result.out, result.err)
+        lines = result.err.strip().splitlines()
+        assert len(lines) == 1, result.err
+        assert lines[0].startswith("camcad: error: ") and "internal error" not in lines[0], lines[0]
+        assert name in lines[0]  # says where
+        assert expected in lines[0]
+        assert "; " in lines[0]  # says how to fix
+        assert result.out == ""
+    if make is not None:
+        assert file_digest(path) == digest
+        assert sorted(p.name for p in tmp_path.iterdir()) == [name]  # nothing half-written
+
+
+def test_truncated_file_is_recovered_or_rejected_clearly(cli, tmp_path):
+    path = tmp_path / "truncated.dxf"
+    _truncated(path)
+    result = cli("check", path)
+    assert result.code == 2
+    assert "truncated.dxf" in result.err
+
+
+def test_a_mode_that_cannot_balance_says_why_and_which_can(cli, tmp_path):
+    source = _copy(tmp_path, "dxf/r12_polyline_harmonic.dxf")
+    result = cli("fix", source, "--mode", "segment", "--segment", "40:180")
+    assert result.code == 2
+    assert "cannot" in result.err and "min-change" in result.err
+    assert not (tmp_path / "r12_polyline_harmonic.fixed.dxf").exists()
+
+
+def test_usage_errors_are_one_line_too(cli):
+    for args in (["fix", SAMPLES / "law_table.csv", "--mode", "magic"], ["check"],
+                 ["fix", SAMPLES / "law_table.csv", "--segment", "1-2", "--mode", "segment"],
+                 ["check", SAMPLES / "law_table.csv", "--tol", "abc"]):
+        result = cli(*args)
+        assert result.code == 2, args
+        assert len(result.err.strip().splitlines()) == 1, result.err
+        assert result.err.startswith("camcad: error: ")

@@ -1,0 +1,239 @@
+"""Reading laws from drawings and tables: entity kinds, curve choice, real drawings from other programs."""
+
+import shutil
+import subprocess
+import sys
+
+import ezdxf
+import numpy as np
+import pytest
+
+from camcad.errors import CamcadError
+from camcad.law.source import load_law
+from camcad.law.standard import compose
+from conftest import SAMPLES, file_digest
+
+CYCLE = [("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)]
+
+
+def _write(tmp_path, build, name="law.dxf", version="R2000"):
+    doc = ezdxf.new(version)
+    build(doc.modelspace(), doc)
+    path = tmp_path / name
+    doc.saveas(path)
+    return path
+
+
+def _sampled(step=2.0):
+    law = compose(CYCLE, 25.0)
+    theta = np.radians(np.arange(0, 360 + step / 2, step))
+    return np.degrees(theta), law.kinematics(theta).a
+
+
+@pytest.mark.parametrize("name,kind", [
+    ("dxf/balanced_drdr_cycloidal.dxf", "LWPOLYLINE"),
+    ("dxf/r12_polyline_harmonic.dxf", "POLYLINE"),
+    ("dxf/line_chain_trapezoid.dxf", "LINE chain"),
+    ("dxf/constant_accel_jumps.dxf", "LWPOLYLINE"),
+    ("dxf/drawing_with_axes_grid_text.dxf", "LWPOLYLINE"),
+])
+def test_samples_read_as_the_entity_they_are(name, kind):
+    loaded = load_law(SAMPLES / name)
+    assert loaded.curve.kind == kind
+    # vertex count straight from ezdxf: a polyline's own vertices, or one more than the LINEs of a chain
+    msp = ezdxf.readfile(SAMPLES / name).modelspace()
+    if kind == "LWPOLYLINE":
+        expected = len(msp.query("LWPOLYLINE[layer=='ACCEL']")[0])
+    elif kind == "POLYLINE":
+        expected = len(msp.query("POLYLINE")[0].vertices)
+    else:
+        expected = len(msp.query("LINE")) + 1
+    assert len(loaded.law.x) == expected
+    assert loaded.law.x[0] == 0 and loaded.law.x[-1] == pytest.approx(2 * np.pi)
+
+
+def test_lwpolyline_x_extent_maps_to_the_cycle_and_lift_scales(tmp_path):
+    t, a = _sampled()
+    # drawn at x 100..280 (half a unit per degree) and y at 1/50 scale
+    path = _write(tmp_path, lambda msp, doc: msp.add_lwpolyline(list(zip(100 + t / 2, a / 50))))
+    loaded = load_law(path, lift=25.0)
+    reference = compose(CYCLE, 25.0)
+    theta = loaded.law.x
+    assert np.array_equal(np.round(np.degrees(theta), 9), np.round(t, 9))
+    # the drawn law integrates to a lift of exactly 25 mm, and its ordinates track the closed form
+    s_top = loaded.law.kinematics(np.array([np.pi])).s[0]
+    assert s_top == pytest.approx(25.0, rel=1e-12)
+    assert np.max(np.abs(loaded.law.a - reference.kinematics(theta).a)) < 0.01 * np.abs(loaded.law.a).max()
+
+
+def test_spline_is_flattened_within_its_tolerance(tmp_path):
+    t, a = _sampled(10.0)
+    path = _write(tmp_path, lambda msp, doc: msp.add_open_spline(list(zip(t, a, 0 * t)), degree=3))
+    loaded = load_law(path, flatten_tol=1e-4)
+    doc = ezdxf.readfile(path)
+    spline = doc.modelspace().query("SPLINE")[0].construction_tool()
+    dense = np.array([[p.x, p.y] for p in spline.approximate(20000)])
+    theta_deg = np.degrees(loaded.law.x)
+    # every point of the exact spline is within the flattening tolerance of the polyline read
+    # (vertical distance is an upper bound of the true distance for a function of x)
+    chord_y = np.interp(dense[:, 0], theta_deg, loaded.law.a)
+    slope = np.gradient(dense[:, 1], dense[:, 0])
+    assert np.max(np.abs(chord_y - dense[:, 1]) / np.sqrt(1 + slope**2)) <= 1.01e-4
+
+
+def test_bulge_polyline_is_flattened_exactly(tmp_path):
+    # one arc of radius 10 (bulge 1 = half circle) between two straight parts: the flattening's
+    # points lie on the circle to round-off and its chords within the stated tolerance
+    def build(msp, doc):
+        msp.add_lwpolyline([(0, 0, 0), (10, 0, 1), (30, 0, 0), (40, 0, 0)], format="xyb")
+    loaded = load_law(_write(tmp_path, build), flatten_tol=1e-3, phases="0:360:rise")
+    points = loaded.curve.points
+    on_arc = (points[:, 0] > 10) & (points[:, 0] < 30)
+    radius = np.hypot(points[on_arc, 0] - 20, points[on_arc, 1])
+    assert np.max(np.abs(radius - 10)) < 1e-12
+    mids = (points[:-1] + points[1:]) / 2
+    mid_arc = (mids[:, 0] > 10) & (mids[:, 0] < 30)
+    sagitta = 10 - np.hypot(mids[mid_arc, 0] - 20, mids[mid_arc, 1])
+    assert sagitta.max() <= 1e-3 + 1e-12
+
+
+def test_right_to_left_and_duplicates_give_the_same_law(tmp_path):
+    forward = load_law(SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf")
+    t, a = _sampled()
+    pts = list(zip(t, a))
+    pts = pts[:50] + [pts[50]] * 4 + pts[50:]
+    path = _write(tmp_path, lambda msp, doc: msp.add_lwpolyline(pts[::-1]))
+    backward = load_law(path)
+    assert np.array_equal(forward.law.x, backward.law.x)
+    assert np.allclose(forward.law.a, backward.law.a, rtol=0, atol=1e-12)
+    assert any("right to left" in n for n in backward.notes)
+
+
+def test_vertical_runs_keep_first_and_last(tmp_path):
+    pts = [(0, 0), (60, 0), (60, 1), (60, 3), (60, 4), (120, 4), (120, -4), (180, -4), (180, 0), (200, 0),
+           (200, -4), (260, -4), (260, 4), (320, 4), (320, 0), (360, 0)]
+    path = _write(tmp_path, lambda msp, doc: msp.add_lwpolyline(pts))
+    loaded = load_law(path)
+    assert len(loaded.law.x) == len(pts) - 2
+    # the dropped middle points map back onto the vertical segment by their fraction
+    assert loaded.vertex_map.weight[2] == pytest.approx(0.25)
+    assert loaded.vertex_map.weight[3] == pytest.approx(0.75)
+
+
+def test_largest_x_range_is_chosen_and_reported(tmp_path):
+    t, a = _sampled()
+
+    def build(msp, doc):
+        msp.add_lwpolyline(list(zip(t, a)), dxfattribs={"layer": "LAW"})
+        msp.add_lwpolyline(list(zip(t[40:120] / 2, a[40:120])), dxfattribs={"layer": "SKETCH"})
+        msp.add_line((0, 0), (400, 0), dxfattribs={"layer": "AXES"})  # wider, but straight
+    loaded = load_law(_write(tmp_path, build))
+    assert loaded.curve.layer == "LAW"
+    assert "largest x-range of 2 candidates" in loaded.notes[-1]
+
+
+def test_layer_and_handle_pick_the_curve(tmp_path):
+    t, a = _sampled()
+
+    def build(msp, doc):
+        msp.add_lwpolyline(list(zip(t, a)), dxfattribs={"layer": "A"})
+        msp.add_lwpolyline(list(zip(t, -a)), dxfattribs={"layer": "B"})
+    path = _write(tmp_path, build)
+    with pytest.raises(CamcadError, match="same x-range"):
+        load_law(path)
+    by_layer = load_law(path, layer="B")
+    assert by_layer.curve.layer == "B"
+    by_handle = load_law(path, handle=by_layer.curve.handle)
+    assert np.array_equal(by_handle.law.a, by_layer.law.a)
+
+
+def test_insert_of_a_block_is_exploded(tmp_path):
+    t, a = _sampled()
+
+    def build(msp, doc):
+        block = doc.blocks.new("LAWBLOCK")
+        block.add_lwpolyline(list(zip(t, a)))
+        msp.add_blockref("LAWBLOCK", (10, 5))
+    loaded = load_law(_write(tmp_path, build))
+    assert loaded.law.a.max() == pytest.approx(a.max() + 5)  # the block's insertion point moves y too
+
+
+def test_binary_dxf_is_read(tmp_path):
+    t, a = _sampled()
+    doc = ezdxf.new("R2000")
+    doc.modelspace().add_lwpolyline(list(zip(t, a)))
+    path = tmp_path / "binary.dxf"
+    doc.saveas(path, fmt="bin")
+    loaded = load_law(path)
+    assert len(loaded.law.x) == len(t)
+
+
+def test_table_dialects_read_alike():
+    comma = load_law(SAMPLES / "law_table.csv")
+    semicolon = load_law(SAMPLES / "law_table_semicolon.txt")
+    assert np.allclose(comma.law.a, semicolon.law.a, atol=1e-9)
+    assert any("closed periodically" in n for n in semicolon.notes)
+
+
+def test_unsorted_table_rows_are_sorted_and_reported(tmp_path):
+    rows = ["0,0", "180,0", "90,1", "135,-1", "45,1", "270,-1", "225,-1", "315,1", "360,0"]
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(rows))
+    loaded = load_law(path)
+    assert np.all(np.diff(loaded.law.x) >= 0)
+    assert any("sorted" in n for n in loaded.notes)
+
+
+# --- real drawings written by other programs (../shared/dxf-real) ---------------------------------
+
+def test_every_real_drawing_gets_a_result_or_one_clear_line(real_dxf, cli, tmp_path):
+    for path in sorted(real_dxf.glob("*.[dD][xX][fF]")):
+        before = file_digest(path)
+        result = cli("check", path, "--json")
+        assert result.code in (0, 1, 2), path.name
+        if result.code == 2:
+            lines = result.err.strip().splitlines()
+            assert len(lines) == 1 and lines[0].startswith("camcad: error: "), (path.name, result.err)
+            assert "internal error" not in lines[0], (path.name, lines[0])
+        else:
+            payload = result.json()
+            assert set(payload["areas"]) == {"rise_accel", "rise_decel", "return_accel", "return_decel"}
+        assert file_digest(path) == before, path.name
+
+
+@pytest.mark.parametrize("name,expected", [
+    ("ezdxf__Minimal_DXF_AC1009.dxf", "no curve found"),
+    ("gdal__closed_polyline_with_bulge.dxf", "it is closed"),
+    ("ezdxf__no_layouts.dxf", "it is closed"),
+    ("ezdxf__cc_dxflib.dxf", "3D polyline"),
+    ("libredwg__2007_Polyline.dxf", "goes back in x at vertex 3"),
+])
+def test_real_drawings_without_a_law_say_why(real_dxf, cli, name, expected):
+    result = cli("check", real_dxf / name)
+    assert result.code == 2
+    assert expected in result.err
+
+
+def test_damaged_drawing_is_recovered_and_the_repair_reported(real_dxf):
+    loaded = load_law(real_dxf / "ezdxf__recover01.dxf")
+    assert any("recover" in n for n in loaded.notes)
+
+
+def test_headerless_r2000_excerpt_keeps_its_closed_flag(real_dxf):
+    # without the $ACADVER injection ezdxf would read it as R12 and drop the closed flag (129)
+    from camcad.io.dxf_read import collect_curves, open_drawing
+
+    curves = collect_curves(open_drawing(real_dxf / "gdal__closed_polyline_with_bulge.dxf")).curves
+    assert curves[0].closed
+
+
+def test_no_traceback_in_a_real_process(tmp_path):
+    # the console script itself, not the in-process runner: stderr holds one line and no traceback
+    bad = tmp_path / "bad.dxf"
+    bad.write_bytes(b"0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n90\n3\n10\n1e999x\n")
+    exe = shutil.which("camcad") or sys.executable
+    args = [exe, "check", str(bad)] if exe.endswith("camcad") else [exe, "-m", "camcad", "check", str(bad)]
+    done = subprocess.run(args, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
