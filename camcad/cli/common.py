@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import warnings
 from pathlib import Path
 from typing import Annotated, Any, Callable, Optional
 
@@ -25,7 +26,10 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
         argv = ["--help"]
     command = typer.main.get_command(app)
     try:
-        result = command.main(args=argv, prog_name="camcad", standalone_mode=False)
+        with warnings.catch_warnings():
+            # numerical warnings would break the one-line contract of stderr; results carry their notes
+            warnings.simplefilter("ignore")
+            result = command.main(args=argv, prog_name="camcad", standalone_mode=False)
     except CamcadError as err:
         if debug:
             raise

@@ -309,13 +309,22 @@ def _model_entities(doc):
         yield from walk(entity, handle, 0)
 
 
+#: coordinates beyond this magnitude are damage, not drawing (and overflow any distance computation)
+MAX_COORDINATE = 1e100
+
+
 def _checked(points: np.ndarray) -> np.ndarray:
-    """The points, or ValueError naming the first vertex with a NaN or infinite coordinate."""
+    """The points, or ValueError naming the first vertex with a NaN, infinite or absurdly large coordinate."""
     finite = np.isfinite(points).all(axis=1)
     if not finite.all():
         index = int(np.flatnonzero(~finite)[0])
         raise ValueError(f"vertex {index} has a non-finite coordinate ({points[index, 0]}, {points[index, 1]}); "
                          "fix or delete that vertex in your CAD program")
+    huge = (np.abs(points) > MAX_COORDINATE).any(axis=1)
+    if huge.any():
+        index = int(np.flatnonzero(huge)[0])
+        raise ValueError(f"vertex {index} has an out-of-range coordinate ({points[index, 0]:.3g}, "
+                         f"{points[index, 1]:.3g}); fix or delete that vertex in your CAD program")
     return points
 
 

@@ -1,0 +1,65 @@
+"""Changing a law's phase angles while keeping its lift and its shape.
+
+A cyclogram shortens or stretches an operation; the law of that operation must follow. A motion
+phase of width β stretched to β′ keeps its shape in the normalised angle u = (θ − θ0)/β and its
+lift h, so its acceleration analog scales by (β/β′)² (a = h f''(u)/β², Norton 2009 §3): the
+velocity scales by β/β′ and the displacement is unchanged. A balanced law therefore stays
+balanced. Dwells simply take the new widths.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import CamcadError
+from .law import Phase, PiecewiseLinearLaw
+from .standard import CompositeLaw, Segment
+
+
+def retime(law, phases: tuple[Phase, ...], where: str = ""):
+    """The law with new phase boundaries (same kinds in the same order, covering the same cycle)."""
+    old = tuple(law.phases)
+    if [p.kind for p in old] != [p.kind for p in phases]:
+        raise CamcadError("the new phases do not have the kinds of the law's phases in the same order", where,
+                          f"the law's phases are {', '.join(p.kind for p in old)}")
+    if abs(phases[0].start - old[0].start) > 1e-12 or abs(phases[-1].end - old[-1].end) > 1e-9:
+        raise CamcadError("the new phases do not cover the law's cycle", where, "keep the first start and last end")
+    if isinstance(law, CompositeLaw):
+        segments = tuple(Segment(seg.kind, new.start, new.end, seg.lift, seg.shape)
+                         for seg, new in zip(law.segments, phases))
+        return CompositeLaw(segments, law.cycle)
+    if isinstance(law, PiecewiseLinearLaw):
+        return _retime_polyline(law, phases)
+    raise CamcadError(f"cannot change the phase angles of a {type(law).__name__}", where,
+                      "give the law as a standard law or a drawn polyline")
+
+
+def _retime_polyline(law: PiecewiseLinearLaw, phases: tuple[Phase, ...]) -> PiecewiseLinearLaw:
+    """Warp the knots phase by phase and scale each motion phase's ordinates by (β/β′)².
+
+    Every phase boundary becomes a double knot, its left copy belonging to the phase before and
+    its right copy to the phase after, so two neighbouring phases can scale differently.
+    """
+    from .law import sample_piecewise_linear
+
+    old = law.phases
+    x, a = law.x, law.a
+    for boundary in [p.start for p in old[1:]]:
+        at = np.flatnonzero(x == boundary)
+        if len(at) >= 2:
+            continue
+        value = a[at[0]] if len(at) else sample_piecewise_linear(x, a, np.array([boundary]))[0]
+        cut = int(np.searchsorted(x, boundary, side="left"))
+        x = np.insert(np.delete(x, at), cut, [boundary, boundary])
+        a = np.insert(np.delete(a, at), cut, [value, value])
+    owner = np.searchsorted([p.end for p in old], x, side="left")  # phase holding x (the left one at a boundary)
+    starts = np.array([p.start for p in old])
+    for index in range(1, len(x)):
+        if x[index] == x[index - 1] and x[index] in starts:
+            owner[index] = int(np.flatnonzero(starts == x[index])[0])  # the right copy opens the next phase
+    owner = np.minimum(owner, len(old) - 1)
+    factor = np.array([1.0 if b.kind == "dwell" else (b.width / n.width) ** 2 for b, n in zip(old, phases)])
+    old_breaks = np.array([p.start for p in old] + [old[-1].end])
+    new_breaks = np.array([p.start for p in phases] + [phases[-1].end])
+    return PiecewiseLinearLaw(np.interp(x, old_breaks, new_breaks), a * factor[owner], law.cycle, tuple(phases),
+                              law.v0, law.s0)

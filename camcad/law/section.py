@@ -1,0 +1,131 @@
+"""The ``[law]`` section of a scene: a standard law, or a drawn law from a DXF or table file.
+
+Keys (angles deg, lengths mm):
+    standard         shape of the rises (cycloidal, harmonic, poly345, ...), with ``phases`` and ``lift``
+    return_standard  shape of the returns (default: the same as ``standard``)
+    phases           "0:90:dwell,90:180:rise,..." — required for a standard law; overrides detection for a file
+    lift             rise in mm (deg of swing for an oscillating follower); scales a drawn law when given
+    file             a DXF drawing or a .csv/.txt table, relative to the scene file
+    layer, handle, cycle, x_deg   choose and map the drawn curve (as the CLI options)
+    fix              balance a drawn law first with this mode (min-change, ...); "none" only checks it
+    tol              balance tolerance (fraction of the rise)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import CamcadError
+from ..params import Field, read_table
+
+
+def _shape_names() -> tuple[str, ...]:
+    from .standard import SHAPES
+
+    return tuple(sorted(SHAPES))
+
+
+def law_fields() -> list[Field]:
+    from ..balance import DEFAULT_TOL, MODES
+
+    shapes = _shape_names()
+    return [
+        Field("standard", "str", choices=shapes, help="(a standard shape)"),
+        Field("return_standard", "str", choices=shapes),
+        Field("phases", "str", help='"0:90:dwell,90:180:rise,180:270:dwell,270:360:return" (deg)'),
+        Field("lift", "float", "mm, or deg of swing", positive=True),
+        Field("file", "str", help="(a DXF drawing or a .csv table of the acceleration)"),
+        Field("layer", "str"),
+        Field("handle", "str"),
+        Field("cycle", "float", "deg", default=360.0, positive=True, maximum=360.0),
+        Field("x_deg", "bool", default=False),
+        Field("fix", "str", choices=MODES + ("none",), default="none"),
+        Field("tol", "float", default=DEFAULT_TOL, positive=True),
+    ]
+
+
+@dataclass(frozen=True)
+class LawSpec:
+    """What the ``[law]`` section asks for (validated)."""
+
+    where: str
+    standard: str | None = None
+    return_standard: str | None = None
+    phases: str | None = None
+    lift: float | None = None
+    file: Path | None = None
+    layer: str | None = None
+    handle: str | None = None
+    cycle: float = 360.0
+    x_deg: bool = False
+    fix: str = "none"
+    tol: float = 1e-5
+
+
+@dataclass(frozen=True)
+class BuiltLaw:
+    """The law a scene runs with, and how it came to be."""
+
+    law: object
+    notes: tuple[str, ...] = ()
+    loaded: object | None = None          # LoadedLaw for a drawn law
+    balance: dict | None = None           # check of the drawn law (before any fix)
+    correction: object | None = None      # balance.Correction when fixed
+    extra: dict = field(default_factory=dict)
+
+
+def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
+    values = read_table(table, law_fields(), where)
+    if values["standard"] is None and values["file"] is None:
+        raise CamcadError("the law has no source", where,
+                          'add standard = "cycloidal" (with phases and lift) or file = "accel.dxf"')
+    if values["standard"] is not None and values["file"] is not None:
+        raise CamcadError("the law has both 'standard' and 'file'", where, "keep one of them")
+    if values["standard"] is not None:
+        for key in ("phases", "lift"):
+            if values[key] is None:
+                raise CamcadError(f"missing value '{key}' for a standard law", where,
+                                  'add phases = "0:90:dwell,90:180:rise,180:270:dwell,270:360:return" and lift = 25.0'
+                                  if key == "phases" else "add lift = 25.0 (mm)")
+    file = None
+    if values["file"] is not None:
+        file = (base_dir / values["file"]).resolve()
+        if not file.exists():
+            raise CamcadError(f"law file {values['file']} not found", where,
+                              "give the path relative to the scene file")
+    return LawSpec(where=where, standard=values["standard"], return_standard=values["return_standard"],
+                   phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
+                   handle=values["handle"], cycle=values["cycle"], x_deg=values["x_deg"], fix=values["fix"],
+                   tol=values["tol"])
+
+
+def build_law(spec: LawSpec) -> BuiltLaw:
+    """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
+    from .phases import parse_phases
+    from .standard import compose
+
+    if spec.standard is not None:
+        phases = parse_phases(spec.phases, spec.cycle, where=f"{spec.where} phases")
+        widths = [(p.kind, (p.end - p.start) * 180.0 / 3.141592653589793) for p in phases]
+        try:
+            law = compose(widths, spec.lift, spec.standard, spec.return_standard, cycle_deg=spec.cycle)
+        except ValueError as err:
+            raise CamcadError(str(err), spec.where, "give as many returns as rises, covering the cycle") from None
+        name = spec.standard + (f"/{spec.return_standard}" if spec.return_standard else "")
+        return BuiltLaw(law, (f"standard law {name}, lift {spec.lift:g}, phases {spec.phases}",))
+    from ..balance import check, correct
+    from .source import load_law
+
+    loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle, cycle_deg=spec.cycle, lift=spec.lift,
+                      phases=spec.phases, x_deg=spec.x_deg)
+    report = check(loaded.law, spec.tol)
+    notes = [loaded.source, *loaded.notes]
+    if spec.fix == "none":
+        if not report.balanced:
+            notes.append("the drawn law is NOT balanced (fix = \"min-change\" in [law] corrects it)")
+        return BuiltLaw(loaded.law, tuple(notes), loaded, report.to_dict())
+    result = correct(loaded.law, spec.fix, tol=spec.tol, where=str(spec.file))
+    notes.append(f"balanced with mode {spec.fix}: RMS change {result.rms_change / loaded.y_scale:.4g}, "
+                 f"max change {result.max_change / loaded.y_scale:.4g} (input y units)")
+    return BuiltLaw(result.law, tuple(notes), loaded, report.to_dict(), result)

@@ -1,0 +1,79 @@
+"""Bad-input fuzzing: property tests of the reader and a short fixed-seed run of the mutation fuzzer."""
+
+import ezdxf
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from camcad.errors import CamcadError
+from camcad.law.source import load_law
+from fuzz_dxf import classify, fuzz
+
+
+def test_short_mutation_fuzz_run_has_no_findings():
+    # CI runs 60 fixed-seed cases; the README names the long run and its last result
+    outcomes = fuzz(cases=60, seed=3)
+    findings = [o for o in outcomes if o.status == "FINDING"]
+    assert not findings, findings
+    assert {o.status for o in outcomes} == {"ok", "error"}   # both kinds of outcome are exercised
+    assert max(o.seconds for o in outcomes) < 10
+
+
+def test_classify_catches_what_it_must():
+    assert classify(2, "", "Traceback (most recent call last):\n  ...\nValueError", False)[0] == "FINDING"
+    assert classify(2, "", "camcad: error: internal error (ValueError: x); rerun", False)[0] == "FINDING"
+    assert classify(None, "", "", False)[0] == "FINDING"
+    assert classify(0, "{}", "", True)[0] == "FINDING"
+    assert classify(0, "not json", "", False)[0] == "FINDING"
+    assert classify(2, "", "camcad: error: x.dxf: no curve found; draw it", False)[0] == "error"
+
+
+finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.tuples(finite, finite), min_size=0, max_size=40), st.booleans())
+def test_any_polyline_gives_a_law_or_a_clear_error(tmp_path, points, closed):
+    doc = ezdxf.new()
+    if len(points) >= 1:
+        doc.modelspace().add_lwpolyline(points, close=closed)
+    path = tmp_path / "p.dxf"
+    doc.saveas(path)
+    try:
+        loaded = load_law(path)
+    except CamcadError as err:
+        assert "\n" not in err.message()
+        return
+    assert np.all(np.diff(loaded.law.x) >= 0)
+    assert np.isfinite(loaded.law.a).all()
+
+
+# --- fuzz findings, each kept as a test ---------------------------------------------------------
+
+def test_finding_huge_coordinates_in_a_line_chain(tmp_path, cli):
+    # seed 7, case 490: a coordinate of 1e308 overflowed the chain joiner's k-d tree (internal error)
+    doc = ezdxf.new()
+    doc.modelspace().add_line((0, 0), (90, 1))
+    doc.modelspace().add_line((90, 1), (1e308, -1))
+    doc.modelspace().add_line((1e308, -1), (360, 0))
+    path = tmp_path / "huge.dxf"
+    doc.saveas(path)
+    result = cli("check", path)
+    assert result.code == 2
+    assert "internal error" not in result.err and len(result.err.strip().splitlines()) == 1
+
+
+def test_finding_overflow_warning_does_not_reach_stderr(tmp_path, cli):
+    # seed 7, case 1275: a vertex at 1e308 made numpy print an overflow warning before the error line
+    x = np.linspace(0, 360, 20)
+    pts = list(zip(x, np.sin(np.radians(2 * x))))
+    pts[7] = (pts[7][0], 1e308)
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline(pts)
+    path = tmp_path / "overflow.dxf"
+    doc.saveas(path)
+    result = cli("check", path)
+    assert result.code == 2
+    assert len(result.err.strip().splitlines()) == 1
+    assert "out-of-range" in result.err
