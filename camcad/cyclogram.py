@@ -427,15 +427,17 @@ def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
 
 
 def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
-             strict: bool = True, tight_tol_deg: float = 1e-6, where: str = "[cyclogram]"
-             ) -> CyclogramResult:
+             strict: bool = True, tight_tol_deg: float = 1e-6, lp_tol: float = 1e-10,
+             where: str = "[cyclogram]") -> CyclogramResult:
     """Least makespan p(end) − p(start) by linear programming (scipy linprog, HiGHS).
 
     Stage 1 minimises p(end) with p(start) = start_deg under all difference constraints; stage 2
     minimises Σ p with the makespan held, which picks the earliest schedule (the least element of
     the feasible set, unique) so that the event times do not depend on the solver's path.
     A constraint is tight when its slack ≤ ``tight_tol_deg``; the active bounds are the tight ones
-    on a start→end path of tight constraints (a longest path).
+    on a start→end path of tight constraints (a longest path). ``lp_tol`` is HiGHS's primal and
+    dual feasibility tolerance (its accuracy knob; deg): the times are exact to about that times
+    the number of operations on a path (HiGHS's own default, 1e-7, would round away bounds that small).
 
     ``limits`` adds phase limits ({label: [PhaseLimit, ...]}) to the operations' lower bounds.
     Infeasible: ``strict`` raises CamcadError naming a smallest conflicting set; otherwise the
@@ -459,7 +461,8 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     bounds[index[network.start]] = (network.start_deg, network.start_deg)
     objective = np.zeros(n)
     objective[index[network.end]] = 1.0
-    first = linprog(objective, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs")
+    options = {"primal_feasibility_tolerance": lp_tol, "dual_feasibility_tolerance": lp_tol}
+    first = linprog(objective, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
     if first.status == 2:
         conflict = find_conflict(network.events, constraints)
         explanation = _explain(conflict, first.message)
@@ -473,9 +476,9 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
                           "check the bounds for extreme values; report it if they are sensible")
     makespan = float(first.x[index[network.end]]) - network.start_deg
     # stage 2: hold the makespan (with the solver's tolerance) and take the earliest times
-    hold = network.start_deg + makespan + 1e-9 * max(1.0, abs(makespan))
+    hold = network.start_deg + makespan + 10.0 * lp_tol * max(1.0, abs(makespan))
     bounds[index[network.end]] = (None, hold)
-    second = linprog(np.ones(n), A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs")
+    second = linprog(np.ones(n), A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
     if second.status != 0:
         raise CamcadError(f"the LP solver failed on the earliest schedule: {second.message}", where,
                           "report it with the scene")
@@ -573,31 +576,54 @@ def _shortest_positive_cycle(weight: np.ndarray, tol: float) -> list[tuple[int, 
 
 
 def _bellman_ford_cycle(weight: np.ndarray, tol: float) -> list[tuple[int, int]]:
+    """Some positive simple cycle by Bellman–Ford (vectorised passes, every vertex a source).
+
+    After each pass the predecessor graph is searched for a cycle (pointer doubling); a cycle
+    there always has positive weight (each arc was set by a strict improvement), so the search
+    usually stops long before the n-th pass (the "walk to root" idea of Cherkassky & Goldberg,
+    Negative-cycle detection algorithms, Math. Programming 85 (1999))."""
     n = len(weight)
     tails, heads = np.nonzero(np.isfinite(weight))
     w = weight[tails, heads]
     dist = np.zeros(n)
     pred = np.full(n, -1)
-    changed = -1
     for _ in range(n + 1):
-        changed = -1
-        for t, h, wt in zip(tails, heads, w):
-            if dist[t] + wt > dist[h] + tol:
-                dist[h] = dist[t] + wt
-                pred[h] = t
-                changed = h
-        if changed < 0:
+        candidate = dist[tails] + w
+        improving = np.flatnonzero(candidate > dist[heads] + tol)
+        if not len(improving):
             return []
-    v = changed
-    for _ in range(n):
-        v = pred[v]
-    cycle = [v]
-    u = pred[v]
-    while u != v:
-        cycle.append(u)
-        u = pred[u]
-    cycle = cycle[::-1]
-    return [(cycle[k], cycle[(k + 1) % len(cycle)]) for k in range(len(cycle))]
+        # the best improving arc into each head
+        ranked = improving[np.argsort(-candidate[improving], kind="stable")]
+        _, first = np.unique(heads[ranked], return_index=True)
+        chosen = ranked[first]
+        dist[heads[chosen]] = candidate[chosen]
+        pred[heads[chosen]] = tails[chosen]
+        cycle = _predecessor_cycle(pred)
+        if cycle:
+            return cycle
+    return []
+
+
+def _predecessor_cycle(pred: np.ndarray) -> list[tuple[int, int]]:
+    """A cycle of the graph v → pred[v] as arcs (tail, head) in the forward direction, or []."""
+    n = len(pred)
+    jump = np.where(pred < 0, n, pred)
+    jump = np.append(jump, n)           # index n: a sink that points to itself
+    steps = 1
+    while steps < n:                    # after >= n steps every walk that does not end is on a cycle
+        jump = jump[jump]
+        steps *= 2
+    on_cycle = np.flatnonzero(jump[:n] < n)
+    if not len(on_cycle):
+        return []
+    start = int(jump[on_cycle[0]])
+    cycle = [start]
+    v = int(pred[start])
+    while v != start:
+        cycle.append(v)
+        v = int(pred[v])
+    # cycle lists v, pred(v), pred(pred(v)), ...: the arcs run the other way
+    return [(cycle[k + 1] if k + 1 < len(cycle) else cycle[0], cycle[k]) for k in range(len(cycle))][::-1]
 
 
 def longest_path_times(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None
@@ -812,8 +838,9 @@ def parse_cyclogram(table: Any, where: str, mechanisms: Iterable[str] | None = N
         if high < low:
             raise CamcadError(f"bounds_deg [{low:g}, {high:g}] has min > max", here, "swap or correct them")
         if known is not None and op["mechanism"] is not None and op["mechanism"] not in known:
-            raise CamcadError(f"unknown mechanism {op['mechanism']!r}", here,
-                              nearest_name(op["mechanism"], known).replace("valid keys", "mechanisms"))
+            fix = (nearest_name(op["mechanism"], known).replace("valid keys", "mechanisms") if known
+                   else f"add [mechanisms.{op['mechanism']}] to the scene, or drop 'mechanism'")
+            raise CamcadError(f"unknown mechanism {op['mechanism']!r}", here, fix)
         if op["phase"] is not None and op["mechanism"] is None:
             raise CamcadError("'phase' needs a 'mechanism'", here, "name the mechanism whose law it is")
         relation = None

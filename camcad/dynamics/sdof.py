@@ -24,9 +24,12 @@ Two solution paths, which must agree where both apply:
   stiffness. The displacement is sampled at N uniform points over the cycle and transformed
   (numpy rfft): s(θ) = Σ S_k e^{ikνθ}, ν = 2π/cycle. Each harmonic goes through the frequency
   response: with Ω_k = kνω and D_k = ωn² − Ω_k² + 2iζωnΩ_k,
-  X_k = (Ω_k² S_k + F_k/m)/D_k and Ÿ_k = −Ω_k² (S_k + X_k). Accuracy knob: ``samples`` (N); the
-  error is the aliasing of the sampled displacement, O(N^-3) for a law whose acceleration jumps,
-  O(N^-4) for a continuous acceleration.
+  X_k = (Ω_k² S_k + F_k/m)/D_k and Ÿ_k = −Ω_k² (S_k + X_k). Accuracy knob: ``samples`` (N).
+  Measured against the time path at tight tolerance (cycloidal cycle, fn = 40 Hz, ζ = 0.05, 280 rpm):
+  dynamic error O(N^-4) (2e-11 mm at N = 4096) and elastic acceleration O(N^-2) (7.7e-8 of the peak
+  at N = 4096, largest at the jerk jumps). Where the law's acceleration jumps (a drawn law) the
+  damped elastic acceleration has a kink and its series converges only as O(N^-1) there
+  (3.3e-4 of the peak at N = 4096, 8.2e-5 at 16384), the displacement as O(N^-3).
 - **time marching** (``steady_state_time``, ``transient_time``): scipy's solve_ivp on the equation
   above written in θ (x'' + 2ζ(ωn/ω) x' + (ωn/ω)² φ x = −a + F/(mω²)); variable stiffness,
   start-up from rest, and the check of the other path. The periodic steady state is found exactly
@@ -62,7 +65,7 @@ from ..params import Field, read_table
 #: a law whose displacement or velocity does not return to its start within this fraction of the
 #: lift (per rad for the velocity) has a break: its periodic response is meaningless
 CLOSURE_TOLERANCE = 1e-6
-DEFAULT_SAMPLES = 4096
+DEFAULT_SAMPLES = 16384
 SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
 
@@ -78,6 +81,29 @@ def damping_ratio_from_psi(psi: float) -> float:
     resonance ψ = πbωnX² / (cX²/2) = 4πζ. Source: Vulfson (2015), §1.4.
     """
     return psi / (4.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class OutputUnit:
+    """The unit of the law's displacement and what follows from it for reports.
+
+    si_scale: SI per law unit (mm → m: 1e-3; rad: 1); accel_key/accel_label: the SI acceleration
+    (m/s² or rad/s²); fine_label: 1e-3 of the law unit (µm or mrad); force_key/force_label: N or N·m.
+    """
+
+    name: str
+    si_scale: float
+    accel_key: str
+    accel_label: str
+    fine_label: str
+    force_key: str
+    force_label: str
+
+
+OUTPUT_UNITS = {
+    "mm": OutputUnit("mm", 1e-3, "m_s2", "m/s²", "µm", "force_N", "N"),
+    "rad": OutputUnit("rad", 1.0, "rad_s2", "rad/s²", "mrad", "moment_N_m", "N·m"),
+}
 
 
 # --------------------------------------------------------------------------------------------
@@ -359,8 +385,13 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     if external is not None:
         forcing = forcing + np.fft.rfft(f_grid) / n
     x_k = forcing / denominator
+    # the Nyquist term k = N/2 is the aliased sum of all higher harmonics; multiplied by Ω² it would
+    # add a sample-to-sample alternation to the acceleration, so it is left out
+    x_k[-1] = 0.0
     x = np.fft.irfft(x_k * n, n)
-    accel_elastic = np.fft.irfft(-big_omega**2 * (spectrum.coefficients + x_k) * n, n)
+    y_k = spectrum.coefficients + x_k
+    y_k[-1] = 0.0
+    accel_elastic = np.fft.irfft(-big_omega**2 * y_k * n, n)
     accel_rigid = omega**2 * spectrum.a
     return Response(float(rpm), spectrum.theta, spectrum.s, x, accel_rigid, accel_elastic,
                     accel_elastic - f_grid, "frequency")
@@ -454,11 +485,12 @@ def steady_state_time(law: MotionLaw, follower: ElasticFollower, rpm: float, *, 
     """Periodic steady state at ``rpm`` by time marching and shooting (module docstring).
 
     Works with variable stiffness. Knobs: ``method`` (a solve_ivp method), ``rtol``, ``atol``
-    (default rtol × lift, in mm and mm/rad). Output at ``samples`` uniform points per cycle.
+    (default rtol × 1e-3 × lift, in mm and mm/rad: the dynamic error is a small fraction of the lift,
+    so a looser atol would dominate). Output at ``samples`` uniform points per cycle.
     """
     lift = check_closure(law)
     model = _TimeModel(law, follower, rpm, external)
-    atol = rtol * lift if atol is None else atol
+    atol = rtol * 1e-3 * lift if atol is None else atol
     theta = law.cycle * np.arange(samples) / samples
     cuts = _breakpoints(law, external, 0.0, law.cycle)
     z0 = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 1.0])
@@ -493,10 +525,13 @@ def transient_time(law: MotionLaw, follower: ElasticFollower, rpm: float, theta_
                    theta_start: float = 0.0, x0: float = 0.0, xdot0: float = 0.0, samples: int = 2001,
                    method: str = "RK45", rtol: float = 1e-8, atol: float | None = None,
                    external=None) -> Transient:
-    """Start-up: march from θ_start (rad) with x = x0 (mm), ẋ = xdot0 (mm/s) to θ_end (rad)."""
+    """Start-up: march from θ_start (rad) with x = x0 (mm), ẋ = xdot0 (mm/s) to θ_end (rad).
+
+    Knobs as ``steady_state_time``; output at ``samples`` points from θ_start to θ_end.
+    """
     lift = check_closure(law)
     model = _TimeModel(law, follower, rpm, external)
-    atol = rtol * lift if atol is None else atol
+    atol = rtol * 1e-3 * lift if atol is None else atol
     theta = np.linspace(theta_start, theta_end, samples)
     cuts = _breakpoints(law, external, theta_start, theta_end)
     states, _ = _march(model.rhs, np.array([x0, xdot0 / model.omega]), theta, cuts, method, rtol, atol)
@@ -664,8 +699,9 @@ def cycloidal_residual_amplitude(lift: float, rise_time_s: float, natural_freque
 class StartLoad:
     """Peak force in the elastic link within one free period after a motion phase starts.
 
-    peak_link_accel (mm/s²; × mass = force), at_deg (cam angle of the peak), peak_rigid_accel
-    (mm/s², the law's own peak in the same window), force_N (when the mass is known).
+    peak_link_accel (law units/s², mm/s² or rad/s²; × mass = force), at_deg (cam angle of the
+    peak), peak_rigid_accel (the law's own peak in the same window), force_n (N, or N·m for a rad
+    output; None when the mass is unknown).
     """
 
     phase: Phase
@@ -691,8 +727,13 @@ def start_pulse(law: MotionLaw, follower: ElasticFollower, rpm: float, phase: Ph
     return HalfSinePulse(phase.start, width, -math.copysign(ratio * peak, first), law.cycle)
 
 
-def start_loads(response: Response, law: MotionLaw, follower: ElasticFollower) -> list[StartLoad]:
-    """Start-of-motion loads of every rise and return, read from a steady-state response."""
+def start_loads(response: Response, law: MotionLaw, follower: ElasticFollower, unit_scale: float = 1e-3
+                ) -> list[StartLoad]:
+    """Start-of-motion loads of every rise and return, read from a steady-state response.
+
+    ``unit_scale`` turns the law's unit into SI (1e-3 for mm → m, 1 for rad), so the force is
+    mass × peak × unit_scale in N (N·m for a rad output with the mass in kg·m²).
+    """
     omega = rpm_to_rad_s(response.rpm)
     window = omega / follower.natural_frequency_hz   # one free period, in rad of cam angle
     out = []
@@ -706,7 +747,7 @@ def start_loads(response: Response, law: MotionLaw, follower: ElasticFollower) -
         peak = float(link[i])
         at = float(np.degrees(response.theta[mask][i]))
         rigid = float(np.max(np.abs(response.accel_rigid[mask])))
-        force = None if follower.mass_kg is None else follower.mass_kg * peak * 1e-3
+        force = None if follower.mass_kg is None else follower.mass_kg * peak * unit_scale
         out.append(StartLoad(phase, peak, at, rigid, force))
     return out
 

@@ -32,7 +32,8 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
     if theta_deg.shape != accel.shape or theta_deg.ndim != 1 or len(theta_deg) < 2:
         raise ValueError("theta_deg and accel must be 1-D arrays of equal length >= 2")
     doc = ezdxf.new("R12" if r12 else "R2000")
-    doc.units = 0
+    if not r12:  # R12 has no $INSUNITS
+        doc.units = 0
     for name, color in ((layer, 1), ("AXES", 8), ("TEXT", 7)):
         if name not in doc.layers:
             doc.layers.add(name, color=color)
@@ -44,7 +45,8 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
         msp.add_lwpolyline(points, dxfattribs={"layer": layer})
     msp.add_line((float(theta_deg[0]), 0.0), (float(theta_deg[-1]), 0.0), dxfattribs={"layer": "AXES"})
     height = max(float(np.ptp(accel)), 1e-9) * 0.04
-    label = title or "acceleration analog a (mm/rad^2) vs cam angle (deg)"
+    # plain ASCII without '^' (a caret starts a control code in DXF text)
+    label = title or "acceleration analog a (mm/rad/rad) vs cam angle (deg)"
     msp.add_text(label.encode("ascii", "replace").decode(), dxfattribs={"layer": "TEXT", "height": height}) \
         .set_placement((float(theta_deg[0]), float(np.max(accel)) + 2 * height))
     appsettings.update_extents(doc)

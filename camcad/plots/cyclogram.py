@@ -36,45 +36,60 @@ def _bars(start: float, width: float, cycle: float) -> list[tuple[float, float]]
 def plot_gantt(result, path: str | Path, title: str = "") -> Path:
     """Gantt-style cyclogram: one row per mechanism, a bar per operation over 0…cycle deg.
 
-    Operations with an active bound (they set the makespan) are red, the others blue; operations
-    without a mechanism share the row "network". Dashed lines mark the event times.
+    Operations with an active bound (they set the makespan) are red, the others blue. Operations
+    without a mechanism (waits, pure precedence) appear in the network plot only, unless no
+    operation names a mechanism (then every operation gets its own row). Dashed lines mark the
+    event times, labelled along the top.
     """
     plt = pyplot()
     network = result.network
     cycle = 360.0 if network.cycle_deg <= 360.0 else network.cycle_deg
+    with_mechanism = [op for op in network.operations if op.mechanism]
+    shown = with_mechanism or list(network.operations)
     rows: list[str] = []
-    for op in network.operations:
-        row = op.mechanism or "network"
+    for op in shown:
+        row = op.mechanism or op.label
         if row not in rows:
             rows.append(row)
     active = set(result.active_bounds)
-    fig, ax = plt.subplots(figsize=(11, 1.2 + 0.75 * len(rows)))
-    for op in network.operations:
-        row = rows.index(op.mechanism or "network")
+    fig, ax = plt.subplots(figsize=(11, 1.6 + 0.75 * len(rows)))
+    degrees_per_char = 2.6 * cycle / 360.0   # 7-pt text on an 11-inch figure
+    for op in shown:
+        row = rows.index(op.mechanism or op.label)
         start = result.event_times_deg[op.tail]
         width = result.phase_angles_deg[op.label]
         colour = ACTIVE_COLOUR if op.label in active else SLACK_COLOUR
         pieces = _bars(start, width, cycle)
         ax.broken_barh(pieces, (row - 0.32, 0.64), facecolors=colour, edgecolors="black", linewidth=0.6,
                        alpha=0.9)
-        text = f"{op.name or op.label}\n{width:.1f}°"
         left, span = max(pieces, key=lambda piece: piece[1])
-        ax.text(left + span / 2, row, text, ha="center", va="center", fontsize=7,
-                color="white" if span > 25 else "black", clip_on=True)
-    for event, time in result.event_times_deg.items():
+        name = op.name or op.label
+        if span >= degrees_per_char * (len(name) + 1):
+            text = f"{name}\n{width:.1f}°"
+        elif span >= degrees_per_char * 5:
+            text = f"{width:.1f}°"
+        else:
+            text = ""
+        ax.text(left + span / 2, row, text, ha="center", va="center", fontsize=7, color="white", clip_on=True)
+    placed: list[tuple[float, int]] = []
+    for event, time in sorted(result.event_times_deg.items(), key=lambda item: item[1]):
         x = time % cycle
         ax.axvline(x, color="0.6", linestyle="--", linewidth=0.6, zorder=0)
-        ax.text(x, len(rows) - 0.45, event, ha="center", va="bottom", fontsize=7, color="0.3")
+        level = 0
+        while any(abs(x - other) < degrees_per_char * 2.5 and lvl == level for other, lvl in placed):
+            level += 1
+        placed.append((x, level))
+        ax.text(x, -0.45 - 0.22 * level, event, ha="center", va="bottom", fontsize=7, color="0.3")
+    top = max((lvl for _, lvl in placed), default=0)
     ax.set_yticks(range(len(rows)), rows)
-    ax.set_ylim(-0.6, len(rows) - 0.1)
-    ax.invert_yaxis()
+    ax.set_ylim(len(rows) - 0.4, -0.75 - 0.22 * top)
     ax.set_xlim(0, cycle)
     ax.set_xticks(np.arange(0, cycle + 1, 30))
     ax.set_xlabel("cam shaft angle, deg")
     ax.grid(axis="x", color="0.9")
     heading = title or "Cyclogram"
     ax.set_title(f"{heading}: makespan {result.makespan_deg:.2f}° of {network.cycle_deg:g}°  "
-                 f"(red: operations with an active bound)", fontsize=9)
+                 f"(red: operations with an active bound; numbers on top: events)", fontsize=9)
     return _save(fig, path)
 
 
@@ -98,34 +113,46 @@ def plot_network(result, path: str | Path, title: str = "") -> Path:
     network = result.network
     times = result.event_times_deg
     span = max(result.makespan_deg or 1.0, 1.0)
-    lanes = _lanes(times, 0.07 * span)
+    lanes = _lanes(times, 0.1 * span)
+    top = max(lanes.values())
     active = {(c.label, c.kind) for c in result.active}
-    fig, ax = plt.subplots(figsize=(11, 2.5 + 0.6 * (max(lanes.values()) + 1)))
+    fig, ax = plt.subplots(figsize=(11, 2.6 + 0.9 * (top + 1)))
+    ax.set_xlim(min(times.values()) - 0.05 * span, max(times.values()) + 0.05 * span)
+    ax.set_ylim(-0.8, top + 0.8)
+    to_display = ax.transData
+    from_display = ax.transData.inverted()
     for op in network.operations:
-        x0, y0 = times[op.tail], lanes[op.tail]
-        x1, y1 = times[op.head], lanes[op.head]
+        start = np.array([times[op.tail], lanes[op.tail]])
+        end = np.array([times[op.head], lanes[op.head]])
         on_path = (op.label, "min") in active or (op.label, "max") in active
-        style = "--" if (op.label, "max") in active else "-"
-        ax.annotate("", xy=(x1, y1), xytext=(x0, y0),
+        bend = 0.25 if lanes[op.tail] == lanes[op.head] else 0.08
+        ax.annotate("", xy=end, xytext=start,
                     arrowprops=dict(arrowstyle="-|>", color=ACTIVE_COLOUR if on_path else SLACK_COLOUR,
-                                    linewidth=2.0 if on_path else 1.0, linestyle=style,
-                                    shrinkA=9, shrinkB=9, connectionstyle="arc3,rad=0.12"))
+                                    linewidth=2.0 if on_path else 1.0,
+                                    linestyle="--" if (op.label, "max") in active else "-",
+                                    shrinkA=9, shrinkB=9, connectionstyle=f"arc3,rad={bend}"))
+        # label at the middle of matplotlib's arc3 curve (a quadratic Bézier in display space)
+        p0, p2 = to_display.transform(start), to_display.transform(end)
+        middle = (p0 + p2) / 2
+        dx, dy = p2 - p0
+        control = middle + bend * np.array([dy, -dx])
+        label_at = from_display.transform((p0 + 2 * control + p2) / 4)
+        # angles only: the operations' names are on the Gantt chart, and long ones would collide here
         label = f"{result.phase_angles_deg[op.label]:.1f}°"
-        if op.mechanism:
-            label = f"{op.name or op.mechanism}\n{label}"
-        ax.text((x0 + x1) / 2, (y0 + y1) / 2 + 0.12, label, ha="center", va="bottom", fontsize=7)
+        ax.text(*label_at, label, ha="center", va="center", fontsize=6.5,
+                color=ACTIVE_COLOUR if on_path else "black",
+                bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.85))
     for event, time in times.items():
         critical = event in result.critical_path
         ax.plot(time, lanes[event], "o", markersize=15, markerfacecolor="white",
-                markeredgecolor=ACTIVE_COLOUR if critical else "black", markeredgewidth=1.5)
-        ax.text(time, lanes[event], event, ha="center", va="center", fontsize=7)
+                markeredgecolor=ACTIVE_COLOUR if critical else "black", markeredgewidth=1.5, zorder=3)
+        ax.text(time, lanes[event], event, ha="center", va="center", fontsize=7, zorder=4)
     ax.set_yticks([])
-    ax.set_ylim(-0.7, max(lanes.values()) + 0.9)
     ax.set_xlabel("event time p, deg")
-    ax.set_xlim(min(times.values()) - 0.05 * span, max(times.values()) + 0.05 * span)
     ax.grid(axis="x", color="0.9")
     path_text = " → ".join(result.critical_path)
-    ax.set_title(f"{title or 'Network'}: critical path {path_text}", fontsize=9)
+    ax.set_title(f"{title or 'Network'}: critical path {path_text} (red; dashed: an active upper bound)",
+                 fontsize=9)
     return _save(fig, path)
 
 
