@@ -358,7 +358,8 @@ class ContactResult:
 
 
 def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad, rho_profile_mm,
-                   follower_radius_mm: float, rpm: float, params: ContactParams) -> ContactResult:
+                   follower_radius_mm: float, rpm: float, params: ContactParams,
+                   rho_back_mm=None) -> ContactResult:
     """Hertz stress along the profile of a cam with a translating (or reduced) follower at one speed.
 
     Inputs are arrays over the same cam angles θ (rad): s mm, v = ds/dθ mm/rad, a = d²s/dθ² mm/rad²
@@ -370,6 +371,9 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
     (``normal_force``) → 1/R′ = 1/ρ + 1/r_f (``effective_radius``) → σ_H = sqrt(|F_n| E*/(π L R′)).
     For an oscillating follower pass the roller centre's path (arm × swing, mm), the mass reduced to
     the roller centre and the spring reduced there; the formulas are the same along that path.
+    ``rho_back_mm``: for a form-closed cam, the radius of the surface that carries a negative force
+    (a groove's outer wall, seen from the roller: −(ρ_pitch + Rr)), same sign convention; without
+    it ``rho_profile_mm`` is used for both signs.
 
     The maximum is the largest sampled value: its accuracy is the caller's sampling of θ.
     Raises CamcadError where a concave flank is tighter than the roller (|ρ| < Rr) and where the
@@ -378,18 +382,24 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
     Sources: Johnson (1985) ch. 4; Norton (2009) dynamic force analysis (see module docstring).
     """
     theta = np.asarray(theta_rad, dtype=float)
-    rho = np.asarray(rho_profile_mm, dtype=float)
-    inside = fits(rho, follower_radius_mm)
-    if not np.all(inside):
-        index = int(np.argmin(np.where(inside, np.inf, np.abs(rho))))
-        raise CamcadError(
-            f"the concave profile radius {abs(rho[index]):.3f} mm at {np.degrees(theta[index]):.2f} deg "
-            f"is smaller than the roller radius {follower_radius_mm:g} mm: the roller does not fit",
-            "contact", "use a smaller roller or a larger base radius")
     load = params.load_over(theta)
     force_axial = axial_force(s_mm, a_mm_per_rad2, rpm, params.mass, params.spring_rate,
                               params.preload, load)
     force_n = normal_force(force_axial, pressure_angle_rad, v_mm_per_rad, params.friction)
+    rho = np.asarray(rho_profile_mm, dtype=float)
+    if params.closure == "form" and rho_back_mm is not None:
+        rho = np.where(force_n < 0.0, np.asarray(rho_back_mm, dtype=float), rho)
+    inside = fits(rho, follower_radius_mm)
+    if not np.all(inside):
+        index = int(np.argmin(np.where(inside, np.inf, np.abs(rho))))
+        at = f"at {np.degrees(theta[index]):.2f} deg"
+        if np.isinf(follower_radius_mm):
+            raise CamcadError(f"the flat face meets a concave profile point (radius {rho[index]:.3f} mm) {at}",
+                              "contact", "use a larger base radius or a roller follower")
+        raise CamcadError(
+            f"the concave profile radius {abs(rho[index]):.3f} mm {at} is smaller than the roller "
+            f"radius {follower_radius_mm:g} mm: the roller does not fit (undercut)",
+            "contact", "use a smaller roller or a larger base radius")
     pressing = np.abs(force_n) if params.closure == "form" else np.maximum(force_n, 0.0)
     r_eff = effective_radius(rho, follower_radius_mm)
     e_star = params.e_star
@@ -435,13 +445,14 @@ class SpeedSweep:
 
 def stress_versus_speed(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad,
                         rho_profile_mm, follower_radius_mm: float, rpm_values,
-                        params: ContactParams) -> SpeedSweep:
+                        params: ContactParams, rho_back_mm=None) -> SpeedSweep:
     """``contact_stress`` at every speed of ``rpm_values`` (the source plots the safety factor
     against shaft speed), plus the lowest separation speed (``separation_speed_rpm``).
     Units as ``contact_stress``; the rigid law's analogs are used at every speed."""
     rpm_values = np.atleast_1d(np.asarray(rpm_values, dtype=float))
     results = [contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad,
-                              rho_profile_mm, follower_radius_mm, rpm, params) for rpm in rpm_values]
+                              rho_profile_mm, follower_radius_mm, rpm, params, rho_back_mm)
+               for rpm in rpm_values]
     sigma_max = np.array([r.sigma_max for r in results])
     return SpeedSweep(
         rpm=rpm_values, sigma_max=sigma_max, at=np.array([r.at for r in results]),

@@ -67,7 +67,8 @@ class PhaseLimit:
     ``angle_deg``: least t; ``value`` the relation there; ``limit`` the allowed value; ``binding``
     False when the lower end of the search interval already meets the limit (then angle_deg is
     that end); ``source`` ("contact", "vibration", ...) names the relation; ``evaluations`` counts
-    its evaluations.
+    its evaluations. ``note`` says when the angle is set by a jump to inadmissible values (the
+    relation is +inf below it, e.g. the profile undercuts) rather than by reaching the limit.
     """
 
     angle_deg: float
@@ -76,6 +77,7 @@ class PhaseLimit:
     binding: bool
     source: str
     evaluations: int = 0
+    note: str = ""
 
 
 def least_phase_angle(relation: Callable[[float], float], limit: float, lower_deg: float,
@@ -122,8 +124,18 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
             f"> the limit {limit:g}", what or source,
             "raise the operation's upper bound, or change the law, materials or loads")
     root = brentq(excess, lower_deg, upper_deg, xtol=xtol_deg, maxiter=max_iter)
-    # brentq returns a point within xtol of the sign change; report the admissible side
-    return PhaseLimit(float(root), float(relation(root)), limit, True, source, count + 1)
+    # brentq returns a point within xtol of the sign change, on either side; at a jump to an
+    # inadmissible value (e.g. an undercut) step to the admissible side
+    step = xtol_deg
+    while excess(root) >= INADMISSIBLE and root < upper_deg:
+        root = min(root + step, upper_deg)
+        step *= 2.0
+    value = float(relation(root))
+    note = ""
+    if value < limit - 1e-6 * abs(limit):
+        note = (f"set by an inadmissible range below {root:.6g} deg (e.g. an undercut), where {source} "
+                f"is {value:.6g}, under the limit")
+    return PhaseLimit(float(root), value, limit, True, source, count + 1, note)
 
 
 # --------------------------------------------------------------------------------------------
@@ -465,6 +477,9 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     first = linprog(objective, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
     if first.status == 2:
         conflict = find_conflict(network.events, constraints)
+        # read the cycle from the first event when it passes there
+        lead = next((k for k, c in enumerate(conflict) if c.tail == network.start), 0)
+        conflict = conflict[lead:] + conflict[:lead]
         explanation = _explain(conflict, first.message)
         result = CyclogramResult(network, False, lower_bounds_deg=lower, conflict=tuple(conflict),
                                  explanation=explanation, solver_message=first.message)

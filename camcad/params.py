@@ -132,3 +132,54 @@ def _check_range(value: float, field: Field, where: str) -> None:
     if field.maximum is not None and value > field.maximum:
         raise CamcadError(f"{name} must be at most {field.maximum:g}, got {value:g}", where,
                           f"give a value <= {field.maximum:g}")
+
+
+#: speeds sampled over an [n1, n2] range given without a step
+RANGE_SPEEDS = 15
+
+
+def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
+    """Machine speeds (rpm) from a number, "n", [n1, n2], "n1:n2" or "n1:n2:step".
+
+    A range without a step gives RANGE_SPEEDS equally spaced speeds, ends included; with a
+    step, n1, n1 + step, … and n2 itself. Speeds must be positive and finite.
+    """
+    fix = 'write rpm = 300, rpm = [280, 420] or rpm = "280:420:20"'
+    if isinstance(value, bool) or value is None:
+        raise CamcadError(f"rpm must be a speed, got {value!r}", where, fix)
+    step = None
+    if isinstance(value, (int, float)):
+        ends = [float(value)]
+    elif isinstance(value, (list, tuple)):
+        if len(value) != 2 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value):
+            raise CamcadError(f"rpm {value!r} must be two numbers [n1, n2]", where, fix)
+        ends = [float(v) for v in value]
+    elif isinstance(value, str):
+        parts = [p.strip() for p in value.split(":")]
+        try:
+            numbers = [float(p) for p in parts]
+        except ValueError:
+            raise CamcadError(f"rpm {value!r} is not N, N1:N2 or N1:N2:STEP", where, fix) from None
+        if len(numbers) not in (1, 2, 3):
+            raise CamcadError(f"rpm {value!r} is not N, N1:N2 or N1:N2:STEP", where, fix)
+        ends, step = numbers[:2], (numbers[2] if len(numbers) == 3 else None)
+    else:
+        raise CamcadError(f"rpm must be a number, [n1, n2] or \"n1:n2:step\", got {value!r}", where, fix)
+    if not all(math.isfinite(e) and e > 0 for e in ends):
+        raise CamcadError(f"speeds must be positive, got {value!r}", where, fix)
+    if len(ends) == 1:
+        return ends
+    low, high = sorted(ends)
+    if step is not None:
+        if not (math.isfinite(step) and step > 0):
+            raise CamcadError(f"the speed step must be positive, got {step:g}", where, fix)
+        count = int(math.floor((high - low) / step + 1e-9))
+        if count > 100_000:
+            raise CamcadError(f"{count} speeds is too many", where, "use a larger step")
+        speeds = [low + step * i for i in range(count + 1)]
+        if high - speeds[-1] > 1e-9 * high:
+            speeds.append(high)
+        return speeds
+    if low == high:
+        return [low]
+    return [low + (high - low) * i / (RANGE_SPEEDS - 1) for i in range(RANGE_SPEEDS)]

@@ -231,3 +231,106 @@ def test_parse_contact_reads_and_rejects():
     np.testing.assert_array_equal(ranged.load_over(np.radians([45.0, 90.0, 135.0, 200.0])), [0, 50, 50, 0])
     with pytest.raises(CamcadError, match="load_range_deg"):
         parse_contact({**table, "load_range_deg": [90]}, "x")
+
+
+def test_groove_outer_wall_carries_negative_forces():
+    # form-closed groove cam: where the cam must pull the follower back (F < 0) the roller presses on
+    # the groove's outer wall, which it touches from inside (conforming): pass ρ_back = −(ρ_p + Rr).
+    # Pitch radius ρ_p = 60 mm, Rr = 10 mm: inner wall ρ = 50 (R' = 50·10/60), outer wall seen from the
+    # roller ρ = −70 (R' = 70·10/60).
+    theta = np.radians([0.0, 1.0])
+    s = np.zeros(2)
+    v = np.ones(2)
+    a = np.array([500.0, -500.0])
+    phi = np.zeros(2)
+    p = params(closure="form", spring_rate=0.0, preload=0.0, load=0.0, mass=1.0)
+    result = contact.contact_stress(theta, s, v, a, phi, np.full(2, 50.0), 10.0, 300.0, p,
+                                    rho_back_mm=np.full(2, -70.0))
+    force = abs(1.0 * 500.0 * (2 * math.pi * 300 / 60) ** 2 / 1000)
+    e_star = 1 / (2 * (1 - 0.09) / STEEL_E)
+    r_prime = np.array([50 * 10 / 60, 70 * 10 / 60])
+    np.testing.assert_allclose(result.sigma, np.sqrt(force * e_star / (math.pi * 10 * r_prime)), rtol=1e-12)
+
+
+# ------------------------------------------------------------------ the command on the sample scene
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
+
+
+def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
+    import tomllib
+
+    from camcad.mechanism import phase_grid, phase_stress_function, phases_deg
+    from camcad.scene import mechanism_law, read_scene
+
+    done = cli("contact", SAMPLE, "--json", "-o", tmp_path, "--rpm", "300:420:60")
+    assert done.code == 0, done.err
+    payload = done.json()
+    for key in ("sigma_max_MPa", "at_deg", "safety_factor", "separation", "phase_limit_deg"):
+        assert key in payload["contact"]
+    names = ("weft_returner", "shuttle_lift", "shuttle_spring_opener", "returner_spring_opener")
+    expected = {"contact.json"} | {f"contact_{n}.png" for n in names} | {f"contact_speed_{n}.png" for n in names}
+    assert {p.rsplit("/", 1)[-1] for p in payload["outputs"]} == expected
+    for path in payload["outputs"]:
+        assert (tmp_path / path.rsplit("/", 1)[-1]).stat().st_size > 0
+    mechanisms = payload["contact"]["mechanisms"]
+    worst = max(mechanisms, key=lambda n: mechanisms[n]["sigma_max_MPa"])
+    assert payload["contact"]["mechanism"] == worst
+    assert payload["contact"]["sigma_max_MPa"] == mechanisms[worst]["sigma_max_MPa"]
+    report = mechanisms["weft_returner"]
+
+    # independent route: translating roller, e = 0 (Norton): pitch radius
+    # ρ_p = ((Rp+s)² + v²)^{3/2} / ((Rp+s)² + 2v² − a(Rp+s)), profile ρ = ρ_p − Rr, φ = atan(v/(Rp+s));
+    # cycloidal rise of 30 mm over 40..110 deg and return over 170..240 deg, Rb 60, Rr 12.
+    scene = tomllib.loads(SAMPLE.read_text())["mechanisms"]["weft_returner"]
+    parsed = read_scene(SAMPLE)
+    returner_law = mechanism_law(parsed, parsed.mechanism("weft_returner")).law
+    theta = phase_grid(phases_deg(returner_law), 2000)
+    from camcad.law.standard import compose
+    kin = compose([("dwell", 40), ("rise", 70), ("dwell", 60), ("return", 70), ("dwell", 120)], 30.0,
+                  "cycloidal").kinematics(theta)
+    rp = 72.0
+    y = rp + kin.s
+    rho_p = (y**2 + kin.v**2) ** 1.5 / (y**2 + 2 * kin.v**2 - kin.a * y)
+    phi = np.arctan(kin.v / y)
+    e_star = 1 / (2 * (1 - 0.09) / STEEL_E)
+    worst = 0.0
+    for rpm in (300.0, 360.0, 420.0):
+        omega = 2 * math.pi * rpm / 60
+        force = (0.9 * kin.a * omega**2 / 1000 + 6.0 * kin.s + 120.0 + 15.0) / np.cos(phi)
+        r_prime = 1 / (1 / (rho_p - 12.0) + 1 / 12.0)
+        worst = max(worst, float(np.max(np.sqrt(force * e_star / (math.pi * 12.0 * r_prime)))))
+    assert report["sigma_max_MPa"] == pytest.approx(worst, rel=1e-9)
+    assert report["safety_factor"] == pytest.approx(1100.0 / worst, rel=1e-9)
+    assert report["separation"] is False
+
+    # the weft returner's rise cannot be shortened to [σ_H]: below its limit the profile undercuts
+    sigma_max = phase_stress_function(returner_law, scene["follower"], parse_contact(scene["contact"], "x"),
+                                      [300.0, 360.0, 420.0], 1, "x", 2000)
+    rise_limit = report["phase_limit_deg"]["rise"]
+    assert sigma_max(rise_limit) < 1100.0 and sigma_max(rise_limit - 1e-8) == math.inf
+    assert any("inadmissible" in note for note in report["notes"])
+    # the returner spring opener's least rise angle is set by the stress: σ_max(t_min) = [σ_H] to 1e-6
+    opener = tomllib.loads(SAMPLE.read_text())["mechanisms"]["returner_spring_opener"]
+    opener_law = mechanism_law(parsed, parsed.mechanism("returner_spring_opener")).law
+    sigma_max = phase_stress_function(opener_law, opener["follower"], parse_contact(opener["contact"], "x"),
+                                      [300.0, 360.0, 420.0], 1, "x", 2000)
+    rise_limit = mechanisms["returner_spring_opener"]["phase_limit_deg"]["rise"]
+    assert sigma_max(rise_limit) == pytest.approx(1100.0, rel=1e-6)
+    assert 1100.0 < sigma_max(rise_limit * (1 - 1e-5)) < math.inf
+
+
+def test_cli_contact_bad_input(tmp_path, cli):
+    text = SAMPLE.read_text()
+    for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"), "did you mean 'allowable_stress'"),
+                          (("mass = 0.9", "mass = \"heavy\""), "'mass' (kg) must be a number"),
+                          (('rpm = [280.0, 420.0]', 'rpm = "fast"'), "rpm 'fast' is not N")):
+        scene = tmp_path / "bad.toml"
+        scene.write_text(text.replace(*edit, 1))
+        done = cli("contact", scene, "--json", "-o", tmp_path, "--mechanism", "weft_returner")
+        assert done.code == 2 and done.out == ""
+        assert done.err.startswith("camcad: error:") and pattern in done.err, done.err
+        assert len(done.err.strip().splitlines()) == 1
+    done = cli("contact", SAMPLE, "--mechanism", "weft_retuner")
+    assert done.code == 2 and "did you mean 'weft_returner'" in done.err

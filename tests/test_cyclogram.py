@@ -13,12 +13,11 @@ import math
 import tomllib
 from pathlib import Path
 
-import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camcad.cyclogram import (Constraint, LinearRelation, Operation, PhaseLimit, find_conflict,
+from camcad.cyclogram import (LinearRelation, Operation, PhaseLimit, find_conflict,
                               format_phases, least_phase_angle, longest_path_times, make_network,
                               operation_timing, optimise, parse_cyclogram, retime_phases, stretch_phase,
                               vibration_limits, constraints_of)
@@ -254,6 +253,8 @@ def test_parse_cyclogram_reads_a_section():
     (lambda t: t.replace("amplitude_intercept_mm = 0.208", ""), "needs amplitude_limit_mm"),
     (lambda t: t.replace("cycle_deg = 360.0", "cycle_deg = \"360\""), "must be a number"),
     (lambda t: t.replace("to = 3", "to = 1"), "cycle: 1 -> 2 -> 1"),
+    (lambda t: t.replace("cycle_deg = 360.0", "events = [1, 2, 4]"), "names event '3', which is not in events"),
+    (lambda t: t.replace("cycle_deg = 360.0", "start = 2"), "event '1' does not follow the first event '2'"),
 ])
 def test_parse_cyclogram_errors(edit, pattern):
     with pytest.raises(CamcadError, match=pattern) as err:
@@ -320,6 +321,20 @@ def test_cli_cyclogram_on_the_sample(tmp_path, cli):
     for label, angle in payload["phase_angles_deg"].items():
         tail, head = label.split("->")
         assert angle == pytest.approx(times[head] - times[tail], abs=1e-9)
+    # the contact-stress limit of the returner spring opener's rise (7->5) is on the critical path:
+    # its angle is where σ_max reaches [σ_H] = 1100 MPa
+    assert {"operation": "7->5", "kind": "min", "source": "contact",
+            "bound_deg": pytest.approx(payload["phase_angles_deg"]["7->5"], abs=1e-7)} in payload["active"]
+    limit = done.json()["phase_limits"]["7->5"][0]
+    assert limit["source"] == "contact" and limit["value"] == pytest.approx(1100.0, rel=1e-6)
+    # the phases fed back to each mechanism's law are the cyclogram's: the shuttle lift rises from
+    # event 3 to event 7, the weft returner returns from event 6 to event 8
+    phases = {name: [tuple(item.split(":")) for item in text.split(",")]
+              for name, text in payload["phases"].items()}
+    rise = next((float(a), float(b)) for a, b, kind in phases["shuttle_lift"] if kind == "rise")
+    assert rise == (pytest.approx(times["3"], abs=1e-7), pytest.approx(times["7"], abs=1e-7))
+    back = next((float(a), float(b)) for a, b, kind in phases["weft_returner"] if kind == "return")
+    assert back == (pytest.approx(times["6"], abs=1e-7), pytest.approx(times["8"], abs=1e-7))
 
 
 def test_cli_cyclogram_bad_scene(tmp_path, cli):

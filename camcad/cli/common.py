@@ -129,3 +129,110 @@ def console(stderr: bool = False):
     stream = sys.stderr if stderr else sys.stdout
     width = shutil.get_terminal_size((120, 24)).columns if stream.isatty() else 120
     return Console(stderr=stderr, highlight=False, width=width)
+
+
+# --- a law from a file, a scene or a standard shape (the commands that analyse a law) ----------
+
+SourceArg = Annotated[Optional[Path], typer.Argument(
+    help="A scene (.toml), or an acceleration law (DXF or .csv/.txt table); omit it with --standard.",
+    show_default=False)]
+SceneArg = Annotated[Path, typer.Argument(help="Scene file (TOML): one mechanism or a group with [cyclogram].",
+                                          show_default=False)]
+StandardOpt = Annotated[Optional[str], typer.Option(
+    "--standard", help="A standard law instead of a file: cycloidal, harmonic, poly345, ... (needs --phases, --lift).")]
+ReturnStandardOpt = Annotated[Optional[str], typer.Option("--return-standard",
+                                                          help="Shape of the returns (default: --standard).")]
+RpmOpt = Annotated[Optional[str], typer.Option("--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
+OutOpt = Annotated[Optional[Path], typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
+NoPlotsOpt = Annotated[bool, typer.Option("--no-plots", help="Do not write PNG plots.")]
+MechanismOpt = Annotated[Optional[str], typer.Option("--mechanism", help="The mechanism of a group scene.")]
+
+
+class LawSource:
+    """What an analysis command works on: the law, a name for its outputs, where it came from, and,
+    for a scene, the scene and the mechanism (whose other sections the command may use)."""
+
+    def __init__(self, law, name: str, where: str, notes=(), scene=None, mechanism=None, loaded=None):
+        self.law = law
+        self.name = name
+        self.where = where
+        self.notes = list(notes)
+        self.scene = scene
+        self.mechanism = mechanism
+        self.loaded = loaded
+
+    def section(self, name: str):
+        """The raw table of the mechanism's section ``name``, or None."""
+        return None if self.mechanism is None else self.mechanism.sections.get(name)
+
+    def section_where(self, name: str) -> str:
+        return self.mechanism.where(self.scene.path, name) if self.mechanism is not None else self.where
+
+    def speeds(self, rpm_option: str | None) -> list[float] | None:
+        """--rpm when given, else the scene's [machine] rpm, else None."""
+        from ..params import parse_speeds
+
+        if rpm_option is not None:
+            return parse_speeds(rpm_option, "--rpm")
+        if self.scene is not None and self.scene.speeds_rpm:
+            return list(self.scene.speeds_rpm)
+        return None
+
+
+def resolve_source(source: Path | None, standard: str | None, return_standard: str | None, phases: str | None,
+                   lift: float | None, layer: str | None, handle: str | None, cycle: float, x_deg: bool,
+                   mechanism: str | None) -> LawSource:
+    """The law of a scene (.toml, one mechanism picked with --mechanism), a drawn law file, or a standard shape."""
+    if source is not None and standard is not None:
+        raise CamcadError("both a file and --standard given", "command line", "give one law source")
+    if source is not None and source.suffix.lower() == ".toml":
+        from ..scene import mechanism_law, read_scene
+
+        scene = read_scene(source)
+        if mechanism is None:
+            if len(scene.mechanisms) > 1:
+                names = ", ".join(m.name for m in scene.mechanisms)
+                raise CamcadError(f"the scene holds {len(scene.mechanisms)} mechanisms ({names})", str(source),
+                                  "pick one with --mechanism")
+            mech = scene.mechanisms[0]
+        else:
+            mech = scene.mechanism(mechanism)
+        built = mechanism_law(scene, mech)
+        name = mech.name if len(scene.mechanisms) > 1 or mech.prefix else scene.name
+        return LawSource(built.law, name, str(source), built.notes, scene, mech, built.loaded)
+    if standard is not None:
+        from ..law.section import LawSpec, build_law
+
+        if phases is None or lift is None:
+            raise CamcadError("a standard law needs its phases and lift", "--standard",
+                              'add --phases "0:90:dwell,90:180:rise,180:270:dwell,270:360:return" --lift 25')
+        from ..law.standard import SHAPES
+
+        for option, shape in (("--standard", standard), ("--return-standard", return_standard)):
+            if shape is not None and shape not in SHAPES:
+                raise CamcadError(f"unknown law {shape!r}", option, f"use one of {', '.join(sorted(SHAPES))}")
+        built = build_law(LawSpec(where="--standard", standard=standard, return_standard=return_standard,
+                                  phases=phases, lift=lift, cycle=cycle))
+        return LawSource(built.law, standard, "--standard", built.notes)
+    if source is None:
+        raise CamcadError("no law given", "command line", "give a scene, a law file, or --standard NAME")
+    loaded = load_law_from_options(source, layer, handle, cycle, lift, phases, x_deg)
+    return LawSource(loaded.law, source.stem, str(source), [loaded.source, *loaded.notes], loaded=loaded)
+
+
+def output_dir(output: Path | None, name: str) -> Path:
+    """-o when given, else ./camcad-out/<name>/."""
+    return output if output is not None else Path("camcad-out") / name
+
+
+def progress_bar(enabled: bool, total: int, label: str):
+    """A rich progress bar on stderr as a (callback(done, total), close) pair; a no-op when disabled."""
+    if not enabled or total < 2:
+        return None, lambda: None
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                   console=console(stderr=True), transient=True)
+    task = bar.add_task(label, total=total)
+    bar.start()
+    return (lambda done, _total=None: bar.update(task, completed=done)), bar.stop

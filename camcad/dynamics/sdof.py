@@ -58,13 +58,15 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..balance import DEFAULT_TOL as BALANCE_TOLERANCE
 from ..errors import CamcadError
 from ..law.law import MotionLaw, Phase
 from ..params import Field, read_table
 
 #: a law whose displacement or velocity does not return to its start within this fraction of the
-#: lift (per rad for the velocity) has a break: its periodic response is meaningless
-CLOSURE_TOLERANCE = 1e-6
+#: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
+#: tolerance as ``camcad check``, so every law that passes the check can be analysed.
+CLOSURE_TOLERANCE = BALANCE_TOLERANCE
 DEFAULT_SAMPLES = 16384
 SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
@@ -148,10 +150,6 @@ class StiffnessTable:
         slopes = np.diff(self._ys) / np.diff(self._xs)
         index = np.clip(np.searchsorted(self._xs, t, side="right") - 1, 0, len(slopes) - 1)
         return slopes[index]
-
-    @property
-    def mean(self) -> float:
-        return float(np.mean(self(np.linspace(0.0, self.cycle, 4097)[:-1])))
 
     @classmethod
     def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> "StiffnessTable":

@@ -17,24 +17,47 @@ from .standard import CompositeLaw, Segment
 
 
 def retime(law, phases: tuple[Phase, ...], where: str = ""):
-    """The law with new phase boundaries (same kinds in the same order, covering the same cycle)."""
+    """The law with new phase boundaries: the same kinds in the same order, covering the same cycle.
+
+    A dwell of the law may be missing from ``phases`` (a neighbouring motion took all of it); it
+    becomes a dwell of zero width and disappears from the result's phases.
+    """
     old = tuple(law.phases)
-    if [p.kind for p in old] != [p.kind for p in phases]:
-        raise CamcadError("the new phases do not have the kinds of the law's phases in the same order", where,
-                          f"the law's phases are {', '.join(p.kind for p in old)}")
-    if abs(phases[0].start - old[0].start) > 1e-12 or abs(phases[-1].end - old[-1].end) > 1e-9:
+    bounds = _aligned_bounds(old, tuple(phases), where)
+    if abs(bounds[0][0] - old[0].start) > 1e-12 or abs(bounds[-1][1] - old[-1].end) > 1e-9:
         raise CamcadError("the new phases do not cover the law's cycle", where, "keep the first start and last end")
     if isinstance(law, CompositeLaw):
-        segments = tuple(Segment(seg.kind, new.start, new.end, seg.lift, seg.shape)
-                         for seg, new in zip(law.segments, phases))
+        segments = tuple(Segment(seg.kind, start, end, seg.lift, seg.shape)
+                         for seg, (start, end) in zip(law.segments, bounds) if end > start)
         return CompositeLaw(segments, law.cycle)
     if isinstance(law, PiecewiseLinearLaw):
-        return _retime_polyline(law, phases)
+        return _retime_polyline(law, bounds)
     raise CamcadError(f"cannot change the phase angles of a {type(law).__name__}", where,
                       "give the law as a standard law or a drawn polyline")
 
 
-def _retime_polyline(law: PiecewiseLinearLaw, phases: tuple[Phase, ...]) -> PiecewiseLinearLaw:
+def _aligned_bounds(old: tuple[Phase, ...], new: tuple[Phase, ...], where: str) -> list[tuple[float, float]]:
+    """(start, end) for every phase of ``old`` from ``new``; a dwell missing from ``new`` gets zero width."""
+    bounds = []
+    j = 0
+    position = new[0].start if new else 0.0
+    for phase in old:
+        if j < len(new) and new[j].kind == phase.kind:
+            bounds.append((new[j].start, new[j].end))
+            position = new[j].end
+            j += 1
+        elif phase.kind == "dwell":
+            bounds.append((position, position))
+        else:
+            raise CamcadError("the new phases do not have the kinds of the law's phases in the same order", where,
+                              f"the law's phases are {', '.join(p.kind for p in old)}")
+    if j != len(new):
+        raise CamcadError("the new phases do not have the kinds of the law's phases in the same order", where,
+                          f"the law's phases are {', '.join(p.kind for p in old)}")
+    return bounds
+
+
+def _retime_polyline(law: PiecewiseLinearLaw, bounds: list[tuple[float, float]]) -> PiecewiseLinearLaw:
     """Warp the knots phase by phase and scale each motion phase's ordinates by (β/β′)².
 
     Every phase boundary becomes a double knot, its left copy belonging to the phase before and
@@ -58,8 +81,10 @@ def _retime_polyline(law: PiecewiseLinearLaw, phases: tuple[Phase, ...]) -> Piec
         if x[index] == x[index - 1] and x[index] in starts:
             owner[index] = int(np.flatnonzero(starts == x[index])[0])  # the right copy opens the next phase
     owner = np.minimum(owner, len(old) - 1)
-    factor = np.array([1.0 if b.kind == "dwell" else (b.width / n.width) ** 2 for b, n in zip(old, phases)])
+    factor = np.array([1.0 if p.kind == "dwell" else (p.width / (end - start)) ** 2
+                       for p, (start, end) in zip(old, bounds)])
     old_breaks = np.array([p.start for p in old] + [old[-1].end])
-    new_breaks = np.array([p.start for p in phases] + [phases[-1].end])
-    return PiecewiseLinearLaw(np.interp(x, old_breaks, new_breaks), a * factor[owner], law.cycle, tuple(phases),
+    new_breaks = np.array([start for start, _ in bounds] + [bounds[-1][1]])
+    phases = tuple(Phase(p.kind, start, end) for p, (start, end) in zip(old, bounds) if end > start)
+    return PiecewiseLinearLaw(np.interp(x, old_breaks, new_breaks), a * factor[owner], law.cycle, phases,
                               law.v0, law.s0)

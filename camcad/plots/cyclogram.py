@@ -201,7 +201,8 @@ def plot_safety_versus_speed(sweep, path: str | Path, title: str = "") -> Path:
     second.set_ylabel("σ_max, MPa")
     lines = ax.get_legend_handles_labels()
     extra = second.get_legend_handles_labels()
-    ax.legend(lines[0] + extra[0], lines[1] + extra[1], fontsize=8, loc="best")
+    ax.legend(lines[0] + extra[0], lines[1] + extra[1], fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.16), ncol=4, frameon=False)
     ax.grid(color="0.9")
     ax.set_title(title or "Contact safety factor against speed", fontsize=9)
     return _save(fig, path)

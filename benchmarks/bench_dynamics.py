@@ -1,0 +1,116 @@
+"""Speed against error of the single-DOF elastic follower over a speed sweep.
+
+The model: cycloidal dwell–rise–dwell–return (90° each, lift 25 mm), fn = 40 Hz, ζ = 0.05, the periodic
+steady state at 141 speeds 280…420 rpm (quick: 15 speeds). Paths:
+- frequency: harmonics of the sampled law through the frequency response (knob: samples N);
+- time: solve_ivp with periodic shooting (knobs: method, rtol; atol = rtol × 1e-3 × lift).
+Error: the largest |ÿ − ÿ_ref| over the sweep and 256 cam angles per cycle, as a fraction of the
+speed's peak rigid acceleration; the reference is the time path with DOP853 at rtol = 1e-12.
+Times are for the whole sweep (median of repeats for runs under a second).
+
+Run: python benchmarks/bench_dynamics.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+from camcad.dynamics import sdof
+from camcad.law.standard import compose
+
+GRID = 256          # output points per cycle where the paths are compared
+ERROR_UNIT = "fraction of peak rigid acceleration"
+
+
+def _case(quick: bool):
+    law = compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 25.0, "cycloidal")
+    follower = sdof.ElasticFollower(40.0, 0.05)
+    speeds = np.linspace(280.0, 420.0, 15 if quick else 141)
+    return law, follower, speeds
+
+
+def _timed(work, max_repeats: int = 5):
+    """(median time, result): repeat while a single run is under a second."""
+    times, result = [], None
+    for _ in range(max_repeats):
+        start = time.perf_counter()
+        result = work()
+        times.append(time.perf_counter() - start)
+        if times[-1] > 1.0:
+            break
+    return statistics.median(times), result
+
+
+def _frequency_sweep(law, follower, speeds, samples: int):
+    spectrum = sdof.law_spectrum(law, samples)
+    step = samples // GRID
+    return [sdof.steady_state_frequency(spectrum, follower, rpm).accel_elastic[::step] for rpm in speeds]
+
+
+def _time_sweep(law, follower, speeds, method: str, rtol: float):
+    return [sdof.steady_state_time(law, follower, rpm, samples=GRID, method=method, rtol=rtol).accel_elastic
+            for rpm in speeds]
+
+
+def _error(accels, reference, peaks) -> float:
+    return float(max(np.max(np.abs(a - r)) / p for a, r, p in zip(accels, reference, peaks)))
+
+
+def run(quick: bool = False) -> list[dict]:
+    law, follower, speeds = _case(quick)
+    reference = _time_sweep(law, follower, speeds, "DOP853", 1e-12)
+    omega2 = (2 * np.pi * speeds / 60.0) ** 2
+    peak_analog = np.max(np.abs(law.kinematics(np.linspace(0, 2 * np.pi, 20001)).a))
+    peaks = omega2 * peak_analog
+    rows = []
+    sample_counts = (256, 1024, 4096, 16384) if quick else (256, 512, 1024, 2048, 4096, 8192, 16384, 65536)
+    for samples in sample_counts:
+        seconds, accels = _timed(lambda: _frequency_sweep(law, follower, speeds, samples))
+        rows.append({"kernel": "sdof sweep", "method": "frequency", "setting": f"N={samples}", "time_s": seconds,
+                     "error": _error(accels, reference, peaks), "error_unit": ERROR_UNIT})
+    settings = [("RK45", r) for r in ((1e-4, 1e-6) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8))]
+    settings += [("DOP853", r) for r in ((1e-8,) if quick else (1e-6, 1e-8, 1e-10))]
+    for method, rtol in settings:
+        seconds, accels = _timed(lambda: _time_sweep(law, follower, speeds, method, rtol), max_repeats=3)
+        rows.append({"kernel": "sdof sweep", "method": f"time {method}", "setting": f"rtol={rtol:g}",
+                     "time_s": seconds, "error": _error(accels, reference, peaks), "error_unit": ERROR_UNIT})
+    return rows
+
+
+def speedups(rows: list[dict]) -> list[tuple[str, str, float, float]]:
+    """For each RK45 row: the cheapest frequency row at least as accurate, and the time ratio RK45/frequency."""
+    frequency = [r for r in rows if r["method"] == "frequency"]
+    out = []
+    for row in rows:
+        if row["method"] != "time RK45":
+            continue
+        matching = [f for f in frequency if f["error"] <= row["error"]]
+        if matching:
+            best = min(matching, key=lambda f: f["time_s"])
+            out.append((row["setting"], best["setting"], row["error"], row["time_s"] / best["time_s"]))
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="15 speeds and fewer settings")
+    args = parser.parse_args()
+    rows = run(args.quick)
+    count = 15 if args.quick else 141
+    print(f"single-DOF elastic follower, {count} speeds 280…420 rpm; error vs DOP853 rtol=1e-12 ({ERROR_UNIT})")
+    print(f"{'method':<14} | {'setting':<12} | {'time (s)':>10} | {'error':>10}")
+    print("-" * 56)
+    for row in rows:
+        print(f"{row['method']:<14} | {row['setting']:<12} | {row['time_s']:>10.4g} | {row['error']:>10.3g}")
+    print()
+    print("equal error: RK45 setting | frequency setting with error <= it | RK45 error | speed-up (RK45 / frequency)")
+    for rk, freq, error, ratio in speedups(rows):
+        print(f"  RK45 {rk:<10} | {freq:<8} | {error:.3g} | {ratio:.0f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,465 @@
+"""Impact of a driven lever on a limit stop, and its first rebound (seed 000, Podgorny et al. 2018).
+
+The driven lever (pivot A, arms a and b, reduced mass m at the contact point C) is pressed against a
+limit plate with a preload. The model, step by step:
+
+1. Reduced stiffness of the lever, c = 3EJ/((a + b) b²) (N/m): the tip deflection of a beam on two
+   supports a apart with an overhang b loaded at its end, δ = F b² (a + b)/(3EJ).
+2. Natural frequencies f_free = √(c/m)/(2π) without the stop and f_stop = √((c + c_s)/m)/(2π) on the
+   stop. The source gives only the two figures (297 Hz and 768 Hz computed, 268 and 700 measured);
+   its scheme for the stop is a figure that did not survive, so here the stop adds its contact
+   stiffness c_s in parallel with the lever (a modelling choice, stated).
+3. Impulse S = J_A (ω0 − ω1)(1 + k)/l with ω1 = 0: S = J_A ω0 (1 + k)/l = m v0 (1 + k), m = J_A/l²,
+   v0 = ω0 l the approach velocity of C (k: restitution, 5/9 for steel).
+4. The contact lasts about half a period of the system on the stop (the issue; the source's
+   recommendation after Panovko): τ = 1/(2 f_stop); mean force F = S/τ.
+5. The force is a triangle rising to F over τ and back to zero over τ (impulse F τ = S) and acts
+   on the one-mass model of the lever reduced to C:
+       q̈ + 2n q̇ + ωc² q = Q(t)/m,   q(0) = 0, q̇(0) = v0,   n = ζ ωc,   ωc = 2π f_stop,
+   solved by the Duhamel integral in closed form (``triangular_pulse_response``). The lever stays
+   pressed on the stop by the preload after the contact, so it vibrates with the stiffness on the
+   stop; the model holds while the rebound stays below the preload (``Impact.leaves_stop`` says when
+   it does not).
+   Sign convention: q > 0 towards the stop (the direction of approach); the stop pushes back, so
+   Q = −triangle. The first rebound amplitude is the largest excursion away from the stop (−q)
+   within the pulse and one free period after it.
+6. The approach velocity comes from the law: contact happens when the nominal displacement reaches
+   lift − preload (upper stop, end of the rise) or preload (lower stop, end of the return);
+   v0 = |v(θc)| ω × ratio (mm/s), ratio = displacement of C per unit of the law's displacement.
+
+Everything in the response is linear in v0, and v0 ∝ speed: the force and the rebound are
+proportional to the speed (the source's 4.137 → 6.2 N and 0.07 → 0.105 mm for 280 → 420 rpm are
+both the ratio 1.5). Stretching the approach phase to a phase angle t keeps the contact at the same
+point of the phase and scales v0 by t0/t, so the rebound is A(t) = A(t0) t0/t exactly; its tangent
+at t0 is the source's linearised cyclogram constraint a = k t + b with k = −A0/t0, b = 2A0
+(the source: a = −0.003 t + 0.208 mm, t in deg), and the least phase angle for an allowed amplitude
+[a] is t = t0 A0/[a].
+
+Units: SI inside (m, s, N, kg); lengths at the interface in mm, angles in deg, speeds in rpm.
+Sources: Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) (2018) 44–54 (seed 000);
+Ya. G. Panovko, Fundamentals of the Applied Theory of Vibration and Impact (1990);
+A. A. Yablonsky, S. S. Noreiko, Course of the Theory of Vibrations (2007) — the Duhamel integral.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import CamcadError
+from ..law.law import MotionLaw, Phase
+from ..params import Field, read_table
+from .sdof import rpm_to_rad_s
+
+STOP_SIDES = ("upper", "lower")
+
+
+# --------------------------------------------------------------------------------------------
+# Formulas
+# --------------------------------------------------------------------------------------------
+
+def lever_stiffness(youngs_modulus_mpa: float, second_moment_mm4: float, arm_a_mm: float, arm_b_mm: float) -> float:
+    """Reduced stiffness of the lever at its tip, c = 3EJ/((a + b) b²), N/m.
+
+    E in MPa (N/mm²), J the second moment of the lever's section in mm⁴, a and b the arm lengths
+    in mm (a between the supports, b the overhang to the contact point). E·J/mm³ is N/mm, × 1000 → N/m.
+    Source: seed 000 (Podgorny et al. 2018), eq. for c_пр; the tip deflection of an overhanging beam.
+    """
+    return 3.0 * youngs_modulus_mpa * second_moment_mm4 / ((arm_a_mm + arm_b_mm) * arm_b_mm**2) * 1e3
+
+
+def reduced_mass(lever_inertia_kg_m2: float, lever_length_mm: float) -> float:
+    """Mass at the lever's end equivalent to its moment of inertia about the pivot, m = J_A/l² (kg)."""
+    length = lever_length_mm * 1e-3
+    return lever_inertia_kg_m2 / length**2
+
+
+def natural_frequency_hz(stiffness_n_per_m: float, mass_kg: float) -> float:
+    """f = √(c/m)/(2π), Hz."""
+    return math.sqrt(stiffness_n_per_m / mass_kg) / (2.0 * math.pi)
+
+
+def impact_impulse(mass_kg: float, approach_velocity_m_s: float, restitution: float) -> float:
+    """S = m v0 (1 + k) = J_A ω0 (1 + k)/l, N·s (the velocity goes from v0 to −k v0).
+
+    Source: seed 000, S_C = J_A (ω1 − ω0)(1 + k)/l with ω1 = 0 (after Panovko 1990); sign dropped.
+    """
+    return mass_kg * approach_velocity_m_s * (1.0 + restitution)
+
+
+def impact_force(impulse_ns: float, pulse_s: float) -> float:
+    """Mean impact force F = S/τ, N (τ the interaction time, s). Source: seed 000."""
+    return impulse_ns / pulse_s
+
+
+# --------------------------------------------------------------------------------------------
+# Duhamel response to a triangular pulse, closed form
+# --------------------------------------------------------------------------------------------
+
+def _free(t, q0, v0, n, k1, omega):
+    """Damped free vibration from q0, v0: (q, q̇)."""
+    decay = np.exp(-n * t)
+    c, s = np.cos(k1 * t), np.sin(k1 * t)
+    q = decay * (q0 * c + (v0 + n * q0) / k1 * s)
+    qd = decay * (v0 * c - (n * v0 + omega**2 * q0) / k1 * s)
+    return q, qd
+
+
+def _ramp(t, n, k1, omega, mass):
+    """Response (q, q̇) to a unit ramp force Q = t (N/s) applied at t = 0 from rest; zero for t < 0.
+
+    R(t) = [t − 2n/ω² + e^{−nt}((2n/ω²) cos k1t + ((2n²/ω² − 1)/k1) sin k1t)] / (m ω²):
+    the particular solution (t − 2n/ω²)/(mω²) plus the free vibration that makes R(0) = R'(0) = 0.
+    """
+    t = np.asarray(t, dtype=float)
+    tt = np.maximum(t, 0.0)
+    w2 = omega**2
+    c_coef = 2.0 * n / w2
+    d_coef = (2.0 * n * n / w2 - 1.0) / k1
+    decay = np.exp(-n * tt)
+    c, s = np.cos(k1 * tt), np.sin(k1 * tt)
+    q = (tt - c_coef + decay * (c_coef * c + d_coef * s)) / (mass * w2)
+    qd = (1.0 + decay * ((-n * c_coef + k1 * d_coef) * c + (-n * d_coef - k1 * c_coef) * s)) / (mass * w2)
+    inside = t >= 0.0
+    return np.where(inside, q, 0.0), np.where(inside, qd, 0.0)
+
+
+def triangular_pulse_response(t, *, omega: float, damping_ratio: float, mass: float, peak_force: float,
+                              rise_time: float, q0: float = 0.0, v0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-form Duhamel solution of q̈ + 2n q̇ + ω² q = Q(t)/m from q(0) = q0, q̇(0) = v0.
+
+    Q is a triangle: peak_force · t/τ for 0 ≤ t ≤ τ, peak_force · (2τ − t)/τ for τ ≤ t ≤ 2τ, then 0
+    (τ = rise_time, s). n = ζω, k1 = √(ω² − n²) (underdamped, ζ < 1). Units: t, τ in s; ω rad/s;
+    m kg; force N; q m; q̇ m/s. Returns (q, q̇) at t.
+
+        q = q0 e^{−nt}(cos k1t + (n/k1) sin k1t) + (v0/k1) e^{−nt} sin k1t
+            + (1/(m k1)) ∫₀ᵗ Q(t1) e^{−n(t−t1)} sin k1(t − t1) dt1          (seed 000, eq. 2)
+
+    The triangle is (F/τ)[r(t) − 2r(t − τ) + r(t − 2τ)] with r the unit ramp, so the integral is
+    (F/τ)[R(t) − 2R(t − τ) + R(t − 2τ)] with R from ``_ramp``. After the pulse the motion is the free
+    vibration from the state at 2τ (evaluated that way to avoid cancelling large ramp terms).
+    Loses relative accuracy when ω τ ≪ 1 (terms of order 1/(ωτ)² cancel).
+    """
+    if not 0.0 <= damping_ratio < 1.0:
+        raise ValueError("damping ratio must be in [0, 1)")
+    t = np.asarray(t, dtype=float)
+    n = damping_ratio * omega
+    k1 = omega * math.sqrt(1.0 - damping_ratio**2)
+    scale = peak_force / rise_time
+
+    def during(time):
+        q, qd = _free(time, q0, v0, n, k1, omega)
+        for shift, weight in ((0.0, 1.0), (rise_time, -2.0), (2.0 * rise_time, 1.0)):
+            rq, rqd = _ramp(time - shift, n, k1, omega, mass)
+            q = q + scale * weight * rq
+            qd = qd + scale * weight * rqd
+        return q, qd
+
+    end = 2.0 * rise_time
+    q_end, qd_end = during(np.array(end))
+    q_in, qd_in = during(np.minimum(t, end))
+    q_out, qd_out = _free(np.maximum(t - end, 0.0), float(q_end), float(qd_end), n, k1, omega)
+    after = t > end
+    return np.where(after, q_out, q_in), np.where(after, qd_out, qd_in)
+
+
+def triangular_pulse(t, peak_force: float, rise_time: float) -> np.ndarray:
+    """The triangular force Q(t) of ``triangular_pulse_response`` (N)."""
+    t = np.asarray(t, dtype=float)
+    return peak_force * np.clip(np.minimum(t, 2.0 * rise_time - t) / rise_time, 0.0, None)
+
+
+# --------------------------------------------------------------------------------------------
+# The stop model
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StopModel:
+    """The lever on its stop (module docstring).
+
+    mass_kg: reduced mass at the contact point C (J_A/l²); stiffness_n_per_m: the lever's reduced
+    stiffness c; stop_stiffness_n_per_m: the contact stiffness the stop adds in parallel;
+    restitution k; damping_ratio ζ of the one-mass model; preload_mm; stop "upper" (reached at the
+    end of a rise) or "lower" (end of a return); ratio: displacement of C per unit of the law's
+    displacement; allowed_amplitude_mm: the rebound limit (None: no check).
+    """
+
+    mass_kg: float
+    stiffness_n_per_m: float
+    stop_stiffness_n_per_m: float
+    restitution: float
+    damping_ratio: float
+    preload_mm: float
+    stop: str = "upper"
+    ratio: float = 1.0
+    allowed_amplitude_mm: float | None = None
+
+    @property
+    def omega_stop(self) -> float:
+        """ωc = √((c + c_s)/m), rad/s: the system pressed on the stop."""
+        return math.sqrt((self.stiffness_n_per_m + self.stop_stiffness_n_per_m) / self.mass_kg)
+
+    @property
+    def f_free_hz(self) -> float:
+        return natural_frequency_hz(self.stiffness_n_per_m, self.mass_kg)
+
+    @property
+    def f_stop_hz(self) -> float:
+        return natural_frequency_hz(self.stiffness_n_per_m + self.stop_stiffness_n_per_m, self.mass_kg)
+
+    @property
+    def pulse_s(self) -> float:
+        """τ = half the period on the stop, 1/(2 f_stop) (s)."""
+        return 0.5 / self.f_stop_hz
+
+
+# --------------------------------------------------------------------------------------------
+# Contact and approach velocity from the law
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Contact:
+    """Where the follower meets the stop: the phase, the cam angle θc (rad) and v(θc) (law units per rad)."""
+
+    phase: Phase
+    theta: float
+    velocity_analog: float
+
+
+def find_contact(law: MotionLaw, stop: str, preload_mm: float, ratio: float = 1.0, where: str = "[stops]") -> Contact:
+    """Contact with the stop: the nominal displacement reaches lift − preload (upper) or preload (lower).
+
+    The preload is measured at the contact point C (mm); in the law's units it is preload/ratio.
+    The approach phase is the rise ending at the highest displacement (upper stop) or the return
+    ending at the lowest (lower stop). θc is found by brentq on s(θ) − target inside that phase.
+    """
+    from scipy.optimize import brentq
+
+    if stop not in STOP_SIDES:
+        raise CamcadError(f"stop {stop!r} is not one of {', '.join(STOP_SIDES)}", where, "write stop = \"upper\"")
+    kind = "rise" if stop == "upper" else "return"
+    candidates = [p for p in law.phases if p.kind == kind]
+    if not candidates:
+        raise CamcadError(f"the law has no {kind} phase to approach the {stop} stop", where,
+                          "give the law's phases (--phases) or choose the other stop")
+    ends = np.array([law.kinematics(np.array([p.end])).s[0] for p in candidates])
+    phase = candidates[int(np.argmax(ends) if stop == "upper" else np.argmin(ends))]
+    s_start, s_end = law.kinematics(np.array([phase.start, phase.end])).s
+    preload = preload_mm / ratio
+    target = s_end - preload if stop == "upper" else s_end + preload
+    if not (min(s_start, s_end) < target < max(s_start, s_end)):
+        raise CamcadError(f"the preload {preload_mm:g} mm is not inside the {kind}'s travel "
+                          f"{abs(s_end - s_start) * ratio:.4g} mm", where, "give a preload smaller than the stroke")
+    theta = brentq(lambda th: float(law.kinematics(np.array([th])).s[0]) - target, phase.start, phase.end,
+                   xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    velocity = float(law.kinematics(np.array([theta])).v[0])
+    return Contact(phase, float(theta), velocity)
+
+
+# --------------------------------------------------------------------------------------------
+# Impact at one speed, over speeds, against the phase angle
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Impact:
+    """The impact at one speed.
+
+    approach_velocity_mm_s v0; impulse_ns S; force_n F; pulse_s τ; rebound_mm (first rebound
+    amplitude) at rebound_at_s after contact; the response q (mm) at ``time`` (s) when kept.
+    """
+
+    rpm: float
+    contact_deg: float
+    approach_velocity_mm_s: float
+    impulse_ns: float
+    force_n: float
+    pulse_s: float
+    rebound_mm: float
+    rebound_at_s: float
+    preload_mm: float = math.inf
+    time: np.ndarray = field(default_factory=lambda: np.empty(0))
+    q_mm: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    @property
+    def leaves_stop(self) -> bool:
+        """The rebound exceeds the preload: the lever lifts off and the linear model on the stop no longer holds."""
+        return self.rebound_mm > self.preload_mm
+
+
+def response_after_impact(stop: StopModel, approach_velocity_m_s: float, time) -> tuple[np.ndarray, np.ndarray]:
+    """(q m, q̇ m/s) at ``time`` (s) after contact: v0 towards the stop, the stop's triangle pushing back."""
+    force = impact_force(impact_impulse(stop.mass_kg, approach_velocity_m_s, stop.restitution), stop.pulse_s)
+    return triangular_pulse_response(time, omega=stop.omega_stop, damping_ratio=stop.damping_ratio,
+                                     mass=stop.mass_kg, peak_force=-force, rise_time=stop.pulse_s,
+                                     q0=0.0, v0=approach_velocity_m_s)
+
+
+def first_rebound(stop: StopModel, approach_velocity_m_s: float, samples: int = 4001) -> tuple[float, float]:
+    """Largest excursion away from the stop, max(−q) (m), within the pulse and one period after it; and its time (s).
+
+    Found on ``samples`` points, then refined where q̇ changes sign (brentq on the closed-form q̇).
+    """
+    from scipy.optimize import brentq
+
+    end = 2.0 * stop.pulse_s + 2.0 * math.pi / stop.omega_stop
+    time = np.linspace(0.0, end, samples)
+    q, _ = response_after_impact(stop, approach_velocity_m_s, time)
+    i = int(np.argmin(q))
+    best_t, best_q = float(time[i]), float(q[i])
+    if 0 < i < samples - 1:
+        def rate(t):
+            return float(response_after_impact(stop, approach_velocity_m_s, np.array([t]))[1][0])
+        lo, hi = time[i - 1], time[i + 1]
+        if rate(lo) < 0.0 < rate(hi):
+            best_t = brentq(rate, lo, hi, xtol=1e-15)
+            best_q = float(response_after_impact(stop, approach_velocity_m_s, np.array([best_t]))[0][0])
+    return max(0.0, -best_q), best_t
+
+
+def impact_at(law: MotionLaw, stop: StopModel, rpm: float, *, contact: Contact | None = None,
+              keep_response: bool = False, samples: int = 4001) -> Impact:
+    """The impact on the stop at ``rpm``: approach velocity, impulse, force, first rebound (module docstring)."""
+    contact = contact or find_contact(law, stop.stop, stop.preload_mm, stop.ratio)
+    v0 = abs(contact.velocity_analog) * rpm_to_rad_s(rpm) * stop.ratio * 1e-3   # m/s
+    impulse = impact_impulse(stop.mass_kg, v0, stop.restitution)
+    force = impact_force(impulse, stop.pulse_s)
+    rebound, at = first_rebound(stop, v0, samples)
+    time = q = np.empty(0)
+    if keep_response:
+        time = np.linspace(0.0, 2.0 * stop.pulse_s + 3.0 * 2.0 * math.pi / stop.omega_stop, samples)
+        q = response_after_impact(stop, v0, time)[0] * 1e3
+    return Impact(float(rpm), float(np.degrees(contact.theta)), v0 * 1e3, impulse, force, stop.pulse_s,
+                  rebound * 1e3, at, stop.preload_mm, time, q)
+
+
+@dataclass(frozen=True)
+class ImpactSweep:
+    """Impacts over speeds, and the phase-angle relation at the fastest speed (the worst case)."""
+
+    impacts: tuple[Impact, ...]
+    contact: Contact
+    phase_deg: float
+    relation: "ReboundRelation"
+
+    @property
+    def speeds_rpm(self) -> np.ndarray:
+        return np.array([i.rpm for i in self.impacts])
+
+    @property
+    def rebound_mm(self) -> np.ndarray:
+        return np.array([i.rebound_mm for i in self.impacts])
+
+    @property
+    def force_n(self) -> np.ndarray:
+        return np.array([i.force_n for i in self.impacts])
+
+
+@dataclass(frozen=True)
+class ReboundRelation:
+    """Rebound amplitude against the approach phase angle at one speed: A(t) = A0 t0/t (mm, t in deg).
+
+    ``tangent`` gives the linearised relation a = slope·t + intercept at t0 (slope = −A0/t0,
+    intercept = 2A0), the form of the source's cyclogram constraint a = −0.003 t + 0.208.
+    """
+
+    amplitude_mm: float
+    phase_deg: float
+    rpm: float
+
+    def __call__(self, t_deg):
+        return self.amplitude_mm * self.phase_deg / np.asarray(t_deg, dtype=float)
+
+    @property
+    def tangent(self) -> tuple[float, float]:
+        return -self.amplitude_mm / self.phase_deg, 2.0 * self.amplitude_mm
+
+    def fit(self, low_deg: float, high_deg: float, points: int = 201) -> tuple[float, float]:
+        """Least-squares line (slope mm/deg, intercept mm) of A(t) over [low, high] deg."""
+        t = np.linspace(low_deg, high_deg, points)
+        slope, intercept = np.polyfit(t, self(t), 1)
+        return float(slope), float(intercept)
+
+    def least_phase(self, allowed_mm: float) -> float:
+        """Least phase angle (deg) with A(t) ≤ allowed: t = t0 A0/allowed (exact for this relation)."""
+        return self.amplitude_mm * self.phase_deg / allowed_mm
+
+
+def impact_sweep(law: MotionLaw, stop: StopModel, speeds_rpm, *, keep=(), progress=None,
+                 samples: int = 4001) -> ImpactSweep:
+    """Impacts at every speed (rpm); the rebound-against-phase relation at the fastest one."""
+    speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
+    contact = find_contact(law, stop.stop, stop.preload_mm, stop.ratio)
+    keep = {float(k) for k in keep}
+    impacts = []
+    for i, rpm in enumerate(speeds):
+        impacts.append(impact_at(law, stop, rpm, contact=contact, keep_response=float(rpm) in keep,
+                                 samples=samples))
+        if progress:
+            progress(i + 1, len(speeds))
+    worst = max(impacts, key=lambda item: item.rpm)
+    phase_deg = float(np.degrees(contact.phase.width))
+    return ImpactSweep(tuple(impacts), contact, phase_deg, ReboundRelation(worst.rebound_mm, phase_deg, worst.rpm))
+
+
+# --------------------------------------------------------------------------------------------
+# The scene's [stops] section
+# --------------------------------------------------------------------------------------------
+
+STOPS_FIELDS = [
+    Field("youngs_modulus_MPa", "float", "MPa", positive=True, help="E of the lever"),
+    Field("second_moment_mm4", "float", "mm^4", positive=True, help="J of the lever's section"),
+    Field("arm_a_mm", "float", "mm", positive=True, help="lever arm a (between the supports)"),
+    Field("arm_b_mm", "float", "mm", positive=True, help="lever arm b (overhang to the contact point)"),
+    Field("stiffness_N_per_m", "float", "N/m", positive=True, help="reduced stiffness c (instead of E, J, a, b)"),
+    Field("lever_inertia_kg_m2", "float", "kg·m²", positive=True, help="J_A, moment of inertia about the pivot"),
+    Field("lever_length_mm", "float", "mm", positive=True, help="l, pivot to the contact point"),
+    Field("mass_kg", "float", "kg", positive=True, help="reduced mass at the contact point (instead of J_A, l)"),
+    Field("stop_stiffness_N_per_m", "float", "N/m", required=True, positive=True,
+          help="contact stiffness the stop adds in parallel"),
+    Field("restitution", "float", "", required=True, minimum=0.0, maximum=1.0, help="k, 5/9 for steel"),
+    Field("damping_ratio", "float", "", required=True, minimum=0.0, maximum=0.99),
+    Field("preload_mm", "float", "mm", required=True, positive=True),
+    Field("stop", "str", "", default="upper", choices=STOP_SIDES),
+    Field("ratio", "float", "", default=1.0, positive=True,
+          help="displacement of the contact point per unit of the law's displacement"),
+    Field("allowed_amplitude_mm", "float", "mm", positive=True, help="rebound limit"),
+]
+
+
+def parse_stops(table: Any, where: str) -> StopModel:
+    """Read a scene's [stops] table (units per key in STOPS_FIELDS) into a StopModel.
+
+    The lever's stiffness comes from youngs_modulus_MPa, second_moment_mm4, arm_a_mm, arm_b_mm
+    (c = 3EJ/((a+b)b²)) or from stiffness_N_per_m; its mass from lever_inertia_kg_m2 and
+    lever_length_mm (m = J_A/l²) or from mass_kg.
+    """
+    values = read_table(table, STOPS_FIELDS, where)
+    lever = ("youngs_modulus_MPa", "second_moment_mm4", "arm_a_mm", "arm_b_mm")
+    stiffness = _one_of(values, lever, ("stiffness_N_per_m",), where, "the lever's stiffness")
+    if stiffness == "stiffness_N_per_m":
+        c = values["stiffness_N_per_m"]
+    else:
+        c = lever_stiffness(*(values[key] for key in lever))
+    inertia = ("lever_inertia_kg_m2", "lever_length_mm")
+    mass_from = _one_of(values, inertia, ("mass_kg",), where, "the lever's reduced mass")
+    mass = values["mass_kg"] if mass_from == "mass_kg" else reduced_mass(*(values[key] for key in inertia))
+    return StopModel(mass, c, values["stop_stiffness_N_per_m"], values["restitution"], values["damping_ratio"],
+                     values["preload_mm"], values["stop"], values["ratio"], values["allowed_amplitude_mm"])
+
+
+def _one_of(values: dict, group: tuple[str, ...], alternative: tuple[str, ...], where: str, what: str) -> str:
+    given = [key for key in group if values[key] is not None]
+    other = [key for key in alternative if values[key] is not None]
+    if given and other:
+        raise CamcadError(f"{what} is given twice ({', '.join(given + other)})", where,
+                          f"give either {', '.join(group)} or {', '.join(alternative)}")
+    if other:
+        return other[0]
+    if len(given) != len(group):
+        missing = [key for key in group if values[key] is None]
+        raise CamcadError(f"missing value '{missing[0]}' for {what}", where,
+                          f"give {', '.join(group)}, or {', '.join(alternative)}")
+    return group[0]

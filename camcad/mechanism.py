@@ -1,0 +1,253 @@
+"""One mechanism of a scene: the analyses that need its law, its profile and its other sections together.
+
+- the cam's contact geometry along the profile (pressure angle, radius of curvature, concave parts
+  negative) from camcad.profile, in the form camcad.contact takes;
+- contact stress along the profile over the machine's speeds, with the least admissible phase angle
+  of each rise and return (root finding on σ_max(t) = [σ_H], camcad.cyclogram.least_phase_angle);
+- the phase-angle limits of a cyclogram's operations, and the optimal angles fed back into the laws.
+A phase stretched to t keeps its shape and lift (camcad.law.retime); the next dwell takes up the change.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import CamcadError
+from .law.law import Phase
+from .scene import Mechanism, Scene, mechanism_law
+
+
+def phases_deg(law) -> list[tuple[float, float, str]]:
+    """(start_deg, end_deg, kind) of each phase of a law."""
+    return [(math.degrees(p.start), math.degrees(p.end), p.kind) for p in law.phases]
+
+
+def law_with_phases(law, phases: list[tuple[float, float, str]], where: str):
+    """The law retimed to the given (start_deg, end_deg, kind) phases (shape and lift kept)."""
+    from .law.retime import retime
+
+    return retime(law, tuple(Phase(kind, math.radians(start), math.radians(end)) for start, end, kind in phases),
+                  where)
+
+
+@dataclass(frozen=True)
+class ContactGeometry:
+    """What camcad.contact needs at cam angles ``theta`` (rad): the roller centre's (or flat face's)
+    path s, v, a (mm, mm/rad, mm/rad²; arm × swing for an oscillating follower), the pressure angle
+    (rad), the profile radius (mm, convex > 0), the other flank's radius seen from the roller (groove
+    cams; else None) and the follower radius (mm, inf for a flat face)."""
+
+    theta: Any
+    s: Any
+    v: Any
+    a: Any
+    pressure_angle: Any
+    rho: Any
+    rho_back: Any
+    follower_radius: float
+    kind: str
+
+    def arrays(self) -> tuple:
+        return (self.theta, self.s, self.v, self.a, self.pressure_angle, self.rho, self.follower_radius,
+                self.rho_back)
+
+
+def contact_geometry(law, follower_table: dict, where: str, theta) -> ContactGeometry:
+    """The cam's geometry at ``theta`` (rad) from camcad.profile: the follower from ``parse_follower``,
+    the pitch curve, pressure angle and radii from ``CamGeometry`` (the lift law becomes a swing law
+    for an oscillating follower, as ``camcad profile`` does)."""
+    from .profile.followers import parse_follower, swing_law, swing_of
+    from .profile.geometry import CamGeometry
+
+    follower = parse_follower(follower_table, where)
+    scale = 1.0
+    if follower.kind == "oscillating":
+        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(follower_table, where))
+        scale = follower.arm      # ψ (rad) → arc of the roller centre (mm)
+    if follower.kind == "knife":
+        raise CamcadError("a knife edge has no Hertz contact (zero radius)", where,
+                          "give the follower a roller (roller_radius > 0)")
+    cam = CamGeometry(law, follower)
+    theta = np.asarray(theta, dtype=float)
+    kin = cam.kinematics(theta)
+    if follower.kind == "flat":
+        rho = cam.profile(theta).rho
+        radius, back = math.inf, None
+    else:
+        pitch = cam.pitch(theta)
+        radius = float(follower.roller_radius)
+        rho = pitch.rho - radius
+        # a groove's outer wall X = P + Rr n has radius ρ_p + Rr seen from outside; the roller
+        # touches it from inside, so it sees −(ρ_p + Rr) in the convex-positive convention
+        back = -(pitch.rho + radius) if follower.groove else None
+    return ContactGeometry(theta, kin.s * scale, kin.v * scale, kin.a * scale, cam.pressure_angle(theta),
+                           rho, back, radius, follower.kind)
+
+
+def phase_grid(phases: list[tuple[float, float, str]], samples: int) -> np.ndarray:
+    """θ (rad): ``samples`` points in every phase, ends included (a phase end is sampled once)."""
+    pieces = [np.linspace(np.radians(start), np.radians(end), samples) for start, end, _ in phases]
+    return np.unique(np.concatenate(pieces))
+
+
+def stretch_room(phases: list[tuple[float, float, str]], index: int) -> float:
+    """The widest the phase can become by taking a neighbouring dwell (deg)."""
+    start, end, _ = phases[index]
+    room = 0.0
+    for neighbour in (index + 1, index - 1):
+        if 0 <= neighbour < len(phases) and phases[neighbour][2] == "dwell":
+            room = max(room, phases[neighbour][1] - phases[neighbour][0])
+    return end - start + room
+
+
+def phase_index(phases, kind: str, occurrence: int, where: str) -> int:
+    seen = 0
+    for index, (_, _, phase_kind) in enumerate(phases):
+        if phase_kind == kind:
+            seen += 1
+            if seen == occurrence:
+                return index
+    raise CamcadError(f"the law has no {kind} number {occurrence}", where,
+                      "check the operation's phase and occurrence")
+
+
+def contact_params(scene: Scene, mech: Mechanism):
+    from .contact import parse_contact
+
+    if not mech.has("contact"):
+        raise CamcadError(f"mechanism {mech.name!r} has no [contact] section", str(scene.path),
+                          "add materials, loads and the allowable stress in [contact]")
+    return parse_contact(mech.sections["contact"], mech.where(scene.path, "contact"))
+
+
+def phase_stress_function(law, follower_table: dict, params, speeds: list[float], index: int, where: str,
+                          samples: int):
+    """σ_max(t): the largest σ_H over phase ``index`` of ``law`` stretched to t deg (the next dwell takes
+    up the change), sampled at ``samples`` cam angles in the phase, over all ``speeds``; +inf when the
+    stretched cam is not admissible (the roller does not fit, the follower jams)."""
+    from .contact import contact_stress
+    from .cyclogram import stretch_phase
+
+    phases = phases_deg(law)
+
+    def sigma_max(width_deg: float) -> float:
+        stretched = stretch_phase(phases, index, width_deg)
+        stretched_law = law_with_phases(law, stretched, where)
+        start, end, _ = stretched[index]
+        theta = np.linspace(np.radians(start), np.radians(end), samples)
+        geometry = contact_geometry(stretched_law, follower_table, where, theta)
+        worst = 0.0
+        for rpm in speeds:
+            try:
+                result = contact_stress(*geometry.arrays()[:7], rpm, params, geometry.rho_back)
+            except CamcadError:
+                return float("inf")
+            worst = max(worst, result.sigma_max)
+        return worst
+
+    return sigma_max
+
+
+def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None):
+    """Contact analysis of one mechanism: stress along the profile at every speed, the worst speed's
+    figures (SPEC.md ``contact`` keys), separation, and the contact-limited least phase angle of each rise
+    and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at the worst
+    speed, SpeedSweep)."""
+    from .contact import contact_stress, stress_versus_speed
+    from .cyclogram import least_phase_angle
+
+    params = contact_params(scene, mech)
+    law_where = mech.where(scene.path, "law")
+    if law is None:
+        law = mechanism_law(scene, mech).law
+    phases = phases_deg(law)
+    follower_table = mech.sections.get("follower", {})
+    geometry = contact_geometry(law, follower_table, mech.where(scene.path, "follower"), phase_grid(phases, samples))
+    if params.roller_radius is not None and params.roller_radius != geometry.follower_radius:
+        raise CamcadError(f"roller_radius {params.roller_radius:g} mm differs from the follower's "
+                          f"{geometry.follower_radius:g} mm", mech.where(scene.path, "contact"),
+                          "give the roller radius in [follower] only")
+    theta, s, v, a, phi, rho, radius, back = geometry.arrays()
+    sweep = stress_versus_speed(theta, s, v, a, phi, rho, radius, speeds, params, back)
+    at_worst = contact_stress(theta, s, v, a, phi, rho, radius, float(sweep.rpm[sweep.worst]), params, back)
+    report = at_worst.report()
+    report["separation"] = bool(np.any(sweep.separation))
+    report["passed"] = bool(np.all(sweep.sigma_max <= params.allowable_stress)) and not report["separation"]
+    report["versus_speed"] = sweep.report()
+    report["follower"] = geometry.kind
+    limits: dict[str, Any] = {}
+    counts: dict[str, int] = {}
+    notes: list[str] = []
+    for index, (start, end, kind) in enumerate(phases):
+        if kind == "dwell":
+            continue
+        counts[kind] = counts.get(kind, 0) + 1
+        label = kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"
+        relation = phase_stress_function(law, follower_table, params, speeds, index, law_where, samples)
+        try:
+            found = least_phase_angle(relation, params.allowable_stress, 0.1 * (end - start),
+                                      stretch_room(phases, index), source="contact stress",
+                                      what=f"{mech.name} {label}")
+            limits[label] = found.angle_deg
+            if found.note:
+                notes.append(f"{label}: {found.note}")
+            if not found.binding:
+                notes.append(f"{label}: [σ_H] is met down to {found.angle_deg:.6g} deg, a tenth of the phase")
+        except CamcadError as err:
+            limits[label] = None
+            notes.append(err.message())
+    report["phase_limit_deg"] = limits
+    report["notes"] = notes
+    return report, at_worst, sweep
+
+
+def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples: int):
+    """Phase limits of the network's operations: vibration (from the operation's relation) and contact
+    stress (from the operation's mechanism, when it has [law], [follower] and [contact]).
+    Returns (limits {label: [PhaseLimit]}, skipped {what: why})."""
+    from .cyclogram import least_phase_angle, vibration_limits
+
+    limits = vibration_limits(network)
+    skipped: dict[str, str] = {}
+    by_name = {m.name: m for m in scene.mechanisms}
+    for op in network.operations:
+        if op.mechanism is None or op.phase is None or op.phase == "dwell":
+            continue
+        mech = by_name[op.mechanism]
+        if not mech.has("contact"):
+            skipped[f"contact limit {op.label}"] = f"mechanism {op.mechanism} has no [contact]"
+            continue
+        if speeds is None:
+            skipped[f"contact limit {op.label}"] = "no [machine] rpm"
+            continue
+        law_where = mech.where(scene.path, "law")
+        law = mechanism_law(scene, mech).law
+        phases = phases_deg(law)
+        index = phase_index(phases, op.phase, op.occurrence, law_where)
+        params = contact_params(scene, mech)
+        relation = phase_stress_function(law, mech.sections.get("follower", {}), params, speeds, index,
+                                         law_where, samples)
+        upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
+        lower = max(op.min_deg, 1e-3 * upper)
+        limits.setdefault(op.label, []).append(least_phase_angle(
+            relation, params.allowable_stress, lower, upper, source="contact",
+            what=f"operation {op.label} ({op.mechanism} {op.phase})"))
+    return limits, skipped
+
+
+def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:
+    """{mechanism: new (start_deg, end_deg, kind) phases} with the optimal angles of its operations fed back."""
+    from .cyclogram import operation_timing, retime_phases
+
+    found = {}
+    by_name = {m.name: m for m in scene.mechanisms}
+    for name, timing in operation_timing(result).items():
+        mech = by_name[name]
+        law_where = mech.where(scene.path, "law")
+        phases = phases_deg(mechanism_law(scene, mech).law)
+        found[name] = retime_phases(phases, timing, where=law_where)
+    return found

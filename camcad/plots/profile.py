@@ -1,0 +1,281 @@
+"""Plots of a synthesised cam (PNG): kinematics, pressure angle, curvature, profile, hodograph.
+
+Each figure says its units, shades what is not allowed, and labels the extrema, so that a
+reader sees at a glance whether the design passes and where it is tight.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..io.atomic import write_atomic
+from . import pyplot
+
+PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
+FORBIDDEN = "#f4c7c3"
+
+
+def _save(fig, path: Path) -> Path:
+    plt = pyplot()
+    try:
+        return write_atomic(path, lambda tmp: fig.savefig(tmp, format="png", dpi=130))
+    finally:
+        plt.close(fig)
+
+
+def _shade_phases(ax, result) -> None:
+    law = result.law
+    cycle = math.degrees(law.cycle)
+    for lobe in range(result.geometry.lobes):
+        for phase in law.phases:
+            colour = PHASE_COLOURS.get(phase.kind)
+            if colour:
+                ax.axvspan(lobe * cycle + math.degrees(phase.start), lobe * cycle + math.degrees(phase.end),
+                           color=colour, alpha=0.6, lw=0, zorder=0)
+
+
+def _annotate_extrema(ax, x: np.ndarray, y: np.ndarray, unit: str) -> None:
+    finite = np.isfinite(y)
+    if not finite.any():
+        return
+    for index, va in ((int(np.nanargmax(np.where(finite, y, -np.inf))), "bottom"),
+                      (int(np.nanargmin(np.where(finite, y, np.inf))), "top")):
+        ax.plot(x[index], y[index], "o", ms=4, color="black", zorder=5)
+        ax.annotate(f"{y[index]:.4g} {unit}\n@ {x[index]:.1f}°", (x[index], y[index]),
+                    textcoords="offset points", xytext=(6, 4 if va == "bottom" else -4), va=va, fontsize=8)
+
+
+def _theta_axis(ax) -> None:
+    ax.set_xlim(0, 360)
+    ax.set_xticks(np.arange(0, 361, 30))
+    ax.grid(True, lw=0.4, alpha=0.6)
+
+
+def plot_kinematics(result, path: Path) -> Path:
+    plt = pyplot()
+    t = result.table
+    deg = np.degrees(t.theta)
+    unit = "rad" if result.follower.kind == "oscillating" else "mm"
+    rows = [(t.s, unit, "s", "displacement"), (t.v, f"{unit}/rad", "v = ds/dθ", "velocity analog"),
+            (t.a, f"{unit}/rad²", "a = d²s/dθ²", "acceleration analog"),
+            (t.j, f"{unit}/rad³", "j = d³s/dθ³", "jerk analog")]
+    fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True)
+    for ax, (y, units, symbol, title) in zip(axes, rows):
+        _shade_phases(ax, result)
+        ax.plot(deg, y, lw=1.4, color="#1f4e79")
+        ax.axhline(0.0, color="black", lw=0.6)
+        ax.set_ylabel(f"{symbol} ({units})")
+        ax.set_title(title, fontsize=9, loc="right")
+        _annotate_extrema(ax, deg, y, units)
+        low, high = np.nanmin(y), np.nanmax(y)
+        pad = 0.25 * (high - low) if high > low else 1.0
+        ax.set_ylim(low - pad, high + pad)
+        _theta_axis(ax)
+    axes[-1].set_xlabel("cam angle θ (deg)")
+    fig.suptitle(f"{result.name}: motion law — green rise, orange return, white dwell", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_pressure_angle(result, path: Path) -> Path:
+    plt = pyplot()
+    t = result.table
+    deg = np.degrees(t.theta)
+    phi = np.degrees(t.pressure_angle)
+    fig, ax = plt.subplots(figsize=(10, 5))
+    _shade_phases(ax, result)
+    if result.follower.kind == "flat":
+        ax.plot(deg, phi, lw=1.6, color="#1f4e79")
+        ax.text(0.5, 0.6, "flat face perpendicular to its axis: pressure angle is 0",
+                transform=ax.transAxes, ha="center")
+        ax.set_ylim(-10, 10)
+    else:
+        limit = np.degrees(t.limit)
+        top = max(np.nanmax(np.abs(phi)), np.nanmax(limit) if np.isfinite(limit).any() else 0.0) * 1.15 + 1.0
+        if np.isfinite(limit).any():
+            ax.fill_between(deg, limit, top, where=np.isfinite(limit), color=FORBIDDEN, lw=0, label="over the limit")
+            ax.fill_between(deg, -top, -limit, where=np.isfinite(limit), color=FORBIDDEN, lw=0)
+            ax.plot(deg, limit, color="#b03a2e", lw=1.0, ls="--", label="limit ±")
+            ax.plot(deg, -limit, color="#b03a2e", lw=1.0, ls="--")
+        ax.plot(deg, phi, lw=1.6, color="#1f4e79", label="pressure angle φ")
+        pa = result.pressure_angle
+        for ext, va in ((pa.maximum, "bottom"), (pa.minimum, "top")):
+            x, y = math.degrees(ext.at), math.degrees(ext.value)
+            ax.plot(x, y, "o", color="black", ms=4)
+            ax.annotate(f"{y:.2f}° @ {x:.1f}°", (x, y), textcoords="offset points",
+                        xytext=(6, 4 if va == "bottom" else -4), va=va, fontsize=9)
+        ax.set_ylim(-top, top)
+        verdict = "within the limits" if pa.passed else "OVER THE LIMIT"
+        ax.set_title(f"pressure angle — {verdict}" + (" (reversible)" if result.follower.reversible else ""),
+                     fontsize=10)
+        ax.legend(loc="upper right", fontsize=8)
+    ax.axhline(0.0, color="black", lw=0.6)
+    ax.set_ylabel("pressure angle (deg)")
+    ax.set_xlabel("cam angle θ (deg)")
+    _theta_axis(ax)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_curvature(result, path: Path) -> Path:
+    plt = pyplot()
+    t = result.table
+    f = result.follower
+    deg = np.degrees(t.theta)
+    cap = 3.0 * (f.prime_radius + float(np.ptp(t.s)) * (f.arm if f.kind == "oscillating" else 1.0))
+    shown = np.concatenate((t.rho_profile, t.rho_pitch if f.kind != "flat" else t.rho_profile))
+    shown = shown[np.isfinite(shown) & (np.abs(shown) <= cap)]
+    top = max(1.15 * float(shown.max(initial=0.0)), 2.0 * f.roller_radius, 10.0)
+    bottom = min(1.15 * float(shown.min(initial=0.0)), -0.15 * top)
+    scale = cap
+    fig, ax = plt.subplots(figsize=(10, 5))
+    _shade_phases(ax, result)
+    if f.kind != "flat" and f.roller_radius > 0.0:
+        ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0, label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
+        ax.plot(deg, np.clip(t.rho_pitch, -scale, scale), lw=1.2, color="#7f7f7f", ls="--", label="pitch curve ρ")
+    if f.rho_min is not None:
+        ax.axhline(f.rho_min, color="#b03a2e", lw=1.0, ls=":", label=f"limit ρ_min = {f.rho_min:g} mm")
+    ax.plot(deg, np.clip(t.rho_profile, -scale, scale), lw=1.6, color="#1f4e79", label="profile ρ")
+    best = result.profile.rho_convex_min
+    if best is not None:
+        ax.plot(math.degrees(best.at), best.value, "o", color="black", ms=4)
+        ax.annotate(f"smallest convex ρ {best.value:.4g} mm @ {math.degrees(best.at):.1f}°",
+                    (math.degrees(best.at), best.value), textcoords="offset points", xytext=(6, -12), fontsize=9)
+    ax.axhline(0.0, color="black", lw=0.6)
+    ax.set_ylim(bottom, top)
+    ax.set_ylabel("radius of curvature ρ (mm), + convex, − concave")
+    ax.set_xlabel("cam angle θ (deg)")
+    ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10)
+    ax.legend(loc="lower right", fontsize=8)
+    _theta_axis(ax)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_profile(result, path: Path) -> Path:
+    plt = pyplot()
+    f = result.follower
+    geometry = result.geometry
+    fig, ax = plt.subplots(figsize=(8, 8))
+
+    def closed(points: np.ndarray) -> np.ndarray:
+        return np.vstack((points, points[:1]))
+
+    prof = closed(result.profile.polyline.points)
+    ax.fill(prof[:, 0], prof[:, 1], color="#dbe6f1", zorder=0)
+    ax.plot(prof[:, 0], prof[:, 1], color="#1f4e79", lw=1.8, label="profile")
+    pitch = closed(result.pitch.polyline.points)
+    if f.kind != "flat":
+        ax.plot(pitch[:, 0], pitch[:, 1], color="#7f7f7f", lw=1.0, ls="--", label="pitch curve")
+    for curve, colour, label in ((result.outer, "#1f4e79", "groove outer flank"),
+                                 (result.counter, "#2e7d32", "counter-cam")):
+        if curve is not None:
+            pts = closed(curve.polyline.points)
+            ax.plot(pts[:, 0], pts[:, 1], color=colour, lw=1.4, ls="-.", label=label)
+    circle = np.linspace(0.0, 2.0 * math.pi, 361)
+    ax.plot(f.base_radius * np.cos(circle), f.base_radius * np.sin(circle), color="#4a7ebb", lw=0.8,
+            ls=":", label=f"base circle Rb = {f.base_radius:g} mm")
+    cross = 0.15 * f.base_radius
+    ax.plot([-cross, cross], [0, 0], color="#b03a2e", lw=0.8)
+    ax.plot([0, 0], [-cross, cross], color="#b03a2e", lw=0.8)
+    zero = np.array([0.0])
+    centre = geometry.pitch(zero).centre[0]
+    if f.kind == "flat":
+        height = f.base_radius + float(geometry.kinematics(zero).s[0])
+        left, right = result.face_extent
+        ax.plot([f.offset + left - 3, f.offset + right + 3], [height, height], color="#c27c0e", lw=2.5,
+                label="flat face at θ = 0")
+    else:
+        if f.roller_radius > 0.0:
+            ax.plot(centre[0] + f.roller_radius * np.cos(circle), centre[1] + f.roller_radius * np.sin(circle),
+                    color="#c27c0e", lw=1.6, label=f"roller at θ = 0, Rr = {f.roller_radius:g} mm")
+        ax.plot(*centre, "o", color="#c27c0e", ms=3)
+        if f.kind == "oscillating":
+            ax.plot([f.pivot, centre[0]], [0.0, centre[1]], color="#c27c0e", lw=1.2)
+            ax.plot(f.pivot, 0.0, "s", color="#c27c0e", ms=5, label=f"pivot C = {f.pivot:g} mm, arm L = {f.arm:g} mm")
+        worst = result.pressure_angle.maximum
+        if abs(worst.value) > 0.0 and f.roller_radius > 0.0:
+            at = geometry.pitch(np.array([worst.at]))
+            p = at.points[0]
+            ax.plot(p[0] + f.roller_radius * np.cos(circle), p[1] + f.roller_radius * np.sin(circle),
+                    color="#b03a2e", lw=0.8, ls="--",
+                    label=f"roller at the largest pressure angle ({math.degrees(worst.value):.1f}° @ {math.degrees(worst.at):.0f}°)")
+    turn = "clockwise" if f.cw else "counter-clockwise"
+    ax.set_title(f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10)
+    ax.set_aspect("equal")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_hodograph(result, path: Path) -> Path:
+    """The velocity hodograph: s against v = ds/dθ (the follower's phase portrait).
+
+    For a translating follower it doubles as the classical construction of the base radius:
+    the pressure angle at each point is the angle from the vertical of the line from the cam
+    centre O = (σe, −d) to the point (v, s), so O must lie below both lines drawn at the rise
+    and return limits tangent to the curve (the shaded wedge)."""
+    plt = pyplot()
+    t = result.table
+    f = result.follower
+    fig, ax = plt.subplots(figsize=(8, 7))
+    if f.kind == "oscillating":
+        ax.plot(t.v, np.degrees(t.s), color="#1f4e79", lw=1.6)
+        ax.set_xlabel("ψ' = dψ/dθ (rad/rad)")
+        ax.set_ylabel("swing ψ (deg)")
+        ax.set_title("velocity hodograph (swing against its velocity analog)", fontsize=10)
+    else:
+        ax.plot(t.v, t.s, color="#1f4e79", lw=1.6, label="(v, s) over the cycle")
+        if f.kind != "flat":
+            ox, oy = f.sigma * f.offset, -result.geometry.height
+            ax.plot(ox, oy, "o", color="#b03a2e", ms=6, label=f"cam centre O (d = {result.geometry.height:.4g} mm)")
+            rise, back = f.pressure_angle_limit_rise_deg, f.pressure_angle_limit_return_deg
+            if f.reversible:
+                strict = min(x for x in (rise, back) if x is not None) if (rise or back) else None
+                rise = back = strict
+            x = np.linspace(min(ox, t.v.min()) - 0.3 * np.ptp(t.v) - 5, max(ox, t.v.max()) + 0.3 * np.ptp(t.v) + 5, 200)
+            bound = np.full_like(x, np.inf)
+            moving_up, moving_down = t.v > 0, t.v < 0
+            if rise is not None and moving_up.any():
+                k = 1.0 / math.tan(math.radians(rise))
+                line = x * k + np.min(t.s[moving_up] - t.v[moving_up] * k)
+                ax.plot(x, line, color="#b03a2e", lw=1.0, ls="--", label=f"rise limit {rise:g}°")
+                bound = np.minimum(bound, line)
+            if back is not None and moving_down.any():
+                k = 1.0 / math.tan(math.radians(back))
+                line = -x * k + np.min(t.s[moving_down] + t.v[moving_down] * k)
+                ax.plot(x, line, color="#e67e22", lw=1.0, ls="--", label=f"return limit {back:g}°")
+                bound = np.minimum(bound, line)
+            if np.isfinite(bound).all():
+                low = min(oy, bound.min()) - 0.2 * abs(oy) - 5
+                ax.fill_between(x, low, bound, color="#d9f0d3", alpha=0.7, lw=0,
+                                label="cam centre allowed here")
+                ax.set_ylim(low, t.s.max() + 0.2 * abs(oy) + 5)
+            for index in (int(np.argmax(t.v)), int(np.argmin(t.v))):
+                ax.plot([ox, t.v[index]], [oy, t.s[index]], color="#7f7f7f", lw=0.6)
+        ax.set_xlabel("v = ds/dθ (mm/rad)")
+        ax.set_ylabel("s (mm)")
+        ax.set_title("velocity hodograph: s against v; the angle of O→(v, s) from vertical is the pressure angle",
+                     fontsize=9)
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.axvline(0.0, color="black", lw=0.6)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(loc="upper left", fontsize=8)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_profile_set(result, outdir: str | Path) -> list[Path]:
+    """All profile plots into ``outdir``; returns the written paths."""
+    outdir = Path(outdir)
+    return [plot_kinematics(result, outdir / "kinematics.png"),
+            plot_pressure_angle(result, outdir / "pressure_angle.png"),
+            plot_curvature(result, outdir / "curvature.png"),
+            plot_profile(result, outdir / "profile.png"),
+            plot_hodograph(result, outdir / "hodograph.png")]

@@ -1,0 +1,198 @@
+"""Design helper: the smallest base radius that meets the pressure-angle and curvature limits.
+
+Each limit gives a margin function of the base radius Rb,
+    g_φ(Rb) = min over θ of (limit(θ) − |φ(θ; Rb)|)                    (rad)
+    g_ρ(Rb) = min over θ of (1/(Rr + ρ_min) − κ(θ; Rb))                (1/mm)
+with κ = 1/ρ the signed curvature of the pitch curve (positive convex): the profile's convex
+radius ρ − Rr stays ≥ ρ_min exactly when κ ≤ 1/(Rr + ρ_min), and κ, unlike ρ, stays finite
+through inflections, so g_ρ is continuous. For a groove the outer flank adds
+κ ≥ −1/(Rr + ρ_min). For the flat face ρ = Rb + s + a ≥ ρ_min gives Rb in closed form.
+
+The smallest Rb is the root of g = 0, found with Brent's method (scipy.optimize.brentq) on a
+bracket [geometric lower bound, an upper bound found by doubling]; the inner minimum over θ is
+taken on a grid and refined with a bounded Brent search around the worst grid point. For a
+translating follower |φ| = atan(|v − σe|/(d + s)) falls as d = √(Rp² − e²) grows at every θ,
+so g_φ is increasing and its root unique; the tests compare it with the per-θ closed form
+d ≥ |v − σe|/tan(limit) − s. For the oscillating follower Rb is bounded (|C − L| < Rb + Rr <
+C + L) and g_φ rises and falls again as the arm straightens: its peak is found by a bounded
+Brent search and the root on the rising side. For g_ρ the root found is the one inside the
+bracket. The result is rounded up by the solver's tolerance, so the design meets its limits.
+
+The accuracy knobs are ``xtol`` (mm, on Rb) and ``grid`` (points per cycle before refinement).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..law.law import MotionLaw
+from .followers import Follower
+
+
+@dataclass(frozen=True)
+class BaseRadiusDesign:
+    """Smallest base radii (mm); None where a limit is not given or cannot be met.
+
+    rb_pressure_angle: the smallest Rb meeting the pressure-angle limits.
+    rb_curvature:      the smallest Rb whose profile has no convex radius below ρ_min
+                       (below 0, i.e. no undercut, when no ρ_min is given).
+    rb_min:            the larger of the two; ``limited_by`` names which one.
+    notes:             why a figure is missing, in words.
+    """
+
+    rb_pressure_angle: float | None
+    rb_curvature: float | None
+    rb_min: float | None
+    limited_by: str
+    notes: tuple[str, ...] = ()
+
+    def as_dict(self) -> dict:
+        return {"rb_min_mm": self.rb_min, "rb_pressure_angle_mm": self.rb_pressure_angle,
+                "rb_curvature_mm": self.rb_curvature, "limited_by": self.limited_by,
+                "notes": list(self.notes)}
+
+
+def _worst(values_fn, theta: np.ndarray) -> float:
+    """min over θ of values_fn(θ): grid minimum refined by a bounded Brent search."""
+    from scipy.optimize import minimize_scalar
+
+    values = values_fn(theta)
+    finite = np.where(np.isfinite(values), values, np.inf)
+    k = int(np.argmin(finite))
+    best = float(finite[k])
+    if not math.isfinite(best):
+        return math.inf
+    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
+    if hi > lo:
+        res = minimize_scalar(lambda t: float(values_fn(np.array([t]))[0]), bounds=(lo, hi),
+                              method="bounded", options={"xatol": 1e-12})
+        if np.isfinite(res.fun):
+            best = min(best, float(res.fun))
+    return best
+
+
+def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
+    """g_φ (rad) for ``follower`` as given (its Rb); +inf when no limit applies."""
+    from .geometry import CamGeometry
+
+    geometry = CamGeometry(law, follower)
+
+    def margin(t: np.ndarray) -> np.ndarray:
+        pitch = geometry.pitch(t)
+        limit = geometry.pressure_angle_limit(pitch.outward_speed)
+        return np.where(np.isnan(limit), np.inf, limit - np.abs(pitch.pressure_angle))
+
+    return _worst(margin, theta)
+
+
+def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
+    """g_ρ (1/mm) for a roller follower as given (its Rb); +inf when nothing limits it."""
+    from .geometry import CamGeometry
+
+    geometry = CamGeometry(law, follower)
+    reach = follower.roller_radius + (follower.rho_min or 0.0)
+    if reach <= 0.0:
+        return math.inf  # a knife edge with no curvature limit: any convex radius will do
+
+    def margin(t: np.ndarray) -> np.ndarray:
+        rho = geometry.pitch(t).rho
+        with np.errstate(divide="ignore"):
+            kappa = np.where(np.isfinite(rho), 1.0 / rho, 0.0)
+        worst = 1.0 / reach - kappa
+        if follower.groove:
+            worst = np.minimum(worst, kappa + 1.0 / reach)
+        return worst
+
+    return _worst(margin, theta)
+
+
+def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float]:
+    """Geometric range of Rb: the pitch circle must clear the offset, or the arm must reach."""
+    theta = np.linspace(0.0, law.cycle, 1025)
+    stroke = float(np.ptp(law.kinematics(theta).s))
+    rr = follower.roller_radius
+    if follower.kind == "oscillating":
+        c, arm = follower.pivot, follower.arm
+        span = c + arm - abs(c - arm)
+        lo = max(abs(c - arm) - rr, 0.0) + 1e-7 * span
+        hi = c + arm - rr - 1e-7 * span
+        return lo, hi
+    scale = stroke + rr + abs(follower.offset) + 1.0
+    lo = max(abs(follower.offset) - rr, 0.0) + 1e-7 * scale
+    return lo, math.inf
+
+
+def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str
+           ) -> tuple[float | None, str | None]:
+    """Smallest Rb in (lo, hi) with margin ≥ 0: lo itself if it passes, else the bracketed root."""
+    from scipy.optimize import brentq
+
+    if margin_of_rb(lo) >= 0.0:
+        return lo, f"{what}: met by any base radius above the geometric minimum {lo:.6g} mm"
+    if math.isinf(hi):
+        hi = max(2.0 * lo, 1.0)
+        while margin_of_rb(hi) < 0.0:
+            hi *= 2.0
+            if hi > 1e7:
+                return None, f"{what}: no base radius up to 1e7 mm meets the limit"
+    elif margin_of_rb(hi) < 0.0:
+        # oscillating follower: the margin rises, peaks and falls again as the arm straightens;
+        # find the peak by a bounded Brent search, then the root on its rising side
+        from scipy.optimize import minimize_scalar
+
+        best = minimize_scalar(lambda rb: -margin_of_rb(rb), bounds=(lo, hi), method="bounded",
+                               options={"xatol": 1e-6 * (hi - lo)})
+        if -best.fun < 0.0:
+            return None, (f"{what}: no base radius between {lo:.6g} and {hi:.6g} mm meets the limit "
+                          f"with this pivot and arm (best {best.x:.6g} mm)")
+        hi = float(best.x)
+    root = brentq(margin_of_rb, lo, hi, xtol=xtol, rtol=4.0 * np.finfo(float).eps)
+    rounded = min(root + 2.0 * xtol, hi)  # round up: the result must meet the limit
+    return rounded, None
+
+
+def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float = 1e-9, grid: int = 2048
+                    ) -> BaseRadiusDesign:
+    """The smallest base radius (mm) meeting ``follower``'s pressure-angle limits and curvature limit.
+
+    ``law`` is in follower units (mm, or rad for the oscillating follower); the follower's own
+    base radius is ignored. See the module docstring for the method and the guarantees.
+    """
+    from .followers import law_breakpoints
+
+    one_lobe = np.union1d(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
+    notes: list[str] = []
+
+    if follower.kind == "flat":
+        # ρ = Rb + s + a ≥ ρ_min  ⇔  Rb ≥ ρ_min − min(s + a)
+        def s_plus_a(t: np.ndarray) -> np.ndarray:
+            kin = law.kinematics(t)
+            return kin.s + kin.a
+
+        rb_rho = max((follower.rho_min or 0.0) - _worst(s_plus_a, one_lobe), 0.0)
+        notes.append("flat face: pressure angle is 0 by construction")
+        return BaseRadiusDesign(None, rb_rho, rb_rho, "curvature", tuple(notes))
+
+    lo, hi = _bounds(follower, law)
+    limits_given = (follower.pressure_angle_limit_rise_deg is not None
+                    or follower.pressure_angle_limit_return_deg is not None)
+    rb_pa = None
+    if limits_given:
+        rb_pa, note = _solve(lambda rb: pressure_angle_margin(law, follower.with_base_radius(rb), one_lobe),
+                             lo, hi, xtol, "pressure angle")
+        if note:
+            notes.append(note)
+    else:
+        notes.append("pressure angle: no limit given")
+    rb_rho, note = _solve(lambda rb: curvature_margin(law, follower.with_base_radius(rb), one_lobe),
+                          lo, hi, xtol, "curvature")
+    if note:
+        notes.append(note)
+    found = [(rb, name) for rb, name in ((rb_pa, "pressure angle"), (rb_rho, "curvature")) if rb is not None]
+    if not found or (limits_given and rb_pa is None) or rb_rho is None:
+        return BaseRadiusDesign(rb_pa, rb_rho, None, "not reachable", tuple(notes))
+    rb_min, limited_by = max(found)
+    return BaseRadiusDesign(rb_pa, rb_rho, rb_min, limited_by, tuple(notes))

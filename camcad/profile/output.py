@@ -1,0 +1,148 @@
+"""Writing a synthesised profile: profile.dxf, law.csv, report.json and the plots."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..io.atomic import write_text_atomic
+from ..io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
+from .followers import describe_law, describe_phases
+from .synth import CurveResult, ProfileResult, ProfileSettings, report, stroke
+
+LAYERS = ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER", "TEXT")
+
+
+def _path(layer: str, curve: CurveResult, prefer_arcs: bool = True) -> DxfPath:
+    if prefer_arcs and curve.arcs is not None:
+        return DxfPath(layer, curve.arcs.vertices, curve.closed, curve.arcs.bulges)
+    return DxfPath(layer, curve.polyline.points, curve.closed)
+
+
+def drawing_texts(result: ProfileResult) -> list[str]:
+    """The TEXT layer's lines (ASCII): law, follower (Rb, Rr, e), lift, phases, key figures."""
+    f = result.follower
+    pa = result.pressure_angle
+    if f.kind == "oscillating":
+        size = f"swing {math.degrees(stroke(result)):.6g} deg"
+    else:
+        size = f"lift {stroke(result):.6g} mm"
+    rr = f"{f.roller_radius:.6g} mm" if f.has_roller else "- (flat face)"
+    lines = [
+        f"camcad profile: {result.name}",
+        f"law: {describe_law(result.law)}",
+        f"phases (deg): {describe_phases(result.law)}",
+        f"follower: {f.describe()}",
+        f"Rb {f.base_radius:.6g} mm, Rr {rr}, e {f.offset:.6g} mm, {size}",
+        (f"pressure angle max {math.degrees(pa.maximum.value):.3f} deg at {math.degrees(pa.maximum.at):.3f} deg, "
+         f"min {math.degrees(pa.minimum.value):.3f} deg at {math.degrees(pa.minimum.at):.3f} deg"),
+        f"units mm, cam turns {'CW' if f.cw else 'CCW'}, chord tolerance {result.settings.tol_mm:g} mm",
+    ]
+    return lines
+
+
+def build_drawing(result: ProfileResult) -> Drawing:
+    """The profile drawing: layers PROFILE, PITCH, BASE_CIRCLE, CENTER, ROLLER, TEXT (+ optional)."""
+    f = result.follower
+    geometry = result.geometry
+    paths = [_path("PROFILE", result.profile), _path("PITCH", result.pitch, prefer_arcs=False)]
+    splines = []
+    if result.profile.spline is not None:
+        s = result.profile.spline
+        splines.append(DxfSpline("PROFILE_SPLINE", s.control_points, s.knots, s.degree))
+    if result.outer is not None:
+        paths.append(_path("GROOVE_OUTER", result.outer))
+    if result.counter is not None:
+        paths.append(_path("COUNTER_PROFILE", result.counter))
+        paths.append(_path("COUNTER_PITCH", result.counter_pitch, prefer_arcs=False))
+    extent = max(float(np.max(np.hypot(*p.points.T))) for p in paths)
+    cross = max(5.0, 0.15 * f.base_radius)
+    circles = [DxfCircle("BASE_CIRCLE", (0.0, 0.0), f.base_radius)]
+    lines = [DxfLine("CENTER", (-cross, 0.0), (cross, 0.0)), DxfLine("CENTER", (0.0, -cross), (0.0, cross))]
+    zero = np.array([0.0])
+    centre = geometry.pitch(zero).centre[0]  # θ = 0: the cam and fixed frames coincide
+    if f.kind == "flat":
+        kin = geometry.kinematics(zero)
+        height = f.base_radius + float(kin.s[0])
+        left, right = result.face_extent
+        margin = 0.1 * (right - left) + 2.0
+        lines.append(DxfLine("ROLLER", (f.offset + left - margin, height), (f.offset + right + margin, height)))
+        lines.append(DxfLine("ROLLER", (f.offset, height), (f.offset, height + 0.5 * f.base_radius)))
+    else:
+        if f.roller_radius > 0.0:
+            circles.append(DxfCircle("ROLLER", (float(centre[0]), float(centre[1])), f.roller_radius))
+        else:  # knife edge: draw the blade along its axis
+            lines.append(DxfLine("ROLLER", (float(centre[0]), float(centre[1])),
+                                 (float(centre[0]), float(centre[1]) + 0.3 * f.base_radius)))
+        if f.kind == "oscillating":
+            lines.append(DxfLine("ROLLER", (f.pivot, 0.0), (float(centre[0]), float(centre[1]))))
+            circles.append(DxfCircle("ROLLER", (f.pivot, 0.0), max(1.0, 0.04 * f.arm)))
+        if f.has_pair:
+            second = geometry.pitch(zero, second=True).centre[0]
+            if f.roller_radius > 0.0:
+                circles.append(DxfCircle("ROLLER", (float(second[0]), float(second[1])), f.roller_radius))
+            if f.kind == "oscillating":
+                lines.append(DxfLine("ROLLER", (f.pivot, 0.0), (float(second[0]), float(second[1]))))
+    height = max(2.5, round(extent / 40.0, 1))
+    top = -extent - 3.0 * height
+    texts = [DxfText("TEXT", line, (-extent, top - 1.6 * height * k), height)
+             for k, line in enumerate(drawing_texts(result))]
+    return Drawing(tuple(paths), tuple(splines), tuple(circles), tuple(lines), tuple(texts), LAYERS)
+
+
+def law_csv_text(result: ProfileResult) -> str:
+    """law.csv: θ, s, v, a, j, pressure angle (and its limit), radii of curvature; one row per step."""
+    t = result.table
+    unit = "rad" if result.follower.kind == "oscillating" else "mm"
+    header = ["theta_deg", f"s_{unit}", f"v_{unit}_per_rad", f"a_{unit}_per_rad2", f"j_{unit}_per_rad3",
+              "pressure_angle_deg", "pressure_angle_limit_deg", "rho_pitch_mm", "rho_profile_mm"]
+    columns = [np.degrees(t.theta), t.s, t.v, t.a, t.j, np.degrees(t.pressure_angle),
+               np.degrees(t.limit), t.rho_pitch, t.rho_profile]
+    out = io.StringIO()
+    out.write(",".join(header) + "\n")
+    for row in zip(*columns):
+        out.write(",".join("" if np.isnan(x) else ("inf" if x == np.inf else "-inf" if x == -np.inf
+                                                    else f"{x:.12g}") for x in row) + "\n")
+    return out.getvalue()
+
+
+def write_outputs(result: ProfileResult, outdir: str | Path, settings: ProfileSettings | None = None,
+                  extra: dict | None = None) -> list[Path]:
+    """Write profile.dxf, law.csv, the plots (unless settings.plots is False) and report.json
+    into ``outdir``; ``extra`` keys are merged into report.json. Returns the written paths."""
+    settings = settings or result.settings
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = [write_dxf(outdir / "profile.dxf", build_drawing(result), "R12" if settings.r12 else "R2000"),
+               write_text_atomic(outdir / "law.csv", law_csv_text(result))]
+    if settings.plots:
+        from ..plots.profile import plot_profile_set
+
+        written.extend(plot_profile_set(result, outdir))
+    report_path = outdir / "report.json"
+    written.append(report_path)
+    payload = report(result)
+    payload["outputs"] = [str(p) for p in written]
+    if extra:
+        payload.update(extra)
+    write_text_atomic(report_path, json.dumps(_jsonable(payload), indent=2) + "\n")
+    return written
+
+
+def _jsonable(value):
+    """numpy → plain JSON types; NaN/inf → null (JSON has neither)."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, Path):
+        return str(value)
+    if hasattr(value, "tolist"):
+        return _jsonable(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

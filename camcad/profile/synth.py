@@ -1,0 +1,543 @@
+"""Profile synthesis for one mechanism: curves, checks and figures (the library entry point).
+
+``synthesize(law, follower, settings)`` builds the exact geometry (``geometry.CamGeometry``),
+places the written points by the chord tolerance (``sampling``), finds the extrema of the
+pressure angle and of the radii of curvature (grid search refined by a bounded Brent search),
+and runs the checks: pressure angle against its limits per phase, undercut (a convex pitch
+radius ≤ Rr, a flat-face radius ≤ 0, or a loop or cusp, which shapely sees as a profile
+polygon that is not valid and simple), the curvature limit, and closure. ``report(result)``
+gives the SPEC.md keys; ``output.write_outputs`` writes the files.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CamcadError
+from ..law.law import MotionLaw
+from . import defaults
+from .design import BaseRadiusDesign, min_base_radius
+from .followers import Follower, describe_law, describe_phases
+from .geometry import CamGeometry, CurveGeometry, rotate
+from .sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
+
+
+@dataclass(frozen=True)
+class ProfileSettings:
+    """How to synthesise and what to write.
+
+    tol_mm            chord tolerance: largest distance between written and exact curve (mm).
+    arcs              write the profile as lines and tangent arcs (bulges) instead of chords.
+    spline            also write a closed control-point SPLINE of the profile.
+    r12               write DXF R12 instead of R2000.
+    plots             write PNG plots.
+    csv_step_deg      step of the law.csv table (deg).
+    analysis_step_deg grid step for the extremum search before refinement (deg).
+    design            also compute the smallest base radius meeting the limits.
+    name              the design's name (output folder, drawing title).
+    """
+
+    tol_mm: float = defaults.CHORD_TOLERANCE_MM
+    arcs: bool = False
+    spline: bool = False
+    r12: bool = False
+    plots: bool = True
+    csv_step_deg: float = defaults.CSV_STEP_DEG
+    analysis_step_deg: float = 0.1
+    design: bool = True
+    name: str = "profile"
+
+    def validate(self) -> "ProfileSettings":
+        if not (math.isfinite(self.tol_mm) and self.tol_mm > 0.0):
+            raise CamcadError(f"chord tolerance must be a positive number of mm, got {self.tol_mm!r}",
+                              "--tol-mm", "give e.g. --tol-mm 0.001")
+        if self.tol_mm > 1.0:
+            raise CamcadError(f"chord tolerance {self.tol_mm:g} mm is coarser than 1 mm", "--tol-mm",
+                              "give a tolerance of at most 1 mm")
+        if self.r12 and self.spline:
+            raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline",
+                              "drop --spline, or drop --r12 to write R2000")
+        if not 0.0 < self.csv_step_deg <= 10.0:
+            raise CamcadError(f"csv step {self.csv_step_deg:g} deg is out of range", "csv_step_deg",
+                              "give a step between 0 and 10 deg")
+        return self
+
+
+@dataclass(frozen=True)
+class Extremum:
+    """A value and the cam angle where it occurs (θ in rad)."""
+
+    value: float
+    at: float
+
+    def deg(self) -> dict:
+        return {"value": self.value, "at_deg": math.degrees(self.at)}
+
+
+@dataclass(frozen=True)
+class CurveResult:
+    """One written curve (profile, pitch curve, groove flank, counter-cam) and its checks.
+
+    polyline: chord nodes within the tolerance (all lobes; the closing node is dropped when the
+              curve closes). arcs / spline: the other representations, when asked for.
+    rho_convex_min:  smallest radius of curvature of its convex parts (mm).
+    rho_concave_min: smallest |radius| of its concave parts (mm), None if it has none.
+    simple:   shapely finds the closed polygon valid and its ring simple (no loop, no cusp).
+    closure_gap: distance between the curve's end and its start (mm); closed: gap ≤ tol.
+    """
+
+    name: str
+    polyline: Polyline
+    arcs: ArcPath | None
+    spline: SplineData | None
+    rho_convex_min: Extremum | None
+    rho_concave_min: Extremum | None
+    simple: bool
+    closure_gap: float
+    closed: bool
+
+
+@dataclass(frozen=True)
+class LawTable:
+    """The law and the checks on a uniform θ grid (law.csv, plots, contact stress).
+
+    theta (rad); s, v, a, j in follower units (mm or rad of swing, per rad of cam angle);
+    pressure_angle (rad); limit (rad, NaN where none applies); rho_pitch and rho_profile (mm,
+    signed, + convex); the roller centre in the fixed frame ``centre`` (mm).
+    """
+
+    theta: np.ndarray
+    s: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    j: np.ndarray
+    pressure_angle: np.ndarray
+    limit: np.ndarray
+    rho_pitch: np.ndarray
+    rho_profile: np.ndarray
+
+
+@dataclass(frozen=True)
+class PressureAngleCheck:
+    """Pressure-angle figures (rad) and the verdict. ``worst_margin`` = min(limit − |φ|)."""
+
+    maximum: Extremum
+    minimum: Extremum
+    rise_max: Extremum | None
+    return_max: Extremum | None
+    worst_margin: Extremum | None
+    passed: bool
+
+
+@dataclass(frozen=True)
+class ProfileResult:
+    """Everything ``synthesize`` found; arrays in mm and rad."""
+
+    name: str
+    law: MotionLaw
+    follower: Follower
+    settings: ProfileSettings
+    geometry: CamGeometry
+    profile: CurveResult
+    pitch: CurveResult
+    outer: CurveResult | None
+    counter: CurveResult | None
+    counter_pitch: CurveResult | None
+    table: LawTable
+    pressure_angle: PressureAngleCheck
+    counter_pressure_angle: PressureAngleCheck | None
+    rho_pitch_min: Extremum | None
+    rho_pitch_concave_min: Extremum | None
+    undercut: bool
+    undercut_reasons: tuple[str, ...]
+    curvature_passed: bool
+    closure_kink: float
+    design: BaseRadiusDesign | None
+    face_extent: tuple[float, float] | None
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def checks(self) -> dict[str, bool]:
+        """Each design check and whether it passed."""
+        out = {"pressure_angle": self.pressure_angle.passed, "undercut": not self.undercut,
+               "curvature": self.curvature_passed, "closed": self.profile.closed}
+        if self.counter_pressure_angle is not None:
+            out["counter_pressure_angle"] = self.counter_pressure_angle.passed
+        return out
+
+    @property
+    def passed(self) -> bool:
+        return all(self.checks.values())
+
+
+# --------------------------------------------------------------------------------------------
+# extrema
+# --------------------------------------------------------------------------------------------
+
+def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
+    """Smallest finite value of ``fn`` (θ → array): best grid point, then a bounded Brent
+    search between its neighbours. ``values`` = fn(theta); non-finite entries are excluded."""
+    from scipy.optimize import minimize_scalar
+
+    finite = np.where(np.isfinite(values), values, np.inf)
+    if not np.isfinite(finite).any():
+        return None
+    k = int(np.argmin(finite))
+    best = Extremum(float(finite[k]), float(theta[k]))
+    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
+    if hi > lo:
+        res = minimize_scalar(lambda t: float(fn(np.array([t]))[0]), bounds=(lo, hi), method="bounded",
+                              options={"xatol": 1e-13})
+        if np.isfinite(res.fun) and res.fun < best.value:
+            best = Extremum(float(res.fun), float(res.x))
+    return best
+
+
+def refine_max(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
+    found = refine_min(lambda t: -fn(t), theta, -values)
+    return None if found is None else Extremum(-found.value, found.at)
+
+
+def _convex(rho: np.ndarray) -> np.ndarray:
+    return np.where(rho > 0.0, rho, np.inf)
+
+
+def _concave(rho: np.ndarray) -> np.ndarray:
+    return np.where(rho < 0.0, -rho, np.inf)
+
+
+# --------------------------------------------------------------------------------------------
+# curves
+# --------------------------------------------------------------------------------------------
+
+def _closure_gap(curve, geometry: CamGeometry) -> tuple[float, float]:
+    """Gap (mm) between the end of one lobe and the start of the next, in the fixed frame, and
+    the angle (rad) between their tangents (a kink where the velocity does not close)."""
+    cycle = float(geometry.law.cycle)
+    ends = curve(np.array([0.0, cycle]))
+    back = geometry.sigma * cycle  # undo the cam's turn so both points are in the fixed frame
+    end_point = rotate(ends.points[1:], np.array([back]))[0]
+    end_tangent = rotate(ends.tangent[1:], np.array([back]))[0]
+    gap = float(np.hypot(*(end_point - ends.points[0])))
+    kink = float(abs(math.atan2(end_tangent[0] * ends.tangent[0][1] - end_tangent[1] * ends.tangent[0][0],
+                                float(np.dot(end_tangent, ends.tangent[0])))))
+    return gap, kink
+
+
+def _replicate(points: np.ndarray, lobes: int, cycle: float, sigma: float) -> np.ndarray:
+    """Copies of one lobe's points turned by −σ·k·cycle for k = 0 … lobes − 1, joined."""
+    parts = [points[:-1] if lobes > 1 else points]
+    for k in range(1, lobes):
+        turned = rotate(points, np.full(len(points), -sigma * k * cycle))
+        parts.append(turned[:-1] if k < lobes - 1 else turned)
+    return np.concatenate(parts)
+
+
+def _is_simple(points: np.ndarray) -> bool:
+    """shapely: the closed polygon is valid and its ring simple (no loop, no cusp overlap)."""
+    import shapely
+
+    if len(points) < 4:
+        return False
+    ring = shapely.LinearRing(points)
+    return bool(ring.is_simple and shapely.Polygon(ring).is_valid)
+
+
+def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSettings,
+                  analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str]
+                  ) -> CurveResult:
+    cycle = float(geometry.law.cycle)
+    lobes, sigma = geometry.lobes, geometry.sigma
+    breaks = geometry.breakpoints()
+    breaks = breaks[breaks <= cycle]
+    one = chord_nodes(curve, 0.0, cycle, settings.tol_mm, breaks)
+    gap, _ = _closure_gap(curve, geometry)
+    closed = gap <= settings.tol_mm
+    theta_all = np.concatenate([one.theta[:-1] + k * cycle for k in range(lobes)] + [[2.0 * math.pi]])
+    points_all = _replicate(one.points, lobes, cycle, sigma)
+    if closed:
+        theta_all, points_all = theta_all[:-1], points_all[:-1]
+    polyline = Polyline(theta_all, points_all, one.max_deviation)
+    arcs = None
+    if want_arcs:
+        try:
+            path = biarc_fit(curve, 0.0, cycle, settings.tol_mm, breaks, samples=17)
+            vertices = _replicate(path.vertices, lobes, cycle, sigma)
+            bulges = np.concatenate([path.bulges[:-1]] * lobes + [path.bulges[-1:]])
+            arc_theta = np.concatenate([path.theta[:-1] + k * cycle for k in range(lobes)] + [[2.0 * math.pi]])
+            if closed:
+                vertices, bulges = vertices[:-1], bulges[:-1]
+            arcs = ArcPath(arc_theta, vertices, bulges, path.max_deviation)
+        except CamcadError as err:
+            notes.append(f"{name}: no tangent arcs written ({err.what})")
+    spline = None
+    if want_spline:
+        if closed:
+            spline = interpolating_spline(curve, np.append(polyline.theta, 2.0 * math.pi))
+        else:
+            notes.append(f"{name}: no spline written, the curve does not close")
+    rho = curve(analysis).rho
+    convex = refine_min(lambda t: _convex(curve(t).rho), analysis, _convex(rho))
+    concave = refine_min(lambda t: _concave(curve(t).rho), analysis, _concave(rho))
+    ring = points_all if closed else np.concatenate((points_all, points_all[:1]))
+    return CurveResult(name, polyline, arcs, spline, convex, concave, _is_simple(ring), gap, closed)
+
+
+# --------------------------------------------------------------------------------------------
+# pressure angle
+# --------------------------------------------------------------------------------------------
+
+def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -> PressureAngleCheck:
+    def phi(t: np.ndarray) -> np.ndarray:
+        return geometry.pressure_angle(t, second)
+
+    def pitch(t):
+        return geometry.pitch(t, second)
+
+    values = phi(analysis)
+    maximum = refine_max(phi, analysis, values)
+    minimum = refine_min(phi, analysis, values)
+    if geometry.follower.kind == "flat":
+        return PressureAngleCheck(maximum, minimum, None, None, None, True)
+
+    def on(kind: str):
+        def masked(t: np.ndarray) -> np.ndarray:
+            p = pitch(t)
+            moving = p.outward_speed > geometry.dwell_speed if kind == "rise" else \
+                p.outward_speed < -geometry.dwell_speed
+            return np.where(moving, np.abs(p.pressure_angle), -np.inf)
+        return masked
+
+    rise_fn, return_fn = on("rise"), on("return")
+    rise = refine_max(rise_fn, analysis, rise_fn(analysis))
+    back = refine_max(return_fn, analysis, return_fn(analysis))
+
+    def margin(t: np.ndarray) -> np.ndarray:
+        p = pitch(t)
+        limit = geometry.pressure_angle_limit(p.outward_speed)
+        return np.where(np.isnan(limit), np.inf, limit - np.abs(p.pressure_angle))
+
+    worst = refine_min(margin, analysis, margin(analysis))
+    passed = worst is None or worst.value >= -1e-12
+    return PressureAngleCheck(maximum, minimum, rise, back, worst, passed)
+
+
+# --------------------------------------------------------------------------------------------
+# synthesis
+# --------------------------------------------------------------------------------------------
+
+def analysis_grid(geometry: CamGeometry, step_deg: float) -> np.ndarray:
+    """Uniform θ over the cam's turn (rad) with the law's breakpoints added."""
+    count = int(math.ceil(360.0 / step_deg))
+    return np.union1d(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
+
+
+def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:
+    count = int(round(360.0 / step_deg))
+    theta = np.linspace(0.0, 2.0 * math.pi, count + 1)
+    kin = geometry.kinematics(theta)
+    if geometry.follower.kind == "flat":
+        pitch = geometry.pitch(theta)
+        phi = np.zeros_like(theta)
+        limit = np.full_like(theta, np.nan)
+        rho_profile = geometry.profile(theta).rho
+    else:
+        pitch = geometry.pitch(theta)
+        phi = pitch.pressure_angle
+        limit = geometry.pressure_angle_limit(pitch.outward_speed)
+        rho_profile = pitch.rho - geometry.follower.roller_radius
+    return LawTable(theta, kin.s, kin.v, kin.a, kin.j, phi, limit, pitch.rho, rho_profile)
+
+
+def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | None = None,
+               name: str | None = None) -> ProfileResult:
+    """Synthesise the cam for ``law`` (follower units: mm, or rad of swing for an oscillating
+    follower; see ``followers.swing_law``) and ``follower``; raise CamcadError for bad input.
+
+    Checks: pressure angle within its limits per phase; no undercut (convex pitch radius ≤ Rr,
+    flat-face radius ≤ 0, or a profile polygon that shapely finds not valid and simple);
+    convex profile radius ≥ follower.rho_min when given; the profile closes within tol_mm.
+    """
+    settings = (settings or ProfileSettings()).validate()
+    geometry = CamGeometry(law, follower)
+    follower = geometry.follower
+    notes: list[str] = []
+    analysis = analysis_grid(geometry, settings.analysis_step_deg)
+    rr = follower.roller_radius
+
+    profile = _curve_result("profile", geometry.profile, geometry, settings, analysis,
+                            settings.arcs, settings.spline, notes)
+    pitch = _curve_result("pitch", geometry.pitch, geometry, settings, analysis, False, False, notes)
+    outer = counter = counter_pitch = None
+    if follower.groove:
+        outer = _curve_result("outer flank", geometry.outer_flank, geometry, settings, analysis,
+                              settings.arcs, settings.spline, notes)
+    if follower.has_pair:
+        counter = _curve_result("counter-cam", geometry.counter_profile, geometry, settings, analysis,
+                                settings.arcs, settings.spline, notes)
+        counter_pitch = _curve_result("counter-cam pitch", lambda t: geometry.pitch(t, second=True),
+                                      geometry, settings, analysis, False, False, notes)
+
+    pressure = _pressure_check(geometry, analysis, second=False)
+    counter_pressure = _pressure_check(geometry, analysis, second=True) if follower.has_pair else None
+
+    reasons: list[str] = []
+    if follower.kind == "flat":
+        rho_flat = profile.rho_convex_min
+        if profile.rho_concave_min is not None or (rho_flat is not None and rho_flat.value <= 0.0):
+            at = profile.rho_concave_min.at if profile.rho_concave_min else rho_flat.at
+            reasons.append(f"flat-face radius Rb + s + a <= 0 at {math.degrees(at):.3f} deg")
+    elif rr > 0.0 and pitch.rho_convex_min is not None and pitch.rho_convex_min.value <= rr:
+        reasons.append(f"convex pitch radius {pitch.rho_convex_min.value:.6g} mm <= Rr {rr:g} mm "
+                       f"at {math.degrees(pitch.rho_convex_min.at):.3f} deg")
+    if not profile.simple:
+        reasons.append("the profile polygon is not simple (loop or cusp)")
+    if outer is not None:
+        if pitch.rho_concave_min is not None and pitch.rho_concave_min.value <= rr:
+            reasons.append(f"outer flank: concave pitch radius {pitch.rho_concave_min.value:.6g} mm <= Rr")
+        if not outer.simple:
+            reasons.append("outer flank polygon is not simple")
+    if counter is not None and counter_pitch is not None:
+        if rr > 0.0 and counter_pitch.rho_convex_min is not None and counter_pitch.rho_convex_min.value <= rr:
+            reasons.append(f"counter-cam: convex pitch radius {counter_pitch.rho_convex_min.value:.6g} mm <= Rr")
+        if not counter.simple:
+            reasons.append("counter-cam polygon is not simple")
+
+    curvature_passed = True
+    if follower.rho_min is not None:
+        for curve in (profile, outer, counter):
+            if curve is not None and curve.rho_convex_min is not None and \
+                    curve.rho_convex_min.value < follower.rho_min:
+                curvature_passed = False
+                notes.append(f"{curve.name}: convex radius {curve.rho_convex_min.value:.6g} mm < "
+                             f"limit {follower.rho_min:g} mm")
+        if outer is not None and pitch.rho_concave_min is not None and \
+                pitch.rho_concave_min.value - rr < follower.rho_min:
+            curvature_passed = False
+
+    _, kink = _closure_gap(geometry.profile, geometry)
+    design = None
+    if settings.design:
+        try:
+            design = min_base_radius(law, follower)
+        except CamcadError as err:
+            notes.append(f"design: {err.what}")
+    face = None
+    if follower.kind == "flat":
+        v = geometry.kinematics(analysis).v * follower.sigma
+        face = (float(v.min() - follower.offset), float(v.max() - follower.offset))
+    return ProfileResult(
+        name=name or settings.name, law=law, follower=follower, settings=settings, geometry=geometry,
+        profile=profile, pitch=pitch, outer=outer, counter=counter, counter_pitch=counter_pitch,
+        table=law_table(geometry, settings.csv_step_deg), pressure_angle=pressure,
+        counter_pressure_angle=counter_pressure, rho_pitch_min=pitch.rho_convex_min,
+        rho_pitch_concave_min=pitch.rho_concave_min, undercut=bool(reasons),
+        undercut_reasons=tuple(reasons), curvature_passed=curvature_passed, closure_kink=kink,
+        design=design, face_extent=face, notes=tuple(notes))
+
+
+# --------------------------------------------------------------------------------------------
+# report
+# --------------------------------------------------------------------------------------------
+
+def _deg(x: float | None) -> float | None:
+    return None if x is None else math.degrees(x)
+
+
+def _value(e: Extremum | None) -> float | None:
+    return None if e is None else e.value
+
+
+def _at_deg(e: Extremum | None) -> float | None:
+    return None if e is None else math.degrees(e.at)
+
+
+def _pressure_dict(check: PressureAngleCheck, follower: Follower) -> dict:
+    return {
+        "passed": check.passed,
+        "limit_rise_deg": follower.pressure_angle_limit_rise_deg,
+        "limit_return_deg": follower.pressure_angle_limit_return_deg,
+        "reversible": follower.reversible,
+        "max_deg": _deg(check.maximum.value), "max_at_deg": _at_deg(check.maximum),
+        "min_deg": _deg(check.minimum.value), "min_at_deg": _at_deg(check.minimum),
+        "rise_max_deg": _deg(_value(check.rise_max)), "rise_max_at_deg": _at_deg(check.rise_max),
+        "return_max_deg": _deg(_value(check.return_max)), "return_max_at_deg": _at_deg(check.return_max),
+        "worst_margin_deg": _deg(_value(check.worst_margin)),
+        "worst_margin_at_deg": _at_deg(check.worst_margin),
+    }
+
+
+def _curve_dict(curve: CurveResult) -> dict:
+    return {"points": len(curve.polyline.points), "closed": curve.closed,
+            "closure_gap_mm": curve.closure_gap, "simple": curve.simple,
+            "rho_min_mm": _value(curve.rho_convex_min), "rho_min_at_deg": _at_deg(curve.rho_convex_min),
+            "rho_concave_min_mm": _value(curve.rho_concave_min),
+            "max_deviation_mm": curve.polyline.max_deviation,
+            "arc_segments": None if curve.arcs is None else len(curve.arcs.bulges)}
+
+
+def stroke(result: ProfileResult) -> float:
+    """max(s) − min(s) over the cycle, follower units (mm, or rad for the oscillating follower)."""
+    return float(np.ptp(result.table.s))
+
+
+def report(result: ProfileResult) -> dict:
+    """The SPEC.md ``profile`` keys, and more (angles in deg, lengths in mm)."""
+    f = result.follower
+    pa = result.pressure_angle
+    profile = result.profile
+    rho_profile = profile.rho_convex_min
+    out = {
+        "name": result.name,
+        "law": describe_law(result.law),
+        "phases": describe_phases(result.law),
+        "follower": f.as_dict(),
+        "pressure_angle_max_deg": _deg(pa.maximum.value),
+        "pressure_angle_max_at_deg": _at_deg(pa.maximum),
+        "pressure_angle_min_deg": _deg(pa.minimum.value),
+        "pressure_angle_min_at_deg": _at_deg(pa.minimum),
+        "rho_pitch_min_mm": _value(result.rho_pitch_min),
+        "rho_pitch_min_at_deg": _at_deg(result.rho_pitch_min),
+        "rho_pitch_concave_min_mm": _value(result.rho_pitch_concave_min),
+        "rho_profile_min_mm": _value(rho_profile),
+        "rho_profile_min_at_deg": _at_deg(rho_profile),
+        "undercut": result.undercut,
+        "undercut_reasons": list(result.undercut_reasons),
+        "closed": profile.closed,
+        "closure_gap_mm": profile.closure_gap,
+        "closure_kink_deg": math.degrees(result.closure_kink),
+        "profile_points": (len(profile.arcs.vertices) if profile.arcs is not None
+                           else len(profile.polyline.points)),
+        "profile_representation": "arcs" if profile.arcs is not None else "chords",
+        "chord_tolerance_mm": result.settings.tol_mm,
+        "max_deviation_mm": (profile.arcs.max_deviation if profile.arcs is not None
+                             else profile.polyline.max_deviation),
+        "lobes": result.geometry.lobes,
+        "pressure_angle": _pressure_dict(pa, f),
+        "curvature": {"passed": result.curvature_passed, "limit_mm": f.rho_min,
+                      "rho_profile_min_mm": _value(rho_profile),
+                      "rho_profile_concave_min_mm": _value(profile.rho_concave_min)},
+        "checks": result.checks,
+        "passed": result.passed,
+        "notes": list(result.notes),
+        "outputs": [],
+    }
+    if f.kind == "oscillating":
+        out["swing_deg"] = math.degrees(stroke(result))
+    else:
+        out["lift_mm"] = stroke(result)
+    if result.design is not None:
+        out["design"] = result.design.as_dict()
+    if result.face_extent is not None:
+        out["face_extent_mm"] = list(result.face_extent)
+    if result.outer is not None:
+        out["groove"] = _curve_dict(result.outer)
+    if result.counter is not None:
+        counter = _curve_dict(result.counter)
+        counter["pressure_angle"] = _pressure_dict(result.counter_pressure_angle, f)
+        counter["rho_pitch_min_mm"] = _value(result.counter_pitch.rho_convex_min)
+        out["counter_cam"] = counter
+    return out

@@ -1,0 +1,159 @@
+"""Scene files (TOML): one mechanism, or a group of mechanisms with their cyclogram.
+
+Layout (docs/SCENE.md): top-level ``name``, ``description``, ``[machine]``; for one mechanism the
+sections ``[law]``, ``[follower]``, ``[filter]``, ``[dynamics]``, ``[stops]``, ``[contact]`` at the top
+level; for a group the same sections under ``[mechanisms.NAME]`` and one top-level ``[cyclogram]``.
+Each section is validated by the module that owns it (unknown keys, missing values, wrong types
+and units get a one-line error naming the file and section).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .errors import CamcadError
+from .params import nearest_name, parse_speeds
+
+MECHANISM_SECTIONS = ("law", "follower", "filter", "dynamics", "stops", "contact")
+TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram") + MECHANISM_SECTIONS
+MACHINE_KEYS = ("rpm",)
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """One mechanism of a scene: its name and its raw (not yet parsed) sections."""
+
+    name: str
+    sections: dict
+    prefix: str          # how its sections are written in the file, e.g. "mechanisms.lift." or ""
+
+    def where(self, scene_path: Path, section: str) -> str:
+        return f"{scene_path} [{self.prefix}{section}]"
+
+    def has(self, section: str) -> bool:
+        return section in self.sections
+
+
+@dataclass(frozen=True)
+class Scene:
+    path: Path
+    name: str
+    description: str
+    speeds_rpm: tuple[float, ...] | None
+    mechanisms: tuple[Mechanism, ...]
+    cyclogram: dict | None = None
+    raw: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def base_dir(self) -> Path:
+        return self.path.parent
+
+    def mechanism(self, name: str) -> Mechanism:
+        for mech in self.mechanisms:
+            if mech.name == name:
+                return mech
+        raise CamcadError(f"no mechanism named {name!r}", str(self.path),
+                          nearest_name(name, [m.name for m in self.mechanisms]).replace("valid keys", "mechanisms"))
+
+
+def read_toml(path: Path) -> dict:
+    """The TOML document; a missing file, bad encoding or a syntax error is a one-line CamcadError."""
+    path = Path(path)
+    if not path.is_file():
+        raise CamcadError("no such scene file", str(path), "check the path")
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as err:
+        raise CamcadError(f"not valid TOML ({' '.join(str(err).split())})", str(path),
+                          "fix the syntax at that line") from None
+    except UnicodeDecodeError:
+        raise CamcadError("not a UTF-8 text file", str(path), "save the scene as UTF-8 text") from None
+
+
+def read_scene(path: str | Path) -> Scene:
+    """Read and check the scene's structure (each section's content is checked by its parser)."""
+    path = Path(path)
+    raw = read_toml(path)
+    where = str(path)
+    for key in raw:
+        if key not in TOP_LEVEL:
+            raise CamcadError(f"unknown section or key '{key}'", where, nearest_name(key, list(TOP_LEVEL)))
+    name = raw.get("name", path.stem)
+    if not isinstance(name, str) or not name.strip():
+        raise CamcadError(f"'name' must be text, got {name!r}", where, 'write name = "my_cam"')
+    description = raw.get("description", "")
+    if not isinstance(description, str):
+        raise CamcadError(f"'description' must be text, got {description!r}", where, 'write description = "..."')
+    speeds = None
+    machine = raw.get("machine")
+    if machine is not None:
+        if not isinstance(machine, dict):
+            raise CamcadError("[machine] must be a table", where, "write [machine] with rpm = ...")
+        for key in machine:
+            if key not in MACHINE_KEYS:
+                raise CamcadError(f"unknown key '{key}'", f"{where} [machine]", nearest_name(key, list(MACHINE_KEYS)))
+        if "rpm" in machine:
+            speeds = tuple(parse_speeds(machine["rpm"], f"{where} [machine] rpm"))
+    mechanisms = _mechanisms(raw, path)
+    cyclogram = raw.get("cyclogram")
+    if cyclogram is not None and not isinstance(cyclogram, dict):
+        raise CamcadError("[cyclogram] must be a table", where, "write [cyclogram] with [[cyclogram.operations]]")
+    return Scene(path, name.strip(), description, speeds, mechanisms, cyclogram, raw)
+
+
+def _mechanisms(raw: dict, path: Path) -> tuple[Mechanism, ...]:
+    where = str(path)
+    top = [key for key in MECHANISM_SECTIONS if key in raw]
+    if "mechanisms" in raw:
+        if top:
+            raise CamcadError(f"[{top[0]}] at the top level of a group scene", where,
+                              f"move it under [mechanisms.NAME.{top[0]}]")
+        group = raw["mechanisms"]
+        if not isinstance(group, dict) or not group:
+            raise CamcadError("[mechanisms] must hold [mechanisms.NAME] tables", where,
+                              "write each mechanism as [mechanisms.NAME] with its [law], [follower], ...")
+        found = []
+        for name, sections in group.items():
+            if not isinstance(sections, dict):
+                raise CamcadError(f"mechanisms.{name} must be a table", where,
+                                  f"write [mechanisms.{name}.law], [mechanisms.{name}.follower], ...")
+            for key in sections:
+                if key not in MECHANISM_SECTIONS:
+                    raise CamcadError(f"unknown section '{key}'", f"{where} [mechanisms.{name}]",
+                                      nearest_name(key, list(MECHANISM_SECTIONS)).replace("keys", "sections"))
+            found.append(Mechanism(str(name), dict(sections), f"mechanisms.{name}."))
+        return tuple(found)
+    if not top:
+        if isinstance(raw.get("cyclogram"), dict):
+            return ()  # a network on its own: a cyclogram of operations without mechanisms
+        raise CamcadError("the scene describes no mechanism", where,
+                          "add a [law] section (and [follower]), or [mechanisms.NAME] tables")
+    name = raw.get("name", path.stem)
+    return (Mechanism(str(name), {key: raw[key] for key in top}, ""),)
+
+
+def speeds_or_option(scene: Scene, rpm_option: Any = None) -> list[float] | None:
+    """The speeds of a ``--rpm`` option when given, else the scene's [machine] rpm (None when neither)."""
+    if rpm_option is not None:
+        return parse_speeds(rpm_option, "--rpm")
+    return list(scene.speeds_rpm) if scene.speeds_rpm else None
+
+
+def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
+    """The BuiltLaw of a mechanism's [law] section (balanced when it asks), optionally retimed to ``phases``."""
+    from .law.retime import retime
+    from .law.section import build_law, parse_law
+
+    if not mech.has("law"):
+        raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",
+                          "add [law] with standard, phases and lift (or file)")
+    spec = parse_law(mech.sections["law"], mech.where(scene.path, "law"), scene.base_dir)
+    built = build_law(spec)
+    if phases is None:
+        return built
+    from dataclasses import replace
+
+    return replace(built, law=retime(built.law, tuple(phases), mech.where(scene.path, "law")))
