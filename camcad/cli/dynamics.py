@@ -10,8 +10,8 @@ import typer
 
 from . import app
 from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
-                     PhasesOpt, ReturnStandardOpt, RpmOpt, SourceArg, StandardOpt, XDegOpt, output_dir,
-                     print_json, progress_bar)
+                     PhasesOpt, ReturnStandardOpt, RpmOpt, SourceArg, StandardOpt, XDegOpt, console,
+                     output_dir, print_json, progress_bar)
 
 ZetaOpt = Annotated[Optional[float], typer.Option("--zeta", help="Damping ratio ζ.")]
 
@@ -40,11 +40,6 @@ def _run_with_progress(enabled: bool, total: int, label: str, work: Callable[[An
         return work(callback)
     finally:
         close()
-
-
-def _one_or_list(values):
-    values = [float(v) for v in values]
-    return values[0] if len(values) == 1 else values
 
 
 # --------------------------------------------------------------------------------------------
@@ -98,71 +93,6 @@ def _dynamics_settings(src, fn: float | None, zeta: float | None, psi: float | N
     return settings
 
 
-def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
-    """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
-    from ..dynamics.sdof import OUTPUT_UNITS, LoadSum, motion_phases, start_loads, start_pulse, steady_state
-
-    unit = OUTPUT_UNITS[settings.output_unit]
-    kwargs = dict(method=settings.method, samples=settings.samples, solver=settings.solver, rtol=settings.rtol)
-    plain = start_loads(steady_state(law, follower, rpm, **kwargs), law, follower, unit.si_scale)
-    pulsed = None
-    if settings.start_pulse_ratio:
-        pulses = LoadSum(tuple(start_pulse(law, follower, rpm, p, settings.start_pulse_ratio)
-                               for p in motion_phases(law)))
-        pulsed = start_loads(steady_state(law, follower, rpm, external=pulses, **kwargs), law, follower,
-                             unit.si_scale)
-    entries = []
-    for i, load in enumerate(plain):
-        entry = _start_load_dict(load, unit)
-        if pulsed is not None:
-            entry["with_pulse"] = _start_load_dict(pulsed[i], unit)
-            entry["with_pulse"]["pulse_ratio"] = settings.start_pulse_ratio
-            entry["with_pulse"]["increase"] = pulsed[i].peak_link_accel / load.peak_link_accel
-        entries.append(entry)
-    return entries
-
-
-def _start_load_dict(load, unit) -> dict:
-    import math
-
-    return {"kind": load.phase.kind, "start_deg": math.degrees(load.phase.start), "at_deg": load.at_deg,
-            f"peak_link_accel_{unit.accel_key}": load.peak_link_accel * unit.si_scale,
-            f"peak_rigid_accel_{unit.accel_key}": load.peak_rigid_accel * unit.si_scale,
-            unit.force_key: load.force_n}
-
-
-def _multimass_entry(law, settings, rpm: float) -> dict:
-    """The multi-mass model at ``rpm``: flywheel held at speed, elastic shaft; figures over the third cycle."""
-    import math
-
-    import numpy as np
-
-    from ..dynamics.multimass import MultiMassModel, SpeedDrive, simulate
-    from ..dynamics.sdof import rpm_to_rad_s
-
-    scale = 1e-3 if settings.output_unit == "mm" else 1.0
-    model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,
-                                         settings.shaft_stiffness, position_scale=scale)
-    period = 2.0 * math.pi / rpm_to_rad_s(rpm)
-    result = simulate(model, law, SpeedDrive(rpm), 3.0 * period, samples=3 * 1024 + 1, method=settings.solver,
-                      rtol=settings.rtol)
-    last = result.time >= 2.0 * period
-    rigid = law.kinematics(result.phi1[last]).a * rpm_to_rad_s(rpm)**2
-    return {"rpm": rpm, "drive": "flywheel at constant speed", "cycles": 3,
-            "shaft_frequency_hz": math.sqrt(model.shaft_stiffness / model.cam_inertia) / (2.0 * math.pi),
-            "peak_accel_ratio": float(np.max(np.abs(result.accel_elastic[last])) / np.max(np.abs(rigid))),
-            "dynamic_error_max_mm": float(np.max(np.abs(result.dynamic_error[last]))),
-            "cam_speed_range_rpm": [float(result.cam_speed_rpm[last].min()), float(result.cam_speed_rpm[last].max())]}
-
-
-def _compared(report: dict, other, follower, rpm: float, settings, unit) -> dict:
-    """Start-of-motion loads of another law and this law's load over it, phase by phase (rise, return, ...)."""
-    theirs = _start_load_entries(other, follower, rpm, settings)
-    key = f"peak_link_accel_{unit.accel_key}"
-    ours = report["start_load"]["phases"]
-    return {"rpm": rpm, "phases": theirs, "reduction": [a[key] / b[key] for a, b in zip(ours, theirs)]}
-
-
 def _lead_in_request(option: str | None, src) -> tuple[float, float] | None:
     """(angle deg, fraction) from --lead-in DEG[:FRACTION], else from the scene's [filter] lead-in, else None."""
     from ..errors import CamcadError
@@ -213,81 +143,24 @@ def dynamics(source: SourceArg = None,
     import json
     import math
 
-    import numpy as np
-
-    from ..dynamics.sdof import OUTPUT_UNITS, residual_vibration, sweep
+    from ..dynamics.analysis import dynamics_plots, run_dynamics
     from ..io.atomic import write_text_atomic
     from .common import to_jsonable
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     settings = _dynamics_settings(src, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse,
                                   max_ratio, max_error, max_residual)
-    follower = settings.follower
-    law = src.law
-    speeds = src.speed_list
-    fastest = max(speeds)
-    keep = sorted({speeds[0], fastest})
-    result = _run_with_progress(not as_json, len(speeds), "dynamics", lambda callback: sweep(
-        law, follower, speeds, method=settings.method, samples=settings.samples, solver=settings.solver,
-        rtol=settings.rtol, keep=keep, progress=callback))
-    unit = OUTPUT_UNITS[settings.output_unit]
-    residuals = residual_vibration(law, follower, speeds[0])
-    by_kind = {"rise": 0.0, "return": 0.0}
-    for item in residuals:
-        by_kind[item.phase.kind] = max(by_kind[item.phase.kind], item.amplitude)
-    report: dict[str, Any] = {
-        "natural_frequency_hz": follower.natural_frequency_hz, "damping_ratio": follower.damping_ratio,
-        "mass_kg": follower.mass_kg, "variable_stiffness": not follower.constant_stiffness,
-        "unit": unit.name, "speeds_rpm": list(result.speeds_rpm), "peak_accel_ratio": list(result.peak_accel_ratio),
-        "dynamic_error_max_mm": list(result.dynamic_error_max),
-        f"peak_accel_rigid_{unit.accel_key}": list(result.peak_accel_rigid * unit.si_scale),
-        f"peak_accel_elastic_{unit.accel_key}": list(result.peak_accel_elastic * unit.si_scale),
-        "residual_vibration_mm": by_kind,
-        "residual_vibration_phases": [{"kind": r.phase.kind, "start_deg": math.degrees(r.phase.start),
-                                       "end_deg": math.degrees(r.phase.end), "amplitude_mm": r.amplitude,
-                                       "rpm": r.rpm} for r in residuals],
-        "method": result.method,
-        "accuracy": ({"samples": settings.samples} if result.method == "frequency"
-                     else {"solver": settings.solver, "rtol": settings.rtol, "samples": settings.samples}),
-        "start_load": {"rpm": fastest, "phases": _start_load_entries(law, follower, fastest, settings)},
-    }
+    other = None
     if compare is not None:
         from .common import load_law_from_options
 
-        other = load_law_from_options(compare, None, None, math.degrees(law.cycle), None, None).law
-        report["compare"] = {"law": str(compare), **_compared(report, other, follower, fastest, settings, unit)}
-    lead = _lead_in_request(lead_in, src)
-    if lead is not None:
-        from ..fourier import add_lead_in
-
-        angle, fraction = lead
-        result_lead = add_lead_in(law, angle, fraction, where="--lead-in")
-        report["lead_in"] = {"angle_deg": angle, "fraction": fraction, "balanced": result_lead.balanced,
-                             **_compared(report, result_lead.law, follower, fastest, settings, unit)}
-    if settings.has_multimass and settings.shaft_stiffness is not None:
-        report["multimass"] = _multimass_entry(law, settings, fastest)
-    elif settings.has_multimass:
-        report["skipped"] = {"multimass": "rigid shaft: the multi-mass model reduces to the single-DOF one"}
-    checks = {}
-    for key, value, allowed in (
-            ("peak_accel_ratio", float(np.max(result.peak_accel_ratio)), settings.allowed_peak_accel_ratio),
-            ("dynamic_error_max_mm", float(np.max(result.dynamic_error_max)), settings.allowed_dynamic_error_mm),
-            ("residual_vibration_mm", max(by_kind.values()), settings.allowed_residual_mm)):
-        if allowed is not None:
-            checks[key] = {"value": value, "allowed": allowed, "passed": value <= allowed}
-    report["checks"] = checks
-    report["passed"] = all(check["passed"] for check in checks.values())
+        other = load_law_from_options(compare, None, None, math.degrees(src.law.cycle), None, None).law
+    run = _run_with_progress(not as_json, len(src.speed_list), "dynamics", lambda callback: run_dynamics(
+        src.law, settings, src.speed_list, progress=callback, lead_in=_lead_in_request(lead_in, src),
+        compare=other, compare_name=str(compare)))
+    report = run.report
     out_dir = output_dir(output, src.name)
-    outputs = []
-    if not no_plots:
-        from ..plots.dynamics import plot_acceleration_cycle, plot_speed_sweep
-
-        responses = [result.responses[s] for s in keep]
-        outputs.append(plot_acceleration_cycle(responses, law.phases, out_dir / "dynamics_cycle.png",
-                                               f"{src.name}: rigid vs elastic acceleration", unit.name))
-        if len(speeds) > 1:
-            outputs.append(plot_speed_sweep(result, out_dir / "dynamics_speed.png", follower.natural_frequency_hz,
-                                            f"{src.name}: peak acceleration against speed", unit.name))
+    outputs = [] if no_plots else dynamics_plots(run, src.law, out_dir, src.name)
     report_path = out_dir / "dynamics.json"
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
@@ -412,49 +285,17 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
     amplitude (exit 1 when the rebound exceeds it)."""
     import json
 
-    from ..dynamics.impact import impact_sweep
+    from ..dynamics.analysis import impact_plots, run_impact
     from ..io.atomic import write_text_atomic
     from .common import to_jsonable
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     model = _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, ratio, allowed)
-    speeds = src.speed_list
-    keep = sorted({speeds[0], max(speeds)})
-    result = _run_with_progress(not as_json, len(speeds), "impact", lambda callback: impact_sweep(
-        src.law, model, speeds, keep=keep, progress=callback))
-    relation = result.relation
-    slope, intercept = relation.tangent
-    rebounds = result.rebound_mm
-    report: dict[str, Any] = {
-        "reduced_stiffness_N_per_m": model.stiffness_n_per_m, "stop_stiffness_N_per_m": model.stop_stiffness_n_per_m,
-        "mass_kg": model.mass_kg, "f_free_hz": model.f_free_hz, "f_stop_hz": model.f_stop_hz,
-        "restitution": model.restitution, "damping_ratio": model.damping_ratio, "preload_mm": model.preload_mm,
-        "stop": model.stop, "contact_at_deg": result.impacts[0].contact_deg, "approach_phase_deg": result.phase_deg,
-        "pulse_s": model.pulse_s, "speeds_rpm": list(result.speeds_rpm),
-        "approach_velocity_mm_s": _one_or_list(i.approach_velocity_mm_s for i in result.impacts),
-        "impulse_Ns": _one_or_list(i.impulse_ns for i in result.impacts),
-        "force_N": _one_or_list(result.force_n), "rebound_mm": _one_or_list(rebounds),
-        "leaves_stop": any(i.leaves_stop for i in result.impacts),
-        "linear": {"slope_mm_per_deg": slope, "intercept_mm": intercept, "at_deg": relation.phase_deg,
-                   "at_rpm": relation.rpm},
-        "allowed_amplitude_mm": model.allowed_amplitude_mm,
-        "phase_limit_deg": None, "phase_limit_linear_deg": None,
-    }
-    passed = True
-    if model.allowed_amplitude_mm is not None:
-        report["phase_limit_deg"] = relation.least_phase(model.allowed_amplitude_mm)
-        report["phase_limit_linear_deg"] = (model.allowed_amplitude_mm - intercept) / slope
-        passed = bool(max(rebounds) <= model.allowed_amplitude_mm)
-    report["passed"] = passed
+    run = _run_with_progress(not as_json, len(src.speed_list), "impact", lambda callback: run_impact(
+        src.law, model, src.speed_list, progress=callback))
+    report, result, passed = run.report, run.sweep, run.report["passed"]
     out_dir = output_dir(output, src.name)
-    outputs = []
-    if not no_plots:
-        from ..plots.dynamics import plot_impact_response, plot_rebound
-
-        outputs.append(plot_rebound(result, out_dir / "impact_rebound.png", model.allowed_amplitude_mm,
-                                    f"{src.name}: rebound and impact force against speed"))
-        outputs.append(plot_impact_response([i for i in result.impacts if len(i.time)], model,
-                                            out_dir / "impact_response.png"))
+    outputs = [] if no_plots else impact_plots(run, out_dir, src.name)
     report_path = out_dir / "impact.json"
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
