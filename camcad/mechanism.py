@@ -20,6 +20,13 @@ from .errors import CamcadError
 from .law.law import Phase
 from .scene import Mechanism, Scene, mechanism_law
 
+#: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
+PRESSURE_SAMPLES = 361
+#: the phase limits aim this far inside each limit, so the design at the limit passes its own check
+#: (a root found to round-off may otherwise sit a hair over it)
+STRESS_MARGIN = 1e-9       # relative, of [σ_H]
+PRESSURE_MARGIN_DEG = 1e-6
+
 
 def phases_deg(law) -> list[tuple[float, float, str]]:
     """(start_deg, end_deg, kind) of each phase of a law."""
@@ -56,10 +63,9 @@ class ContactGeometry:
                 self.rho_back)
 
 
-def contact_geometry(law, follower_table: dict, where: str, theta) -> ContactGeometry:
-    """The cam's geometry at ``theta`` (rad) from camcad.profile: the follower from ``parse_follower``,
-    the pitch curve, pressure angle and radii from ``CamGeometry`` (the lift law becomes a swing law
-    for an oscillating follower, as ``camcad profile`` does)."""
+def cam_of(law, follower_table: dict, where: str):
+    """(CamGeometry, follower, scale) of a law on the [follower] of a scene; ``scale`` turns the follower's
+    s, v, a into mm at the roller (the arm length for an oscillating follower, whose law becomes a swing)."""
     from .profile.followers import parse_follower, swing_law, swing_of
     from .profile.geometry import CamGeometry
 
@@ -68,10 +74,17 @@ def contact_geometry(law, follower_table: dict, where: str, theta) -> ContactGeo
     if follower.kind == "oscillating":
         law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(follower_table, where))
         scale = follower.arm      # ψ (rad) → arc of the roller centre (mm)
+    return CamGeometry(law, follower), follower, scale
+
+
+def contact_geometry(law, follower_table: dict, where: str, theta) -> ContactGeometry:
+    """The cam's geometry at ``theta`` (rad) from camcad.profile: the follower from ``parse_follower``,
+    the pitch curve, pressure angle and radii from ``CamGeometry`` (the lift law becomes a swing law
+    for an oscillating follower, as ``camcad profile`` does)."""
+    cam, follower, scale = cam_of(law, follower_table, where)
     if follower.kind == "knife":
         raise CamcadError("a knife edge has no Hertz contact (zero radius)", where,
                           "give the follower a roller (roller_radius > 0)")
-    cam = CamGeometry(law, follower)
     theta = np.asarray(theta, dtype=float)
     kin = cam.kinematics(theta)
     if follower.kind == "flat":
@@ -86,6 +99,76 @@ def contact_geometry(law, follower_table: dict, where: str, theta) -> ContactGeo
         back = -(pitch.rho + radius) if follower.groove else None
     return ContactGeometry(theta, kin.s * scale, kin.v * scale, kin.a * scale, cam.pressure_angle(theta),
                            rho, back, radius, follower.kind)
+
+
+def pressure_angle_limit_of(follower, kind: str) -> float | None:
+    """The pressure-angle limit (deg) of a phase kind; a reversible cam has the rise limit on both."""
+    if kind == "rise" or follower.reversible:
+        return follower.pressure_angle_limit_rise_deg
+    return follower.pressure_angle_limit_return_deg
+
+
+def phase_pressure_function(law, follower_table: dict, index: int, where: str, samples: int):
+    """φ_max(t): the largest |pressure angle| (deg) over phase ``index`` of ``law`` stretched to t deg;
+    +inf when the stretched cam undercuts (no pressure angle is meaningful there)."""
+    from .profile.synth import refine_max
+
+    phases = phases_deg(law)
+
+    def phi_max(width_deg: float) -> float:
+        stretched, (start, end) = stretched_phase(phases, index, width_deg)
+        cam, _, _ = cam_of(law_with_phases(law, stretched, where), follower_table, where)
+        theta = np.linspace(np.radians(start), np.radians(end), samples)
+
+        def magnitude(t):
+            return np.abs(cam.pressure_angle(t))
+
+        # the grid's best point refined by a bounded Brent search, as the profile's own check does
+        return float(np.degrees(refine_max(magnitude, theta, magnitude(theta)).value))
+
+    return phi_max
+
+
+def pressure_angle_limits(law, follower_table: dict, where: str, samples: int) -> dict:
+    """{phase label: least phase angle (deg) at which the phase's |pressure angle| meets the follower's
+    limit} by root finding on φ_max(t) (camcad.cyclogram.least_phase_angle); None where no limit is set."""
+    from .cyclogram import least_phase_angle
+    from .profile.followers import parse_follower
+
+    follower = parse_follower(follower_table, where)
+    phases = phases_deg(law)
+    found: dict[str, Any] = {}
+    counts: dict[str, int] = {}
+    for index, (start, end, kind) in enumerate(phases):
+        if kind == "dwell":
+            continue
+        counts[kind] = counts.get(kind, 0) + 1
+        label = kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"
+        limit = pressure_angle_limit_of(follower, kind)
+        if limit is None:
+            found[label] = None
+            continue
+        relation = phase_pressure_function(law, follower_table, index, where, samples)
+        try:
+            found[label] = least_phase_angle(relation, limit - PRESSURE_MARGIN_DEG, 0.1 * (end - start),
+                                             stretch_room(phases, index),
+                                             source="pressure angle", what=f"{label}").angle_deg
+        except CamcadError:
+            found[label] = None
+    return found
+
+
+def stretched_phase(phases, index: int, width_deg: float):
+    """The phases with phase ``index`` made ``width_deg`` wide (camcad.cyclogram.stretch_phase), and that
+    phase's (start_deg, end_deg) in the result (a neighbouring dwell may vanish and shift the indices)."""
+    from .cyclogram import stretch_phase
+
+    stretched = stretch_phase(phases, index, width_deg)
+    kind = phases[index][2]
+    start = phases[index][0]
+    candidates = [(a, b) for a, b, k in stretched if k == kind and abs((b - a) - width_deg) <= 1e-9 * max(1.0, width_deg)]
+    bounds = min(candidates, key=lambda ab: abs(ab[0] - start))
+    return stretched, bounds
 
 
 def phase_grid(phases: list[tuple[float, float, str]], samples: int) -> np.ndarray:
@@ -128,16 +211,15 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
                           samples: int):
     """σ_max(t): the largest σ_H over phase ``index`` of ``law`` stretched to t deg (the next dwell takes
     up the change), sampled at ``samples`` cam angles in the phase, over all ``speeds``; +inf when the
-    stretched cam is not admissible (the roller does not fit, the follower jams)."""
+    stretched cam is not admissible (the roller does not fit, the follower jams, or a force-closed
+    follower leaves the cam)."""
     from .contact import contact_stress
-    from .cyclogram import stretch_phase
 
     phases = phases_deg(law)
 
     def sigma_max(width_deg: float) -> float:
-        stretched = stretch_phase(phases, index, width_deg)
+        stretched, (start, end) = stretched_phase(phases, index, width_deg)
         stretched_law = law_with_phases(law, stretched, where)
-        start, end, _ = stretched[index]
         theta = np.linspace(np.radians(start), np.radians(end), samples)
         geometry = contact_geometry(stretched_law, follower_table, where, theta)
         worst = 0.0
@@ -146,17 +228,20 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
                 result = contact_stress(*geometry.arrays()[:7], rpm, params, geometry.rho_back)
             except CamcadError:
                 return float("inf")
+            if result.separation:
+                return float("inf")  # the spring no longer holds the follower on the cam: not admissible
             worst = max(worst, result.sigma_max)
         return worst
 
     return sigma_max
 
 
-def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None):
+def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
+                      with_limits: bool = True):
     """Contact analysis of one mechanism: stress along the profile at every speed, the worst speed's
-    figures (SPEC.md ``contact`` keys), separation, and the contact-limited least phase angle of each rise
-    and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at the worst
-    speed, SpeedSweep)."""
+    figures (SPEC.md ``contact`` keys), separation, and (``with_limits``) the contact-limited least phase angle
+    of each rise and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at
+    the worst speed, SpeedSweep)."""
     from .contact import contact_stress, stress_versus_speed
     from .cyclogram import least_phase_angle
 
@@ -183,13 +268,13 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     counts: dict[str, int] = {}
     notes: list[str] = []
     for index, (start, end, kind) in enumerate(phases):
-        if kind == "dwell":
+        if kind == "dwell" or not with_limits:
             continue
         counts[kind] = counts.get(kind, 0) + 1
         label = kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"
         relation = phase_stress_function(law, follower_table, params, speeds, index, law_where, samples)
         try:
-            found = least_phase_angle(relation, params.allowable_stress, 0.1 * (end - start),
+            found = least_phase_angle(relation, params.allowable_stress * (1 - STRESS_MARGIN), 0.1 * (end - start),
                                       stretch_room(phases, index), source="contact stress",
                                       what=f"{mech.name} {label}")
             limits[label] = found.angle_deg
@@ -218,6 +303,8 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
         if op.mechanism is None or op.phase is None or op.phase == "dwell":
             continue
         mech = by_name[op.mechanism]
+        if mech.has("follower"):
+            limits.setdefault(op.label, []).extend(_pressure_limit(scene, mech, op))
         if not mech.has("contact"):
             skipped[f"contact limit {op.label}"] = f"mechanism {op.mechanism} has no [contact]"
             continue
@@ -234,9 +321,29 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
         upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
         lower = max(op.min_deg, 1e-3 * upper)
         limits.setdefault(op.label, []).append(least_phase_angle(
-            relation, params.allowable_stress, lower, upper, source="contact",
+            relation, params.allowable_stress * (1 - STRESS_MARGIN), lower, upper, source="contact",
             what=f"operation {op.label} ({op.mechanism} {op.phase})"))
     return limits, skipped
+
+
+def _pressure_limit(scene: Scene, mech: Mechanism, op) -> list:
+    """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
+    from .cyclogram import least_phase_angle
+    from .profile.followers import parse_follower
+
+    follower_table = mech.sections["follower"]
+    where = mech.where(scene.path, "follower")
+    limit = pressure_angle_limit_of(parse_follower(follower_table, where), op.phase)
+    if limit is None:
+        return []
+    law = mechanism_law(scene, mech).law
+    phases = phases_deg(law)
+    index = phase_index(phases, op.phase, op.occurrence, mech.where(scene.path, "law"))
+    upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
+    lower = max(op.min_deg, 1e-3 * upper)
+    relation = phase_pressure_function(law, follower_table, index, where, PRESSURE_SAMPLES)
+    return [least_phase_angle(relation, limit - PRESSURE_MARGIN_DEG, lower, upper, source="pressure angle",
+                              what=f"operation {op.label} ({op.mechanism} {op.phase})")]
 
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:

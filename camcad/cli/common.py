@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 import json
-import math
 import sys
 import warnings
 from pathlib import Path
-from typing import Annotated, Any, Callable, Optional
+from typing import Annotated, Callable, Optional
 
 import typer
 
 from ..errors import CamcadError
+from ..io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
 
 # Typer annotations for the options that mean the same everywhere (SPEC.md).
 JSON_OPTION = typer.Option(False, "--json", help="Print one JSON object on stdout, nothing else.")
@@ -58,21 +58,6 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
               "rerun with --debug and report it", file=sys.stderr)
         return 2
     return result if isinstance(result, int) else 0
-
-
-def to_jsonable(value: Any) -> Any:
-    """numpy scalars and arrays, paths and tuples → plain JSON types; NaN/inf → null."""
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, Path):
-        return str(value)
-    if hasattr(value, "tolist"):  # numpy array or scalar
-        return to_jsonable(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 def print_json(payload: dict) -> None:

@@ -157,24 +157,15 @@ def profile(
     as_json: bool = JSON_OPTION,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
+    from ..pipeline import PipelineOptions
     from ..profile import (Follower, ProfileSettings, defaults, min_base_radius, report, swing_law, synthesize,
                            write_outputs)
     from .common import print_json
 
     notes: list[str] = []
     if target is not None and target.suffix.lower() == ".toml":
-        try:
-            from .. import scene
-        except ImportError:
-            raise CamcadError("scene files are not supported by this camcad yet (camcad.scene is missing)",
-                              str(target), "run camcad profile with a law file or without arguments") from None
-        runner = getattr(scene, "run_profile", None)
-        if runner is None:
-            raise CamcadError("the scene pipeline does not offer run_profile yet", str(target),
-                              "run camcad profile with a law file or without arguments")
-        code = runner(target, output=output, as_json=as_json, plots=not no_plots, tol_mm=tol_mm)
-        if code:
-            raise typer.Exit(code)
+        _scene(target, PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
+                                       plots=not no_plots), as_json)
         return
 
     if target is None:
@@ -217,7 +208,7 @@ def profile(
                               "give --pivot C and --arm L in mm")
         law = swing_law(law, arm_mm=arm, swing_deg=swing)
         if swing is None:
-            notes.append(f"oscillating follower: the lift is the arc of the roller centre, swing = lift / L")
+            notes.append("oscillating follower: the lift is the arc of the roller centre, swing = lift / L")
     elif swing is not None:
         raise CamcadError("--swing is for an oscillating follower", "--swing", "drop it or use --follower oscillating")
 
@@ -259,3 +250,62 @@ def profile(
         _summary(payload)
     if not result.passed:
         raise typer.Exit(1)
+
+
+def _scene(path: Path, options, as_json: bool) -> None:
+    """The scene pipeline with a progress line on stderr; exit 1 when any check of any model fails."""
+    from ..pipeline import run_scene
+    from .common import console, print_json
+
+    if as_json:
+        result = run_scene(path, options)
+        print_json(result.report)
+    else:
+        with console(stderr=True).status("scene") as status:
+            result = run_scene(path, options, progress=lambda text: status.update(f"camcad: {text}"))
+        _scene_summary(result.report)
+    if not result.passed:
+        raise typer.Exit(1)
+
+
+def _scene_summary(report: dict) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from .common import console
+
+    out = console()
+    out.print(escape(f"{report['name']} ({report['scene']})" + (f": {report['description']}"
+                                                                 if report.get("description") else "")))
+    mechanisms = report.get("mechanisms") or {report["name"]: report}
+    table = Table(title="models run per mechanism")
+    for column in ("mechanism", "ran", "pressure angle max/min deg", "rho min mm", "checks"):
+        table.add_column(column)
+    for name, mech in mechanisms.items():
+        pa = (f"{mech['pressure_angle_max_deg']:.2f} / {mech['pressure_angle_min_deg']:.2f}"
+              if mech.get("pressure_angle_max_deg") is not None else "-")
+        rho = f"{mech['rho_profile_min_mm']:.3f}" if mech.get("rho_profile_min_mm") is not None else "-"
+        checks = ", ".join(f"{k} {'ok' if ok else 'FAILED'}" for k, ok in mech["checks_by_model"].items())
+        table.add_row(escape(name), ", ".join(mech["models_run"]), pa, rho, checks)
+    out.print(table)
+    for name, mech in mechanisms.items():
+        for key, why in mech["skipped"].items():
+            out.print(escape(f"  {name}: {key} skipped ({why})"))
+        limits = mech.get("phase_limits") or {}
+        for label, sources in limits.items():
+            parts = ", ".join(f"{k} {v:.3f}" for k, v in sources.items() if k != "least_deg" and v is not None)
+            if sources.get("least_deg") is not None:
+                out.print(escape(f"  {name}: least {label} angle {sources['least_deg']:.3f} deg ({parts})"))
+    if "cyclogram" in report:
+        cyc = report["cyclogram"]
+        if cyc["feasible"]:
+            out.print(f"cyclogram: makespan {cyc['makespan_deg']:.3f} deg, critical path "
+                      f"{' -> '.join(cyc['critical_path'])}, active bounds {', '.join(cyc['active_bounds'])}")
+            for name, text in cyc.get("phases", {}).items():
+                out.print(escape(f"  {name}: phases {text}"))
+        else:
+            out.print(escape(f"cyclogram infeasible: {cyc.get('explanation', '')}"))
+    elif report.get("mechanisms") and "cyclogram" in report.get("skipped", {}):
+        out.print(escape(f"  cyclogram skipped ({report['skipped']['cyclogram']})"))
+    out.print(escape(f"wrote {len(report['outputs'])} files; report: {report['outputs'][-1]}"))
+    out.print("all checks passed" if report["passed"] else "[red]FAILED[/red]: a check did not pass (see report.json)")

@@ -17,6 +17,7 @@ follows, each learned from real readers:
 
 from __future__ import annotations
 
+import logging
 import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -113,10 +114,17 @@ def build_document(drawing: Drawing, version: str = "R2000"):
     r12 = version == "R12"
     if r12 and drawing.splines:
         raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline", "drop --spline or --r12")
-    doc = ezdxf.new(DXF_VERSIONS[version], setup=True)
-    if not r12:
-        doc.units = 4  # $INSUNITS mm; R12 cannot store it
-        doc.header["$MEASUREMENT"] = 1  # metric
+    if r12:
+        # ezdxf.new() always assigns $INSUNITS and logs that R12 cannot store it; nothing to report
+        quiet = logging.getLogger("ezdxf")
+        level = quiet.level
+        quiet.setLevel(logging.ERROR)
+        try:
+            doc = ezdxf.new(DXF_VERSIONS[version], setup=True, units=4)
+        finally:
+            quiet.setLevel(level)
+    else:
+        doc = ezdxf.new(DXF_VERSIONS[version], setup=True, units=4)  # $INSUNITS 4 = mm, $MEASUREMENT metric
     used = list(drawing.layers)
     for item in (*drawing.paths, *drawing.splines, *drawing.circles, *drawing.lines, *drawing.texts):
         if item.layer not in used:

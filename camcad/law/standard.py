@@ -174,6 +174,10 @@ class SCCA:
             raise ValueError(f"SCCA factors must be finite and >= 0, got b={self.b}, c={self.c}, d={self.d}")
         if abs(sum(parts) - 1.0) > 1e-12:
             raise ValueError(f"SCCA factors must add up to 1, got b + c + d = {sum(parts)!r}")
+        for label, width in (("b", self.b), ("d", self.d)):
+            # a narrower sine or cosine piece is a jump in practice, and π/width would overflow
+            if 0.0 < width < 1e-9:
+                raise ValueError(f"SCCA factor {label} = {width!r} is too small; use 0 or at least 1e-9")
 
     @property
     def ca(self) -> float:

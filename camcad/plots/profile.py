@@ -130,15 +130,19 @@ def plot_curvature(result, path: Path) -> Path:
     shown = shown[np.isfinite(shown) & (np.abs(shown) <= cap)]
     top = max(1.15 * float(shown.max(initial=0.0)), 2.0 * f.roller_radius, 10.0)
     bottom = min(1.15 * float(shown.min(initial=0.0)), -0.15 * top)
-    scale = cap
+
+    def shown_part(rho: np.ndarray) -> np.ndarray:
+        # through an inflection ρ passes ±∞: break the line there instead of drawing a wall
+        return np.where(np.abs(rho) <= cap, rho, np.nan)
+
     fig, ax = plt.subplots(figsize=(10, 5))
     _shade_phases(ax, result)
     if f.kind != "flat" and f.roller_radius > 0.0:
         ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0, label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
-        ax.plot(deg, np.clip(t.rho_pitch, -scale, scale), lw=1.2, color="#7f7f7f", ls="--", label="pitch curve ρ")
+        ax.plot(deg, shown_part(t.rho_pitch), lw=1.2, color="#7f7f7f", ls="--", label="pitch curve ρ")
     if f.rho_min is not None:
         ax.axhline(f.rho_min, color="#b03a2e", lw=1.0, ls=":", label=f"limit ρ_min = {f.rho_min:g} mm")
-    ax.plot(deg, np.clip(t.rho_profile, -scale, scale), lw=1.6, color="#1f4e79", label="profile ρ")
+    ax.plot(deg, shown_part(t.rho_profile), lw=1.6, color="#1f4e79", label="profile ρ")
     best = result.profile.rho_convex_min
     if best is not None:
         ax.plot(math.degrees(best.at), best.value, "o", color="black", ms=4)

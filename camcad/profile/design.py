@@ -66,9 +66,14 @@ def _worst(values_fn, theta: np.ndarray) -> float:
     if not math.isfinite(best):
         return math.inf
     lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
+    penalty = abs(best) * 10.0 + 1e6  # Brent's parabolas need finite values where none applies
+
+    def finite_fn(t: float) -> float:
+        value = float(values_fn(np.array([t]))[0])
+        return value if math.isfinite(value) else penalty
+
     if hi > lo:
-        res = minimize_scalar(lambda t: float(values_fn(np.array([t]))[0]), bounds=(lo, hi),
-                              method="bounded", options={"xatol": 1e-12})
+        res = minimize_scalar(finite_fn, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
         if np.isfinite(res.fun):
             best = min(best, float(res.fun))
     return best

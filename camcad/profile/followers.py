@@ -343,7 +343,19 @@ def law_breakpoints(law: MotionLaw) -> np.ndarray:
         points.update(float(x) for x in np.asarray(inner()))
     if isinstance(law, PiecewiseLinearLaw):
         points.update(float(x) for x in law.x)
-    return np.array(sorted(p for p in points if 0.0 <= p <= law.cycle))
+    return merge_close(np.array(sorted(p for p in points if 0.0 <= p <= law.cycle)), 0.0, float(law.cycle))
+
+
+def merge_close(points: np.ndarray, first: float, last: float, gap: float = 1e-9) -> np.ndarray:
+    """Sorted ``points`` with any closer than ``gap`` (rad) to the previous kept one dropped, ``first``
+    and ``last`` kept exactly: phase ends summed in floating point land an ulp from the cycle end,
+    and a node there would be a zero-length segment in the drawing."""
+    kept = [first]
+    for p in points:
+        if p - kept[-1] > gap and last - p > gap:
+            kept.append(float(p))
+    kept.append(last)
+    return np.array(kept)
 
 
 def describe_law(law: MotionLaw) -> str:

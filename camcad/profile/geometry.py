@@ -50,7 +50,7 @@ import numpy as np
 
 from ..errors import CamcadError
 from ..law.law import Kinematics, MotionLaw
-from .followers import Follower, arm_angle_on_base_circle, law_breakpoints
+from .followers import Follower, arm_angle_on_base_circle, law_breakpoints, merge_close
 
 
 def rotate(points: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -253,7 +253,7 @@ class CamGeometry:
         one = law_breakpoints(self.law)
         cycle = float(self.law.cycle)
         points = np.concatenate([one + k * cycle for k in range(self.lobes)])
-        return np.unique(np.clip(points, 0.0, 2.0 * math.pi))
+        return merge_close(np.unique(np.clip(points, 0.0, 2.0 * math.pi)), 0.0, 2.0 * math.pi)
 
     def kinematics(self, theta: np.ndarray) -> Kinematics:
         return self.law.kinematics(np.asarray(theta, dtype=float))

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.jsonout import to_jsonable
 from ..io.atomic import write_text_atomic
 from ..io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
 from .followers import describe_law, describe_phases
@@ -129,20 +130,7 @@ def write_outputs(result: ProfileResult, outdir: str | Path, settings: ProfileSe
     payload["outputs"] = [str(p) for p in written]
     if extra:
         payload.update(extra)
-    write_text_atomic(report_path, json.dumps(_jsonable(payload), indent=2) + "\n")
+    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2) + "\n")
     return written
 
 
-def _jsonable(value):
-    """numpy → plain JSON types; NaN/inf → null (JSON has neither)."""
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, Path):
-        return str(value)
-    if hasattr(value, "tolist"):
-        return _jsonable(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -21,7 +21,7 @@ from ..law.law import MotionLaw
 from . import defaults
 from .design import BaseRadiusDesign, min_base_radius
 from .followers import Follower, describe_law, describe_phases
-from .geometry import CamGeometry, CurveGeometry, rotate
+from .geometry import CamGeometry, rotate
 from .sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
 
 
@@ -188,9 +188,15 @@ def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
     k = int(np.argmin(finite))
     best = Extremum(float(finite[k]), float(theta[k]))
     lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
+    # outside the masked region fn is +inf; Brent's parabolas need finite values
+    penalty = abs(best.value) * 10.0 + 1e6
+
+    def finite_fn(t: float) -> float:
+        value = float(fn(np.array([t]))[0])
+        return value if math.isfinite(value) else penalty
+
     if hi > lo:
-        res = minimize_scalar(lambda t: float(fn(np.array([t]))[0]), bounds=(lo, hi), method="bounded",
-                              options={"xatol": 1e-13})
+        res = minimize_scalar(finite_fn, bounds=(lo, hi), method="bounded", options={"xatol": 1e-13})
         if np.isfinite(res.fun) and res.fun < best.value:
             best = Extremum(float(res.fun), float(res.x))
     return best
@@ -419,6 +425,9 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
             curvature_passed = False
 
     _, kink = _closure_gap(geometry.profile, geometry)
+    if not profile.closed:
+        notes.append(f"the profile does not close (gap {profile.closure_gap:.6g} mm): the law's displacement "
+                     "does not come back; balance it with camcad fix")
     design = None
     if settings.design:
         try:

@@ -1,0 +1,397 @@
+"""The scene pipeline: what `camcad profile SCENE.toml` runs, in SPEC.md's order, and only what the scene asks for.
+
+For every mechanism: 1 read the law → 2 check (and fix, when [law] fix says so) its balance → 3 resonance
+filtering and lead-in ([filter], with a natural frequency and speeds) → 4 profile synthesis ([follower]) →
+5 elastic dynamics ([dynamics] and speeds) → 6 stop impact ([stops] and speeds) → 7 contact stress
+([contact], [follower] and speeds) → 8 the least phase angles that 6 and 7 allow. Then 9, when the scene has
+a [cyclogram]: the network is optimised with those limits, its phase angles go back into each mechanism's
+law (shape and lift kept) and steps 3–7 run again on the retimed laws → 10 the outputs: per mechanism
+profile.dxf, law.csv and plots, and one report.json. A step that does not run says why under ``skipped``;
+no step fills in a physical quantity the scene did not give.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Callable
+
+from .errors import CamcadError
+from .scene import Mechanism, Scene, mechanism_law, read_scene
+
+#: cam-angle samples per phase for the contact-stress maximum and its phase limits
+CONTACT_SAMPLES = 2000
+
+
+@dataclass(frozen=True)
+class PipelineOptions:
+    """How to write (profile chord tolerance in mm, DXF flavour, plots) and where (``output``)."""
+
+    output: Path | None = None
+    tol_mm: float = 0.001
+    arcs: bool = False
+    spline: bool = False
+    r12: bool = False
+    plots: bool = True
+    contact_samples: int = CONTACT_SAMPLES
+
+
+@dataclass
+class MechanismRun:
+    """What the pipeline found for one mechanism (filled step by step)."""
+
+    name: str
+    law: Any = None
+    report: dict = field(default_factory=dict)
+    skipped: dict = field(default_factory=dict)
+    ran: list = field(default_factory=list)
+    profile: Any = None
+    dynamics: Any = None
+    impact: Any = None
+    contact: Any = None
+    outputs: list = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class SceneRun:
+    report: dict
+    outputs: tuple[Path, ...]
+    passed: bool
+
+
+Progress = Callable[[str], None]
+
+
+def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
+              progress: Progress | None = None) -> SceneRun:
+    """Run the pipeline on a scene file; write the outputs; return the report (see the module docstring)."""
+    scene = read_scene(path)
+    say = progress or (lambda _text: None)
+    if not scene.mechanisms:
+        raise CamcadError("the scene has no mechanism to make a profile of", str(scene.path),
+                          "add [law] and [follower], or [mechanisms.NAME] tables (camcad cyclogram runs a bare network)")
+    group = bool(scene.mechanisms[0].prefix)
+    outdir = options.output if options.output is not None else Path("camcad-out") / scene.name
+    if scene.cyclogram is not None:  # a broken network is reported before any work is done
+        from .cyclogram import parse_cyclogram
+
+        parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]", [m.name for m in scene.mechanisms if m.prefix])
+    runs = {}
+    for mech in scene.mechanisms:
+        runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say)
+    top_skipped: dict[str, str] = {}
+    cyclogram_report = None
+    if scene.cyclogram is not None:
+        say("cyclogram")
+        cyclogram_report, retimed = _cyclogram(scene, runs, options)
+        for name, phases in retimed.items():
+            mech = scene.mechanism(name)
+            say(f"{name}: regenerating with the cyclogram's phase angles")
+            from .mechanism import law_with_phases
+
+            base = mechanism_law(scene, mech)
+            new_law = law_with_phases(base.law, phases, mech.where(scene.path, "law"))
+            run = _analyse(scene, mech, replace(base, law=new_law), options, say, limits=False)
+            run.report["phase_limits"] = runs[name].report.get("phase_limits", {})
+            run.report["retimed_by_cyclogram"] = _phases_text(phases)
+            runs[name] = run
+    else:
+        top_skipped["cyclogram"] = "no [cyclogram] in scene"
+    outputs: list[Path] = []
+    for name, run in runs.items():
+        folder = outdir / name if group else outdir
+        say(f"{name}: writing")
+        outputs.extend(_write(run, folder, options))
+    report = _scene_report(scene, runs, group, cyclogram_report, top_skipped, outputs)
+    report_path = outdir / "report.json"
+    outputs.append(report_path)
+    report["outputs"] = [str(p) for p in outputs]
+    from .io.atomic import write_text_atomic
+    from .io.jsonout import to_jsonable
+
+    write_text_atomic(report_path, json.dumps(to_jsonable(report), indent=2) + "\n")
+    return SceneRun(report, tuple(outputs), bool(report["passed"]))
+
+
+# --------------------------------------------------------------------------------------------
+# one mechanism: steps 2–8
+# --------------------------------------------------------------------------------------------
+
+def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say: Progress,
+             limits: bool = True) -> MechanismRun:
+    run = MechanismRun(mech.name, law=built.law)
+    where = lambda section: mech.where(scene.path, section)  # noqa: E731
+    speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
+    run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
+    run.ran.append("law")
+    # 2 balance
+    if built.balance is not None:
+        run.report["law"]["balance"] = built.balance
+        run.ran.append("balance")
+        if built.correction is not None:
+            run.report["law"]["fixed"] = {"mode": built.correction.mode,
+                                          "rms_change": built.correction.rms_change,
+                                          "max_change": built.correction.max_change,
+                                          "after": built.correction.after.to_dict()}
+    else:
+        run.skipped["balance"] = "a standard law is balanced by construction"
+    # 3 filter
+    if mech.has("filter"):
+        say(f"{mech.name}: resonance filtering")
+        _filter(scene, mech, run, speeds)
+    else:
+        run.skipped["filter"] = "no [filter] in scene"
+    # 4 profile
+    if mech.has("follower"):
+        say(f"{mech.name}: profile")
+        run.profile = _profile(scene, mech, run.law, options)
+        from .profile import report as profile_report
+
+        run.report["profile"] = profile_report(run.profile)
+        run.ran.append("profile")
+    else:
+        run.skipped["profile"] = "no [follower] in scene"
+    # 5 dynamics, 6 impact, 7 contact
+    for section, step, needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
+                                 ("contact", _contact, "materials and loads")):
+        key = "impact" if section == "stops" else section
+        if not mech.has(section):
+            run.skipped[key] = f"no [{section}] in scene"
+            continue
+        if speeds is None:
+            run.skipped[key] = "no [machine] rpm in scene"
+            continue
+        if section == "contact" and not mech.has("follower"):
+            run.skipped[key] = "no [follower] in scene: the contact needs the profile"
+            continue
+        say(f"{mech.name}: {key}")
+        step(scene, mech, run, speeds, options, where(section), limits)
+        run.ran.append(key)
+    # 8 phase limits
+    if limits:
+        found = {}
+        if run.impact is not None and run.report["impact"].get("phase_limit_deg") is not None:
+            stop_phase = "rise" if run.impact.model.stop == "upper" else "return"
+            found[stop_phase] = {"vibration (impact rebound)": run.report["impact"]["phase_limit_deg"]}
+        if run.contact is not None:
+            for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
+                found.setdefault(label, {})["contact stress"] = angle
+        if run.profile is not None:
+            from .mechanism import PRESSURE_SAMPLES, pressure_angle_limits
+
+            for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
+                                                      mech.where(scene.path, "follower"), PRESSURE_SAMPLES).items():
+                found.setdefault(label, {})["pressure angle"] = angle
+        if found:
+            run.report["phase_limits"] = {label: {**sources, "least_deg": max(
+                (v for v in sources.values() if v is not None), default=None)} for label, sources in found.items()}
+        else:
+            run.skipped["phase_limits"] = "no [follower], [stops] or [contact] in scene"
+    return run
+
+
+def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
+    from . import fourier
+
+    settings = fourier.parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
+    if not settings.enabled:
+        run.skipped["filter"] = "[filter] enabled = false"
+        return
+    fn = settings.fn_hz
+    if fn is None and mech.has("dynamics"):
+        from .dynamics.sdof import parse_dynamics
+
+        fn = parse_dynamics(mech.sections["dynamics"], mech.where(scene.path, "dynamics"),
+                            math.degrees(run.law.cycle)).follower.natural_frequency_hz
+    rpm = settings.rpm or ((min(speeds), max(speeds)) if speeds else None)
+    if fn is None and settings.lead_in_deg is None:
+        run.skipped["filter"] = "no natural frequency ([filter] fn_hz or [dynamics]) and no lead-in"
+        return
+    if fn is not None and rpm is None:
+        run.skipped["filter"] = "no speed range ([filter] rpm or [machine] rpm)"
+        return
+    outcome = fourier.apply_filter(run.law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
+    run.law = outcome.law
+    run.report["spectrum"] = {**outcome.report(), "natural_frequency_hz": fn,
+                              "passed": _filter_passed(outcome)}
+    run.ran.append("filter")
+
+
+def _filter_passed(outcome) -> bool:
+    return not ((outcome.filtered is not None and not outcome.filtered.dwells_kept)
+                or (outcome.exported is not None and not outcome.exported.closed)
+                or (outcome.lead_in is not None and not outcome.lead_in.balanced))
+
+
+def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
+    from .profile import ProfileSettings, synthesize
+    from .profile.followers import parse_follower, swing_law, swing_of
+
+    where = mech.where(scene.path, "follower")
+    follower = parse_follower(mech.sections["follower"], where)
+    if follower.kind == "oscillating":
+        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(mech.sections["follower"], where))
+    settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
+                               plots=options.plots, name=mech.name)
+    return synthesize(law, follower, settings.validate(), name=mech.name)
+
+
+def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
+    from .dynamics.analysis import run_dynamics
+    from .dynamics.sdof import parse_dynamics
+
+    settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
+    lead = None
+    if mech.has("filter"):
+        from .fourier import parse_filter
+
+        filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
+        if filt.lead_in_deg is not None and "filter" not in run.ran:
+            lead = (filt.lead_in_deg, filt.lead_in_fraction)
+    run.dynamics = run_dynamics(run.law, settings, speeds, lead_in=lead)
+    run.report["dynamics"] = run.dynamics.report
+
+
+def _impact(scene, mech, run, speeds, options, where, limits) -> None:
+    from .dynamics.analysis import run_impact
+    from .dynamics.impact import parse_stops
+
+    model = parse_stops(mech.sections["stops"], where)
+    run.impact = run_impact(run.law, model, speeds)
+    run.report["impact"] = run.impact.report
+
+
+def _contact(scene, mech, run, speeds, options, where, limits) -> None:
+    from .mechanism import mechanism_contact
+
+    report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
+                                                with_limits=limits)
+    run.contact = (at_worst, sweep)
+    run.report["contact"] = report
+
+
+# --------------------------------------------------------------------------------------------
+# 9 cyclogram
+# --------------------------------------------------------------------------------------------
+
+def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
+    """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
+    from .cyclogram import PhaseLimit, format_phases, optimise, parse_cyclogram
+    from .mechanism import cyclogram_limits, retimed_phases
+
+    network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
+                              [m.name for m in scene.mechanisms if m.prefix])
+    speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
+    limits, skipped = cyclogram_limits(scene, network, speeds, options.contact_samples)
+    # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
+    for op in network.operations:
+        run = runs.get(op.mechanism) if op.mechanism else None
+        if run is None or run.impact is None or op.phase is None:
+            continue
+        angle = run.report["impact"].get("phase_limit_deg")
+        stop_phase = "rise" if run.impact.model.stop == "upper" else "return"
+        if angle is not None and op.phase == stop_phase:
+            limits.setdefault(op.label, []).append(PhaseLimit(
+                angle_deg=float(angle), source="impact rebound", value=run.impact.model.allowed_amplitude_mm,
+                limit=run.impact.model.allowed_amplitude_mm, binding=True,
+                note=f"rebound at the stop of {op.mechanism} within {run.impact.model.allowed_amplitude_mm:g} mm"))
+    result = optimise(network, limits, strict=False, where=f"{scene.path} [cyclogram]")
+    report = result.report()
+    report["passed"] = bool(result.feasible)
+    report["skipped"] = skipped
+    retimed = {}
+    if result.feasible:
+        retimed = retimed_phases(scene, result)
+        report["phases"] = {name: format_phases(phases) for name, phases in retimed.items()}
+    return report, retimed
+
+
+def _phases_text(phases) -> str:
+    from .cyclogram import format_phases
+
+    return format_phases(phases)
+
+
+# --------------------------------------------------------------------------------------------
+# 10 outputs and the report
+# --------------------------------------------------------------------------------------------
+
+def _write(run: MechanismRun, folder: Path, options: PipelineOptions) -> list[Path]:
+    written: list[Path] = []
+    if run.profile is not None:
+        from .profile import write_outputs
+
+        written.extend(p for p in write_outputs(run.profile, folder) if p.name != "report.json")
+        (folder / "report.json").unlink(missing_ok=True)  # the scene's one report.json holds it
+    else:
+        from .io.law_write import write_law_csv
+
+        theta = _law_grid(run.law)
+        written.append(write_law_csv(folder / "law.csv", run.law.kinematics(theta)))
+    if options.plots:
+        if run.dynamics is not None:
+            from .dynamics.analysis import dynamics_plots
+
+            written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
+        if run.impact is not None:
+            from .dynamics.analysis import impact_plots
+
+            written.extend(impact_plots(run.impact, folder, run.name))
+        if run.contact is not None:
+            from .plots.cyclogram import plot_contact_stress, plot_safety_versus_speed
+
+            at_worst, sweep = run.contact
+            written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))
+            if len(sweep.rpm) > 1:
+                written.append(plot_safety_versus_speed(sweep, folder / "contact_speed.png",
+                                                        title=f"{run.name}: contact safety factor"))
+    run.outputs = written
+    return written
+
+
+def _law_grid(law):
+    import numpy as np
+
+    return np.linspace(0.0, law.cycle, 721)
+
+
+def _mechanism_report(run: MechanismRun) -> dict:
+    out: dict[str, Any] = {}
+    if "profile" in run.report:
+        out.update(run.report["profile"])
+    for key, value in run.report.items():
+        if key != "profile":
+            out[key] = value
+    out["models_run"] = list(run.ran)
+    out["skipped"] = dict(run.skipped)
+    checks = {}
+    if "profile" in run.report:
+        checks["profile"] = bool(run.report["profile"]["passed"])
+    for key in ("spectrum", "dynamics", "impact", "contact"):
+        if key in run.report:
+            checks[key] = bool(run.report[key].get("passed", True))
+    out["checks_by_model"] = checks
+    out["passed"] = all(checks.values())
+    out["outputs"] = [str(p) for p in run.outputs]
+    return out
+
+
+def _scene_report(scene: Scene, runs: dict, group: bool, cyclogram_report, top_skipped, outputs) -> dict:
+    mechanisms = {name: _mechanism_report(run) for name, run in runs.items()}
+    passed = all(m["passed"] for m in mechanisms.values())
+    if cyclogram_report is not None:
+        passed = passed and cyclogram_report["passed"]
+    if not group:
+        (only,) = mechanisms.values()
+        report = {"scene": str(scene.path), "name": scene.name, "description": scene.description, **only}
+        report["skipped"] = {**only["skipped"], **top_skipped}
+    else:
+        report = {"scene": str(scene.path), "name": scene.name, "description": scene.description,
+                  "mechanisms": mechanisms, "skipped": dict(top_skipped)}
+    if cyclogram_report is not None:
+        report["cyclogram"] = cyclogram_report
+    report["speeds_rpm"] = list(scene.speeds_rpm) if scene.speeds_rpm else None
+    report["passed"] = passed
+    return report
