@@ -158,3 +158,13 @@ def test_profile_command_on_a_scene_prints_json(cli, tmp_path):
                 "profile_points", "outputs", "dynamics", "skipped"):
         assert key in payload
     assert math.isfinite(payload["pressure_angle_max_deg"])
+
+
+def test_scene_doc_lists_every_key_of_every_section():
+    # docs/SCENE.md is generated from the parsers; regenerate it with docs/make_scene_doc.py when this fails
+    import sys
+
+    sys.path.insert(0, str(SAMPLES.parent / "docs"))
+    from make_scene_doc import tables
+
+    assert tables() in (SAMPLES.parent / "docs" / "SCENE.md").read_text()

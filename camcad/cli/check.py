@@ -78,7 +78,8 @@ def fix(law_file: LawArg,
         from ..plots.balance import plot_balance
 
         payload["plot"] = str(plot_balance(loaded.law, result.before, written.with_suffix(".png"),
-                                           corrected=result.law, title=f"{law_file.name}, fix --mode {mode}"))
+                                           corrected=result.law, after=result.after,
+                                           title=f"{law_file.name}, fix --mode {mode}"))
     if as_json:
         print_json(payload)
     else:

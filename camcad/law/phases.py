@@ -35,34 +35,34 @@ def sign_runs(x: np.ndarray, a: np.ndarray) -> list[tuple[int, float, float]]:
     """Maximal runs of constant sign (+1, −1, 0) of a piecewise-linear a, as (sign, start, end) in x.
 
     Zero crossings inside a segment split it exactly (linear interpolation); zero-length
-    segments (jumps) carry no run of their own.
+    segments (jumps) carry no run of their own. Vectorised over the segments (a drawn law may
+    have a million vertices).
     """
+    x = np.asarray(x, dtype=float)
+    a = np.asarray(a, dtype=float)
+    if len(x) < 2:
+        return []
     eps = zero_threshold(a)
-    runs: list[tuple[int, float, float]] = []
-
-    def add(sign: int, start: float, end: float) -> None:
-        if end <= start:
-            return
-        if runs and runs[-1][0] == sign and runs[-1][2] >= start:
-            runs[-1] = (sign, runs[-1][1], end)
-        else:
-            runs.append((sign, start, end))
-
-    for k in range(len(x) - 1):
-        x0, x1, a0, a1 = x[k], x[k + 1], a[k], a[k + 1]
-        if x1 <= x0:
-            continue
-        s0 = 0 if abs(a0) <= eps else int(np.sign(a0))
-        s1 = 0 if abs(a1) <= eps else int(np.sign(a1))
-        if s0 == s1:
-            add(s0, x0, x1)
-        elif s0 == 0 or s1 == 0:
-            add(s0 or s1, x0, x1)  # a lobe starting or ending at a vertex on the axis
-        else:
-            crossing = x0 + (x1 - x0) * a0 / (a0 - a1)
-            add(s0, x0, crossing)
-            add(s1, crossing, x1)
-    return runs
+    x0, x1, a0, a1 = x[:-1], x[1:], a[:-1], a[1:]
+    s0 = np.where(np.abs(a0) <= eps, 0, np.sign(a0)).astype(int)
+    s1 = np.where(np.abs(a1) <= eps, 0, np.sign(a1)).astype(int)
+    crosses = (s0 * s1) < 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        crossing = np.where(crosses, x0 + (x1 - x0) * a0 / (a0 - a1), x1)
+    # each segment gives a first piece and, when a crosses zero inside it, a second one;
+    # a lobe starting or ending at a vertex on the axis takes the sign of its other end
+    first_sign = np.where(crosses | (s0 == s1), s0, s0 + s1)
+    signs = np.column_stack((first_sign, s1)).ravel()
+    starts = np.column_stack((x0, crossing)).ravel()
+    ends = np.column_stack((crossing, x1)).ravel()
+    piece = np.column_stack((x1 > x0, crosses & (x1 > x0))).ravel() & (ends > starts)
+    signs, starts, ends = signs[piece], starts[piece], ends[piece]
+    if len(signs) == 0:
+        return []
+    # consecutive pieces are contiguous in x, so a run is a maximal block of equal signs
+    first = np.flatnonzero(np.concatenate(([True], signs[1:] != signs[:-1])))
+    last = np.concatenate((first[1:] - 1, [len(signs) - 1]))
+    return [(int(sg), float(st), float(en)) for sg, st, en in zip(signs[first], starts[first], ends[last])]
 
 
 def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -> tuple[Phase, ...]:
@@ -84,13 +84,13 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
     for (sign, start, end), is_dwell in zip(runs, dwell_flags):
         if is_dwell:
             if motion_start is not None:
-                phases.extend(_split_motion(x, a, motion_start, start))
+                phases.extend(_split_motion(x, a, motion_start, start, runs))
                 motion_start = None
             phases.append(Phase("dwell", start, end))
         elif motion_start is None:
             motion_start = start
     if motion_start is not None:
-        phases.extend(_split_motion(x, a, motion_start, runs[-1][2]))
+        phases.extend(_split_motion(x, a, motion_start, runs[-1][2], runs))
     return _merge_dwells(phases)
 
 
@@ -104,22 +104,31 @@ def _merge_dwells(phases: list[Phase]) -> tuple[Phase, ...]:
     return tuple(merged)
 
 
-def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> list[Phase]:
-    """Cut one motion (between dwells) into rises and returns at the sign changes of velocity."""
+def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
+                  runs: list[tuple[int, float, float]]) -> list[Phase]:
+    """Cut one motion (between dwells) into rises and returns at the sign changes of velocity.
+
+    ``runs`` are the law's ``sign_runs``.
+    """
     law = _motion_law(x, a, start, end)
     grid = np.unique(np.concatenate(([start, end], x[(x > start) & (x < end)])))
     # velocity is quadratic on each segment: a few interior samples catch every sign change
-    fine = np.unique(np.concatenate([np.linspace(g0, g1, 9) for g0, g1 in zip(grid[:-1], grid[1:])]))
+    fraction = np.linspace(0.0, 1.0, 9)
+    fine = np.unique(np.append(grid[:-1, None] + np.diff(grid)[:, None] * fraction[None, :-1], grid[-1]))
     v = law.kinematics(fine - start).v
     peak = float(np.max(np.abs(v)))
-    first_sign = 1 if _first_lobe_sign(x, a, start, end) > 0 else -1
+    first_sign = 1 if _first_lobe_sign(runs, start, end) > 0 else -1
     if peak == 0.0:
         return [Phase("rise" if first_sign > 0 else "return", start, end)]
     significant = np.abs(v) >= SPLIT_FRACTION * peak
     cuts = [start]
     current = first_sign
-    for i in range(1, len(fine)):
-        if np.sign(v[i]) == -current and significant[i:].any():
+    sign_of_v = np.sign(v)
+    # only the first sample of each stretch of one sign can start a new phase: later samples of the
+    # same stretch see a shorter part of the same excursion
+    changes = np.flatnonzero(sign_of_v[1:] != sign_of_v[:-1]) + 1
+    for i in changes:
+        if sign_of_v[i] == -current and significant[i:].any():
             # the velocity changed sign; it is a phase only if it then grows to a significant speed
             # with the new sign before changing back
             ahead = v[i:]
@@ -140,8 +149,8 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> lis
     return [Phase(kind, c0, c1) for kind, c0, c1 in zip(kinds, cuts[:-1], cuts[1:]) if c1 > c0]
 
 
-def _first_lobe_sign(x: np.ndarray, a: np.ndarray, start: float, end: float) -> int:
-    for sign, r0, r1 in sign_runs(x, a):
+def _first_lobe_sign(runs: list[tuple[int, float, float]], start: float, end: float) -> int:
+    for sign, r0, r1 in runs:
         if sign and r1 > start and r0 < end:
             return sign
     return 1

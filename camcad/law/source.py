@@ -361,8 +361,11 @@ def _vertex_structure(x: np.ndarray, y: np.ndarray):
     lo = np.arange(n)
     hi = np.arange(n)
     weight = np.zeros(n)
-    start = 0
-    while start < n:
+    # a point alone at its x is kept as it is; only runs of equal x need a look (a drawn law may
+    # have a million vertices and a handful of jumps)
+    repeated = np.flatnonzero(x[1:] == x[:-1])
+    run_starts = repeated[np.concatenate(([True], np.diff(repeated) > 1))] if len(repeated) else repeated
+    for start in run_starts:
         end = start
         while end + 1 < n and x[end + 1] == x[start]:
             end += 1
@@ -385,7 +388,6 @@ def _vertex_structure(x: np.ndarray, y: np.ndarray):
             for i in run:
                 if not keep[i] and lo[i] == hi[i] and not keep[lo[i]]:
                     lo[i] = hi[i] = first if abs(y[i] - y[first]) <= abs(y[i] - y[last]) else last
-        start = end + 1
     return keep, lo, hi, weight
 
 

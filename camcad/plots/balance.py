@@ -17,8 +17,9 @@ def _dense(law, samples: int = 4000) -> np.ndarray:
     return np.unique(np.concatenate((theta, law.x)))
 
 
-def plot_balance(law, report, path: str | Path, *, corrected=None, title: str = "") -> Path:
-    """Three stacked panels (a, v, s against θ in deg); with ``corrected``, the corrected law on top."""
+def plot_balance(law, report, path: str | Path, *, corrected=None, after=None, title: str = "") -> Path:
+    """Three stacked panels (a, v, s against θ in deg); with ``corrected`` (and its check ``after``), the
+    corrected law on top."""
     plt = pyplot()
     fig, axes = plt.subplots(3, 1, figsize=(10, 8.5), sharex=True, constrained_layout=True)
     theta = _dense(law)
@@ -60,8 +61,13 @@ def plot_balance(law, report, path: str | Path, *, corrected=None, title: str = 
     ax_s.set_xlabel("cam angle θ (deg)")
     ax_a.legend(loc="upper right", fontsize=8)
     ax_s.legend(loc="upper right", fontsize=8)
-    verdict = "balanced" if report.balanced else "NOT balanced"
-    fig.suptitle(f"{title}  —  {verdict} (tolerance {report.tolerance_abs:.3g} mm)" if title else verdict)
+    verdict = "balanced" if report.balanced else f"NOT balanced (closure gap {report.displacement_closure:.3g} mm)"
+    if after is not None:
+        verdict = (f"drawn: {verdict}; corrected: " + ("balanced" if after.balanced else "NOT balanced")
+                   + f" (gap {after.displacement_closure:.2g} mm)")
+    else:
+        verdict += f", tolerance {report.tolerance_abs:.3g} mm"
+    fig.suptitle(f"{title}  —  {verdict}" if title else verdict)
     ax_s.set_xlim(0, np.degrees(law.cycle))
     out = write_atomic(Path(path), lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     plt.close(fig)

@@ -334,7 +334,13 @@ def swing_law(law: MotionLaw, *, arm_mm: float | None = None, swing_deg: float |
 
 
 def law_breakpoints(law: MotionLaw) -> np.ndarray:
-    """θ (rad) in [0, cycle] where the law may be non-smooth: phase ends, knots, inner pieces."""
+    """θ (rad) in [0, cycle] where the curvature of the cam may jump: phase ends, the inner pieces of a
+    composed law, and the jumps of a drawn law's acceleration (its repeated knots).
+
+    The other knots of a drawn law are kinks of a (jumps of the jerk only): s, v and a, and with them
+    the pitch curve's curvature, are continuous there, so they need no node of their own. Taking
+    every knot made a 1,000,000-vertex law cost 1,000,000 profile points and minutes of synthesis.
+    """
     points = {0.0, float(law.cycle)}
     for phase in law.phases:
         points.update((float(phase.start), float(phase.end)))
@@ -342,7 +348,7 @@ def law_breakpoints(law: MotionLaw) -> np.ndarray:
     if inner is not None:
         points.update(float(x) for x in np.asarray(inner()))
     if isinstance(law, PiecewiseLinearLaw):
-        points.update(float(x) for x in law.x)
+        points.update(float(x) for x in law.x[:-1][np.diff(law.x) == 0])
     return merge_close(np.array(sorted(p for p in points if 0.0 <= p <= law.cycle)), 0.0, float(law.cycle))
 
 
