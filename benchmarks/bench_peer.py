@@ -411,14 +411,14 @@ def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, .
         where = max(abs(figures["pressure_angle_max_at_deg"] - math.degrees(extremes["max_at"])),
                     abs(figures["pressure_angle_min_at_deg"] - math.degrees(extremes["min_at"])))
         rows.append(_row(K_PRESSURE, "camcad synthesize: peak φ (grid + Brent)", f"tol {tol:g} mm", seconds, peak,
-                         "deg (|φ_peak − exact|)", location_error_deg=where))
+                         "deg (error of the peak φ)", location_error_deg=where))
     limit_deg = math.degrees(max(extremes["max"], -extremes["min"]))
     law, sized = camcad_case(limit_deg)
     for grid in grids:
         seconds, design = timed(lambda: min_base_radius(law, sized, grid=grid), repeats)
         rb = design.rb_pressure_angle
         rows.append(_row(K_SIZING, "camcad min_base_radius", f"grid {grid}", seconds, abs(rb - BASE_RADIUS_MM),
-                         "mm (|Rb − 40|)", rb_mm=rb, rb_curvature_mm=design.rb_curvature))
+                         "mm (Rb error; exact Rb = 40)", rb_mm=rb, rb_curvature_mm=design.rb_curvature))
     return rows
 
 
@@ -446,7 +446,7 @@ def same_grid_rows(theta: np.ndarray, step: float, repeats: int) -> list[dict]:
     seconds, phi = timed(pressure_angles, repeats)
     error = float(np.degrees(np.max(np.abs(phi - exact_pressure_angle(theta)))))
     rows.append(_row(K_PRESSURE, "camcad CamGeometry.pressure_angle, same grid", setting, seconds, error,
-                     "deg (max |φ − exact| on the grid)"))
+                     "deg (largest φ error on the grid)"))
     return rows
 
 
@@ -471,11 +471,11 @@ def peer_rows(run: dict, version: str, extremes: dict) -> list[dict]:
     asked = np.abs(exact_pressure_angle(theta))
     own = np.abs(exact_pressure_angle(theta, rb=rb_peer))
     peak_own = pressure_angle_extremes(rb=rb_peer)
-    rows.append(_row(K_PRESSURE, f"{name} get_base_circle: |φ| on its grid", setting, run["time_base_circle_s"],
-                     float(np.degrees(np.max(np.abs(phis - asked)))), "deg (max |φ − exact| on the grid)",
+    rows.append(_row(K_PRESSURE, f"{name} get_base_circle: φ on its grid", setting, run["time_base_circle_s"],
+                     float(np.degrees(np.max(np.abs(phis - asked)))), "deg (largest φ error on the grid)",
                      error_at_own_rb_deg=float(np.degrees(np.max(np.abs(phis - own)))), rb_mm=rb_peer))
     rows.append(_row(K_SIZING, f"{name} get_base_circle", setting, run["time_base_circle_s"],
-                     abs(rb_peer - BASE_RADIUS_MM), "mm (|Rb − 40|)", rb_mm=rb_peer,
+                     abs(rb_peer - BASE_RADIUS_MM), "mm (Rb error; exact Rb = 40)", rb_mm=rb_peer,
                      peak_phi_error_deg=math.degrees(peak_own["max"] - extremes["max"]),
                      min_rho_pitch_mm=run["base_circle"]["min_rho_pitch_mm"]))
     return rows
@@ -496,9 +496,10 @@ def run(quick: bool = False) -> list[dict]:
         python = peer_python()
         peer = run_peer(python, steps, repeats, math.degrees(max(extremes["max"], -extremes["min"])))
     except PeerUnavailable as err:
-        rows.append({"kernel": K_PROFILE, "method": f"{PEER_NAME} {PEER_VERSION}", "setting": "-", "time_s": None,
-                     "error": None, "error_unit": "mm (points to exact profile)",
-                     "status": f"peer unavailable: {err}"})
+        status = f"peer unavailable: {err}"
+        # the status goes into ``setting`` too, so tables that show only the common keys still say why
+        rows.append({"kernel": K_PROFILE, "method": f"{PEER_NAME} {PEER_VERSION}", "setting": status,
+                     "time_s": None, "error": None, "error_unit": "mm (points to exact profile)", "status": status})
         return sorted(rows, key=lambda row: KERNEL_ORDER[row["kernel"]])
     for one in peer["runs"]:
         rows += peer_rows(one, peer["version"], extremes)

@@ -190,11 +190,9 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
 
 def _scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
-    rise = 0.0
-    for phase in law.phases:
-        if phase.kind == "rise":
-            s = law.kinematics(np.array([phase.start, phase.end])).s
-            rise += float(s[1] - s[0])
+    from .law.source import rise_displacement
+
+    rise = rise_displacement(law)
     if rise > 0:
         return rise
     theta = np.linspace(0, law.cycle, 2049)

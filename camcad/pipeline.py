@@ -12,7 +12,6 @@ no step fills in a physical quantity the scene did not give.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -108,10 +107,9 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
     report_path = outdir / "report.json"
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
-    from .io.atomic import write_text_atomic
-    from .io.jsonout import to_jsonable
+    from .io.jsonout import write_json
 
-    write_text_atomic(report_path, json.dumps(to_jsonable(report), indent=2) + "\n")
+    write_json(report_path, report)
     return SceneRun(report, tuple(outputs), bool(report["passed"]))
 
 

@@ -2,7 +2,6 @@
 
 import ezdxf
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -77,3 +76,20 @@ def test_finding_overflow_warning_does_not_reach_stderr(tmp_path, cli):
     assert result.code == 2
     assert len(result.err.strip().splitlines()) == 1
     assert "out-of-range" in result.err
+
+
+def test_finding_polyline_without_vertices(tmp_path, cli):
+    # seed 11, case 1737 (duplicated lines of fig2_rise_area_too_large.dxf): an LWPOLYLINE left with no
+    # vertices made the curve choice reduce an empty array (internal error)
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([])
+    doc.modelspace().add_lwpolyline([(0, 0), (90, 1), (180, -1), (270, 1), (360, 0)])
+    path = tmp_path / "empty_polyline.dxf"
+    doc.saveas(path)
+    result = cli("check", path)
+    assert result.code in (0, 1), result.err   # the good curve is still found
+    only_empty = tmp_path / "only_empty.dxf"  # ezdxf will not write an empty polyline: write it by hand
+    only_empty.write_text("0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n5\n2F\n100\nAcDbEntity\n8\n0\n"
+                          "100\nAcDbPolyline\n90\n0\n70\n0\n0\nENDSEC\n0\nEOF\n")
+    result = cli("check", only_empty)
+    assert result.code == 2 and "0 vertices" in result.err and len(result.err.strip().splitlines()) == 1

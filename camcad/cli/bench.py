@@ -19,12 +19,11 @@ def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings an
     bench.md, bench.json and bench.png."""
     import contextlib
     import io
-    import json
 
     from ..benchreport import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
     from ..errors import CamcadError
     from ..io.atomic import write_text_atomic
-    from ..io.jsonout import to_jsonable
+    from ..io.jsonout import write_json
 
     found = find_benchmarks()
     if only:
@@ -45,7 +44,7 @@ def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings an
                     rows.append({"benchmark": name, **row})
     out_dir = output_dir(output, "bench")
     outputs = [write_text_atomic(out_dir / "bench.md", markdown_table(rows, quick)),
-               write_text_atomic(out_dir / "bench.json", json.dumps(to_jsonable(rows), indent=2) + "\n")]
+               write_json(out_dir / "bench.json", rows)]
     if not no_plots:
         outputs.append(plot_speed_error(rows, out_dir / "bench.png"))
     payload = {"quick": quick, "rows": rows, "outputs": [str(p) for p in outputs]}

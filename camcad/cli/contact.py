@@ -19,11 +19,8 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
             no_plots: NoPlotsOpt = False, samples: SamplesOpt = 2000, as_json: JsonOpt = False) -> None:
     """Hertz contact stress along the profile, safety factor against speed, separation and the least
     phase angle of each rise and return (exit 0 ok, 1 stress over [σ_H] or separation, 2 bad input)."""
-    import json
-
     from ..errors import CamcadError
-    from ..io.atomic import write_text_atomic
-    from .common import to_jsonable
+    from ..io.jsonout import write_json
 
     if samples < 16:
         raise CamcadError(f"--samples {samples} is too few", "--samples", "give at least 16 per phase")
@@ -65,7 +62,7 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
     report_path = outdir / "contact.json"
     outputs.append(str(report_path))
     payload = {"scene": str(scene_file), "contact": summary, "skipped": skipped, "outputs": outputs}
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2))
+    write_json(report_path, payload)
     if as_json:
         print_json(payload)
     else:
@@ -114,12 +111,9 @@ def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, n
               samples: SamplesOpt = 2000, as_json: JsonOpt = False) -> None:
     """Optimise the group's cyclogram: least makespan by LP under the operations' bounds and their
     phase-angle limits (vibration, contact stress); exit 1 when the network is infeasible."""
-    import json
-
     from ..cyclogram import optimise, parse_cyclogram
     from ..errors import CamcadError
-    from ..io.atomic import write_text_atomic
-    from .common import to_jsonable
+    from ..io.jsonout import write_json
 
     from ..cyclogram import format_phases
     from ..mechanism import cyclogram_limits, retimed_phases
@@ -155,7 +149,7 @@ def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, n
     report_path = outdir / "cyclogram.json"
     outputs.append(str(report_path))
     payload["outputs"] = outputs
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2))
+    write_json(report_path, payload)
     if as_json:
         print_json(payload)
         if not result.feasible:

@@ -140,12 +140,10 @@ def dynamics(source: SourceArg = None,
              no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Elastic follower over a speed range: rigid vs elastic acceleration, dynamic error, residual vibration
     (exit 1 when a given limit is exceeded)."""
-    import json
     import math
 
     from ..dynamics.analysis import dynamics_plots, run_dynamics
-    from ..io.atomic import write_text_atomic
-    from .common import to_jsonable
+    from ..io.jsonout import write_json
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     settings = _dynamics_settings(src, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse,
@@ -165,7 +163,7 @@ def dynamics(source: SourceArg = None,
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
     payload = {"source": src.where, "notes": src.notes, "dynamics": report}
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2))
+    write_json(report_path, payload)
     if as_json:
         print_json(payload)
     else:
@@ -283,11 +281,8 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
            no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Impact on a limit stop: force and first rebound against speed, least phase angle for an allowed
     amplitude (exit 1 when the rebound exceeds it)."""
-    import json
-
     from ..dynamics.analysis import impact_plots, run_impact
-    from ..io.atomic import write_text_atomic
-    from .common import to_jsonable
+    from ..io.jsonout import write_json
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     model = _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, ratio, allowed)
@@ -300,7 +295,7 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
     payload = {"source": src.where, "notes": src.notes, "impact": report}
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2))
+    write_json(report_path, payload)
     if as_json:
         print_json(payload)
     else:

@@ -9,7 +9,7 @@ import typer
 
 from . import app
 from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
-                     PhasesOpt, ReturnStandardOpt, SourceArg, StandardOpt, XDegOpt, console, print_json)
+                     PhasesOpt, ReturnStandardOpt, SourceArg, StandardOpt, XDegOpt, console, output_dir, print_json)
 
 #: harmonic counts at which the sampled max error is reported (and the least N, when --tol is given)
 _MAX_ERROR_AT = (1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024)
@@ -122,17 +122,14 @@ def spectrum(
         outcome = _apply(law, filter_settings, wants_filter)
         payload.update(outcome.report())
 
-    out_dir = output if output is not None else Path("camcad-out") / name
+    out_dir = output_dir(output, name)
     outputs = _write_outputs(out_dir, law, result, resonance, outcome, payload, rms, max_err, tol, no_plots, r12, name)
     payload_out = {"source": name, "notes": notes, "spectrum": payload, "outputs": [str(p) for p in outputs]}
-    from ..io.atomic import write_text_atomic
-    import json
-
-    from .common import to_jsonable
+    from ..io.jsonout import write_json
 
     report_path = out_dir / "spectrum.json"
     payload_out["outputs"].append(str(report_path))
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload_out), indent=2) + "\n")
+    write_json(report_path, payload_out)
     if as_json:
         print_json(payload_out)
     else:

@@ -20,3 +20,12 @@ def to_jsonable(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
+
+
+def write_json(path, payload) -> "Path":
+    """``payload`` as indented JSON, written atomically (camcad.io.atomic)."""
+    import json
+
+    from .atomic import write_text_atomic
+
+    return write_text_atomic(path, json.dumps(to_jsonable(payload), indent=2) + "\n")

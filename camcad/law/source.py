@@ -211,6 +211,8 @@ def law_problem(curve: Curve) -> str:
     points = curve.points
     if curve.closed:
         return "it is closed"
+    if len(points) < 3:
+        return f"it has {len(points)} vertices; a law needs at least 3"
     distinct = _dedupe_mask(points)
     if int(distinct.sum()) < 3:
         return f"it has {int(distinct.sum())} distinct vertices; a law needs at least 3"

@@ -131,7 +131,7 @@ def plot_impact_response(impacts, stop, path: Path, title: str = "") -> Path:
             continue
         ax.plot(impact.time * 1e3, impact.q_mm, lw=1.0, label=f"{impact.rpm:g} rpm, rebound {impact.rebound_mm:.4g} mm")
         ax.plot(impact.rebound_at_s * 1e3, -impact.rebound_mm, "k.", ms=5)
-    ax.axvspan(0.0, 2.0 * stop.pulse_s * 1e3, color="#eeeeee", zorder=0, label=f"impact pulse 2τ")
+    ax.axvspan(0.0, 2.0 * stop.pulse_s * 1e3, color="#eeeeee", zorder=0, label="impact pulse 2τ")
     ax.axhline(-stop.preload_mm, color="tab:red", ls="--", lw=0.8, label=f"preload {stop.preload_mm:g} mm")
     ax.axhline(0.0, color="grey", lw=0.6)
     ax.set_xlabel("time after contact, ms")

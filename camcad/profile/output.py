@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import io
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 
-from ..io.jsonout import to_jsonable
+from ..io.jsonout import write_json
 from ..io.atomic import write_text_atomic
 from ..io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
 from .followers import describe_law, describe_phases
@@ -130,7 +129,7 @@ def write_outputs(result: ProfileResult, outdir: str | Path, settings: ProfileSe
     payload["outputs"] = [str(p) for p in written]
     if extra:
         payload.update(extra)
-    write_text_atomic(report_path, json.dumps(to_jsonable(payload), indent=2) + "\n")
+    write_json(report_path, payload)
     return written
 
 
