@@ -20,42 +20,21 @@ from .common import JSON_OPTION, NO_PLOTS_OPTION
 LAW_SUFFIXES = (".dxf", ".csv", ".txt")
 
 
-def _phase_widths(text: str, cycle_deg: float) -> list[tuple[str, float]]:
-    """"0:120:rise,120:180:dwell,..." (SPEC.md) → [("rise", 120), ("dwell", 60), ...]."""
-    widths = []
-    expected = 0.0
-    for number, part in enumerate(p.strip() for p in text.split(",") if p.strip()):
-        pieces = part.split(":")
-        if len(pieces) != 3:
-            raise CamcadError(f"phase {number + 1} '{part}' is not start:end:kind", "--phases",
-                              'write e.g. --phases "0:120:rise,120:180:dwell,180:300:return,300:360:dwell"')
-        try:
-            start, end = float(pieces[0]), float(pieces[1])
-        except ValueError:
-            raise CamcadError(f"phase '{part}' has a start or end that is not a number", "--phases",
-                              "give angles in deg") from None
-        kind = pieces[2].strip()
-        if kind not in ("rise", "return", "dwell"):
-            raise CamcadError(f"phase kind '{kind}' is unknown", "--phases", "use rise, return or dwell")
-        if abs(start - expected) > 1e-9 or not end > start:
-            raise CamcadError(f"phase '{part}' does not start where the previous one ended ({expected:g} deg)",
-                              "--phases", "list the phases in order, without gaps or overlaps")
-        widths.append((kind, end - start))
-        expected = end
-    if abs(expected - cycle_deg) > 1e-9:
-        raise CamcadError(f"the phases end at {expected:g} deg, not at the cycle {cycle_deg:g} deg", "--phases",
-                          "make the last phase end at the cycle")
-    return widths
-
-
 def _standard_law(phases: str | None, lift: float | None, rise_law: str | None, return_law: str | None,
                   cycle_deg: float):
+    """The built-in law (defaults.py), with any of its phases, lift and shapes replaced by the options."""
+    import math
+
+    from ..law.phases import parse_phases
     from ..law.standard import compose, shape_named
     from ..profile import defaults
 
-    widths = _phase_widths(phases, cycle_deg) if phases else list(defaults.DEFAULT_PHASES_DEG)
-    if not phases and abs(cycle_deg - 360.0) > 1e-9:
+    if phases:
+        widths = [(p.kind, math.degrees(p.end - p.start)) for p in parse_phases(phases, cycle_deg)]
+    elif abs(cycle_deg - 360.0) > 1e-9:
         raise CamcadError("--cycle needs --phases for the built-in law", "--cycle", "give --phases too")
+    else:
+        widths = list(defaults.DEFAULT_PHASES_DEG)
     lift = defaults.DEFAULT_LIFT_MM if lift is None else lift
     if not lift > 0.0:
         raise CamcadError(f"lift must be positive, got {lift:g} mm", "--lift", "give --lift in mm")
@@ -73,13 +52,10 @@ def _standard_law(phases: str | None, lift: float | None, rise_law: str | None, 
 
 
 def _drawn_law(path: Path, layer, handle, cycle_deg, lift, phases):
-    try:
-        from ..law.source import load_law
-    except ImportError:
-        raise CamcadError("this camcad cannot read drawn laws yet (camcad.law.source is missing)", str(path),
-                          "run camcad profile without a law for the built-in design") from None
+    from ..law.source import load_law
+
     loaded = load_law(path, layer=layer, handle=handle, cycle_deg=cycle_deg, lift=lift, phases=phases)
-    return loaded.law, list(getattr(loaded, "notes", [])), str(getattr(loaded, "source", path))
+    return loaded.law, list(loaded.notes), loaded.source
 
 
 def _summary(payload: dict) -> None:
