@@ -268,6 +268,12 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
             start, hold = _resample(start, step_deg, hold)
         corrected, iterations = _vertex_mode(start, mode, method, tol, step_deg, segment_deg, hold,
                                              max_iterations, where)
+    if not np.any(np.abs(corrected.a) > zero_threshold(law.a)):
+        # too few points may move for the conditions: the only law they can balance is a = 0
+        raise CamcadError(f"mode {mode} can balance this law only by removing all its motion (every acceleration "
+                          f"goes to zero): the {len(law.x)}-vertex law has too few points it may move for its "
+                          f"{len(conditions(law))} balance conditions", where,
+                          "draw the law with more vertices on each lobe")
     after = check(corrected, tol)
     max_change, rms_change = difference_norms(law, corrected)
     return Correction(corrected, mode, method, before, after, max_change, rms_change, iterations,

@@ -69,6 +69,14 @@ from ..params import Field, read_table
 CLOSURE_TOLERANCE = BALANCE_TOLERANCE
 DEFAULT_SAMPLES = 16384
 SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+#: frequency path: a harmonic whose |D_k| = |ωn² − Ω_k² + 2iζωnΩ_k| is at most this fraction of ωn² is in
+#: resonance. The exact response there is unbounded (ζ = 0) and the computed one is ruled by the round-off
+#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is refused instead.
+RESONANCE_DETUNING = 1e-10
+#: time path: an eigenvalue λ of the monodromy matrix with |1 − λ| ≤ this × rtol is resonance. The shooting
+#: solve divides by 1 − λ, and the marched monodromy carries an error of the order of rtol, so the response
+#: would be ruled by integration error (measured: relative error ≈ 0.02–0.1 rtol/|1 − λ|, ≤ 1e-3 here).
+RESONANCE_GAP_PER_RTOL = 100.0
 
 
 def rpm_to_rad_s(rpm: float) -> float:
@@ -378,6 +386,13 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     wn, zeta = follower.omega_n, follower.damping_ratio
     big_omega = spectrum.orders * omega
     denominator = wn**2 - big_omega**2 + 2j * zeta * wn * big_omega
+    # the Nyquist term (the last) is dropped below, so its denominator does not matter
+    resonant = np.flatnonzero(np.abs(denominator[:-1]) <= RESONANCE_DETUNING * wn**2)
+    if len(resonant):
+        k = int(resonant[0])
+        raise CamcadError(f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in "
+                          f"resonance with harmonic {k} of the law at {rpm:g} rpm: no periodic steady state",
+                          "dynamics", "give a damping ratio > 0 or another speed")
     forcing = big_omega**2 * spectrum.coefficients
     f_grid = _external_on_grid(external, spectrum.theta)
     if external is not None:
@@ -495,9 +510,13 @@ def steady_state_time(law: MotionLaw, follower: ElasticFollower, rpm: float, *, 
     states, z_end = _march(model.rhs_with_monodromy, z0, theta, cuts, method, rtol, atol)
     monodromy = np.array([[z_end[2], z_end[4]], [z_end[3], z_end[5]]])
     system = np.eye(2) - monodromy
-    if np.linalg.cond(system) > 1e12:
-        raise CamcadError("the undamped follower is in resonance: no periodic steady state", "dynamics",
-                          "give a damping ratio > 0 or another speed")
+    # a free vibration that repeats itself after one cycle (an eigenvalue of the monodromy at 1) makes
+    # I − Φ singular; cond(I − Φ) does not see it, because I − Φ is then small as a whole
+    gap = float(np.min(np.abs(1.0 - np.linalg.eigvals(monodromy))))
+    if gap <= RESONANCE_GAP_PER_RTOL * rtol:
+        raise CamcadError(f"the follower is in resonance at {rpm:g} rpm (a free vibration repeats itself each "
+                          f"cycle within {gap:.2g}): no periodic steady state", "dynamics",
+                          "give a damping ratio > 0, another speed, or a tighter --rtol")
     start = np.linalg.solve(system, z_end[:2])
     x = states[0] + states[2] * start[0] + states[4] * start[1]
     xp = states[1] + states[3] * start[0] + states[5] * start[1]

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import CamcadError
 from .atomic import write_atomic, write_text_atomic
+from .dxf_write import lwpolyline_from_array, set_lwpolyline_rows
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 
@@ -38,11 +39,10 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
         if name not in doc.layers:
             doc.layers.add(name, color=color)
     msp = doc.modelspace()
-    points = [(float(t), float(a)) for t, a in zip(theta_deg, accel)]
     if r12:
-        msp.add_polyline2d(points, dxfattribs={"layer": layer})
+        msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)], dxfattribs={"layer": layer})
     else:
-        msp.add_lwpolyline(points, dxfattribs={"layer": layer})
+        lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": layer})
     msp.add_line((float(theta_deg[0]), 0.0), (float(theta_deg[-1]), 0.0), dxfattribs={"layer": "AXES"})
     height = max(float(np.ptp(accel)), 1e-9) * 0.04
     # plain ASCII without '^' (a caret starts a control code in DXF text)
@@ -112,7 +112,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
         if doc.dxfversion <= "AC1009":
             msp.add_polyline2d(points, dxfattribs={"layer": layer})
         else:
-            msp.add_lwpolyline(points, dxfattribs={"layer": layer})
+            lwpolyline_from_array(msp, np.column_stack((x_new, y_new)), dxfattribs={"layer": layer})
         why = "resampled" if resampled else f"{curve.kind} cannot take the corrected vertices in place"
         notes.append(f"the corrected law is a new polyline of {len(points)} vertices on layer {layer} ({why}); "
                      f"the original is on layer {ORIGINAL_LAYER} (off)")
@@ -156,7 +156,7 @@ def _move_vertices(curve, entities, xs: np.ndarray, ys: np.ndarray) -> None:
         for (x, y, *rest), wx, wy in zip(old, xs, ys):
             p = ocs.from_wcs((wx, wy, 0.0)) if ocs.transform else (wx, wy, 0.0)
             new.append((p[0], p[1], *rest))
-        entity.set_points(new, format="xyseb")
+        set_lwpolyline_rows(entity, new)
     elif kind == "POLYLINE":
         ocs = entity.ocs() if entity.is_2d_polyline else None
         for vertex, wx, wy in zip(entity.vertices, xs, ys):

@@ -18,7 +18,10 @@ C + L) and g_φ rises and falls again as the arm straightens: its peak is found 
 Brent search and the root on the rising side. For g_ρ the root found is the one inside the
 bracket. The result is rounded up by the solver's tolerance, so the design meets its limits.
 
-The accuracy knobs are ``xtol`` (mm, on Rb) and ``grid`` (points per cycle before refinement).
+The accuracy knobs are ``xtol`` (mm, on Rb; by default 1e-11 × the mechanism's size, stroke + Rr + |e|
+or the pivot's reach, so that a cam drawn at 1e-6 or 1e6 scale gets the same relative accuracy) and
+``grid`` (points per cycle before refinement). The other lengths of the search (its lower bound, first
+bracket and give-up bound) are fractions and multiples of that size too.
 """
 
 from __future__ import annotations
@@ -114,8 +117,9 @@ def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> f
     return _worst(margin, theta)
 
 
-def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float]:
-    """Geometric range of Rb: the pitch circle must clear the offset, or the arm must reach."""
+def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float, float]:
+    """Geometric range of Rb (mm): the pitch circle must clear the offset, or the arm must reach; and
+    the mechanism's size (mm) that scales the search."""
     theta = np.linspace(0.0, law.cycle, 1025)
     stroke = float(np.ptp(law.kinematics(theta).s))
     rr = follower.roller_radius
@@ -124,25 +128,27 @@ def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float]:
         span = c + arm - abs(c - arm)
         lo = max(abs(c - arm) - rr, 0.0) + 1e-7 * span
         hi = c + arm - rr - 1e-7 * span
-        return lo, hi
-    scale = stroke + rr + abs(follower.offset) + 1.0
-    lo = max(abs(follower.offset) - rr, 0.0) + 1e-7 * scale
-    return lo, math.inf
+        return lo, hi, span
+    size = (stroke + rr + abs(follower.offset)) or 1.0   # 1 mm only for a knife edge on a law without stroke
+    lo = max(abs(follower.offset) - rr, 0.0) + 1e-7 * size
+    return lo, math.inf, size
 
 
-def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str
+def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str, size: float
            ) -> tuple[float | None, str | None]:
-    """Smallest Rb in (lo, hi) with margin ≥ 0: lo itself if it passes, else the bracketed root."""
+    """Smallest Rb in (lo, hi) with margin ≥ 0: lo itself if it passes, else the bracketed root.
+
+    An open range (hi = inf) is bracketed by doubling from ``size`` (mm) up to 1e7 × size."""
     from scipy.optimize import brentq
 
     if margin_of_rb(lo) >= 0.0:
         return lo, f"{what}: met by any base radius above the geometric minimum {lo:.6g} mm"
     if math.isinf(hi):
-        hi = max(2.0 * lo, 1.0)
+        hi = max(2.0 * lo, size)
         while margin_of_rb(hi) < 0.0:
             hi *= 2.0
-            if hi > 1e7:
-                return None, f"{what}: no base radius up to 1e7 mm meets the limit"
+            if hi > 1e7 * size:
+                return None, f"{what}: no base radius up to {1e7 * size:.3g} mm meets the limit"
     elif margin_of_rb(hi) < 0.0:
         # oscillating follower: the margin rises, peaks and falls again as the arm straightens;
         # find the peak by a bounded Brent search, then the root on its rising side
@@ -159,7 +165,7 @@ def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str
     return rounded, None
 
 
-def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float = 1e-9, grid: int = 2048
+def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = None, grid: int = 2048
                     ) -> BaseRadiusDesign:
     """The smallest base radius (mm) meeting ``follower``'s pressure-angle limits and curvature limit.
 
@@ -181,19 +187,20 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float = 1e-9, g
         notes.append("flat face: pressure angle is 0 by construction")
         return BaseRadiusDesign(None, rb_rho, rb_rho, "curvature", tuple(notes))
 
-    lo, hi = _bounds(follower, law)
+    lo, hi, size = _bounds(follower, law)
+    xtol = 1e-11 * size if xtol is None else xtol
     limits_given = (follower.pressure_angle_limit_rise_deg is not None
                     or follower.pressure_angle_limit_return_deg is not None)
     rb_pa = None
     if limits_given:
         rb_pa, note = _solve(lambda rb: pressure_angle_margin(law, follower.with_base_radius(rb), one_lobe),
-                             lo, hi, xtol, "pressure angle")
+                             lo, hi, xtol, "pressure angle", size)
         if note:
             notes.append(note)
     else:
         notes.append("pressure angle: no limit given")
     rb_rho, note = _solve(lambda rb: curvature_margin(law, follower.with_base_radius(rb), one_lobe),
-                          lo, hi, xtol, "curvature")
+                          lo, hi, xtol, "curvature", size)
     if note:
         notes.append(note)
     found = [(rb, name) for rb, name in ((rb_pa, "pressure angle"), (rb_rho, "curvature")) if rb is not None]

@@ -392,10 +392,11 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
 
     reasons: list[str] = []
     if follower.kind == "flat":
-        rho_flat = profile.rho_convex_min
-        if profile.rho_concave_min is not None or (rho_flat is not None and rho_flat.value <= 0.0):
-            at = profile.rho_concave_min.at if profile.rho_concave_min else rho_flat.at
-            reasons.append(f"flat-face radius Rb + s + a <= 0 at {math.degrees(at):.3f} deg")
+        # the signed radius Rb + s + a is smooth, so its own minimum is found even where it dips below
+        # zero for less than a step of the analysis grid (the convex and concave minima cannot see that)
+        lowest = refine_min(lambda t: geometry.profile(t).rho, analysis, geometry.profile(analysis).rho)
+        if lowest is not None and lowest.value <= 0.0:
+            reasons.append(f"flat-face radius Rb + s + a <= 0 at {math.degrees(lowest.at):.3f} deg")
     elif rr > 0.0 and pitch.rho_convex_min is not None and pitch.rho_convex_min.value <= rr:
         reasons.append(f"convex pitch radius {pitch.rho_convex_min.value:.6g} mm <= Rr {rr:g} mm "
                        f"at {math.degrees(pitch.rho_convex_min.at):.3f} deg")
