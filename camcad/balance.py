@@ -188,6 +188,31 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
                          condition_names=tuple(c.name for c in conds))
 
 
+def trapezoid_residuals(law: PiecewiseLinearLaw, step_deg: float = DEFAULT_STEP_DEG,
+                        conds: tuple[Condition, ...] | None = None) -> np.ndarray:
+    """The balance conditions' residuals by the source's method: resample a with ``step_deg``, integrate
+    twice with the trapezoidal rule (``integrate_trapezoid``), read v and s at each condition's angle
+    (linear between grid points). Its error against ``check`` (exact) is O(step²); see the benchmark."""
+    conds = conditions(law) if conds is None else conds
+    grid, _, v, s = integrate_trapezoid(law.x, law.a, np.radians(step_deg))
+    return np.array([np.interp(cond.theta, grid, v if cond.quantity == "v" else s) for cond in conds])
+
+
+def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
+                       step_deg: float = DEFAULT_STEP_DEG) -> dict:
+    """The source's check (trapezoid at ``step_deg``) beside the exact one: its residuals, its verdict and
+    how far each residual is from the exact value (mm/rad for velocities, mm for the displacement)."""
+    if not (np.isfinite(step_deg) and step_deg > 0):
+        raise CamcadError(f"step {step_deg!r} deg must be positive", "--step", "give e.g. --step 0.1")
+    conds = conditions(law)
+    approximate = trapezoid_residuals(law, step_deg, conds)
+    exact = functional_rows(law.x, conds) @ law.a
+    limit = tol * _scale(law)
+    return {"step_deg": step_deg, "residuals": [float(r) for r in approximate],
+            "balanced": bool(np.all(np.abs(approximate) <= limit)),
+            "error_vs_exact": [float(e) for e in approximate - exact]}
+
+
 def _scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
     from .law.source import rise_displacement
@@ -477,9 +502,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
     searched with expanding trial steps until the residual changes sign, then by halving, and the
     conditions are swept in turn until all agree within the tolerance.
     """
-    step = np.radians(step_deg)
-    scale = _scale(law)
-    limit = tol * scale
+    limit = tol * _scale(law)
     moved = np.zeros(len(law.x), dtype=bool)
     moved[touched] = True
     if mode in ("min-change", "keypoints", "segment"):
@@ -490,9 +513,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
     a = law.a.copy()
 
     def residuals(values: np.ndarray) -> np.ndarray:
-        grid, _, v, s = integrate_trapezoid(law.x, values, step)
-        # the value at each condition's angle, linear between grid points
-        return np.array([np.interp(cond.theta, grid, v if cond.quantity == "v" else s) for cond in conds])
+        return trapezoid_residuals(law.with_ordinates(values), step_deg, conds)
 
     evaluations = 0
     for _sweep in range(200):

@@ -170,3 +170,30 @@ def test_tiny_and_huge_scales_balance_alike():
         scaled = balance.correct(law.with_ordinates(law.a * factor), "min-change")
         assert scaled.law.a == pytest.approx(base.law.a * factor, rel=1e-9, abs=1e-12 * factor * np.abs(law.a).max())
         assert np.max(np.abs(scaled.after.residuals)) <= 1e-9 * scaled.before.rise
+
+
+def test_source_check_by_trapezoid_is_within_its_error_bound():
+    # The source's check (seed 003): resample a with step h, trapezoid twice. Bounds derived here:
+    # - a grid that holds every knot integrates the polyline's v exactly (a is linear between grid points);
+    # - otherwise each knot of slope change Δm_k inside a cell moves the area by at most |Δm_k| h²/8, so
+    #   |error of v| ≤ Σ|Δm_k| h²/8 and |error of s| ≤ T Σ|Δm_k| h²/8 + T h² max|a'|/12 (trapezoid on v).
+    on_grid = _unbalanced_cycloidal(n=181)              # knots every 2 deg
+    for step in (0.4, 0.2, 0.1):
+        errors = balance.check_by_trapezoid(on_grid, step_deg=step)["error_vs_exact"]
+        assert max(abs(e) for e in errors[:-1]) < 1e-12
+    law = _unbalanced_cycloidal(n=203)                   # knots off every grid below
+    slopes = np.diff(law.a) / np.diff(law.x)
+    kinks = np.sum(np.abs(np.diff(slopes)))
+    period = law.cycle
+    for step in (0.4, 0.2, 0.1, 0.05):
+        h = np.radians(step)
+        errors = balance.check_by_trapezoid(law, step_deg=step)["error_vs_exact"]
+        assert max(abs(e) for e in errors[:-1]) <= kinks * h**2 / 8
+        assert abs(errors[-1]) <= period * kinks * h**2 / 8 + period * h**2 * np.abs(slopes).max() / 12
+
+
+def test_check_cli_reports_the_trapezoid_beside_the_exact(cli):
+    result = cli("check", SAMPLES / "law_table.csv", "--trapezoid", "--step", "0.5", "--json")
+    assert result.code == 1
+    trap = result.json()["trapezoid"]
+    assert trap["step_deg"] == 0.5 and len(trap["residuals"]) == len(result.json()["conditions"])

@@ -18,13 +18,19 @@ TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fr
 def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
           lift: LiftOpt = None, phases: PhasesOpt = None, x_deg: XDegOpt = False, tol: TolOpt = 1e-5,
           plot: Annotated[Optional[Path], typer.Option("--plot", help="Write a PNG of a, v, s with the areas.")] = None,
+          trapezoid: Annotated[bool, typer.Option("--trapezoid", help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
+          step: Annotated[float, typer.Option("--step", help="Resampling step of --trapezoid (deg).")] = 0.1,
           as_json: JsonOpt = False) -> None:
-    """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."""
+    """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
+    and with --trapezoid the source's resample-and-trapezoid check beside it."""
     from ..balance import check as balance_check
+    from ..balance import check_by_trapezoid
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
     report = balance_check(loaded.law, tol)
     payload = {"source": loaded.source, "notes": list(loaded.notes), **report.to_dict()}
+    if trapezoid:
+        payload["trapezoid"] = check_by_trapezoid(loaded.law, tol, step)
     if plot is not None:
         from ..plots.balance import plot_balance
 
@@ -136,6 +142,12 @@ def _print_report(payload: dict, loaded, fixed: bool = False) -> None:
     out.print(closures)
     out.print(f"rise {payload['rise']:.6g} mm, return {payload['return']:.6g} mm, tolerance {payload['tolerance_abs']:.3g} "
               f"(= {payload['tolerance']:g} x rise)")
+    if "trapezoid" in payload:
+        trap = payload["trapezoid"]
+        out.print(f"source's method (trapezoid, step {trap['step_deg']:g} deg): residuals "
+                  + ", ".join(f"{r:.3e}" for r in trap["residuals"])
+                  + f"; differs from exact by up to {max(abs(e) for e in trap['error_vs_exact']):.2e}; "
+                  + ("balanced" if trap["balanced"] else "not balanced"))
     if fixed:
         verdict = "balanced" if payload["after"]["balanced"] else "STILL NOT balanced"
         out.print(f"mode {payload['mode']} ({payload['method']}): max change {payload['max_change']:.4g}, "
