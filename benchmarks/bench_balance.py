@@ -7,7 +7,6 @@ Run: python benchmarks/bench_balance.py [--quick]
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +17,7 @@ from camcad import balance  # noqa: E402
 from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapezoid  # noqa: E402
 from camcad.law.phases import detect_phases  # noqa: E402
 from camcad.law.standard import compose  # noqa: E402
+from timing import median_time  # noqa: E402
 
 
 def drawn_law(vertices: int, seed: int = 0) -> PiecewiseLinearLaw:
@@ -31,14 +31,8 @@ def drawn_law(vertices: int, seed: int = 0) -> PiecewiseLinearLaw:
     return PiecewiseLinearLaw(theta, a, 2 * np.pi, detect_phases(theta, a, 2 * np.pi))
 
 
-def timed(fn, repeats: int):
-    times = []
-    result = None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times)), result
+def timed(function, repeats: int):
+    return median_time(function, repeats, warm_up=False)
 
 
 def run(quick: bool = False) -> list[dict]:

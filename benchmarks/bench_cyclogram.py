@@ -13,13 +13,12 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
-import time
 
 import numpy as np
 
 from camcad.cyclogram import (Constraint, Operation, constraints_of, find_conflict, longest_path_times,
                               make_network, optimise)
+from timing import median_time
 
 
 def random_network(events: int, seed: int):
@@ -45,13 +44,7 @@ def random_network(events: int, seed: int):
 
 
 def _median_time(function, repeats: int):
-    times = []
-    value = None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        value = function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), value
+    return median_time(function, repeats, warm_up=False)
 
 
 def run(quick: bool) -> list[dict]:

@@ -22,14 +22,13 @@ Run: python benchmarks/bench_fourier.py [--quick]
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 import numpy as np
 
 from camcad import fourier
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.standard import compose
+from timing import median_time  # noqa: E402
 
 LIFT = 25.0
 PHASES = [("dwell", 65.0), ("rise", 110.0), ("dwell", 115.0), ("return", 70.0)]
@@ -60,13 +59,7 @@ class Opaque:
 
 
 def _median_time(function, repeats: int):
-    function()  # warm-up: imports and caches are not part of the kernel's time
-    times, value = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        value = function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), value
+    return median_time(function, repeats, warm_up=True)
 
 
 def run(quick: bool) -> list[dict]:

@@ -12,9 +12,7 @@ Run: python benchmarks/bench_impact.py [--quick]
 from __future__ import annotations
 
 import math
-import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from camcad.dynamics.impact import triangular_pulse, triangular_pulse_response  # noqa: E402
+from timing import median_time  # noqa: E402
 
 MASS = 0.0075911          # kg, reduced mass of the lever (sample shuttle_lift.toml)
 F_STOP = 768.0            # Hz (published, seed 000)
@@ -55,13 +54,7 @@ def _integrate(method: str, rtol: float, t: np.ndarray) -> np.ndarray:
 
 
 def _timed(function, repeats: int):
-    function()
-    times, value = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        value = function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), value
+    return median_time(function, repeats, warm_up=True)
 
 
 def run(quick: bool = False) -> list[dict]:

@@ -53,10 +53,8 @@ import json
 import math
 import os
 import shutil
-import statistics
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +62,7 @@ from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from timing import median_time  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 VENV_DIR = HERE / ".peer-venv"
@@ -357,13 +356,8 @@ def run_peer(python: Path, steps: list[float], repeats: int, max_pressure_angle_
 # measurements
 # --------------------------------------------------------------------------------------------
 
-def timed(fn, repeats: int):
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
+def timed(function, repeats: int):
+    return median_time(function, repeats, warm_up=False)
 
 
 def camcad_case(phi_limit_deg: float | None = None):

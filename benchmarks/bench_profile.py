@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -24,16 +23,11 @@ from scipy.spatial import cKDTree
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from camcad.profile import ProfileSettings, default_design, synthesize  # noqa: E402
+from timing import median_time  # noqa: E402
 
 
-def timed(fn, repeats: int):
-    times = []
-    result = None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times)), result
+def timed(function, repeats: int):
+    return median_time(function, repeats, warm_up=False)
 
 
 def dense_path(vertices: np.ndarray, bulges: np.ndarray, step: float) -> np.ndarray:

@@ -34,20 +34,14 @@ from __future__ import annotations
 import csv
 import json
 import os
-import statistics
 import sys
 import tempfile
-import time
 import warnings
+from timing import median_time  # noqa: E402
 
 
-def timed(fn, repeats: int):
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
+def timed(function, repeats: int):
+    return median_time(function, repeats, warm_up=False)
 
 
 def read_coordinates(path: str) -> tuple[list[float], list[float]]:

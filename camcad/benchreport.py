@@ -28,6 +28,12 @@ def find_benchmarks() -> dict[str, Path]:
 
 
 def load_benchmark(name: str, path: Path):
+    import sys
+
+    # the benchmarks import their shared helpers (benchmarks/timing.py) as top-level modules
+    folder = str(path.parent)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
     spec = importlib.util.spec_from_file_location(f"camcad_bench_{name}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
