@@ -1681,6 +1681,13 @@ class FilterOutcome:
     band_amplitudes: dict = field(default_factory=dict)
     notes: tuple[str, ...] = ()
 
+    @property
+    def passed(self) -> bool:
+        """The dwells were kept within their tolerance, the written law closes and a lead-in balanced."""
+        return not ((self.filtered is not None and not self.filtered.dwells_kept)
+                    or (self.exported is not None and not self.exported.closed)
+                    or (self.lead_in is not None and not self.lead_in.balanced))
+
     def report(self) -> dict:
         out: dict = {"pipeline_notes": list(self.notes)} if self.notes else {}
         if self.filtered is not None:

@@ -213,14 +213,8 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
     outcome = fourier.apply_filter(run.law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
     run.law = outcome.law
     run.report["spectrum"] = {**outcome.report(), "natural_frequency_hz": fn,
-                              "passed": _filter_passed(outcome)}
+                              "passed": outcome.passed}
     run.ran.append("filter")
-
-
-def _filter_passed(outcome) -> bool:
-    return not ((outcome.filtered is not None and not outcome.filtered.dwells_kept)
-                or (outcome.exported is not None and not outcome.exported.closed)
-                or (outcome.lead_in is not None and not outcome.lead_in.balanced))
 
 
 def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):

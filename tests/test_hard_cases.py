@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import ezdxf
@@ -25,11 +25,12 @@ from camcad import balance
 from camcad.dynamics import impact, sdof
 from camcad.dynamics.sdof import ElasticFollower, rpm_to_rad_s
 from camcad.errors import CamcadError
-from camcad.law.law import Kinematics, PiecewiseLinearLaw, integrate_trapezoid
+from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
 from camcad.law.standard import compose
 from camcad.profile import Follower, ProfileSettings, report, synthesize
+from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 EPS = np.finfo(float).eps
@@ -615,20 +616,6 @@ def test_flat_face_undercut_boundary_just_inside_and_just_outside():
 
 
 # ------------------------------------------------------------------------------------ resonance, no damping
-
-@dataclass(frozen=True)
-class CosineLaw:
-    """s = (h/2)(1 − cos θ): one harmonic, so the steady state is a closed form."""
-
-    lift: float = 25.0
-    cycle: float = 2 * math.pi
-    phases: tuple = ()
-
-    def kinematics(self, theta):
-        theta = np.asarray(theta, dtype=float)
-        h = self.lift / 2
-        return Kinematics(theta, h * (1 - np.cos(theta)), h * np.sin(theta), h * np.cos(theta), -h * np.sin(theta))
-
 
 @pytest.mark.parametrize("detuning", [1e-3, -1e-3, 1e-6, -1e-6, 1e-9])
 def test_undamped_response_next_to_resonance_is_the_closed_form(detuning):

@@ -13,11 +13,6 @@ import typer
 from ..errors import CamcadError
 from ..io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
 
-# Typer annotations for the options that mean the same everywhere (SPEC.md).
-JSON_OPTION = typer.Option(False, "--json", help="Print one JSON object on stdout, nothing else.")
-NO_PLOTS_OPTION = typer.Option(False, "--no-plots", help="Do not write PNG plots.")
-
-
 def run_app(app: typer.Typer, argv: list[str]) -> int:
     """Run ``app`` on ``argv``; return the exit code. Bad input → one line on stderr and 2."""
     debug = "--debug" in argv
@@ -64,12 +59,16 @@ def print_json(payload: dict) -> None:
     print(json.dumps(to_jsonable(payload), indent=2))
 
 
-def emit(payload: dict, as_json: bool, render: Callable[[dict], None]) -> None:
-    """Print ``payload`` as JSON, or hand it to ``render`` for the human-readable form."""
+def finish(payload: dict, report_path: Path, as_json: bool, render: Callable[[dict], None], passed: bool) -> None:
+    """Write ``payload`` to ``report_path``, print it (JSON or ``render``), exit 0 when ``passed`` else 1."""
+    from ..io.jsonout import write_json
+
+    write_json(report_path, payload)
     if as_json:
         print_json(payload)
     else:
         render(payload)
+    raise typer.Exit(0 if passed else 1)
 
 
 # --- the law-choosing options (SPEC.md: the same meaning in every command) --------------------

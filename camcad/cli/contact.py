@@ -8,7 +8,7 @@ from typing import Annotated, Any
 import typer
 
 from . import app
-from .common import (JsonOpt, MechanismOpt, NoPlotsOpt, OutOpt, RpmOpt, SceneArg, console, output_dir,
+from .common import (JsonOpt, MechanismOpt, NoPlotsOpt, OutOpt, RpmOpt, SceneArg, console, finish, output_dir,
                      print_json)
 
 SamplesOpt = Annotated[int, typer.Option("--samples", help="Cam-angle samples per phase for the stress maximum.")]
@@ -20,7 +20,6 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
     """Hertz contact stress along the profile, safety factor against speed, separation and the least
     phase angle of each rise and return (exit 0 ok, 1 stress over [σ_H] or separation, 2 bad input)."""
     from ..errors import CamcadError
-    from ..io.jsonout import write_json
 
     if samples < 16:
         raise CamcadError(f"--samples {samples} is too few", "--samples", "give at least 16 per phase")
@@ -62,12 +61,7 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
     report_path = outdir / "contact.json"
     outputs.append(str(report_path))
     payload = {"scene": str(scene_file), "contact": summary, "skipped": skipped, "outputs": outputs}
-    write_json(report_path, payload)
-    if as_json:
-        print_json(payload)
-    else:
-        _print_contact(payload)
-    raise typer.Exit(0 if summary["passed"] else 1)
+    finish(payload, report_path, as_json, _print_contact, summary["passed"])
 
 
 def _progress(items, what: str, quiet: bool):

@@ -11,7 +11,7 @@ import typer
 from . import app
 from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
                      PhasesOpt, ReturnStandardOpt, RpmOpt, SourceArg, StandardOpt, XDegOpt, console,
-                     output_dir, print_json, progress_bar)
+                     finish, output_dir, progress_bar)
 
 ZetaOpt = Annotated[Optional[float], typer.Option("--zeta", help="Damping ratio ζ.")]
 
@@ -143,7 +143,6 @@ def dynamics(source: SourceArg = None,
     import math
 
     from ..dynamics.analysis import dynamics_plots, run_dynamics
-    from ..io.jsonout import write_json
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     settings = _dynamics_settings(src, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse,
@@ -163,12 +162,7 @@ def dynamics(source: SourceArg = None,
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
     payload = {"source": src.where, "notes": src.notes, "dynamics": report}
-    write_json(report_path, payload)
-    if as_json:
-        print_json(payload)
-    else:
-        _print_dynamics(payload)
-    raise typer.Exit(0 if report["passed"] else 1)
+    finish(payload, report_path, as_json, _print_dynamics, report["passed"])
 
 
 def _print_dynamics(payload: dict) -> None:
@@ -282,7 +276,6 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
     """Impact on a limit stop: force and first rebound against speed, least phase angle for an allowed
     amplitude (exit 1 when the rebound exceeds it)."""
     from ..dynamics.analysis import impact_plots, run_impact
-    from ..io.jsonout import write_json
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     model = _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, ratio, allowed)
@@ -295,12 +288,7 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
     payload = {"source": src.where, "notes": src.notes, "impact": report}
-    write_json(report_path, payload)
-    if as_json:
-        print_json(payload)
-    else:
-        _print_impact(payload, result)
-    raise typer.Exit(0 if passed else 1)
+    finish(payload, report_path, as_json, lambda p: _print_impact(p, result), passed)
 
 
 def _print_impact(payload: dict, result) -> None:

@@ -15,7 +15,7 @@ import typer
 
 from ..errors import CamcadError
 from . import app
-from .common import JSON_OPTION, NO_PLOTS_OPTION
+from .common import JsonOpt, NoPlotsOpt
 
 LAW_SUFFIXES = (".dxf", ".csv", ".txt")
 
@@ -129,8 +129,8 @@ def profile(
     r12: bool = typer.Option(False, "--r12", help="Write DXF R12 instead of R2000."),
     spline: bool = typer.Option(False, "--spline", help="Also write a closed control-point SPLINE."),
     arcs: bool = typer.Option(False, "--arcs", help="Write the profile as lines and tangent arcs (for CNC)."),
-    no_plots: bool = NO_PLOTS_OPTION,
-    as_json: bool = JSON_OPTION,
+    no_plots: NoPlotsOpt = False,
+    as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
     from ..pipeline import PipelineOptions

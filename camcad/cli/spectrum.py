@@ -9,7 +9,7 @@ import typer
 
 from . import app
 from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
-                     PhasesOpt, ReturnStandardOpt, SourceArg, StandardOpt, XDegOpt, console, output_dir, print_json)
+                     PhasesOpt, ReturnStandardOpt, SourceArg, StandardOpt, XDegOpt, console, finish, output_dir)
 
 #: harmonic counts at which the sampled max error is reported (and the least N, when --tol is given)
 _MAX_ERROR_AT = (1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024)
@@ -125,20 +125,10 @@ def spectrum(
     out_dir = output_dir(output, name)
     outputs = _write_outputs(out_dir, law, result, resonance, outcome, payload, rms, max_err, tol, no_plots, r12, name)
     payload_out = {"source": name, "notes": notes, "spectrum": payload, "outputs": [str(p) for p in outputs]}
-    from ..io.jsonout import write_json
-
     report_path = out_dir / "spectrum.json"
     payload_out["outputs"].append(str(report_path))
-    write_json(report_path, payload_out)
-    if as_json:
-        print_json(payload_out)
-    else:
-        _print(payload_out, result, resonance, settings.harmonics)
-    failed = outcome is not None and (
-        (outcome.filtered is not None and not outcome.filtered.dwells_kept)
-        or (outcome.exported is not None and not outcome.exported.closed)
-        or (outcome.lead_in is not None and not outcome.lead_in.balanced))
-    raise typer.Exit(1 if failed else 0)
+    finish(payload_out, report_path, as_json, lambda p: _print(p, result, resonance, settings.harmonics),
+           outcome is None or outcome.passed)
 
 
 def _apply(law, settings, wants_filter: bool):

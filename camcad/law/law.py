@@ -63,22 +63,6 @@ class MotionLaw(Protocol):
     def kinematics(self, theta: np.ndarray) -> Kinematics: ...
 
 
-def displacement(law: MotionLaw, theta) -> np.ndarray:
-    return law.kinematics(np.asarray(theta, dtype=float)).s
-
-
-def velocity(law: MotionLaw, theta) -> np.ndarray:
-    return law.kinematics(np.asarray(theta, dtype=float)).v
-
-
-def acceleration(law: MotionLaw, theta) -> np.ndarray:
-    return law.kinematics(np.asarray(theta, dtype=float)).a
-
-
-def jerk(law: MotionLaw, theta) -> np.ndarray:
-    return law.kinematics(np.asarray(theta, dtype=float)).j
-
-
 def wrap(theta, cycle: float) -> np.ndarray:
     """θ reduced to [0, cycle]; the cycle end itself is kept (not folded to 0) so s(cycle) is reachable."""
     theta = np.asarray(theta, dtype=float)
@@ -86,13 +70,6 @@ def wrap(theta, cycle: float) -> np.ndarray:
     # keep exact multiples > 0 at the end of the cycle: s(T) of an unbalanced law differs from s(0)
     at_end = (wrapped == 0.0) & (theta > 0.0)
     return np.where(at_end, cycle, wrapped)
-
-
-def lift_of(law: MotionLaw, samples: int = 4097) -> float:
-    """Total stroke max(s) − min(s) (mm), sampled at the knots' resolution of the law."""
-    theta = np.linspace(0.0, law.cycle, samples)
-    s = law.kinematics(theta).s
-    return float(s.max() - s.min())
 
 
 # --------------------------------------------------------------------------------------------
