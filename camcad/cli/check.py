@@ -71,7 +71,9 @@ def fix(law_file: LawArg,
         raise CamcadError("the output would overwrite the input", str(out), "give another name with -o")
     result = correct(loaded.law, mode, tol=tol, method=method, step_deg=step, segment_deg=segment_deg,
                      move=move_pair, max_stretch=max_stretch, where=str(law_file))
-    written, notes = _write(loaded, result, out)
+    from ..io.law_write import write_corrected
+
+    written, notes = write_corrected(loaded, result.law, out, resampled=result.resampled)
     payload = {
         "source": loaded.source, "notes": list(loaded.notes) + list(result.notes) + notes,
         **result.before.to_dict(),
@@ -91,25 +93,6 @@ def fix(law_file: LawArg,
     else:
         _print_report(payload, loaded, fixed=True)
     raise typer.Exit(0 if result.after.balanced else 1)
-
-
-def _write(loaded, result, out: Path):
-    from ..io.law_write import write_corrected_drawing, write_law_dxf
-
-    if loaded.curve is not None and out.suffix.lower() == ".dxf":
-        return write_corrected_drawing(loaded, result.law, out, resampled=result.resampled)
-    theta_deg = loaded.theta_to_x(result.law.x) if loaded.curve is not None else result.law.x * 180 / 3.141592653589793
-    accel = loaded.a_to_y(result.law.a)
-    if out.suffix.lower() == ".dxf":
-        return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
-    from ..io.atomic import write_atomic
-    from ..io.table_read import write_table
-
-    table = loaded.table
-    delimiter = table.delimiter if table is not None else ","
-    decimal_comma = table.decimal_comma if table is not None else False
-    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
-    return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
 
 
 def _print_report(payload: dict, loaded, fixed: bool = False) -> None:

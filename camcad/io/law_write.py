@@ -124,6 +124,33 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     return out, notes
 
 
+def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
+    """Save a corrected law the way ``camcad fix`` does, by the output's suffix and the input's kind.
+
+    - a law read from a drawing, saved as ``.dxf``: a corrected copy of the drawing
+      (``write_corrected_drawing``: every other entity kept, the original on CAMCAD_ORIGINAL);
+    - any law saved as ``.dxf`` otherwise: an acceleration polyline (``write_law_dxf``);
+    - anything else: a two-column table (θ in deg, a in the input's y units) in the input table's
+      dialect (delimiter, decimal comma) when the law came from a table, else comma-separated.
+
+    Returns the written path and notes saying what was written.
+    """
+    from .table_read import write_table
+
+    out = Path(out)
+    if loaded.curve is not None and out.suffix.lower() == ".dxf":
+        return write_corrected_drawing(loaded, law, out, resampled=resampled)
+    theta_deg = loaded.theta_to_x(law.x) if loaded.curve is not None else np.degrees(law.x)
+    accel = loaded.a_to_y(law.a)
+    if out.suffix.lower() == ".dxf":
+        return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
+    table = loaded.table
+    delimiter = table.delimiter if table is not None else ","
+    decimal_comma = table.decimal_comma if table is not None else False
+    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
+    return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
+
+
 def _drawing_coordinates(loaded, law) -> tuple[np.ndarray, np.ndarray]:
     """Drawing x, y of each law vertex; a vertex the correction did not move keeps its drawn coordinates
     bit for bit (no round trip through the angle mapping)."""
