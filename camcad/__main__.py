@@ -1,5 +1,5 @@
 """``python -m camcad`` is the ``camcad`` command."""
 
-from .cli import main
+from camcad.cli import main
 
 main()

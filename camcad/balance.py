@@ -36,9 +36,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import CamcadError
-from .law.law import Phase, PiecewiseLinearLaw, integrate_trapezoid, sample_piecewise_linear, uniform_grid
-from .law.phases import phase_integrals, sign_runs, zero_threshold
+from camcad.errors import CamcadError
+from camcad.law.law import Phase, PiecewiseLinearLaw, integrate_trapezoid, sample_piecewise_linear, uniform_grid
+from camcad.law.phases import phase_integrals, sign_runs, zero_threshold
 
 MODES = ("min-change", "extrema", "extrema-resample", "keypoints", "segment", "phase", "phase-keypoints")
 METHODS = ("exact", "iterate")
@@ -215,7 +215,7 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
 
 def _scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
-    from .law.source import rise_displacement
+    from camcad.law.source import rise_displacement
 
     rise = rise_displacement(law)
     if rise > 0:

@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import CamcadError
-from .params import Field, read_table
+from camcad.errors import CamcadError
+from camcad.params import Field, read_table
 
 # --------------------------------------------------------------------------------------------
 # Hertz line contact: pure formulas

@@ -29,8 +29,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import CamcadError
-from .params import Field, nearest_name, read_table
+from camcad.errors import CamcadError
+from camcad.params import Field, nearest_name, read_table
 
 # --------------------------------------------------------------------------------------------
 # Phase-angle limits: the least t with relation(t) <= limit, by root finding

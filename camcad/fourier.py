@@ -48,9 +48,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import CamcadError
-from .law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
-from .params import parse_speeds, Field, read_table
+from camcad.errors import CamcadError
+from camcad.law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
+from camcad.params import parse_speeds, Field, read_table
 
 EPS = float(np.finfo(float).eps)
 #: below this |z| the monomial moments E_m(z) are integrated by Gauss–Legendre, above by recurrence
@@ -357,7 +357,7 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     Cycloidal f = u − sin(2πu)/(2π); harmonic f = (1 − cos πu)/2; polynomials as they are. The
     decomposition is checked against ``shape.evaluate`` (orders 0 and 2) before it is trusted.
     """
-    from .law import standard
+    from camcad.law import standard
 
     two_pi = 2.0 * np.pi
     if isinstance(shape, standard.Cycloidal):
@@ -607,7 +607,7 @@ def tail_mean_square(positions: np.ndarray, deltas: np.ndarray, cycle: float, ha
 
 def exact_available(law) -> bool:
     """True when ``analyse`` can integrate the law exactly (drawn polyline, known composite, series)."""
-    from .law.standard import CompositeLaw
+    from camcad.law.standard import CompositeLaw
 
     if isinstance(law, (PiecewiseLinearLaw, FourierLaw)):
         return True
@@ -647,7 +647,7 @@ def analyse(law: MotionLaw, harmonics: int = 64, *, tol: float = 1e-9, method: s
 
 
 def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
-    from .law.standard import CompositeLaw
+    from camcad.law.standard import CompositeLaw
 
     cycle = law.cycle
     if isinstance(law, FourierLaw):
@@ -835,7 +835,7 @@ def motion_pattern(shape, name: str | None = None) -> MotionPattern:
 
 def pattern_database() -> dict[str, MotionPattern]:
     """The database: the normalised pattern of every standard shape that has an exact one."""
-    from .law.standard import SHAPES
+    from camcad.law.standard import SHAPES
 
     database = {}
     for name, shape in SHAPES.items():
@@ -950,7 +950,7 @@ def synthesise_standard(phases_deg, lift: float, tol: float, *, shape: str = "cy
     RMS error ≤ ``tol`` mm against the closed-form law, using the least number of harmonics that the
     Parseval prediction from the database allows; the accuracy reached is then measured.
     """
-    from .law.standard import compose
+    from camcad.law.standard import compose
 
     if not (np.isfinite(tol) and tol > 0):
         raise CamcadError(f"tolerance {tol!r} mm must be positive", "synthesis", "give e.g. 1e-3 mm")
@@ -1433,7 +1433,7 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     the balanced law rises further; ``keep_lift`` scales the whole law back to the original lift
     (the balance conditions are linear in a, so the scaled law stays balanced; the plateaus scale too).
     """
-    from . import balance
+    from camcad import balance
 
     if not (np.isfinite(angle_deg) and angle_deg > 0):
         raise CamcadError(f"lead-in angle {angle_deg!r} deg must be positive", where, "give e.g. 14 (deg)")
@@ -1569,7 +1569,7 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
     with its phases; for a filtered law this brings part of the removed harmonics back, which
     ``band_amplitudes`` measures.
     """
-    from . import balance
+    from camcad import balance
 
     polyline = acceleration_polyline(law, step_deg)
     kwargs = {} if tol is None else {"tol": tol}

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import CamcadError
+from camcad.errors import CamcadError
 
 _MISSING = object()
 

@@ -17,8 +17,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
-from .errors import CamcadError
-from .scene import Mechanism, Scene, mechanism_law, read_scene
+from camcad.errors import CamcadError
+from camcad.scene import Mechanism, Scene, mechanism_law, read_scene
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
 CONTACT_SAMPLES = 2000
@@ -74,7 +74,7 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
     group = bool(scene.mechanisms[0].prefix)
     outdir = options.output if options.output is not None else Path("camcad-out") / scene.name
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
-        from .cyclogram import parse_cyclogram
+        from camcad.cyclogram import parse_cyclogram
 
         parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]", [m.name for m in scene.mechanisms if m.prefix])
     runs = {}
@@ -88,7 +88,7 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
         for name, phases in retimed.items():
             mech = scene.mechanism(name)
             say(f"{name}: regenerating with the cyclogram's phase angles")
-            from .mechanism import law_with_phases
+            from camcad.mechanism import law_with_phases
 
             base = mechanism_law(scene, mech)
             new_law = law_with_phases(base.law, phases, mech.where(scene.path, "law"))
@@ -107,7 +107,7 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
     report_path = outdir / "report.json"
     outputs.append(report_path)
     report["outputs"] = [str(p) for p in outputs]
-    from .io.jsonout import write_json
+    from camcad.io.jsonout import write_json
 
     write_json(report_path, report)
     return SceneRun(report, tuple(outputs), bool(report["passed"]))
@@ -145,7 +145,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     if mech.has("follower"):
         say(f"{mech.name}: profile")
         run.profile = _profile(scene, mech, run.law, options)
-        from .profile import report as profile_report
+        from camcad.profile import report as profile_report
 
         run.report["profile"] = profile_report(run.profile)
         run.ran.append("profile")
@@ -177,7 +177,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
         if run.profile is not None:
-            from .mechanism import PRESSURE_SAMPLES, pressure_angle_limits
+            from camcad.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
 
             for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
                                                       mech.where(scene.path, "follower"), PRESSURE_SAMPLES).items():
@@ -191,7 +191,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
 
 
 def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
-    from . import fourier
+    from camcad import fourier
 
     settings = fourier.parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
     if not settings.enabled:
@@ -199,7 +199,7 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
         return
     fn = settings.fn_hz
     if fn is None and mech.has("dynamics"):
-        from .dynamics.sdof import parse_dynamics
+        from camcad.dynamics.sdof import parse_dynamics
 
         fn = parse_dynamics(mech.sections["dynamics"], mech.where(scene.path, "dynamics"),
                             math.degrees(run.law.cycle)).follower.natural_frequency_hz
@@ -218,8 +218,8 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
 
 
 def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
-    from .profile import ProfileSettings, synthesize
-    from .profile.followers import parse_follower, swing_law, swing_of
+    from camcad.profile import ProfileSettings, synthesize
+    from camcad.profile.followers import parse_follower, swing_law, swing_of
 
     where = mech.where(scene.path, "follower")
     follower = parse_follower(mech.sections["follower"], where)
@@ -231,13 +231,13 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
 
 def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
-    from .dynamics.analysis import run_dynamics
-    from .dynamics.sdof import parse_dynamics
+    from camcad.dynamics.analysis import run_dynamics
+    from camcad.dynamics.sdof import parse_dynamics
 
     settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
     lead = None
     if mech.has("filter"):
-        from .fourier import parse_filter
+        from camcad.fourier import parse_filter
 
         filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
         if filt.lead_in_deg is not None and "filter" not in run.ran:
@@ -247,8 +247,8 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
 
 
 def _impact(scene, mech, run, speeds, options, where, limits) -> None:
-    from .dynamics.analysis import run_impact
-    from .dynamics.impact import parse_stops
+    from camcad.dynamics.analysis import run_impact
+    from camcad.dynamics.impact import parse_stops
 
     model = parse_stops(mech.sections["stops"], where)
     run.impact = run_impact(run.law, model, speeds)
@@ -256,7 +256,7 @@ def _impact(scene, mech, run, speeds, options, where, limits) -> None:
 
 
 def _contact(scene, mech, run, speeds, options, where, limits) -> None:
-    from .mechanism import mechanism_contact
+    from camcad.mechanism import mechanism_contact
 
     report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
                                                 with_limits=limits)
@@ -270,8 +270,8 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
 
 def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
     """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
-    from .cyclogram import PhaseLimit, format_phases, optimise, parse_cyclogram
-    from .mechanism import cyclogram_limits, retimed_phases
+    from camcad.cyclogram import PhaseLimit, format_phases, optimise, parse_cyclogram
+    from camcad.mechanism import cyclogram_limits, retimed_phases
 
     network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
                               [m.name for m in scene.mechanisms if m.prefix])
@@ -301,7 +301,7 @@ def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
 
 
 def _phases_text(phases) -> str:
-    from .cyclogram import format_phases
+    from camcad.cyclogram import format_phases
 
     return format_phases(phases)
 
@@ -313,26 +313,26 @@ def _phases_text(phases) -> str:
 def _write(run: MechanismRun, folder: Path, options: PipelineOptions) -> list[Path]:
     written: list[Path] = []
     if run.profile is not None:
-        from .profile import write_outputs
+        from camcad.profile import write_outputs
 
         written.extend(p for p in write_outputs(run.profile, folder) if p.name != "report.json")
         (folder / "report.json").unlink(missing_ok=True)  # the scene's one report.json holds it
     else:
-        from .io.law_write import write_law_csv
+        from camcad.io.law_write import write_law_csv
 
         theta = _law_grid(run.law)
         written.append(write_law_csv(folder / "law.csv", run.law.kinematics(theta)))
     if options.plots:
         if run.dynamics is not None:
-            from .dynamics.analysis import dynamics_plots
+            from camcad.dynamics.analysis import dynamics_plots
 
             written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
         if run.impact is not None:
-            from .dynamics.analysis import impact_plots
+            from camcad.dynamics.analysis import impact_plots
 
             written.extend(impact_plots(run.impact, folder, run.name))
         if run.contact is not None:
-            from .plots.cyclogram import plot_contact_stress, plot_safety_versus_speed
+            from camcad.plots.cyclogram import plot_contact_stress, plot_safety_versus_speed
 
             at_worst, sweep = run.contact
             written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))

@@ -32,7 +32,7 @@ def _register_commands() -> None:
 
 def main(argv: list[str] | None = None) -> None:
     """Entry point: run the app, turn every user-facing failure into one line and exit code 2."""
-    from .common import run_app
+    from camcad.cli.common import run_app
 
     _register_commands()
     sys.exit(run_app(app, sys.argv[1:] if argv is None else argv))

@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from . import app
-from .common import JsonOpt, NoPlotsOpt, OutOpt, console, output_dir, print_json
+from camcad.cli import app
+from camcad.cli.common import JsonOpt, NoPlotsOpt, OutOpt, console, output_dir, print_json
 
 
 @app.command()
@@ -20,10 +20,10 @@ def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings an
     import contextlib
     import io
 
-    from ..benchreport import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
-    from ..errors import CamcadError
-    from ..io.atomic import write_text_atomic
-    from ..io.jsonout import write_json
+    from camcad.benchreport import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
+    from camcad.errors import CamcadError
+    from camcad.io.atomic import write_text_atomic
+    from camcad.io.jsonout import write_json
 
     found = find_benchmarks()
     if only:

@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from . import app
-from .common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, PhasesOpt, XDegOpt, console,
+from camcad.cli import app
+from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, PhasesOpt, XDegOpt, console,
                      load_law_from_options, parse_pair, print_json)
 
 TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")]
@@ -23,8 +23,8 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
     and with --trapezoid the source's resample-and-trapezoid check beside it."""
-    from ..balance import check as balance_check
-    from ..balance import check_by_trapezoid
+    from camcad.balance import check as balance_check
+    from camcad.balance import check_by_trapezoid
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
     report = balance_check(loaded.law, tol)
@@ -32,7 +32,7 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
     if trapezoid:
         payload["trapezoid"] = check_by_trapezoid(loaded.law, tol, step)
     if plot is not None:
-        from ..plots.balance import plot_balance
+        from camcad.plots.balance import plot_balance
 
         payload["plot"] = str(plot_balance(loaded.law, report, plot, title=law_file.name))
     if as_json:
@@ -57,8 +57,8 @@ def fix(law_file: LawArg,
         no_plots: Annotated[bool, typer.Option("--no-plots", help="Do not write the PNG beside the output.")] = False,
         as_json: JsonOpt = False) -> None:
     """Correct an unbalanced law with the smallest change and write a corrected copy of the drawing."""
-    from ..balance import correct
-    from ..errors import CamcadError
+    from camcad.balance import correct
+    from camcad.errors import CamcadError
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
     segment_deg = parse_pair(segment, "--segment", "60:180") if segment else None
@@ -71,7 +71,7 @@ def fix(law_file: LawArg,
         raise CamcadError("the output would overwrite the input", str(out), "give another name with -o")
     result = correct(loaded.law, mode, tol=tol, method=method, step_deg=step, segment_deg=segment_deg,
                      move=move_pair, max_stretch=max_stretch, where=str(law_file))
-    from ..io.law_write import write_corrected
+    from camcad.io.law_write import write_corrected
 
     written, notes = write_corrected(loaded, result.law, out, resampled=result.resampled)
     payload = {
@@ -83,7 +83,7 @@ def fix(law_file: LawArg,
         "after": result.after.to_dict(),
     }
     if not no_plots:
-        from ..plots.balance import plot_balance
+        from camcad.plots.balance import plot_balance
 
         payload["plot"] = str(plot_balance(loaded.law, result.before, written.with_suffix(".png"),
                                            corrected=result.law, after=result.after,

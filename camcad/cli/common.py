@@ -10,8 +10,8 @@ from typing import Annotated, Callable, Optional
 
 import typer
 
-from ..errors import CamcadError
-from ..io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
+from camcad.errors import CamcadError
+from camcad.io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
 
 def run_app(app: typer.Typer, argv: list[str]) -> int:
     """Run ``app`` on ``argv``; return the exit code. Bad input → one line on stderr and 2."""
@@ -61,7 +61,7 @@ def print_json(payload: dict) -> None:
 
 def finish(payload: dict, report_path: Path, as_json: bool, render: Callable[[dict], None], passed: bool) -> None:
     """Write ``payload`` to ``report_path``, print it (JSON or ``render``), exit 0 when ``passed`` else 1."""
-    from ..io.jsonout import write_json
+    from camcad.io.jsonout import write_json
 
     write_json(report_path, payload)
     if as_json:
@@ -88,7 +88,7 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object on 
 def load_law_from_options(path: Path, layer: str | None, handle: str | None, cycle: float, lift: float | None,
                           phases: str | None, x_deg: bool = False):
     """Read the law as the common options say (see camcad.law.source.load_law)."""
-    from ..law.source import load_law
+    from camcad.law.source import load_law
 
     return load_law(path, layer=layer, handle=handle, cycle_deg=cycle, lift=lift, phases=phases, x_deg=x_deg)
 
@@ -154,7 +154,7 @@ class LawSource:
 
     def speeds(self, rpm_option: str | None) -> list[float] | None:
         """--rpm when given, else the scene's [machine] rpm, else None."""
-        from ..params import parse_speeds
+        from camcad.params import parse_speeds
 
         if rpm_option is not None:
             return parse_speeds(rpm_option, "--rpm")
@@ -170,7 +170,7 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
     if source is not None and standard is not None:
         raise CamcadError("both a file and --standard given", "command line", "give one law source")
     if source is not None and source.suffix.lower() == ".toml":
-        from ..scene import mechanism_law, read_scene
+        from camcad.scene import mechanism_law, read_scene
 
         scene = read_scene(source)
         if mechanism is None:
@@ -185,12 +185,12 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
         name = mech.name if len(scene.mechanisms) > 1 or mech.prefix else scene.name
         return LawSource(built.law, name, str(source), built.notes, scene, mech, built.loaded)
     if standard is not None:
-        from ..law.section import LawSpec, build_law
+        from camcad.law.section import LawSpec, build_law
 
         if phases is None or lift is None:
             raise CamcadError("a standard law needs its phases and lift", "--standard",
                               'add --phases "0:90:dwell,90:180:rise,180:270:dwell,270:360:return" --lift 25')
-        from ..law.standard import SHAPES
+        from camcad.law.standard import SHAPES
 
         for option, shape in (("--standard", standard), ("--return-standard", return_standard)):
             if shape is not None and shape not in SHAPES:

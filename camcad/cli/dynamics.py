@@ -8,8 +8,8 @@ from typing import Annotated, Any, Callable, Optional
 
 import typer
 
-from . import app
-from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
+from camcad.cli import app
+from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
                      PhasesOpt, ReturnStandardOpt, RpmOpt, SourceArg, StandardOpt, XDegOpt, console,
                      finish, output_dir, progress_bar)
 
@@ -22,8 +22,8 @@ ZetaOpt = Annotated[Optional[float], typer.Option("--zeta", help="Damping ratio 
 
 def _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism):
     """The law and the speeds the command runs at (--rpm, else the scene's [machine] rpm)."""
-    from ..errors import CamcadError
-    from .common import resolve_source
+    from camcad.errors import CamcadError
+    from camcad.cli.common import resolve_source
 
     src = resolve_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism)
     speeds = src.speeds(rpm)
@@ -53,8 +53,8 @@ def _dynamics_settings(src, fn: float | None, zeta: float | None, psi: float | N
     import math
     from dataclasses import replace
 
-    from ..dynamics.sdof import DynamicsSettings, ElasticFollower, damping_ratio_from_psi, parse_dynamics
-    from ..errors import CamcadError
+    from camcad.dynamics.sdof import DynamicsSettings, ElasticFollower, damping_ratio_from_psi, parse_dynamics
+    from camcad.errors import CamcadError
 
     if src.section("dynamics") is not None:
         settings = parse_dynamics(src.section("dynamics"), src.section_where("dynamics"),
@@ -95,7 +95,7 @@ def _dynamics_settings(src, fn: float | None, zeta: float | None, psi: float | N
 
 def _lead_in_request(option: str | None, src) -> tuple[float, float] | None:
     """(angle deg, fraction) from --lead-in DEG[:FRACTION], else from the scene's [filter] lead-in, else None."""
-    from ..errors import CamcadError
+    from camcad.errors import CamcadError
 
     if option is not None:
         parts = option.split(":")
@@ -110,7 +110,7 @@ def _lead_in_request(option: str | None, src) -> tuple[float, float] | None:
         return angle, fraction
     table = src.section("filter")
     if isinstance(table, dict) and "lead_in_deg" in table:
-        from ..fourier import parse_filter
+        from camcad.fourier import parse_filter
 
         settings = parse_filter(table, src.section_where("filter"))
         return settings.lead_in_deg, settings.lead_in_fraction
@@ -142,14 +142,14 @@ def dynamics(source: SourceArg = None,
     (exit 1 when a given limit is exceeded)."""
     import math
 
-    from ..dynamics.analysis import dynamics_plots, run_dynamics
+    from camcad.dynamics.analysis import dynamics_plots, run_dynamics
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     settings = _dynamics_settings(src, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse,
                                   max_ratio, max_error, max_residual)
     other = None
     if compare is not None:
-        from .common import load_law_from_options
+        from camcad.cli.common import load_law_from_options
 
         other = load_law_from_options(compare, None, None, math.degrees(src.law.cycle), None, None).law
     run = _run_with_progress(not as_json, len(src.speed_list), "dynamics", lambda callback: run_dynamics(
@@ -168,7 +168,7 @@ def dynamics(source: SourceArg = None,
 def _print_dynamics(payload: dict) -> None:
     from rich.table import Table
 
-    from ..dynamics.sdof import OUTPUT_UNITS
+    from camcad.dynamics.sdof import OUTPUT_UNITS
 
     out = console()
     d = payload["dynamics"]
@@ -221,8 +221,8 @@ def _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, rat
     import math
     from dataclasses import replace
 
-    from ..dynamics.impact import StopModel, parse_stops
-    from ..errors import CamcadError
+    from camcad.dynamics.impact import StopModel, parse_stops
+    from camcad.errors import CamcadError
 
     if src.scene is not None:
         if src.section("stops") is None:
@@ -275,7 +275,7 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
            no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Impact on a limit stop: force and first rebound against speed, least phase angle for an allowed
     amplitude (exit 1 when the rebound exceeds it)."""
-    from ..dynamics.analysis import impact_plots, run_impact
+    from camcad.dynamics.analysis import impact_plots, run_impact
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     model = _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, ratio, allowed)

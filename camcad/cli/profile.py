@@ -13,9 +13,9 @@ from typing import Optional
 
 import typer
 
-from ..errors import CamcadError
-from . import app
-from .common import JsonOpt, NoPlotsOpt
+from camcad.errors import CamcadError
+from camcad.cli import app
+from camcad.cli.common import JsonOpt, NoPlotsOpt
 
 LAW_SUFFIXES = (".dxf", ".csv", ".txt")
 
@@ -25,9 +25,9 @@ def _standard_law(phases: str | None, lift: float | None, rise_law: str | None, 
     """The built-in law (defaults.py), with any of its phases, lift and shapes replaced by the options."""
     import math
 
-    from ..law.phases import parse_phases
-    from ..law.standard import compose, shape_named
-    from ..profile import defaults
+    from camcad.law.phases import parse_phases
+    from camcad.law.standard import compose, shape_named
+    from camcad.profile import defaults
 
     if phases:
         widths = [(p.kind, math.degrees(p.end - p.start)) for p in parse_phases(phases, cycle_deg)]
@@ -52,7 +52,7 @@ def _standard_law(phases: str | None, lift: float | None, rise_law: str | None, 
 
 
 def _drawn_law(path: Path, layer, handle, cycle_deg, lift, phases):
-    from ..law.source import load_law
+    from camcad.law.source import load_law
 
     loaded = load_law(path, layer=layer, handle=handle, cycle_deg=cycle_deg, lift=lift, phases=phases)
     return loaded.law, list(loaded.notes), loaded.source
@@ -133,10 +133,10 @@ def profile(
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
-    from ..pipeline import PipelineOptions
-    from ..profile import (Follower, ProfileSettings, defaults, min_base_radius, report, swing_law, synthesize,
+    from camcad.pipeline import PipelineOptions
+    from camcad.profile import (Follower, ProfileSettings, defaults, min_base_radius, report, swing_law, synthesize,
                            write_outputs)
-    from .common import print_json
+    from camcad.cli.common import print_json
 
     notes: list[str] = []
     if target is not None and target.suffix.lower() == ".toml":
@@ -230,8 +230,8 @@ def profile(
 
 def _scene(path: Path, options, as_json: bool) -> None:
     """The scene pipeline with a progress line on stderr; exit 1 when any check of any model fails."""
-    from ..pipeline import run_scene
-    from .common import console, print_json
+    from camcad.pipeline import run_scene
+    from camcad.cli.common import console, print_json
 
     if as_json:
         result = run_scene(path, options)
@@ -248,7 +248,7 @@ def _scene_summary(report: dict) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from .common import console
+    from camcad.cli.common import console
 
     out = console()
     out.print(escape(f"{report['name']} ({report['scene']})" + (f": {report['description']}"

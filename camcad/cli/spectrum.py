@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from . import app
-from .common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
+from camcad.cli import app
+from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LayerOpt, LiftOpt, MechanismOpt, NoPlotsOpt, OutOpt,
                      PhasesOpt, ReturnStandardOpt, SourceArg, StandardOpt, XDegOpt, console, finish, output_dir)
 
 #: harmonic counts at which the sampled max error is reported (and the least N, when --tol is given)
@@ -46,8 +46,8 @@ def spectrum(
     law is written (exit 1 when the dwells and lift cannot be kept within the tolerance)."""
     import numpy as np
 
-    from .. import fourier
-    from ..errors import CamcadError
+    from camcad import fourier
+    from camcad.errors import CamcadError
 
     if method not in ("auto", "exact", "fft"):
         raise CamcadError(f"unknown method {method!r}", "--method", "use auto, exact or fft")
@@ -132,13 +132,13 @@ def spectrum(
 
 
 def _apply(law, settings, wants_filter: bool):
-    from .. import fourier
+    from camcad import fourier
 
     return fourier.apply_filter(law, settings, where="--filter" if wants_filter else "--lead-in")
 
 
 def _merge(settings, **overrides):
-    from .. import fourier
+    from camcad import fourier
 
     base = settings if settings is not None else fourier.FilterSettings()
     given = {key: value for key, value in overrides.items() if value is not None}
@@ -147,8 +147,8 @@ def _merge(settings, **overrides):
 
 def _load(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism):
     """(law, name, notes, [filter] settings or None, fn from [dynamics] or None, rpm range or None)."""
-    from .. import fourier
-    from .common import resolve_source
+    from camcad import fourier
+    from camcad.cli.common import resolve_source
 
     src = resolve_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism)
     settings = None
@@ -156,7 +156,7 @@ def _load(source, standard, return_standard, phases, lift, layer, handle, cycle,
         settings = fourier.parse_filter(src.section("filter"), src.section_where("filter"))
     fn = None
     if src.section("dynamics") is not None:
-        from ..dynamics.sdof import parse_dynamics
+        from camcad.dynamics.sdof import parse_dynamics
 
         fn = parse_dynamics(src.section("dynamics"), src.section_where("dynamics")).follower.natural_frequency_hz
     speeds = src.speeds(None)
@@ -167,7 +167,7 @@ def _load(source, standard, return_standard, phases, lift, layer, handle, cycle,
 def _write_outputs(out_dir: Path, law, result, resonance, outcome, payload, rms, max_err, tol, no_plots, r12, name):
     import numpy as np
 
-    from ..io.atomic import write_text_atomic
+    from camcad.io.atomic import write_text_atomic
 
     outputs = []
     rows = ["k,amplitude_mm,phase_deg,accel_amplitude_mm_per_rad2,accel_phase_deg,gain"]
@@ -177,7 +177,7 @@ def _write_outputs(out_dir: Path, law, result, resonance, outcome, payload, rms,
                     f"{row['accel_phase_deg']:.10g},{gains.get(row['k'], 1.0):g}")
     outputs.append(write_text_atomic(out_dir / "spectrum.csv", "\n".join(rows) + "\n"))
     if outcome is not None:
-        from ..io.law_write import write_law_csv, write_law_dxf
+        from camcad.io.law_write import write_law_csv, write_law_dxf
 
         final = outcome.law
         title = f"camcad spectrum {name}: " + ("filtered" if outcome.filtered is not None else "") + \
@@ -186,11 +186,11 @@ def _write_outputs(out_dir: Path, law, result, resonance, outcome, payload, rms,
                                      r12=r12, title=title))
         outputs.append(write_law_csv(out_dir / "filtered.csv", final.kinematics(final.x)))
     if not no_plots:
-        from ..plots.spectrum import plot_filtered, plot_spectrum, plot_truncation
+        from camcad.plots.spectrum import plot_filtered, plot_spectrum, plot_truncation
 
         after = None
         if outcome is not None and outcome.filtered is not None:
-            from .. import fourier
+            from camcad import fourier
 
             after = fourier.analyse(outcome.filtered.law, len(result.coefficients))
         outputs.append(plot_spectrum(result, out_dir / "spectrum.png", band=resonance, filtered=after,

@@ -8,11 +8,11 @@
   and phase angle; the scene's ``[stops]`` section (``STOPS_FIELDS``, ``parse_stops``).
 """
 
-from .impact import (STOPS_FIELDS, Impact, ImpactSweep, ReboundRelation, StopModel, find_contact, impact_at,
+from camcad.dynamics.impact import (STOPS_FIELDS, Impact, ImpactSweep, ReboundRelation, StopModel, find_contact, impact_at,
                      impact_force, impact_impulse, impact_sweep, lever_stiffness, parse_stops, reduced_mass,
                      triangular_pulse_response)
-from .multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
-from .sdof import (DYNAMICS_FIELDS, DynamicsSettings, ElasticFollower, HalfSinePulse, LawSpectrum, Residual,
+from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
+from camcad.dynamics.sdof import (DYNAMICS_FIELDS, DynamicsSettings, ElasticFollower, HalfSinePulse, LawSpectrum, Residual,
                    Response, StartLoad, StiffnessTable, Sweep, cycloidal_residual_amplitude, damping_ratio_from_psi,
                    law_spectrum, parse_dynamics, residual_vibration, rpm_to_rad_s, start_loads, start_pulse,
                    steady_state, steady_state_frequency, steady_state_time, sweep, transient_time)

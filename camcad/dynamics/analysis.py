@@ -32,7 +32,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     lead_in: (angle deg, fraction) — compare with lead-in segments before each motion (camcad.fourier).
     compare: a second law whose start-of-motion load is compared.
     """
-    from .sdof import OUTPUT_UNITS, residual_vibration, sweep
+    from camcad.dynamics.sdof import OUTPUT_UNITS, residual_vibration, sweep
 
     follower = settings.follower
     fastest = max(speeds)
@@ -63,7 +63,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     if compare is not None:
         report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
     if lead_in is not None:
-        from ..fourier import add_lead_in
+        from camcad.fourier import add_lead_in
 
         angle, fraction = lead_in
         result_lead = add_lead_in(law, angle, fraction, where="lead-in")
@@ -87,8 +87,8 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
 
 def dynamics_plots(run: DynamicsRun, law, out_dir: Path, name: str) -> list[Path]:
     """Rigid vs elastic acceleration over the cycle, and the peak ratio against speed (several speeds)."""
-    from ..plots.dynamics import plot_acceleration_cycle, plot_speed_sweep
-    from .sdof import OUTPUT_UNITS
+    from camcad.plots.dynamics import plot_acceleration_cycle, plot_speed_sweep
+    from camcad.dynamics.sdof import OUTPUT_UNITS
 
     unit = OUTPUT_UNITS[run.settings.output_unit]
     responses = [run.sweep.responses[s] for s in run.keep]
@@ -111,7 +111,7 @@ class ImpactRun:
 def run_impact(law, model, speeds: list[float], *, progress: Callable | None = None) -> ImpactRun:
     """Impact on the limit stop over ``speeds`` (rpm): SPEC.md ``impact`` keys, the linearised rebound
     relation, the least phase angle for the allowed amplitude and ``passed``."""
-    from .impact import impact_sweep
+    from camcad.dynamics.impact import impact_sweep
 
     keep = sorted({speeds[0], max(speeds)})
     result = impact_sweep(law, model, speeds, keep=keep, progress=progress)
@@ -144,7 +144,7 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
 
 def impact_plots(run: ImpactRun, out_dir: Path, name: str) -> list[Path]:
     """Rebound and impact force against speed, and the lever's response after the impact."""
-    from ..plots.dynamics import plot_impact_response, plot_rebound
+    from camcad.plots.dynamics import plot_impact_response, plot_rebound
 
     return [plot_rebound(run.sweep, out_dir / "impact_rebound.png", run.model.allowed_amplitude_mm,
                          f"{name}: rebound and impact force against speed"),
@@ -159,7 +159,7 @@ def _one_or_list(values):
 
 def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
-    from .sdof import OUTPUT_UNITS, LoadSum, motion_phases, start_loads, start_pulse, steady_state
+    from camcad.dynamics.sdof import OUTPUT_UNITS, LoadSum, motion_phases, start_loads, start_pulse, steady_state
 
     unit = OUTPUT_UNITS[settings.output_unit]
     kwargs = dict(method=settings.method, samples=settings.samples, solver=settings.solver, rtol=settings.rtol)
@@ -196,8 +196,8 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
 
     import numpy as np
 
-    from .multimass import MultiMassModel, SpeedDrive, simulate
-    from .sdof import rpm_to_rad_s
+    from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
+    from camcad.dynamics.sdof import rpm_to_rad_s
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,

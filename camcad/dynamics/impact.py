@@ -49,10 +49,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..law.law import MotionLaw, Phase
-from ..params import Field, read_table
-from .sdof import rpm_to_rad_s
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw, Phase
+from camcad.params import Field, read_table
+from camcad.dynamics.sdof import rpm_to_rad_s
 
 STOP_SIDES = ("upper", "lower")
 

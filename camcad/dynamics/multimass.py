@@ -50,9 +50,9 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..law.law import MotionLaw
-from .sdof import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw
+from camcad.dynamics.sdof import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
 
 
 @dataclass(frozen=True)

@@ -58,10 +58,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..balance import DEFAULT_TOL as BALANCE_TOLERANCE
-from ..errors import CamcadError
-from ..law.law import MotionLaw, Phase
-from ..params import Field, read_table
+from camcad.balance import DEFAULT_TOL as BALANCE_TOLERANCE
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw, Phase
+from camcad.params import Field, read_table
 
 #: a law whose displacement or velocity does not return to its start within this fraction of the
 #: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same

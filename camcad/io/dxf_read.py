@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CamcadError
+from camcad.errors import CamcadError
 
 CURVE_TYPES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC")
 MAX_BLOCK_DEPTH = 16

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CamcadError
-from .atomic import write_atomic
+from camcad.errors import CamcadError
+from camcad.io.atomic import write_atomic
 
 DXF_VERSIONS = {"R12": "R12", "R2000": "R2000"}
 

@@ -26,6 +26,6 @@ def write_json(path, payload) -> "Path":
     """``payload`` as indented JSON, written atomically (camcad.io.atomic)."""
     import json
 
-    from .atomic import write_text_atomic
+    from camcad.io.atomic import write_text_atomic
 
     return write_text_atomic(path, json.dumps(to_jsonable(payload), indent=2) + "\n")

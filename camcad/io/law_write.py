@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CamcadError
-from .atomic import write_atomic, write_text_atomic
-from .dxf_write import lwpolyline_from_array, set_lwpolyline_rows
+from camcad.errors import CamcadError
+from camcad.io.atomic import write_atomic, write_text_atomic
+from camcad.io.dxf_write import lwpolyline_from_array, set_lwpolyline_rows
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 
@@ -74,7 +74,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     arcs, a block) or a resampled law is written as a new polyline on the curve's layer.
     Coordinates go back to drawing units: x = x_min + θ/cycle·(x_max − x_min), y = a / y_scale.
     """
-    from .dxf_read import open_drawing
+    from camcad.io.dxf_read import open_drawing
 
     out = Path(out)
     if loaded.curve is None:
@@ -135,7 +135,7 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
 
     Returns the written path and notes saying what was written.
     """
-    from .table_read import write_table
+    from camcad.io.table_read import write_table
 
     out = Path(out)
     if loaded.curve is not None and out.suffix.lower() == ".dxf":

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CamcadError
+from camcad.errors import CamcadError
 
 TABLE_SUFFIXES = (".csv", ".txt", ".tsv", ".dat", ".tab")
 

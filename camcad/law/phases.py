@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import CamcadError
-from .law import Phase, PiecewiseLinearLaw
+from camcad.errors import CamcadError
+from camcad.law.law import Phase, PiecewiseLinearLaw
 
 #: |a| at or below this fraction of max|a| counts as zero acceleration
 ZERO_FRACTION = 1e-6
@@ -158,7 +158,7 @@ def _first_lobe_sign(runs: list[tuple[int, float, float]], start: float, end: fl
 
 def _motion_law(x: np.ndarray, a: np.ndarray, start: float, end: float) -> PiecewiseLinearLaw:
     """The law restricted to [start, end], shifted to start at 0 from rest."""
-    from .law import sample_piecewise_linear
+    from camcad.law.law import sample_piecewise_linear
 
     inner = (x > start) & (x < end)
     xs = np.concatenate(([start], x[inner], [end]))
@@ -173,7 +173,7 @@ def _left_value(x: np.ndarray, a: np.ndarray, t: float) -> float:
     index = np.searchsorted(x, t, side="left")
     if index < len(x) and x[index] == t:
         return float(a[index])
-    from .law import sample_piecewise_linear
+    from camcad.law.law import sample_piecewise_linear
 
     return float(sample_piecewise_linear(x, a, np.array([t]))[0])
 
@@ -230,7 +230,7 @@ def phase_integrals(x: np.ndarray, a: np.ndarray, start: float, end: float) -> t
 
 def restrict(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
     """The polyline cut to [start, end], with interpolated end points (right value at a start jump)."""
-    from .law import sample_piecewise_linear
+    from camcad.law.law import sample_piecewise_linear
 
     inner = (x > start) & (x < end)
     xs = np.concatenate(([start], x[inner], [end]))

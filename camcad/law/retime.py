@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import CamcadError
-from .law import Phase, PiecewiseLinearLaw
-from .standard import CompositeLaw, Segment
+from camcad.errors import CamcadError
+from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.standard import CompositeLaw, Segment
 
 
 def retime(law, phases: tuple[Phase, ...], where: str = ""):
@@ -63,7 +63,7 @@ def _retime_polyline(law: PiecewiseLinearLaw, bounds: list[tuple[float, float]])
     Every phase boundary becomes a double knot, its left copy belonging to the phase before and
     its right copy to the phase after, so two neighbouring phases can scale differently.
     """
-    from .law import sample_piecewise_linear
+    from camcad.law.law import sample_piecewise_linear
 
     old = law.phases
     x, a = law.x, law.a

@@ -16,18 +16,18 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import CamcadError
-from ..params import Field, read_table
+from camcad.errors import CamcadError
+from camcad.params import Field, read_table
 
 
 def _shape_names() -> tuple[str, ...]:
-    from .standard import SHAPES
+    from camcad.law.standard import SHAPES
 
     return tuple(sorted(SHAPES))
 
 
 def law_fields() -> list[Field]:
-    from ..balance import DEFAULT_TOL, MODES
+    from camcad.balance import DEFAULT_TOL, MODES
 
     shapes = _shape_names()
     return [
@@ -102,8 +102,8 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
 
 def build_law(spec: LawSpec) -> BuiltLaw:
     """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
-    from .phases import parse_phases
-    from .standard import compose
+    from camcad.law.phases import parse_phases
+    from camcad.law.standard import compose
 
     if spec.standard is not None:
         phases = parse_phases(spec.phases, spec.cycle, where=f"{spec.where} phases")
@@ -114,8 +114,8 @@ def build_law(spec: LawSpec) -> BuiltLaw:
             raise CamcadError(str(err), spec.where, "give as many returns as rises, covering the cycle") from None
         name = spec.standard + (f"/{spec.return_standard}" if spec.return_standard else "")
         return BuiltLaw(law, (f"standard law {name}, lift {spec.lift:g}, phases {spec.phases}",))
-    from ..balance import check, correct
-    from .source import load_law
+    from camcad.balance import check, correct
+    from camcad.law.source import load_law
 
     loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle, cycle_deg=spec.cycle, lift=spec.lift,
                       phases=spec.phases, x_deg=spec.x_deg)

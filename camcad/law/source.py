@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..io.dxf_read import Curve, CurveSet, Drawing, collect_curves, open_drawing
-from ..io.table_read import TABLE_SUFFIXES, Table, read_table
-from .law import Phase, PiecewiseLinearLaw
-from .phases import detect_phases, parse_phases
+from camcad.errors import CamcadError
+from camcad.io.dxf_read import Curve, CurveSet, Drawing, collect_curves, open_drawing
+from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
+from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.phases import detect_phases, parse_phases
 
 #: relative tolerance (of the curve's x-range) below which x steps count as vertical or equal
 X_TOLERANCE = 1e-9

@@ -25,7 +25,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .law import Kinematics, Phase, wrap
+from camcad.law.law import Kinematics, Phase, wrap
 
 
 class RiseShape(Protocol):

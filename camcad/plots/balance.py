@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
-from . import pyplot
+from camcad.io.atomic import write_atomic
+from camcad.plots import pyplot
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 

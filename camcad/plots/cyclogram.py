@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
-from . import pyplot
+from camcad.io.atomic import write_atomic
+from camcad.plots import pyplot
 
 ACTIVE_COLOUR = "#c0392b"
 SLACK_COLOUR = "#2e86c1"

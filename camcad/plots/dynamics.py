@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.sdof import OUTPUT_UNITS
-from ..io.atomic import write_atomic
-from . import pyplot
+from camcad.dynamics.sdof import OUTPUT_UNITS
+from camcad.io.atomic import write_atomic
+from camcad.plots import pyplot
 
 
 def _save(fig, path: Path) -> Path:

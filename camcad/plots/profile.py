@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
-from . import pyplot
+from camcad.io.atomic import write_atomic
+from camcad.plots import pyplot
 
 PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
 FORBIDDEN = "#f4c7c3"

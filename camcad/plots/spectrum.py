@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
-from . import pyplot
+from camcad.io.atomic import write_atomic
+from camcad.plots import pyplot
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"

@@ -13,19 +13,19 @@ tolerance, tangent arcs, spline), ``design`` (smallest base radius), ``synth`` (
 report), ``output`` (files), ``defaults`` (the built-in design).
 """
 
-from .defaults import DEFAULT_NAME
-from .design import BaseRadiusDesign, min_base_radius
-from .followers import (FOLLOWER_FIELDS, FOLLOWER_KINDS, Follower, ScaledLaw, parse_follower, swing_law,
+from camcad.profile.defaults import DEFAULT_NAME
+from camcad.profile.design import BaseRadiusDesign, min_base_radius
+from camcad.profile.followers import (FOLLOWER_FIELDS, FOLLOWER_KINDS, Follower, ScaledLaw, parse_follower, swing_law,
                         swing_of)
-from .geometry import CamGeometry
-from .output import build_drawing, write_outputs
-from .synth import ProfileResult, ProfileSettings, report, synthesize
+from camcad.profile.geometry import CamGeometry
+from camcad.profile.output import build_drawing, write_outputs
+from camcad.profile.synth import ProfileResult, ProfileSettings, report, synthesize
 
 
 def default_design():
     """The built-in design of ``defaults``: (name, law, follower)."""
-    from ..law.standard import compose
-    from . import defaults
+    from camcad.law.standard import compose
+    from camcad.profile import defaults
 
     law = compose(defaults.DEFAULT_PHASES_DEG, defaults.DEFAULT_LIFT_MM, defaults.DEFAULT_RISE_SHAPE,
                   defaults.DEFAULT_RETURN_SHAPE)

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..law.law import MotionLaw
-from .followers import Follower
+from camcad.law.law import MotionLaw
+from camcad.profile.followers import Follower
 
 
 @dataclass(frozen=True)
@@ -84,7 +84,7 @@ def _worst(values_fn, theta: np.ndarray) -> float:
 
 def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
     """g_φ (rad) for ``follower`` as given (its Rb); +inf when no limit applies."""
-    from .geometry import CamGeometry
+    from camcad.profile.geometry import CamGeometry
 
     geometry = CamGeometry(law, follower)
 
@@ -98,7 +98,7 @@ def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray)
 
 def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
     """g_ρ (1/mm) for a roller follower as given (its Rb); +inf when nothing limits it."""
-    from .geometry import CamGeometry
+    from camcad.profile.geometry import CamGeometry
 
     geometry = CamGeometry(law, follower)
     reach = follower.roller_radius + (follower.rho_min or 0.0)
@@ -172,7 +172,7 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     ``law`` is in follower units (mm, or rad for the oscillating follower); the follower's own
     base radius is ignored. See the module docstring for the method and the guarantees.
     """
-    from .followers import law_breakpoints
+    from camcad.profile.followers import law_breakpoints
 
     one_lobe = np.union1d(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
     notes: list[str] = []

@@ -21,10 +21,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
-from ..params import Field, read_table
-from . import defaults
+from camcad.errors import CamcadError
+from camcad.law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
+from camcad.params import Field, read_table
+from camcad.profile import defaults
 
 FOLLOWER_KINDS = ("roller", "flat", "oscillating", "knife")
 

@@ -48,9 +48,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..law.law import Kinematics, MotionLaw
-from .followers import Follower, arm_angle_on_base_circle, law_breakpoints, merge_close
+from camcad.errors import CamcadError
+from camcad.law.law import Kinematics, MotionLaw
+from camcad.profile.followers import Follower, arm_angle_on_base_circle, law_breakpoints, merge_close
 
 
 def rotate(points: np.ndarray, angle: np.ndarray) -> np.ndarray:

@@ -36,8 +36,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import CamcadError
-from .geometry import CurveGeometry, cross, dot, perp
+from camcad.errors import CamcadError
+from camcad.profile.geometry import CurveGeometry, cross, dot, perp
 
 CurveFn = Callable[[np.ndarray], CurveGeometry]
 

@@ -16,13 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CamcadError
-from ..law.law import MotionLaw
-from . import defaults
-from .design import BaseRadiusDesign, min_base_radius
-from .followers import Follower, describe_law, describe_phases
-from .geometry import CamGeometry, rotate
-from .sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw
+from camcad.profile import defaults
+from camcad.profile.design import BaseRadiusDesign, min_base_radius
+from camcad.profile.followers import Follower, describe_law, describe_phases
+from camcad.profile.geometry import CamGeometry, rotate
+from camcad.profile.sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
 
 
 @dataclass(frozen=True)
