@@ -16,8 +16,10 @@ import math
 
 import numpy as np
 
-from camcad.cyclogram import (Constraint, Operation, constraints_of, find_conflict, longest_path_times,
-                              make_network, optimise)
+from camcad.cyclogram import Constraint, constraints_of
+from camcad.cyclogram.network import Operation, make_network
+from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+from camcad.cyclogram.lp import optimise
 from timing import median_time
 
 

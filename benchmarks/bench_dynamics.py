@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from camcad.dynamics import sdof
+from camcad import dynamics
 from camcad.law.standard import compose
 
 GRID = 256          # output points per cycle where the paths are compared
@@ -28,7 +28,7 @@ ERROR_UNIT = "fraction of peak rigid acceleration"
 
 def _case(quick: bool):
     law = compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 25.0, "cycloidal")
-    follower = sdof.ElasticFollower(40.0, 0.05)
+    follower = dynamics.ElasticFollower(40.0, 0.05)
     speeds = np.linspace(280.0, 420.0, 15 if quick else 141)
     return law, follower, speeds
 
@@ -46,13 +46,13 @@ def _timed(work, max_repeats: int = 5):
 
 
 def _frequency_sweep(law, follower, speeds, samples: int):
-    spectrum = sdof.law_spectrum(law, samples)
+    spectrum = dynamics.law_spectrum(law, samples)
     step = samples // GRID
-    return [sdof.steady_state_frequency(spectrum, follower, rpm).accel_elastic[::step] for rpm in speeds]
+    return [dynamics.steady_state_frequency(spectrum, follower, rpm).accel_elastic[::step] for rpm in speeds]
 
 
 def _time_sweep(law, follower, speeds, method: str, rtol: float):
-    return [sdof.steady_state_time(law, follower, rpm, samples=GRID, method=method, rtol=rtol).accel_elastic
+    return [dynamics.steady_state_time(law, follower, rpm, samples=GRID, method=method, rtol=rtol).accel_elastic
             for rpm in speeds]
 
 

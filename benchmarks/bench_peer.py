@@ -364,7 +364,7 @@ def camcad_case(phi_limit_deg: float | None = None):
     """camcad's law and follower for this cam (with both pressure-angle limits set to the given
     value, for sizing)."""
     from camcad.law.standard import compose
-    from camcad.profile import Follower
+    from camcad.profile.followers import Follower
 
     law = compose(list(PHASES_DEG), LIFT_MM, "cycloidal")
     follower = Follower("roller", base_radius=BASE_RADIUS_MM, roller_radius=ROLLER_RADIUS_MM,
@@ -388,7 +388,8 @@ def _row(kernel: str, method: str, setting: str, time_s, error, error_unit: str,
 def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, ...], extremes: dict) -> list[dict]:
     """camcad alone: synthesize at each chord tolerance (profile points, peak pressure angles) and
     min_base_radius at each grid for the exact peak pressure angle."""
-    from camcad.profile import ProfileSettings, min_base_radius, report, synthesize
+    from camcad.profile.synth import ProfileSettings, report, synthesize
+    from camcad.profile.design import min_base_radius
 
     law, follower = camcad_case()
     rows = []

@@ -22,7 +22,8 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad.profile import ProfileSettings, default_design, synthesize  # noqa: E402
+from camcad.profile.synth import ProfileSettings, synthesize
+from camcad.profile import default_design
 from timing import median_time  # noqa: E402
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import difflib
+
 
 class CamcadError(Exception):
     """A problem with the user's input or request; the CLI prints it on one line and exits 2.
@@ -24,3 +26,11 @@ class CamcadError(Exception):
         if self.fix:
             text += f"; {self.fix}"
         return " ".join(text.split())
+
+
+def nearest_name(name: str, valid: list[str]) -> str:
+    """'did you mean …' text for an unknown key, or the list of valid keys."""
+    close = difflib.get_close_matches(name, valid, n=1, cutoff=0.5)
+    if close:
+        return f"did you mean '{close[0]}'? valid keys: {', '.join(valid)}"
+    return f"valid keys: {', '.join(valid)}"

@@ -7,13 +7,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad.contact import CONTACT_FIELDS  # noqa: E402
-from camcad.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS  # noqa: E402
-from camcad.dynamics.impact import STOPS_FIELDS  # noqa: E402
-from camcad.dynamics.sdof import DYNAMICS_FIELDS  # noqa: E402
-from camcad.fourier import FILTER_FIELDS  # noqa: E402
-from camcad.law.section import law_fields  # noqa: E402
-from camcad.profile.followers import FOLLOWER_FIELDS  # noqa: E402
+from camcad.scene.contact import CONTACT_FIELDS
+from camcad.scene.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
+from camcad.scene.stops import STOPS_FIELDS
+from camcad.scene.dynamics import DYNAMICS_FIELDS
+from camcad.scene.filter import FILTER_FIELDS
+from camcad.scene.law import law_fields
+from camcad.scene.follower import FOLLOWER_FIELDS
 
 SECTIONS = [("law", law_fields(), "camcad.law.section"), ("follower", FOLLOWER_FIELDS, "camcad.profile.followers"),
             ("filter", FILTER_FIELDS, "camcad.fourier"), ("dynamics", DYNAMICS_FIELDS, "camcad.dynamics.sdof"),

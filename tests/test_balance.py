@@ -56,7 +56,7 @@ def test_min_change_is_the_least_change_and_balances_exactly():
     assert np.max(np.abs(result.after.residuals)) <= 1e-9 * scale
     # Optimality (KKT): the change is M-orthogonal to every change that keeps the conditions,
     # i.e. to the null space of C restricted to the movable vertices.
-    free = balance._free_vertices(law, np.zeros(len(law.x), bool))
+    free = balance.modes._free_vertices(law, np.zeros(len(law.x), bool))
     rows = balance.functional_rows(law.x, balance.conditions(law))[:, free]
     delta = (result.law.a - law.a)[free]
     mass = balance.mass_matrix(law.x).toarray()[np.ix_(free, free)]
@@ -147,7 +147,7 @@ def test_extrema_mode_moves_only_the_extrema():
     law = PiecewiseLinearLaw(theta, a, 2 * np.pi, detect_phases(theta, a, 2 * np.pi))
     result = balance.correct(law, "extrema")
     changed = np.flatnonzero(result.law.a != law.a)
-    groups = balance.extremum_groups(law.a, balance._free_vertices(law, np.zeros(len(law.x), bool)))
+    groups = balance.extremum_groups(law.a, balance.modes._free_vertices(law, np.zeros(len(law.x), bool)))
     assert set(changed) <= set(np.concatenate(groups))
     assert len(groups) == 4  # one peak per lobe of a dwell-rise-dwell-return law
     assert result.after.balanced

@@ -17,10 +17,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camcad.cyclogram import (LinearRelation, Operation, PhaseLimit, find_conflict,
-                              format_phases, least_phase_angle, longest_path_times, make_network,
-                              operation_timing, optimise, parse_cyclogram, retime_phases, stretch_phase,
-                              vibration_limits, constraints_of)
+from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
+from camcad.cyclogram.network import Operation, make_network
+from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
+from camcad.cyclogram.lp import optimise
+from camcad.scene.cyclogram import parse_cyclogram
+from camcad.cyclogram.constraints import constraints_of
 from camcad.errors import CamcadError
 
 ROOT = Path(__file__).resolve().parents[1]

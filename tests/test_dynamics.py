@@ -9,11 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camcad.dynamics import multimass, sdof
-from camcad.dynamics.sdof import ElasticFollower, StiffnessTable, rpm_to_rad_s
+from camcad import dynamics
+from camcad.dynamics import multimass
+from camcad.dynamics.model import ElasticFollower, StiffnessTable, rpm_to_rad_s
 from camcad.errors import CamcadError
 from camcad.law.law import Kinematics, Phase, PiecewiseLinearLaw
 from camcad.law.standard import compose
+from camcad.scene import dynamics as scene_dynamics
 
 LIFT = 25.0
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
@@ -50,24 +52,24 @@ def test_undamped_cycloidal_residual_matches_closed_form(r):
     rpm = cycloid_rpm_for_ratio(r, fn)
     follower = ElasticFollower(fn, 0.0)
     expected = residual_closed_form(LIFT, r)
-    duhamel = sdof.residual_vibration(law, follower, rpm)
-    marched = sdof.residual_vibration(law, follower, rpm, method="time")
+    duhamel = dynamics.residual_vibration(law, follower, rpm)
+    marched = dynamics.residual_vibration(law, follower, rpm, method="time")
     # both the rise and the (mirror-image) return from rest
     for result in (duhamel, marched):
         assert [item.phase.kind for item in result] == ["rise", "return"]
         for item in result:
             assert item.amplitude == pytest.approx(expected, abs=1e-8 * LIFT)
-    assert sdof.cycloidal_residual_amplitude(LIFT, r / fn, fn) == pytest.approx(expected, abs=1e-12 * LIFT)
+    assert dynamics.cycloidal_residual_amplitude(LIFT, r / fn, fn) == pytest.approx(expected, abs=1e-12 * LIFT)
 
 
 @pytest.mark.parametrize("r", [2.0, 3.0, 5.0])
 def test_residual_vanishes_at_integer_multiples_of_the_period(r):
     law = dwell_rise_dwell_return()
     rpm = cycloid_rpm_for_ratio(r, 40.0)
-    amplitudes = [item.amplitude for item in sdof.residual_vibration(law, ElasticFollower(40.0, 0.0), rpm)]
+    amplitudes = [item.amplitude for item in dynamics.residual_vibration(law, ElasticFollower(40.0, 0.0), rpm)]
     assert max(amplitudes) < 1e-8 * LIFT
     # ... but not at r = 1: there the closed form gives h/2
-    one = sdof.residual_vibration(law, ElasticFollower(40.0, 0.0), cycloid_rpm_for_ratio(1.0, 40.0))
+    one = dynamics.residual_vibration(law, ElasticFollower(40.0, 0.0), cycloid_rpm_for_ratio(1.0, 40.0))
     assert one[0].amplitude == pytest.approx(LIFT / 2, rel=1e-10)
 
 
@@ -95,8 +97,8 @@ def test_drawn_law_with_jumps_closes_and_rises_by_the_lift():
 def test_damped_residual_agrees_between_duhamel_and_time_marching(make_law):
     law = make_law()
     follower = ElasticFollower(40.0, 0.12)
-    duhamel = sdof.residual_vibration(law, follower, 330.0)
-    marched = sdof.residual_vibration(law, follower, 330.0, method="time")
+    duhamel = dynamics.residual_vibration(law, follower, 330.0)
+    marched = dynamics.residual_vibration(law, follower, 330.0, method="time")
     for a, b in zip(duhamel, marched):
         assert a.amplitude == pytest.approx(b.amplitude, abs=1e-8 * LIFT)
         assert a.x_end == pytest.approx(b.x_end, abs=1e-8 * LIFT)
@@ -127,7 +129,7 @@ def test_frequency_response_of_one_harmonic(zeta):
     follower = ElasticFollower(7.0, zeta)
     rpm = 300.0
     omega, wn = rpm_to_rad_s(rpm), follower.omega_n
-    response = sdof.steady_state_frequency(law, follower, rpm, samples=256)
+    response = dynamics.steady_state_frequency(law, follower, rpm, samples=256)
     big_x = -(LIFT / 2) * omega**2 / (wn**2 - omega**2 + 2j * zeta * wn * omega)
     expected = np.real(big_x * np.exp(1j * response.theta))
     assert np.max(np.abs(response.dynamic_error - expected)) < 1e-12 * LIFT
@@ -140,8 +142,8 @@ def test_frequency_and_time_paths_agree_on_the_periodic_steady_state():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.05)
     for rpm in (280.0, 420.0):
-        freq = sdof.steady_state_frequency(law, follower, rpm, samples=4096)
-        time = sdof.steady_state_time(law, follower, rpm, samples=4096, method="DOP853", rtol=1e-11)
+        freq = dynamics.steady_state_frequency(law, follower, rpm, samples=4096)
+        time = dynamics.steady_state_time(law, follower, rpm, samples=4096, method="DOP853", rtol=1e-11)
         peak = freq.peak_accel_rigid
         # measured: 7.7e-8 of the peak (frequency path at N = 4096, error O(N^-2) at the jerk jumps);
         # the time path at rtol 1e-11 is within 3e-9 of a N = 2^20 frequency solution
@@ -159,7 +161,7 @@ def test_quasi_static_limit_of_the_dynamic_error():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(201.3, 0.05)
     rpm = 30.0
-    response = sdof.steady_state_frequency(law, follower, rpm)
+    response = dynamics.steady_state_frequency(law, follower, rpm)
     omega, wn, zeta = rpm_to_rad_s(rpm), follower.omega_n, follower.damping_ratio
     jerk_max = np.max(np.abs(law.kinematics(response.theta).j)) * omega**3
     expected = -response.accel_rigid / wn**2
@@ -176,22 +178,22 @@ def test_periodic_shooting_equals_a_long_start_up_with_variable_stiffness():
     stiffness = StiffnessTable.from_degrees([[0, 1.0], [120, 1.3], [240, 0.8]])
     follower = ElasticFollower(30.0, 0.15, stiffness=stiffness)
     rpm, cycles = 300.0, 10
-    periodic = sdof.steady_state_time(law, follower, rpm, samples=360, method="DOP853", rtol=1e-10)
-    startup = sdof.transient_time(law, follower, rpm, cycles * 2 * math.pi, samples=cycles * 360 + 1,
+    periodic = dynamics.steady_state_time(law, follower, rpm, samples=360, method="DOP853", rtol=1e-10)
+    startup = dynamics.transient_time(law, follower, rpm, cycles * 2 * math.pi, samples=cycles * 360 + 1,
                                   method="DOP853", rtol=1e-10)
     last = startup.dynamic_error[-361:-1]
     assert np.max(np.abs(last - periodic.dynamic_error)) < 1e-8 * LIFT
     with pytest.raises(CamcadError, match="constant stiffness"):
-        sdof.steady_state_frequency(law, follower, rpm)
+        dynamics.steady_state_frequency(law, follower, rpm)
 
 
 def test_sweep_matches_single_speeds_and_reports_progress():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.05)
     calls = []
-    result = sdof.sweep(law, follower, [280, 350, 420], keep=[350], progress=lambda d, t: calls.append((d, t)))
+    result = dynamics.sweep(law, follower, [280, 350, 420], keep=[350], progress=lambda d, t: calls.append((d, t)))
     assert calls == [(1, 3), (2, 3), (3, 3)]
-    single = sdof.steady_state_frequency(law, follower, 350)
+    single = dynamics.steady_state_frequency(law, follower, 350)
     assert result.peak_accel_ratio[1] == single.peak_accel_ratio
     assert result.dynamic_error_max[1] == single.dynamic_error_max
     assert list(result.responses) == [350.0]
@@ -202,17 +204,17 @@ def test_external_pulse_agrees_between_paths_and_raises_the_start_load():
     follower = ElasticFollower(40.0, 0.08, mass_kg=2.0)
     rpm = 350.0
     rise = law.phases[1]
-    pulse = sdof.start_pulse(law, follower, rpm, rise, 0.3)
+    pulse = dynamics.start_pulse(law, follower, rpm, rise, 0.3)
     # half the free period in cam angle, opposing the rise's initial (positive) acceleration
     assert pulse.width == pytest.approx(rpm_to_rad_s(rpm) / (2 * 40.0), rel=1e-15)
     assert pulse.amplitude < 0
-    freq = sdof.steady_state_frequency(law, follower, rpm, samples=8192, external=pulse)
-    time = sdof.steady_state_time(law, follower, rpm, samples=8192, method="DOP853", rtol=1e-10, external=pulse)
+    freq = dynamics.steady_state_frequency(law, follower, rpm, samples=8192, external=pulse)
+    time = dynamics.steady_state_time(law, follower, rpm, samples=8192, method="DOP853", rtol=1e-10, external=pulse)
     peak = freq.peak_accel_rigid
     # the pulse has kinks, so the sampled-forcing error of the frequency path is O(N^-2)
     assert np.max(np.abs(freq.link_accel - time.link_accel)) < 1e-5 * peak
-    plain = sdof.start_loads(sdof.steady_state_frequency(law, follower, rpm), law, follower)
-    pulsed = sdof.start_loads(freq, law, follower)
+    plain = dynamics.start_loads(dynamics.steady_state_frequency(law, follower, rpm), law, follower)
+    pulsed = dynamics.start_loads(freq, law, follower)
     assert pulsed[0].peak_link_accel > plain[0].peak_link_accel
     assert plain[0].force_n == pytest.approx(2.0 * plain[0].peak_link_accel * 1e-3, rel=1e-15)
 
@@ -222,13 +224,13 @@ def test_closure_is_required():
     broken = PiecewiseLinearLaw(np.radians([0.0, 90.0, 180.0, 360.0]), np.array([0.0, 1.0, 0.0, 0.0]), 2 * math.pi,
                                 (Phase("rise", 0, 2 * math.pi),))
     with pytest.raises(CamcadError, match="does not close"):
-        sdof.steady_state_frequency(broken, ElasticFollower(40.0, 0.05), 300)
-    assert sdof.check_closure(law) == pytest.approx(LIFT, rel=1e-6)
+        dynamics.steady_state_frequency(broken, ElasticFollower(40.0, 0.05), 300)
+    assert dynamics.check_closure(law) == pytest.approx(LIFT, rel=1e-6)
 
 
 def test_psi_is_energy_lost_per_cycle_at_resonance():
     # Steady vibration x = X sin(ωn t): the damper dissipates ∮ b ẋ² dt, the spring stores at most cX²/2.
-    follower = ElasticFollower(25.0, sdof.damping_ratio_from_psi(0.6), mass_kg=1.5)
+    follower = ElasticFollower(25.0, dynamics.damping_ratio_from_psi(0.6), mass_kg=1.5)
     wn, zeta, m = follower.omega_n, follower.damping_ratio, follower.mass_kg
     b, c = 2 * zeta * m * wn, m * wn**2
     t = np.linspace(0.0, 2 * math.pi / wn, 200_001)
@@ -244,7 +246,7 @@ def test_multimass_rigid_shaft_limit_equals_single_dof():
     follower = ElasticFollower(40.0, 0.05, mass_kg=2.0, stiffness=stiffness)
     rpm = 300.0
     period = 2 * math.pi / rpm_to_rad_s(rpm)
-    reference = sdof.transient_time(law, follower, rpm, 2 * math.pi, samples=361, method="DOP853", rtol=1e-11)
+    reference = dynamics.transient_time(law, follower, rpm, 2 * math.pi, samples=361, method="DOP853", rtol=1e-11)
     # rigid shaft, flywheel held at speed: the equations reduce exactly to the single-DOF follower
     model = multimass.MultiMassModel.from_follower(follower, 5.0, 0.05)
     rigid = multimass.simulate(model, law, multimass.SpeedDrive(rpm), period, samples=361, rtol=1e-11,
@@ -263,7 +265,7 @@ def test_multimass_elastic_shaft_converges_to_the_rigid_limit():
     follower = ElasticFollower(40.0, 0.05, mass_kg=2.0)
     rpm = 300.0
     period = 2 * math.pi / rpm_to_rad_s(rpm)
-    reference = sdof.transient_time(law, follower, rpm, 2 * math.pi, samples=181, method="DOP853", rtol=1e-10)
+    reference = dynamics.transient_time(law, follower, rpm, 2 * math.pi, samples=181, method="DOP853", rtol=1e-10)
     errors = []
     for c1 in (1e4, 1e5):
         model = multimass.MultiMassModel.from_follower(follower, 5.0, 0.05, c1, 0.05)
@@ -290,11 +292,11 @@ def test_multimass_conserves_energy_when_undamped_and_unforced():
 # ------------------------------------------------------------------------------------ scene section
 
 def test_parse_dynamics_reads_units_and_alternatives():
-    settings = sdof.parse_dynamics({"mass_kg": 2.0, "stiffness_N_per_m": 2.0 * (2 * math.pi * 50) ** 2,
+    settings = scene_dynamics.parse_dynamics({"mass_kg": 2.0, "stiffness_N_per_m": 2.0 * (2 * math.pi * 50) ** 2,
                                     "psi": 4 * math.pi * 0.05}, "s.toml [dynamics]")
     assert settings.follower.natural_frequency_hz == pytest.approx(50.0, rel=1e-12)
     assert settings.follower.damping_ratio == pytest.approx(0.05, rel=1e-12)
-    varying = sdof.parse_dynamics({"natural_frequency_hz": 40.0, "damping_ratio": 0.1,
+    varying = scene_dynamics.parse_dynamics({"natural_frequency_hz": 40.0, "damping_ratio": 0.1,
                                    "stiffness_variation": [[180, 2.0], [0, 1.0]]}, "w")
     assert varying.follower.stiffness(math.radians(90.0)) == pytest.approx(1.5)
     assert varying.follower.stiffness(math.radians(270.0)) == pytest.approx(1.5)
@@ -313,7 +315,7 @@ def test_parse_dynamics_reads_units_and_alternatives():
 ])
 def test_parse_dynamics_errors(table, message):
     with pytest.raises(CamcadError, match=message):
-        sdof.parse_dynamics(table, "scene.toml [dynamics]")
+        scene_dynamics.parse_dynamics(table, "scene.toml [dynamics]")
 
 
 # ------------------------------------------------------------------------------------ command line
@@ -332,7 +334,7 @@ def test_cli_dynamics_json(cli, tmp_path):
         assert key in d
     assert set(d["residual_vibration_mm"]) == {"rise", "return"}
     law = dwell_rise_dwell_return()
-    direct = sdof.sweep(law, ElasticFollower(40.0, 0.05), [280, 350, 420])
+    direct = dynamics.sweep(law, ElasticFollower(40.0, 0.05), [280, 350, 420])
     assert d["peak_accel_ratio"] == pytest.approx(list(direct.peak_accel_ratio), rel=1e-12)
     assert (tmp_path / "dynamics_cycle.png").stat().st_size > 10_000
     assert (tmp_path / "dynamics.json").exists()
@@ -371,7 +373,7 @@ def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     # The source (seed 001): lead-in segments before the motion bring the follower to the cam slowly and
     # cut the summary load at the start of motion. A harmonic law jumps in acceleration at its start, so
     # a 14 deg lead-in at 0.1 of the peak must lower the start load of the rise.
-    from camcad.fourier import add_lead_in
+    from camcad.fourier.leadin import add_lead_in
 
     result = cli("dynamics", "--standard", "harmonic", "--phases", PHASES, "--lift", "25", "--fn", "40",
                  "--zeta", "0.05", "--rpm", "300", "--lead-in", "14:0.1", "--json", "--no-plots", "-o", tmp_path)
@@ -380,8 +382,8 @@ def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     law = dwell_rise_dwell_return("harmonic")
     follower = ElasticFollower(40.0, 0.05)
     led = add_lead_in(law, 14.0, 0.1).law
-    ours = sdof.start_loads(sdof.steady_state(law, follower, 300.0), law, follower)
-    theirs = sdof.start_loads(sdof.steady_state(led, follower, 300.0), led, follower)
+    ours = dynamics.start_loads(dynamics.steady_state(law, follower, 300.0), law, follower)
+    theirs = dynamics.start_loads(dynamics.steady_state(led, follower, 300.0), led, follower)
     assert lead["reduction"] == pytest.approx([a.peak_link_accel / b.peak_link_accel for a, b in zip(ours, theirs)],
                                               rel=1e-12)
     assert lead["reduction"][0] > 1.05  # measured 1.10 here (the source reports 3.45x for its batten law)

@@ -20,6 +20,7 @@ from camcad import balance, fourier
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.standard import compose
+from camcad.scene import filter as scene_filter
 
 LIFT = 25.0
 TWO_PI = 2.0 * np.pi
@@ -522,16 +523,16 @@ def test_lead_in_on_a_law_with_a_start_jump():
 # ---------------------------------------------------------------------------------------------
 
 def test_parse_filter_section():
-    settings_ = fourier.parse_filter({"fn_hz": 160.0, "rpm": "330:420", "band": 0.1, "neighbours": 2,
+    settings_ = scene_filter.parse_filter({"fn_hz": 160.0, "rpm": "330:420", "band": 0.1, "neighbours": 2,
                                       "lead_in_deg": 14.0}, "scene.toml [filter]")
     assert settings_.rpm == (330.0, 420.0) and settings_.neighbours == 2 and settings_.lead_in_fraction == 0.1
-    assert fourier.parse_filter({"rpm": [300, 400]}).rpm == (300.0, 400.0)
+    assert scene_filter.parse_filter({"rpm": [300, 400]}).rpm == (300.0, 400.0)
     with pytest.raises(CamcadError, match="did you mean 'neighbours'"):
-        fourier.parse_filter({"fn_hz": 160.0, "neighbors": 2}, "scene.toml [filter]")
+        scene_filter.parse_filter({"fn_hz": 160.0, "neighbors": 2}, "scene.toml [filter]")
     with pytest.raises(CamcadError, match="must be positive"):
-        fourier.parse_filter({"fn_hz": -1.0})
+        scene_filter.parse_filter({"fn_hz": -1.0})
     with pytest.raises(CamcadError):
-        fourier.parse_filter({"rpm": "fast"})
+        scene_filter.parse_filter({"rpm": "fast"})
     with pytest.raises(CamcadError):
         fourier.resonant_harmonics(160.0, (0, 330))
     # a range given high to low is the same range
@@ -541,12 +542,12 @@ def test_parse_filter_section():
 
 
 def test_apply_filter_pipeline_step(drdr):
-    settings_ = fourier.FilterSettings(fn_hz=100.0, rpm=(300.0, 400.0), band=0.0, keep_dwells=False)
-    outcome = fourier.apply_filter(drdr, settings_)
+    settings_ = scene_filter.FilterSettings(fn_hz=100.0, rpm=(300.0, 400.0), band=0.0, keep_dwells=False)
+    outcome = scene_filter.apply_filter(drdr, settings_)
     assert outcome.exported is not None and outcome.exported.closed
     assert set(outcome.report()["removed"]) == set(range(14, 22))
     with pytest.raises(CamcadError, match="nothing to do"):
-        fourier.apply_filter(drdr, fourier.FilterSettings())
+        scene_filter.apply_filter(drdr, scene_filter.FilterSettings())
 
 
 def _run(argv, capsys):

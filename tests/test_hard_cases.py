@@ -22,15 +22,18 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
 from camcad import balance
-from camcad.dynamics import impact, sdof
-from camcad.dynamics.sdof import ElasticFollower, rpm_to_rad_s
+from camcad import dynamics
+from camcad.dynamics import impact
+from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
 from camcad.law.standard import compose
-from camcad.profile import Follower, ProfileSettings, report, synthesize
+from camcad.profile.followers import Follower
+from camcad.profile.synth import ProfileSettings, report, synthesize
 from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
+from camcad.scene import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 EPS = np.finfo(float).eps
@@ -626,12 +629,12 @@ def test_undamped_response_next_to_resonance_is_the_closed_form(detuning):
     rpm = 60.0 * fn * (1 + detuning)
     omega, wn = rpm_to_rad_s(rpm), 2 * math.pi * fn
     big_x = -12.5 * omega**2 / (wn**2 - omega**2)
-    response = sdof.steady_state_frequency(CosineLaw(), ElasticFollower(fn, 0.0), rpm, samples=64)
+    response = dynamics.steady_state_frequency(CosineLaw(), ElasticFollower(fn, 0.0), rpm, samples=64)
     expected = big_x * np.cos(response.theta)
     assert np.max(np.abs(response.dynamic_error - expected)) <= (64 * EPS / abs(detuning) + 1e-13) * abs(big_x)
     if abs(detuning) >= 1e-3:
         # the time path (shooting) agrees while the resonance gap 2π|δ| ≫ its rtol
-        marched = sdof.steady_state_time(CosineLaw(), ElasticFollower(fn, 0.0), rpm, samples=64, rtol=1e-10)
+        marched = dynamics.steady_state_time(CosineLaw(), ElasticFollower(fn, 0.0), rpm, samples=64, rtol=1e-10)
         assert np.max(np.abs(marched.dynamic_error - expected)) <= 1e-6 * abs(big_x)
 
 
@@ -642,7 +645,7 @@ def test_exact_resonance_is_refused(method, fn, harmonic):
     # not unique (harmonic 2 of a one-harmonic law: any free vibration repeats itself). Both paths refuse.
     assert rpm_to_rad_s(300.0) * harmonic == ElasticFollower(fn, 0.0).omega_n
     with pytest.raises(CamcadError, match="resonance") as caught:
-        sdof.steady_state(CosineLaw(), ElasticFollower(fn, 0.0), 300.0, method=method, samples=64)
+        dynamics.steady_state(CosineLaw(), ElasticFollower(fn, 0.0), 300.0, method=method, samples=64)
     if method == "frequency":
         assert f"harmonic {harmonic}" in str(caught.value)
 
@@ -660,7 +663,7 @@ def test_undamped_residual_vibration_next_to_resonance(r):
     # A = h |sin πr| / (π r |r² − 1|) → h/2 (derived in test_dynamics).
     law = compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 25.0)
     rpm = (math.pi / 2) * 40.0 / r * 60.0 / (2 * math.pi)   # rise of 90° lasting r periods of 40 Hz
-    amplitude = sdof.residual_vibration(law, ElasticFollower(40.0, 0.0), rpm)[0].amplitude
+    amplitude = dynamics.residual_vibration(law, ElasticFollower(40.0, 0.0), rpm)[0].amplitude
     closed = 25.0 * abs(math.sin(math.pi * r)) / (math.pi * r * abs(r * r - 1))
     assert amplitude == pytest.approx(closed, rel=1e-8)
     assert amplitude == pytest.approx(12.5, rel=1e-6)
@@ -670,7 +673,7 @@ def test_undamped_residual_vibration_next_to_resonance(r):
 
 def stiff_stop(ratio: float = 1000.0) -> impact.StopModel:
     scene = tomllib.loads((SAMPLES / "scenes" / "shuttle_lift.toml").read_text())
-    stop = impact.parse_stops(scene["stops"], "shuttle_lift.toml [stops]")
+    stop = scene_stops.parse_stops(scene["stops"], "shuttle_lift.toml [stops]")
     # f_stop/f_free = ratio ⇔ (c + c_s)/c = ratio²
     return replace(stop, stop_stiffness_n_per_m=stop.stiffness_n_per_m * (ratio**2 - 1.0))
 

@@ -15,6 +15,7 @@ from camcad.dynamics import impact
 from camcad.dynamics.impact import StopModel
 from camcad.errors import CamcadError
 from camcad.law.standard import compose
+from camcad.scene import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 SHUTTLE = SAMPLES / "scenes" / "shuttle_lift.toml"
@@ -28,7 +29,7 @@ def shuttle_law(rise_deg: float = 35.0, lift: float = 11.12):
 
 def shuttle_stop() -> StopModel:
     scene = tomllib.loads(SHUTTLE.read_text())
-    return impact.parse_stops(scene["stops"], "shuttle_lift.toml [stops]")
+    return scene_stops.parse_stops(scene["stops"], "shuttle_lift.toml [stops]")
 
 
 # ------------------------------------------------------------------------------------ formulas
@@ -211,22 +212,22 @@ def test_linearised_relation_and_least_phase_angle():
 # ------------------------------------------------------------------------------------ scene section and CLI
 
 def test_parse_stops_alternatives_and_errors():
-    direct = impact.parse_stops({"stiffness_N_per_m": 2.6e4, "mass_kg": 0.0076, "stop_stiffness_N_per_m": 1.5e5,
+    direct = scene_stops.parse_stops({"stiffness_N_per_m": 2.6e4, "mass_kg": 0.0076, "stop_stiffness_N_per_m": 1.5e5,
                                  "restitution": 0.5, "damping_ratio": 0.05, "preload_mm": 0.25}, "w")
     assert direct.stiffness_n_per_m == 2.6e4 and direct.mass_kg == 0.0076 and direct.stop == "upper"
     base = {"mass_kg": 0.0076, "stop_stiffness_N_per_m": 1.5e5, "restitution": 0.5, "damping_ratio": 0.05,
             "preload_mm": 0.25}
     with pytest.raises(CamcadError, match="given twice"):
-        impact.parse_stops({**base, "stiffness_N_per_m": 1e4, "youngs_modulus_MPa": 2e5, "second_moment_mm4": 1.0,
+        scene_stops.parse_stops({**base, "stiffness_N_per_m": 1e4, "youngs_modulus_MPa": 2e5, "second_moment_mm4": 1.0,
                             "arm_a_mm": 1.0, "arm_b_mm": 1.0}, "w")
     with pytest.raises(CamcadError, match="missing value 'second_moment_mm4'"):
-        impact.parse_stops({**base, "youngs_modulus_MPa": 2e5}, "w")
+        scene_stops.parse_stops({**base, "youngs_modulus_MPa": 2e5}, "w")
     with pytest.raises(CamcadError, match="did you mean 'restitution'"):
-        impact.parse_stops({**base, "stiffness_N_per_m": 1e4, "restitusion": 0.5}, "w")
+        scene_stops.parse_stops({**base, "stiffness_N_per_m": 1e4, "restitusion": 0.5}, "w")
     without = dict(base)
     del without["restitution"]
     with pytest.raises(CamcadError, match="restitution"):
-        impact.parse_stops({**without, "stiffness_N_per_m": 1e4}, "w")
+        scene_stops.parse_stops({**without, "stiffness_N_per_m": 1e4}, "w")
 
 
 def test_cli_impact_scene_json(cli, tmp_path):

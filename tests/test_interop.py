@@ -43,14 +43,16 @@ def written(tmp_path_factory):
     """{kind: (path, exact profile or None)} for every kind of DXF camcad writes."""
     from camcad.io.law_write import write_law_dxf
     from camcad.law.standard import compose
-    from camcad.profile import Follower, ProfileSettings, synthesize, write_outputs
+    from camcad.profile.followers import Follower
+    from camcad.profile.synth import ProfileSettings, synthesize
+    from camcad.report.profile_files import write_outputs
     from camcad.profile.geometry import CamGeometry
 
     root = tmp_path_factory.mktemp("interop")
     law = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")
     roller = Follower("roller", base_radius=50.0, roller_radius=10.0)
     swinging = Follower("oscillating", base_radius=40.0, roller_radius=8.0, pivot=110.0, arm=80.0)
-    from camcad.profile.followers import swing_law
+    from camcad.profile.scaled_law import swing_law
 
     cases = {
         "profile_r2000": (law, roller, dict()),

@@ -62,7 +62,7 @@ def _drawn_cycloidal(n_vertices: int):
 
 def test_closure_errors_of_a_drawn_cycloidal_law_converge_at_second_order():
     # Linear interpolation of a smooth a has error O(h²); its integrals inherit O(h²).
-    from camcad.balance import check
+    from camcad.balance.checking import check
 
     errors = []
     sizes = [103, 203, 403, 803]

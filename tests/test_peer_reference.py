@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camcad.profile import ProfileSettings, report, synthesize
+from camcad.profile.synth import ProfileSettings, report, synthesize
 from camcad.profile.geometry import CamGeometry
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_peer.py"

@@ -9,7 +9,7 @@ import ezdxf
 import numpy as np
 import pytest
 
-from camcad.pipeline import PipelineOptions, run_scene
+from camcad.scene.pipeline import PipelineOptions, run_scene
 from conftest import SAMPLES
 
 SCENES = SAMPLES / "scenes"

@@ -13,8 +13,11 @@ import shapely
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.standard import compose
-from camcad.profile import (FOLLOWER_FIELDS, Follower, ProfileSettings, min_base_radius, parse_follower, report,
-                            swing_law, synthesize)
+from camcad.scene.follower import FOLLOWER_FIELDS, parse_follower
+from camcad.profile.followers import Follower
+from camcad.profile.synth import ProfileSettings, report, synthesize
+from camcad.profile.design import min_base_radius
+from camcad.profile.scaled_law import swing_law
 from camcad.profile.geometry import CamGeometry, rotate
 
 LAW = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")

@@ -20,7 +20,7 @@ def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings an
     import contextlib
     import io
 
-    from camcad.benchreport import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
+    from camcad.report.bench import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
     from camcad.errors import CamcadError
     from camcad.io.atomic import write_text_atomic
     from camcad.io.jsonout import write_json

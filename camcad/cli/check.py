@@ -23,8 +23,8 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
     and with --trapezoid the source's resample-and-trapezoid check beside it."""
-    from camcad.balance import check as balance_check
-    from camcad.balance import check_by_trapezoid
+    from camcad.balance.checking import check as balance_check
+    from camcad.balance.checking import check_by_trapezoid
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
     report = balance_check(loaded.law, tol)
@@ -32,7 +32,7 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
     if trapezoid:
         payload["trapezoid"] = check_by_trapezoid(loaded.law, tol, step)
     if plot is not None:
-        from camcad.plots.balance import plot_balance
+        from camcad.report.balance import plot_balance
 
         payload["plot"] = str(plot_balance(loaded.law, report, plot, title=law_file.name))
     if as_json:
@@ -57,7 +57,7 @@ def fix(law_file: LawArg,
         no_plots: Annotated[bool, typer.Option("--no-plots", help="Do not write the PNG beside the output.")] = False,
         as_json: JsonOpt = False) -> None:
     """Correct an unbalanced law with the smallest change and write a corrected copy of the drawing."""
-    from camcad.balance import correct
+    from camcad.balance.correction import correct
     from camcad.errors import CamcadError
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
@@ -83,7 +83,7 @@ def fix(law_file: LawArg,
         "after": result.after.to_dict(),
     }
     if not no_plots:
-        from camcad.plots.balance import plot_balance
+        from camcad.report.balance import plot_balance
 
         payload["plot"] = str(plot_balance(loaded.law, result.before, written.with_suffix(".png"),
                                            corrected=result.law, after=result.after,

@@ -154,7 +154,7 @@ class LawSource:
 
     def speeds(self, rpm_option: str | None) -> list[float] | None:
         """--rpm when given, else the scene's [machine] rpm, else None."""
-        from camcad.params import parse_speeds
+        from camcad.scene.fields import parse_speeds
 
         if rpm_option is not None:
             return parse_speeds(rpm_option, "--rpm")
@@ -170,7 +170,7 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
     if source is not None and standard is not None:
         raise CamcadError("both a file and --standard given", "command line", "give one law source")
     if source is not None and source.suffix.lower() == ".toml":
-        from camcad.scene import mechanism_law, read_scene
+        from camcad.scene.file import mechanism_law, read_scene
 
         scene = read_scene(source)
         if mechanism is None:
@@ -185,7 +185,7 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
         name = mech.name if len(scene.mechanisms) > 1 or mech.prefix else scene.name
         return LawSource(built.law, name, str(source), built.notes, scene, mech, built.loaded)
     if standard is not None:
-        from camcad.law.section import LawSpec, build_law
+        from camcad.scene.law import LawSpec, build_law
 
         if phases is None or lift is None:
             raise CamcadError("a standard law needs its phases and lift", "--standard",

@@ -23,8 +23,8 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
 
     if samples < 16:
         raise CamcadError(f"--samples {samples} is too few", "--samples", "give at least 16 per phase")
-    from camcad.mechanism import mechanism_contact
-    from camcad.scene import read_scene, speeds_or_option
+    from camcad.scene.mechanism import mechanism_contact
+    from camcad.scene.file import read_scene, speeds_or_option
 
     scene = read_scene(scene_file)
     group = [scene.mechanism(mechanism)] if mechanism is not None else list(scene.mechanisms)
@@ -43,7 +43,7 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
         report, at_worst, sweep = mechanism_contact(scene, mech, speeds, samples)
         reports[name] = report
         if not no_plots:
-            from camcad.plots.cyclogram import plot_contact_stress, plot_safety_versus_speed
+            from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
 
             outputs.append(str(plot_contact_stress(at_worst, outdir / f"contact_{name}.png", title=name)))
             if len(speeds) > 1:
@@ -105,13 +105,14 @@ def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, n
               samples: SamplesOpt = 2000, as_json: JsonOpt = False) -> None:
     """Optimise the group's cyclogram: least makespan by LP under the operations' bounds and their
     phase-angle limits (vibration, contact stress); exit 1 when the network is infeasible."""
-    from camcad.cyclogram import optimise, parse_cyclogram
+    from camcad.cyclogram.lp import optimise
+    from camcad.scene.cyclogram import parse_cyclogram
     from camcad.errors import CamcadError
     from camcad.io.jsonout import write_json
 
-    from camcad.cyclogram import format_phases
-    from camcad.mechanism import cyclogram_limits, retimed_phases
-    from camcad.scene import read_scene, speeds_or_option
+    from camcad.cyclogram.retime import format_phases
+    from camcad.scene.mechanism import cyclogram_limits, retimed_phases
+    from camcad.scene.file import read_scene, speeds_or_option
 
     scene = read_scene(scene_file)
     if scene.cyclogram is None:
@@ -135,7 +136,7 @@ def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, n
         payload["cyclogram"]["phases"] = {name: format_phases(phases)
                                           for name, phases in retimed_phases(scene, result).items()}
         if not no_plots:
-            from camcad.plots.cyclogram import plot_gantt, plot_network
+            from camcad.report.cyclogram import plot_gantt, plot_network
 
             title = str(scene.cyclogram.get("name") or scene.name)
             outputs.append(str(plot_gantt(result, outdir / "cyclogram.png", title)))

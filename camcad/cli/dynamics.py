@@ -53,7 +53,8 @@ def _dynamics_settings(src, fn: float | None, zeta: float | None, psi: float | N
     import math
     from dataclasses import replace
 
-    from camcad.dynamics.sdof import DynamicsSettings, ElasticFollower, damping_ratio_from_psi, parse_dynamics
+    from camcad.scene.dynamics import DynamicsSettings, parse_dynamics
+    from camcad.dynamics.model import ElasticFollower, damping_ratio_from_psi
     from camcad.errors import CamcadError
 
     if src.section("dynamics") is not None:
@@ -110,7 +111,7 @@ def _lead_in_request(option: str | None, src) -> tuple[float, float] | None:
         return angle, fraction
     table = src.section("filter")
     if isinstance(table, dict) and "lead_in_deg" in table:
-        from camcad.fourier import parse_filter
+        from camcad.scene.filter import parse_filter
 
         settings = parse_filter(table, src.section_where("filter"))
         return settings.lead_in_deg, settings.lead_in_fraction
@@ -142,7 +143,8 @@ def dynamics(source: SourceArg = None,
     (exit 1 when a given limit is exceeded)."""
     import math
 
-    from camcad.dynamics.analysis import dynamics_plots, run_dynamics
+    from camcad.dynamics.runs import run_dynamics
+    from camcad.report.dynamics import dynamics_plots
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     settings = _dynamics_settings(src, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse,
@@ -168,7 +170,7 @@ def dynamics(source: SourceArg = None,
 def _print_dynamics(payload: dict) -> None:
     from rich.table import Table
 
-    from camcad.dynamics.sdof import OUTPUT_UNITS
+    from camcad.dynamics.model import OUTPUT_UNITS
 
     out = console()
     d = payload["dynamics"]
@@ -221,7 +223,8 @@ def _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, rat
     import math
     from dataclasses import replace
 
-    from camcad.dynamics.impact import StopModel, parse_stops
+    from camcad.dynamics.impact import StopModel
+    from camcad.scene.stops import parse_stops
     from camcad.errors import CamcadError
 
     if src.scene is not None:
@@ -275,7 +278,8 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
            no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Impact on a limit stop: force and first rebound against speed, least phase angle for an allowed
     amplitude (exit 1 when the rebound exceeds it)."""
-    from camcad.dynamics.analysis import impact_plots, run_impact
+    from camcad.dynamics.runs import run_impact
+    from camcad.report.dynamics import impact_plots
 
     src = _load_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, rpm, mechanism)
     model = _stop_model(src, mass, f_free, f_stop, restitution, zeta, preload, stop, ratio, allowed)

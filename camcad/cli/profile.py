@@ -133,9 +133,13 @@ def profile(
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
-    from camcad.pipeline import PipelineOptions
-    from camcad.profile import (Follower, ProfileSettings, defaults, min_base_radius, report, swing_law, synthesize,
-                           write_outputs)
+    from camcad.scene.pipeline import PipelineOptions
+    from camcad.profile.followers import Follower
+    from camcad.profile.synth import ProfileSettings, report, synthesize
+    from camcad.profile import defaults
+    from camcad.profile.design import min_base_radius
+    from camcad.profile.scaled_law import swing_law
+    from camcad.report.profile_files import write_outputs
     from camcad.cli.common import print_json
 
     notes: list[str] = []
@@ -230,7 +234,7 @@ def profile(
 
 def _scene(path: Path, options, as_json: bool) -> None:
     """The scene pipeline with a progress line on stderr; exit 1 when any check of any model fails."""
-    from camcad.pipeline import run_scene
+    from camcad.scene.pipeline import run_scene
     from camcad.cli.common import console, print_json
 
     if as_json:

@@ -132,31 +132,31 @@ def spectrum(
 
 
 def _apply(law, settings, wants_filter: bool):
-    from camcad import fourier
+    from camcad.scene import filter as scene_filter
 
-    return fourier.apply_filter(law, settings, where="--filter" if wants_filter else "--lead-in")
+    return scene_filter.apply_filter(law, settings, where="--filter" if wants_filter else "--lead-in")
 
 
 def _merge(settings, **overrides):
-    from camcad import fourier
+    from camcad.scene import filter as scene_filter
 
-    base = settings if settings is not None else fourier.FilterSettings()
+    base = settings if settings is not None else scene_filter.FilterSettings()
     given = {key: value for key, value in overrides.items() if value is not None}
-    return fourier.FilterSettings(**{**base.__dict__, **given})
+    return scene_filter.FilterSettings(**{**base.__dict__, **given})
 
 
 def _load(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism):
     """(law, name, notes, [filter] settings or None, fn from [dynamics] or None, rpm range or None)."""
-    from camcad import fourier
+    from camcad.scene import filter as scene_filter
     from camcad.cli.common import resolve_source
 
     src = resolve_source(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism)
     settings = None
     if src.section("filter") is not None:
-        settings = fourier.parse_filter(src.section("filter"), src.section_where("filter"))
+        settings = scene_filter.parse_filter(src.section("filter"), src.section_where("filter"))
     fn = None
     if src.section("dynamics") is not None:
-        from camcad.dynamics.sdof import parse_dynamics
+        from camcad.scene.dynamics import parse_dynamics
 
         fn = parse_dynamics(src.section("dynamics"), src.section_where("dynamics")).follower.natural_frequency_hz
     speeds = src.speeds(None)
@@ -186,7 +186,7 @@ def _write_outputs(out_dir: Path, law, result, resonance, outcome, payload, rms,
                                      r12=r12, title=title))
         outputs.append(write_law_csv(out_dir / "filtered.csv", final.kinematics(final.x)))
     if not no_plots:
-        from camcad.plots.spectrum import plot_filtered, plot_spectrum, plot_truncation
+        from camcad.report.spectrum import plot_filtered, plot_spectrum, plot_truncation
 
         after = None
         if outcome is not None and outcome.filtered is not None:

@@ -52,7 +52,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw
-from camcad.dynamics.sdof import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
+from camcad.dynamics.model import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
 
 
 @dataclass(frozen=True)

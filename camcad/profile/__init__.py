@@ -2,23 +2,22 @@
 
 Library entry points (what the CLI and the scene pipeline call):
 
-    follower = parse_follower(table, "scene.toml [follower]")      # or Follower(...)
+    follower = Follower("roller", base_radius=40.0, roller_radius=10.0)
     result = synthesize(law, follower, ProfileSettings(tol_mm=0.001))
-    paths = write_outputs(result, outdir)                           # profile.dxf, law.csv, plots, report.json
     figures = report(result)                                        # SPEC.md keys
 
-Modules: ``followers`` (Follower, FOLLOWER_FIELDS, parse_follower, swing_law), ``geometry``
+Modules: ``followers`` (Follower), ``scaled_law`` (swing_law: the law in follower units), ``geometry``
 (closed-form pitch curve, profile, pressure angle, radius of curvature), ``sampling`` (chord
 tolerance, tangent arcs, spline), ``design`` (smallest base radius), ``synth`` (synthesize,
-report), ``output`` (files), ``defaults`` (the built-in design).
+report), ``defaults`` (the built-in design). The scene's [follower] section is read by
+``camcad.scene.follower``; the output files are written by ``camcad.report.profile_files``.
 """
 
 from camcad.profile.defaults import DEFAULT_NAME
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
-from camcad.profile.followers import (FOLLOWER_FIELDS, FOLLOWER_KINDS, Follower, ScaledLaw, parse_follower, swing_law,
-                        swing_of)
+from camcad.profile.followers import FOLLOWER_KINDS, Follower
+from camcad.profile.scaled_law import ScaledLaw, swing_law
 from camcad.profile.geometry import CamGeometry
-from camcad.profile.output import build_drawing, write_outputs
 from camcad.profile.synth import ProfileResult, ProfileSettings, report, synthesize
 
 
@@ -34,6 +33,5 @@ def default_design():
     return defaults.DEFAULT_NAME, law, follower
 
 
-__all__ = ["BaseRadiusDesign", "CamGeometry", "DEFAULT_NAME", "FOLLOWER_FIELDS", "FOLLOWER_KINDS", "Follower",
-           "ProfileResult", "ProfileSettings", "ScaledLaw", "build_drawing", "default_design", "min_base_radius",
-           "parse_follower", "report", "swing_law", "swing_of", "synthesize", "write_outputs"]
+__all__ = ["BaseRadiusDesign", "CamGeometry", "DEFAULT_NAME", "FOLLOWER_KINDS", "Follower", "ProfileResult",
+           "ProfileSettings", "ScaledLaw", "default_design", "min_base_radius", "report", "swing_law", "synthesize"]

@@ -172,7 +172,7 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     ``law`` is in follower units (mm, or rad for the oscillating follower); the follower's own
     base radius is ignored. See the module docstring for the method and the guarantees.
     """
-    from camcad.profile.followers import law_breakpoints
+    from camcad.profile.scaled_law import law_breakpoints
 
     one_lobe = np.union1d(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
     notes: list[str] = []

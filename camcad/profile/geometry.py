@@ -50,7 +50,8 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.law.law import Kinematics, MotionLaw
-from camcad.profile.followers import Follower, arm_angle_on_base_circle, law_breakpoints, merge_close
+from camcad.profile.followers import Follower, arm_angle_on_base_circle
+from camcad.profile.scaled_law import law_breakpoints, merge_close
 
 
 def rotate(points: np.ndarray, angle: np.ndarray) -> np.ndarray:

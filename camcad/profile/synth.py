@@ -20,7 +20,8 @@ from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
-from camcad.profile.followers import Follower, describe_law, describe_phases
+from camcad.profile.followers import Follower
+from camcad.profile.scaled_law import describe_law, describe_phases
 from camcad.profile.geometry import CamGeometry, rotate
 from camcad.profile.sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
 

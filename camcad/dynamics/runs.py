@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -32,7 +31,9 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     lead_in: (angle deg, fraction) — compare with lead-in segments before each motion (camcad.fourier).
     compare: a second law whose start-of-motion load is compared.
     """
-    from camcad.dynamics.sdof import OUTPUT_UNITS, residual_vibration, sweep
+    from camcad.dynamics.model import OUTPUT_UNITS
+    from camcad.dynamics.residual import residual_vibration
+    from camcad.dynamics.steady import sweep
 
     follower = settings.follower
     fastest = max(speeds)
@@ -63,7 +64,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     if compare is not None:
         report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
     if lead_in is not None:
-        from camcad.fourier import add_lead_in
+        from camcad.fourier.leadin import add_lead_in
 
         angle, fraction = lead_in
         result_lead = add_lead_in(law, angle, fraction, where="lead-in")
@@ -83,22 +84,6 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     report["checks"] = checks
     report["passed"] = all(check["passed"] for check in checks.values())
     return DynamicsRun(report, result, keep, settings)
-
-
-def dynamics_plots(run: DynamicsRun, law, out_dir: Path, name: str) -> list[Path]:
-    """Rigid vs elastic acceleration over the cycle, and the peak ratio against speed (several speeds)."""
-    from camcad.plots.dynamics import plot_acceleration_cycle, plot_speed_sweep
-    from camcad.dynamics.sdof import OUTPUT_UNITS
-
-    unit = OUTPUT_UNITS[run.settings.output_unit]
-    responses = [run.sweep.responses[s] for s in run.keep]
-    outputs = [plot_acceleration_cycle(responses, law.phases, out_dir / "dynamics_cycle.png",
-                                       f"{name}: rigid vs elastic acceleration", unit.name)]
-    if len(run.sweep.speeds_rpm) > 1:
-        outputs.append(plot_speed_sweep(run.sweep, out_dir / "dynamics_speed.png",
-                                        run.settings.follower.natural_frequency_hz,
-                                        f"{name}: peak acceleration against speed", unit.name))
-    return outputs
 
 
 @dataclass(frozen=True)
@@ -142,16 +127,6 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
     return ImpactRun(report, result, model)
 
 
-def impact_plots(run: ImpactRun, out_dir: Path, name: str) -> list[Path]:
-    """Rebound and impact force against speed, and the lever's response after the impact."""
-    from camcad.plots.dynamics import plot_impact_response, plot_rebound
-
-    return [plot_rebound(run.sweep, out_dir / "impact_rebound.png", run.model.allowed_amplitude_mm,
-                         f"{name}: rebound and impact force against speed"),
-            plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
-                                 out_dir / "impact_response.png")]
-
-
 def _one_or_list(values):
     values = [float(v) for v in values]
     return values[0] if len(values) == 1 else values
@@ -159,7 +134,10 @@ def _one_or_list(values):
 
 def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
-    from camcad.dynamics.sdof import OUTPUT_UNITS, LoadSum, motion_phases, start_loads, start_pulse, steady_state
+    from camcad.dynamics.model import OUTPUT_UNITS, LoadSum
+    from camcad.dynamics.residual import motion_phases
+    from camcad.dynamics.startload import start_loads, start_pulse
+    from camcad.dynamics.steady import steady_state
 
     unit = OUTPUT_UNITS[settings.output_unit]
     kwargs = dict(method=settings.method, samples=settings.samples, solver=settings.solver, rtol=settings.rtol)
@@ -197,7 +175,7 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
     import numpy as np
 
     from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
-    from camcad.dynamics.sdof import rpm_to_rad_s
+    from camcad.dynamics.model import rpm_to_rad_s
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,

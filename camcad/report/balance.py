@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.atomic import write_atomic
-from camcad.plots import pyplot
+from camcad.report.figure import pyplot
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 

@@ -7,9 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
-from camcad.dynamics.sdof import OUTPUT_UNITS
+from camcad.dynamics.model import OUTPUT_UNITS
 from camcad.io.atomic import write_atomic
-from camcad.plots import pyplot
+from camcad.report.figure import pyplot
+from camcad.dynamics.runs import DynamicsRun, ImpactRun
 
 
 def _save(fig, path: Path) -> Path:
@@ -141,3 +142,26 @@ def plot_impact_response(impacts, stop, path: Path, title: str = "") -> Path:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     return _save(fig, path)
+
+
+def dynamics_plots(run: DynamicsRun, law, out_dir: Path, name: str) -> list[Path]:
+    """Rigid vs elastic acceleration over the cycle, and the peak ratio against speed (several speeds)."""
+    from camcad.dynamics.model import OUTPUT_UNITS
+
+    unit = OUTPUT_UNITS[run.settings.output_unit]
+    responses = [run.sweep.responses[s] for s in run.keep]
+    outputs = [plot_acceleration_cycle(responses, law.phases, out_dir / "dynamics_cycle.png",
+                                       f"{name}: rigid vs elastic acceleration", unit.name)]
+    if len(run.sweep.speeds_rpm) > 1:
+        outputs.append(plot_speed_sweep(run.sweep, out_dir / "dynamics_speed.png",
+                                        run.settings.follower.natural_frequency_hz,
+                                        f"{name}: peak acceleration against speed", unit.name))
+    return outputs
+
+
+def impact_plots(run: ImpactRun, out_dir: Path, name: str) -> list[Path]:
+    """Rebound and impact force against speed, and the lever's response after the impact."""
+    return [plot_rebound(run.sweep, out_dir / "impact_rebound.png", run.model.allowed_amplitude_mm,
+                         f"{name}: rebound and impact force against speed"),
+            plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
+                                 out_dir / "impact_response.png")]

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.atomic import write_atomic
-from camcad.plots import pyplot
+from camcad.report.figure import pyplot
 
 ACTIVE_COLOUR = "#c0392b"
 SLACK_COLOUR = "#2e86c1"

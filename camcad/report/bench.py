@@ -75,7 +75,7 @@ def markdown_table(rows: list[dict], quick: bool) -> str:
 def plot_speed_error(rows: list[dict], path: Path) -> Path:
     """Time against error on log axes: one colour per kernel, one marker per method, each method's
     settings joined in order of time (a method's curve is its speed-against-error trade-off)."""
-    from camcad.plots import pyplot
+    from camcad.report.figure import pyplot
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(12, 7), constrained_layout=True)

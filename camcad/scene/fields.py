@@ -6,12 +6,11 @@ wrong type gets the same clear one-line error everywhere.
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 from typing import Any
 
-from camcad.errors import CamcadError
+from camcad.errors import CamcadError, nearest_name
 
 _MISSING = object()
 
@@ -35,14 +34,6 @@ class Field:
 def _describe(field: Field) -> str:
     unit = f" ({field.unit})" if field.unit else ""
     return f"'{field.name}'{unit}"
-
-
-def nearest_name(name: str, valid: list[str]) -> str:
-    """'did you mean …' text for an unknown key, or the list of valid keys."""
-    close = difflib.get_close_matches(name, valid, n=1, cutoff=0.5)
-    if close:
-        return f"did you mean '{close[0]}'? valid keys: {', '.join(valid)}"
-    return f"valid keys: {', '.join(valid)}"
 
 
 def read_table(table: Any, fields: list[Field], where: str) -> dict[str, Any]:

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.atomic import write_atomic
-from camcad.plots import pyplot
+from camcad.report.figure import pyplot
 
 PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
 FORBIDDEN = "#f4c7c3"

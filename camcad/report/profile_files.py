@@ -11,7 +11,7 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.atomic import write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
-from camcad.profile.followers import describe_law, describe_phases
+from camcad.profile.scaled_law import describe_law, describe_phases
 from camcad.profile.synth import CurveResult, ProfileResult, ProfileSettings, report, stroke
 
 LAYERS = ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER", "TEXT")
@@ -120,7 +120,7 @@ def write_outputs(result: ProfileResult, outdir: str | Path, settings: ProfileSe
     written = [write_dxf(outdir / "profile.dxf", build_drawing(result), "R12" if settings.r12 else "R2000"),
                write_text_atomic(outdir / "law.csv", law_csv_text(result))]
     if settings.plots:
-        from camcad.plots.profile import plot_profile_set
+        from camcad.report.profile import plot_profile_set
 
         written.extend(plot_profile_set(result, outdir))
     report_path = outdir / "report.json"

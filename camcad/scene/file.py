@@ -15,7 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from camcad.errors import CamcadError
-from camcad.params import nearest_name, parse_speeds
+from camcad.errors import nearest_name
+from camcad.scene.fields import parse_speeds
 
 MECHANISM_SECTIONS = ("law", "follower", "filter", "dynamics", "stops", "contact")
 TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram") + MECHANISM_SECTIONS
@@ -145,7 +146,7 @@ def speeds_or_option(scene: Scene, rpm_option: Any = None) -> list[float] | None
 def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
     """The BuiltLaw of a mechanism's [law] section (balanced when it asks), optionally retimed to ``phases``."""
     from camcad.law.retime import retime
-    from camcad.law.section import build_law, parse_law
+    from camcad.scene.law import build_law, parse_law
 
     if not mech.has("law"):
         raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",

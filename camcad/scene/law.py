@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from camcad.errors import CamcadError
-from camcad.params import Field, read_table
+from camcad.scene.fields import Field, read_table
 
 
 def _shape_names() -> tuple[str, ...]:
@@ -27,7 +27,7 @@ def _shape_names() -> tuple[str, ...]:
 
 
 def law_fields() -> list[Field]:
-    from camcad.balance import DEFAULT_TOL, MODES
+    from camcad.balance.conditions import DEFAULT_TOL, MODES
 
     shapes = _shape_names()
     return [
@@ -114,7 +114,8 @@ def build_law(spec: LawSpec) -> BuiltLaw:
             raise CamcadError(str(err), spec.where, "give as many returns as rises, covering the cycle") from None
         name = spec.standard + (f"/{spec.return_standard}" if spec.return_standard else "")
         return BuiltLaw(law, (f"standard law {name}, lift {spec.lift:g}, phases {spec.phases}",))
-    from camcad.balance import check, correct
+    from camcad.balance.checking import check
+    from camcad.balance.correction import correct
     from camcad.law.source import load_law
 
     loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle, cycle_deg=spec.cycle, lift=spec.lift,

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.atomic import write_atomic
-from camcad.plots import pyplot
+from camcad.report.figure import pyplot
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from camcad.errors import CamcadError
-from camcad.scene import Mechanism, Scene, mechanism_law, read_scene
+from camcad.scene.file import Mechanism, Scene, mechanism_law, read_scene
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
 CONTACT_SAMPLES = 2000
@@ -74,7 +74,7 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
     group = bool(scene.mechanisms[0].prefix)
     outdir = options.output if options.output is not None else Path("camcad-out") / scene.name
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
-        from camcad.cyclogram import parse_cyclogram
+        from camcad.scene.cyclogram import parse_cyclogram
 
         parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]", [m.name for m in scene.mechanisms if m.prefix])
     runs = {}
@@ -88,7 +88,7 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
         for name, phases in retimed.items():
             mech = scene.mechanism(name)
             say(f"{name}: regenerating with the cyclogram's phase angles")
-            from camcad.mechanism import law_with_phases
+            from camcad.scene.mechanism import law_with_phases
 
             base = mechanism_law(scene, mech)
             new_law = law_with_phases(base.law, phases, mech.where(scene.path, "law"))
@@ -145,7 +145,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     if mech.has("follower"):
         say(f"{mech.name}: profile")
         run.profile = _profile(scene, mech, run.law, options)
-        from camcad.profile import report as profile_report
+        from camcad.profile.synth import report as profile_report
 
         run.report["profile"] = profile_report(run.profile)
         run.ran.append("profile")
@@ -177,7 +177,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
         if run.profile is not None:
-            from camcad.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
+            from camcad.scene.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
 
             for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
                                                       mech.where(scene.path, "follower"), PRESSURE_SAMPLES).items():
@@ -191,15 +191,15 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
 
 
 def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
-    from camcad import fourier
+    from camcad.scene import filter as scene_filter
 
-    settings = fourier.parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
+    settings = scene_filter.parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
     if not settings.enabled:
         run.skipped["filter"] = "[filter] enabled = false"
         return
     fn = settings.fn_hz
     if fn is None and mech.has("dynamics"):
-        from camcad.dynamics.sdof import parse_dynamics
+        from camcad.scene.dynamics import parse_dynamics
 
         fn = parse_dynamics(mech.sections["dynamics"], mech.where(scene.path, "dynamics"),
                             math.degrees(run.law.cycle)).follower.natural_frequency_hz
@@ -210,7 +210,7 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
     if fn is not None and rpm is None:
         run.skipped["filter"] = "no speed range ([filter] rpm or [machine] rpm)"
         return
-    outcome = fourier.apply_filter(run.law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
+    outcome = scene_filter.apply_filter(run.law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
     run.law = outcome.law
     run.report["spectrum"] = {**outcome.report(), "natural_frequency_hz": fn,
                               "passed": outcome.passed}
@@ -218,8 +218,9 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
 
 
 def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
-    from camcad.profile import ProfileSettings, synthesize
-    from camcad.profile.followers import parse_follower, swing_law, swing_of
+    from camcad.profile.synth import ProfileSettings, synthesize
+    from camcad.scene.follower import parse_follower, swing_of
+    from camcad.profile.scaled_law import swing_law
 
     where = mech.where(scene.path, "follower")
     follower = parse_follower(mech.sections["follower"], where)
@@ -231,13 +232,13 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
 
 def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.dynamics.analysis import run_dynamics
-    from camcad.dynamics.sdof import parse_dynamics
+    from camcad.dynamics.runs import run_dynamics
+    from camcad.scene.dynamics import parse_dynamics
 
     settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
     lead = None
     if mech.has("filter"):
-        from camcad.fourier import parse_filter
+        from camcad.scene.filter import parse_filter
 
         filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
         if filt.lead_in_deg is not None and "filter" not in run.ran:
@@ -247,8 +248,8 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
 
 
 def _impact(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.dynamics.analysis import run_impact
-    from camcad.dynamics.impact import parse_stops
+    from camcad.dynamics.runs import run_impact
+    from camcad.scene.stops import parse_stops
 
     model = parse_stops(mech.sections["stops"], where)
     run.impact = run_impact(run.law, model, speeds)
@@ -256,7 +257,7 @@ def _impact(scene, mech, run, speeds, options, where, limits) -> None:
 
 
 def _contact(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.mechanism import mechanism_contact
+    from camcad.scene.mechanism import mechanism_contact
 
     report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
                                                 with_limits=limits)
@@ -270,8 +271,11 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
 
 def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
     """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
-    from camcad.cyclogram import PhaseLimit, format_phases, optimise, parse_cyclogram
-    from camcad.mechanism import cyclogram_limits, retimed_phases
+    from camcad.cyclogram.limits import PhaseLimit
+    from camcad.cyclogram.retime import format_phases
+    from camcad.cyclogram.lp import optimise
+    from camcad.scene.cyclogram import parse_cyclogram
+    from camcad.scene.mechanism import cyclogram_limits, retimed_phases
 
     network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
                               [m.name for m in scene.mechanisms if m.prefix])
@@ -301,7 +305,7 @@ def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
 
 
 def _phases_text(phases) -> str:
-    from camcad.cyclogram import format_phases
+    from camcad.cyclogram.retime import format_phases
 
     return format_phases(phases)
 
@@ -313,7 +317,7 @@ def _phases_text(phases) -> str:
 def _write(run: MechanismRun, folder: Path, options: PipelineOptions) -> list[Path]:
     written: list[Path] = []
     if run.profile is not None:
-        from camcad.profile import write_outputs
+        from camcad.report.profile_files import write_outputs
 
         written.extend(p for p in write_outputs(run.profile, folder) if p.name != "report.json")
         (folder / "report.json").unlink(missing_ok=True)  # the scene's one report.json holds it
@@ -324,15 +328,15 @@ def _write(run: MechanismRun, folder: Path, options: PipelineOptions) -> list[Pa
         written.append(write_law_csv(folder / "law.csv", run.law.kinematics(theta)))
     if options.plots:
         if run.dynamics is not None:
-            from camcad.dynamics.analysis import dynamics_plots
+            from camcad.report.dynamics import dynamics_plots
 
             written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
         if run.impact is not None:
-            from camcad.dynamics.analysis import impact_plots
+            from camcad.report.dynamics import impact_plots
 
             written.extend(impact_plots(run.impact, folder, run.name))
         if run.contact is not None:
-            from camcad.plots.cyclogram import plot_contact_stress, plot_safety_versus_speed
+            from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
 
             at_worst, sweep = run.contact
             written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))

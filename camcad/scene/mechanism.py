@@ -18,7 +18,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.law.law import Phase
-from camcad.scene import Mechanism, Scene, mechanism_law
+from camcad.scene.file import Mechanism, Scene, mechanism_law
 
 #: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
 PRESSURE_SAMPLES = 361
@@ -66,7 +66,8 @@ class ContactGeometry:
 def cam_of(law, follower_table: dict, where: str):
     """(CamGeometry, follower, scale) of a law on the [follower] of a scene; ``scale`` turns the follower's
     s, v, a into mm at the roller (the arm length for an oscillating follower, whose law becomes a swing)."""
-    from camcad.profile.followers import parse_follower, swing_law, swing_of
+    from camcad.scene.follower import parse_follower, swing_of
+    from camcad.profile.scaled_law import swing_law
     from camcad.profile.geometry import CamGeometry
 
     follower = parse_follower(follower_table, where)
@@ -132,8 +133,8 @@ def phase_pressure_function(law, follower_table: dict, index: int, where: str, s
 def pressure_angle_limits(law, follower_table: dict, where: str, samples: int) -> dict:
     """{phase label: least phase angle (deg) at which the phase's |pressure angle| meets the follower's
     limit} by root finding on φ_max(t) (camcad.cyclogram.least_phase_angle); None where no limit is set."""
-    from camcad.cyclogram import least_phase_angle
-    from camcad.profile.followers import parse_follower
+    from camcad.cyclogram.limits import least_phase_angle
+    from camcad.scene.follower import parse_follower
 
     follower = parse_follower(follower_table, where)
     phases = phases_deg(law)
@@ -161,7 +162,7 @@ def pressure_angle_limits(law, follower_table: dict, where: str, samples: int) -
 def stretched_phase(phases, index: int, width_deg: float):
     """The phases with phase ``index`` made ``width_deg`` wide (camcad.cyclogram.stretch_phase), and that
     phase's (start_deg, end_deg) in the result (a neighbouring dwell may vanish and shift the indices)."""
-    from camcad.cyclogram import stretch_phase
+    from camcad.cyclogram.retime import stretch_phase
 
     stretched = stretch_phase(phases, index, width_deg)
     kind = phases[index][2]
@@ -199,7 +200,7 @@ def phase_index(phases, kind: str, occurrence: int, where: str) -> int:
 
 
 def contact_params(scene: Scene, mech: Mechanism):
-    from camcad.contact import parse_contact
+    from camcad.scene.contact import parse_contact
 
     if not mech.has("contact"):
         raise CamcadError(f"mechanism {mech.name!r} has no [contact] section", str(scene.path),
@@ -243,7 +244,7 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     of each rise and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at
     the worst speed, SpeedSweep)."""
     from camcad.contact import contact_stress, stress_versus_speed
-    from camcad.cyclogram import least_phase_angle
+    from camcad.cyclogram.limits import least_phase_angle
 
     params = contact_params(scene, mech)
     law_where = mech.where(scene.path, "law")
@@ -294,7 +295,7 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
     """Phase limits of the network's operations: vibration (from the operation's relation) and contact
     stress (from the operation's mechanism, when it has [law], [follower] and [contact]).
     Returns (limits {label: [PhaseLimit]}, skipped {what: why})."""
-    from camcad.cyclogram import least_phase_angle, vibration_limits
+    from camcad.cyclogram.limits import least_phase_angle, vibration_limits
 
     limits = vibration_limits(network)
     skipped: dict[str, str] = {}
@@ -328,8 +329,8 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
 
 def _pressure_limit(scene: Scene, mech: Mechanism, op) -> list:
     """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
-    from camcad.cyclogram import least_phase_angle
-    from camcad.profile.followers import parse_follower
+    from camcad.cyclogram.limits import least_phase_angle
+    from camcad.scene.follower import parse_follower
 
     follower_table = mech.sections["follower"]
     where = mech.where(scene.path, "follower")
@@ -348,7 +349,7 @@ def _pressure_limit(scene: Scene, mech: Mechanism, op) -> list:
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:
     """{mechanism: new (start_deg, end_deg, kind) phases} with the optimal angles of its operations fed back."""
-    from camcad.cyclogram import operation_timing, retime_phases
+    from camcad.cyclogram.retime import operation_timing, retime_phases
 
     found = {}
     by_name = {m.name: m for m in scene.mechanisms}

@@ -1,0 +1,103 @@
+"""The phase modes of the correction (seed 003 options f and g): stretch phase parts in angle.
+"""
+
+from __future__ import annotations
+
+
+import numpy as np
+
+from camcad.errors import CamcadError
+from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.phases import phase_integrals, sign_runs
+from camcad.balance.checking import check
+from camcad.balance.conditions import DEFAULT_STEP_DEG
+from camcad.balance.modes import _vertex_mode
+
+
+# --- phase modes ----------------------------------------------------------------------------------
+
+def _phase_mode(law, mode, max_stretch, hold, tol, where, notes):
+    """Stretch phase parts in angle (closed form), the next dwell taking up the change."""
+    x = law.x.copy()
+    phases = list(law.phases)
+    limit = max_stretch if mode == "phase-keypoints" else None
+    current = PiecewiseLinearLaw(x, law.a, law.cycle, tuple(phases))
+    motion = [i for i, p in enumerate(phases) if p.kind in ("rise", "return")]
+    for index in motion:
+        phase = current.phases[index]
+        runs = [r for r in sign_runs(current.x, current.a) if r[0] != 0 and r[2] > phase.start and r[1] < phase.end]
+        if not runs:
+            continue
+        closing_start = max(runs[-1][1], phase.start)
+        v_start = float(current.kinematics(np.array([closing_start])).v[0])
+        pos, neg = phase_integrals(current.x, current.a, closing_start, phase.end)
+        closing_area = pos + neg
+        if closing_area == 0 or -v_start / closing_area <= 0:
+            raise CamcadError(f"mode {mode} cannot balance the {phase.kind} at {np.degrees(phase.end):.6g} deg by "
+                              "stretching its decelerating part (the areas have the wrong signs)", where,
+                              "use --mode min-change")
+        factor = -v_start / closing_area
+        if limit is not None:
+            factor = float(np.clip(factor, 1 / (1 + limit), 1 + limit))
+        current = _stretch(current, closing_start, phase.end, factor, where, mode)
+    returns = [i for i, p in enumerate(current.phases) if p.kind == "return"]
+    if returns:
+        last = current.phases[returns[-1]]
+        s = current.kinematics(np.array([last.start, last.end, current.cycle])).s
+        moved_back = s[1] - s[0]
+        others = s[2] - moved_back
+        if moved_back < 0 < others:
+            # the ordinates stay, so stretching the angle by f scales v by f and s by f²
+            factor = float(np.sqrt(-others / moved_back))
+            if limit is not None:
+                factor = float(np.clip(factor, 1 / (1 + limit), 1 + limit))
+            current = _stretch(current, last.start, last.end, factor, where, mode)
+    notes.append("phase angles changed: " + ", ".join(
+        f"{p.kind} {np.degrees(p.start):.4g}..{np.degrees(p.end):.4g} deg" for p in current.phases))
+    if mode == "phase-keypoints":
+        shifted_hold = hold  # vertex order is unchanged by a stretch
+        if not check(current, tol).balanced:
+            current, _ = _vertex_mode(current, "keypoints", "exact", tol, DEFAULT_STEP_DEG, None,
+                                      shifted_hold, 0, where)
+    return current, 1
+
+
+def _stretch(law: PiecewiseLinearLaw, start: float, end: float, factor: float, where: str, mode: str):
+    """Stretch [start, end] by ``factor``; a dwell takes up the change.
+
+    The dwell after ``end`` absorbs it (the part keeps its start); when the cycle has no dwell
+    after it, the dwell before ``start`` does (the part keeps its end).
+    """
+    delta = (factor - 1.0) * (end - start)
+    phases = list(law.phases)
+    after = [p for p in phases if p.kind == "dwell" and p.start >= end - 1e-12]
+    before = [p for p in phases if p.kind == "dwell" and p.end <= start + 1e-12]
+    if after:
+        dwell = after[0]
+        old = [0.0, start, end, dwell.start, dwell.end, law.cycle]
+        new = [0.0, start, end + delta, dwell.start + delta, dwell.end, law.cycle]
+    elif before:
+        dwell = before[-1]
+        old = [0.0, dwell.start, dwell.end, start, end, law.cycle]
+        new = [0.0, dwell.start, dwell.end - delta, start - delta, end, law.cycle]
+    else:
+        raise CamcadError(f"mode {mode} needs a dwell to take up the stretch of "
+                          f"{np.degrees(start):.6g}..{np.degrees(end):.6g} deg", where, "use --mode min-change")
+    if delta >= dwell.width:
+        raise CamcadError(f"mode {mode} would need {np.degrees(delta):.4g} deg more, but the dwell at "
+                          f"{np.degrees(dwell.start):.6g} deg is only {np.degrees(dwell.width):.4g} deg", where,
+                          "use --mode min-change or phase-keypoints")
+    old_arr, keep = np.unique(np.array(old), return_index=True)
+    new_arr = np.array(new)[keep]
+
+    def warp(t):
+        return np.interp(t, old_arr, new_arr)
+
+    x_new = warp(law.x)
+    new_phases = tuple(Phase(p.kind, float(warp(p.start)), float(warp(p.end))) for p in phases
+                       if warp(p.end) > warp(p.start))
+    return PiecewiseLinearLaw(x_new, law.a, law.cycle, new_phases)
+
+
+
+

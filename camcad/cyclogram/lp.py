@@ -1,0 +1,197 @@
+"""The cyclogram optimisation: minimise the makespan by LP (HiGHS) over difference constraints.
+"""
+
+from __future__ import annotations
+
+
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from camcad.errors import CamcadError
+from camcad.cyclogram.conflicts import find_conflict
+from camcad.cyclogram.limits import PhaseLimit
+from camcad.cyclogram.network import Network, _reachable
+from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
+
+
+
+# --------------------------------------------------------------------------------------------
+# Constraints and the LP
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class CyclogramResult:
+    """The optimal cyclogram, or why there is none.
+
+    Times in deg on the machine's cycle (the first event at ``network.start_deg``). ``event_times_deg``
+    is the earliest schedule with the least makespan (unique); ``phase_angles_deg`` t(x, y) = p(y) − p(x);
+    ``critical_path`` events along one longest (zero-slack) path from first to last event, which
+    may step back along an upper bound; ``active`` the bounds on some longest path (tightening
+    one lengthens the makespan). When infeasible: ``conflict`` a smallest set of constraints that
+    cannot hold together (a positive cycle) and ``explanation`` in words.
+    """
+
+    network: Network
+    feasible: bool
+    makespan_deg: float | None = None
+    event_times_deg: dict[str, float] = field(default_factory=dict)
+    phase_angles_deg: dict[str, float] = field(default_factory=dict)
+    critical_path: tuple[str, ...] = ()
+    active: tuple[Constraint, ...] = ()
+    lower_bounds_deg: dict[str, tuple[float, str]] = field(default_factory=dict)
+    conflict: tuple[Constraint, ...] = ()
+    explanation: str = ""
+    cycle_slack_deg: float | None = None
+    solver_message: str = ""
+
+    @property
+    def active_bounds(self) -> list[str]:
+        """Labels "x->y" of operations with an active bound (SPEC.md ``active_bounds``)."""
+        labels = []
+        for c in self.active:
+            if c.label not in labels:
+                labels.append(c.label)
+        return labels
+
+    def report(self) -> dict:
+        """The SPEC.md ``cyclogram`` keys and more."""
+        out: dict[str, Any] = {
+            "passed": self.feasible,
+            "feasible": self.feasible,
+            "makespan_deg": self.makespan_deg,
+            "event_times_deg": dict(self.event_times_deg),
+            "phase_angles_deg": dict(self.phase_angles_deg),
+            "critical_path": list(self.critical_path),
+            "active_bounds": self.active_bounds,
+            "active": [{"operation": c.label, "kind": c.kind, "bound_deg": c.bound, "source": c.source}
+                       for c in self.active],
+            "lower_bounds_deg": {k: {"deg": v, "source": s} for k, (v, s) in self.lower_bounds_deg.items()},
+            "cycle_deg": self.network.cycle_deg,
+            "cycle_slack_deg": self.cycle_slack_deg,
+        }
+        if not self.feasible:
+            out["conflict"] = [c.describe() for c in self.conflict]
+            out["explanation"] = self.explanation
+        return out
+
+    def raise_if_infeasible(self, where: str = "[cyclogram]") -> "CyclogramResult":
+        if not self.feasible:
+            raise CamcadError(self.explanation, where, _conflict_fix(self.conflict))
+        return self
+
+
+def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
+    if not conflict:
+        return "check the bounds of the operations"
+    excess = sum(c.weight for c in conflict)
+    return f"relax one of these constraints by at least {excess:.6g} deg"
+
+
+def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
+             strict: bool = True, tight_tol_deg: float = 1e-6, lp_tol: float = 1e-10,
+             where: str = "[cyclogram]") -> CyclogramResult:
+    """Least makespan p(end) − p(start) by linear programming (scipy linprog, HiGHS).
+
+    Stage 1 minimises p(end) with p(start) = start_deg under all difference constraints; stage 2
+    minimises Σ p with the makespan held, which picks the earliest schedule (the least element of
+    the feasible set, unique) so that the event times do not depend on the solver's path.
+    A constraint is tight when its slack ≤ ``tight_tol_deg``; the active bounds are the tight ones
+    on a start→end path of tight constraints (a longest path). ``lp_tol`` is HiGHS's primal and
+    dual feasibility tolerance (its accuracy knob; deg): the times are exact to about that times
+    the number of operations on a path (HiGHS's own default, 1e-7, would round away bounds that small).
+
+    ``limits`` adds phase limits ({label: [PhaseLimit, ...]}) to the operations' lower bounds.
+    Infeasible: ``strict`` raises CamcadError naming a smallest conflicting set; otherwise the
+    result has ``feasible`` False, ``conflict`` and ``explanation``.
+    """
+    from scipy.optimize import linprog
+    from scipy.sparse import csr_matrix
+
+    constraints = constraints_of(network, limits)
+    lower = effective_lower_bounds(network, limits)
+    index = {event: k for k, event in enumerate(network.events)}
+    n = len(network.events)
+    m = len(constraints)
+    # p(tail) − p(head) ≤ −weight
+    rows = np.repeat(np.arange(m), 2)
+    cols = np.array([[index[c.tail], index[c.head]] for c in constraints]).ravel()
+    data = np.tile([1.0, -1.0], m)
+    a_ub = csr_matrix((data, (rows, cols)), shape=(m, n))
+    b_ub = np.array([-c.weight for c in constraints])
+    bounds = [(None, None)] * n
+    bounds[index[network.start]] = (network.start_deg, network.start_deg)
+    objective = np.zeros(n)
+    objective[index[network.end]] = 1.0
+    options = {"primal_feasibility_tolerance": lp_tol, "dual_feasibility_tolerance": lp_tol}
+    first = linprog(objective, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
+    if first.status == 2:
+        conflict = find_conflict(network.events, constraints)
+        # read the cycle from the first event when it passes there
+        lead = next((k for k, c in enumerate(conflict) if c.tail == network.start), 0)
+        conflict = conflict[lead:] + conflict[:lead]
+        explanation = _explain(conflict, first.message)
+        result = CyclogramResult(network, False, lower_bounds_deg=lower, conflict=tuple(conflict),
+                                 explanation=explanation, solver_message=first.message)
+        if strict:
+            result.raise_if_infeasible(where)
+        return result
+    if first.status != 0:
+        raise CamcadError(f"the LP solver failed: {first.message}", where,
+                          "check the bounds for extreme values; report it if they are sensible")
+    makespan = float(first.x[index[network.end]]) - network.start_deg
+    # stage 2: hold the makespan (with the solver's tolerance) and take the earliest times
+    hold = network.start_deg + makespan + 10.0 * lp_tol * max(1.0, abs(makespan))
+    bounds[index[network.end]] = (None, hold)
+    second = linprog(np.ones(n), A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
+    if second.status != 0:
+        raise CamcadError(f"the LP solver failed on the earliest schedule: {second.message}", where,
+                          "report it with the scene")
+    times = {event: float(second.x[index[event]]) for event in network.events}
+    phase_angles = {op.label: times[op.head] - times[op.tail] for op in network.operations}
+    slack = [times[c.head] - times[c.tail] - c.weight for c in constraints]
+    tight = [c for c, gap in zip(constraints, slack) if gap <= tight_tol_deg and c.kind != "cycle"]
+    active, path = _critical(network, tight)
+    cycle_slack = network.cycle_deg - makespan
+    return CyclogramResult(network, True, makespan, times, phase_angles, tuple(path), tuple(active),
+                           lower, cycle_slack_deg=cycle_slack, solver_message=second.message)
+
+
+def _critical(network: Network, tight: list[Constraint]) -> tuple[list[Constraint], list[str]]:
+    """Tight constraints on a start→end path of tight constraints, and one such path of events."""
+    forward: dict[str, list[Constraint]] = {e: [] for e in network.events}
+    backward: dict[str, list[Constraint]] = {e: [] for e in network.events}
+    for c in tight:
+        forward[c.tail].append(c)
+        backward[c.head].append(c)
+    from_start = _reachable(network.start, {e: [c.head for c in forward[e]] for e in network.events})
+    to_end = _reachable(network.end, {e: [c.tail for c in backward[e]] for e in network.events})
+    active = [c for c in tight if c.tail in from_start and c.head in to_end]
+    active_set = set(active)
+    # one path: breadth-first over active constraints, in operation order
+    previous: dict[str, Constraint | None] = {network.start: None}
+    queue = [network.start]
+    for event in queue:
+        for c in forward[event]:
+            if c in active_set and c.head not in previous:
+                previous[c.head] = c
+                queue.append(c.head)
+    path = [network.end]
+    while previous.get(path[-1]) is not None:
+        path.append(previous[path[-1]].tail)
+    return active, path[::-1]
+
+
+def _explain(conflict: list[Constraint], solver_message: str) -> str:
+    if not conflict:
+        return f"the cyclogram is infeasible ({solver_message})"
+    excess = sum(c.weight for c in conflict)
+    return ("the cyclogram is infeasible: " + "; ".join(c.describe() for c in conflict)
+            + f" cannot all hold (together they overrun by {excess:.6g} deg)")
+
+
+
+

@@ -1,0 +1,96 @@
+"""The summary dynamic load at the start of a motion (seed 001: a half-sine pulse of half the free period).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
+from camcad.law.law import MotionLaw, Phase
+from camcad.dynamics.model import ElasticFollower, HalfSinePulse, rpm_to_rad_s
+from camcad.dynamics.residual import motion_phases
+from camcad.dynamics.steady import Response
+
+#: a law whose displacement or velocity does not return to its start within this fraction of the
+#: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
+#: tolerance as ``camcad check``, so every law that passes the check can be analysed.
+CLOSURE_TOLERANCE = BALANCE_TOLERANCE
+DEFAULT_SAMPLES = 16384
+SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+#: frequency path: a harmonic whose |D_k| = |ωn² − Ω_k² + 2iζωnΩ_k| is at most this fraction of ωn² is in
+#: resonance. The exact response there is unbounded (ζ = 0) and the computed one is ruled by the round-off
+#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is refused instead.
+RESONANCE_DETUNING = 1e-10
+#: time path: an eigenvalue λ of the monodromy matrix with |1 − λ| ≤ this × rtol is resonance. The shooting
+#: solve divides by 1 − λ, and the marched monodromy carries an error of the order of rtol, so the response
+#: would be ruled by integration error (measured: relative error ≈ 0.02–0.1 rtol/|1 − λ|, ≤ 1e-3 here).
+RESONANCE_GAP_PER_RTOL = 100.0
+
+
+
+# --------------------------------------------------------------------------------------------
+# Load at the start of motion
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StartLoad:
+    """Peak force in the elastic link within one free period after a motion phase starts.
+
+    peak_link_accel (law units/s², mm/s² or rad/s²; × mass = force), at_deg (cam angle of the
+    peak), peak_rigid_accel (the law's own peak in the same window), force_n (N, or N·m for a rad
+    output; None when the mass is unknown).
+    """
+
+    phase: Phase
+    peak_link_accel: float
+    at_deg: float
+    peak_rigid_accel: float
+    force_n: float | None
+
+
+def start_pulse(law: MotionLaw, follower: ElasticFollower, rpm: float, phase: Phase, ratio: float) -> HalfSinePulse:
+    """The summary dynamic load at the start of ``phase``: a half-sine lasting half the free period.
+
+    Applied as an external load opposing the motion's initial acceleration, of amplitude
+    ``ratio`` × the phase's peak rigid acceleration (mm/s²). Source: seed 001 (batten: a jump of
+    acceleration at the start of motion, varying sinusoidally, lasting about half the free period).
+    """
+    omega = rpm_to_rad_s(rpm)
+    theta = np.linspace(phase.start, phase.end, 513)
+    a = law.kinematics(theta).a
+    peak = float(np.max(np.abs(a))) * omega**2
+    first = a[np.flatnonzero(np.abs(a) > 1e-9 * np.max(np.abs(a)))[0]] if np.any(a) else 1.0
+    width = omega * 0.5 / follower.natural_frequency_hz
+    return HalfSinePulse(phase.start, width, -math.copysign(ratio * peak, first), law.cycle)
+
+
+def start_loads(response: Response, law: MotionLaw, follower: ElasticFollower, unit_scale: float = 1e-3
+                ) -> list[StartLoad]:
+    """Start-of-motion loads of every rise and return, read from a steady-state response.
+
+    ``unit_scale`` turns the law's unit into SI (1e-3 for mm → m, 1 for rad), so the force is
+    mass × peak × unit_scale in N (N·m for a rad output with the mass in kg·m²).
+    """
+    omega = rpm_to_rad_s(response.rpm)
+    window = omega / follower.natural_frequency_hz   # one free period, in rad of cam angle
+    out = []
+    for phase in motion_phases(law):
+        u = np.mod(response.theta - phase.start, law.cycle)
+        mask = u <= window
+        if not np.any(mask):
+            continue
+        link = np.abs(response.link_accel[mask])
+        i = int(np.argmax(link))
+        peak = float(link[i])
+        at = float(np.degrees(response.theta[mask][i]))
+        rigid = float(np.max(np.abs(response.accel_rigid[mask])))
+        force = None if follower.mass_kg is None else follower.mass_kg * peak * unit_scale
+        out.append(StartLoad(phase, peak, at, rigid, force))
+    return out
+
+
+
+

@@ -1,0 +1,338 @@
+"""Periodic steady state of the elastic follower: frequency domain (exact for constant stiffness),
+time marching with shooting, transients, and sweeps over speed (see camcad.dynamics.model).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw
+from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
+from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+
+#: a law whose displacement or velocity does not return to its start within this fraction of the
+#: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
+#: tolerance as ``camcad check``, so every law that passes the check can be analysed.
+CLOSURE_TOLERANCE = BALANCE_TOLERANCE
+DEFAULT_SAMPLES = 16384
+SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+#: frequency path: a harmonic whose |D_k| = |ωn² − Ω_k² + 2iζωnΩ_k| is at most this fraction of ωn² is in
+#: resonance. The exact response there is unbounded (ζ = 0) and the computed one is ruled by the round-off
+#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is refused instead.
+RESONANCE_DETUNING = 1e-10
+#: time path: an eigenvalue λ of the monodromy matrix with |1 − λ| ≤ this × rtol is resonance. The shooting
+#: solve divides by 1 − λ, and the marched monodromy carries an error of the order of rtol, so the response
+#: would be ruled by integration error (measured: relative error ≈ 0.02–0.1 rtol/|1 − λ|, ≤ 1e-3 here).
+RESONANCE_GAP_PER_RTOL = 100.0
+
+
+
+# --------------------------------------------------------------------------------------------
+# Responses
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Response:
+    """Periodic response at one speed, sampled at ``theta`` (rad).
+
+    displacement_rigid s (mm); dynamic_error x = y − s (mm); accel_rigid s̈ and accel_elastic ÿ
+    (mm/s²); link_accel = ÿ − F/m, the force in the elastic link per unit mass (mm/s²).
+    """
+
+    rpm: float
+    theta: np.ndarray
+    displacement_rigid: np.ndarray
+    dynamic_error: np.ndarray
+    accel_rigid: np.ndarray
+    accel_elastic: np.ndarray
+    link_accel: np.ndarray
+    method: str = ""
+
+    @property
+    def displacement_elastic(self) -> np.ndarray:
+        return self.displacement_rigid + self.dynamic_error
+
+    @property
+    def peak_accel_rigid(self) -> float:
+        return float(np.max(np.abs(self.accel_rigid)))
+
+    @property
+    def peak_accel_elastic(self) -> float:
+        return float(np.max(np.abs(self.accel_elastic)))
+
+    @property
+    def peak_accel_ratio(self) -> float:
+        """max|ÿ| / max|s̈| over the cycle (elastic / rigid)."""
+        return self.peak_accel_elastic / self.peak_accel_rigid
+
+    @property
+    def dynamic_error_max(self) -> float:
+        """max|y − s| over the cycle (mm)."""
+        return float(np.max(np.abs(self.dynamic_error)))
+
+
+def _external_on_grid(external, theta: np.ndarray) -> np.ndarray:
+    return np.zeros_like(theta) if external is None else np.asarray(external(theta), dtype=float)
+
+
+def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: ElasticFollower, rpm: float, *,
+                           samples: int = DEFAULT_SAMPLES, external=None) -> Response:
+    """Periodic steady state at ``rpm`` by the frequency response of each harmonic (module docstring).
+
+    Exact (to the sampling error, knob ``samples``) for constant stiffness; a follower with
+    variable stiffness raises CamcadError (use ``steady_state_time``). ``external`` is a periodic
+    load per unit mass (callable θ → mm/s²), sampled on the same grid.
+    """
+    if not follower.constant_stiffness:
+        raise CamcadError("the frequency-domain path needs a constant stiffness", "dynamics",
+                          "use the time path (--method time) for a stiffness that varies with the cam angle")
+    spectrum = law_or_spectrum if isinstance(law_or_spectrum, LawSpectrum) else law_spectrum(law_or_spectrum, samples)
+    n = spectrum.samples
+    omega = rpm_to_rad_s(rpm)
+    wn, zeta = follower.omega_n, follower.damping_ratio
+    big_omega = spectrum.orders * omega
+    denominator = wn**2 - big_omega**2 + 2j * zeta * wn * big_omega
+    # the Nyquist term (the last) is dropped below, so its denominator does not matter
+    resonant = np.flatnonzero(np.abs(denominator[:-1]) <= RESONANCE_DETUNING * wn**2)
+    if len(resonant):
+        k = int(resonant[0])
+        raise CamcadError(f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in "
+                          f"resonance with harmonic {k} of the law at {rpm:g} rpm: no periodic steady state",
+                          "dynamics", "give a damping ratio > 0 or another speed")
+    forcing = big_omega**2 * spectrum.coefficients
+    f_grid = _external_on_grid(external, spectrum.theta)
+    if external is not None:
+        forcing = forcing + np.fft.rfft(f_grid) / n
+    x_k = forcing / denominator
+    # the Nyquist term k = N/2 is the aliased sum of all higher harmonics; multiplied by Ω² it would
+    # add a sample-to-sample alternation to the acceleration, so it is left out
+    x_k[-1] = 0.0
+    x = np.fft.irfft(x_k * n, n)
+    y_k = spectrum.coefficients + x_k
+    y_k[-1] = 0.0
+    accel_elastic = np.fft.irfft(-big_omega**2 * y_k * n, n)
+    accel_rigid = omega**2 * spectrum.a
+    return Response(float(rpm), spectrum.theta, spectrum.s, x, accel_rigid, accel_elastic,
+                    accel_elastic - f_grid, "frequency")
+
+
+def _breakpoints(law: MotionLaw, external, start: float, end: float) -> np.ndarray:
+    """Phase boundaries and load edges inside (start, end): where the integrator is restarted."""
+    cuts = {start, end}
+    cycle = law.cycle
+    marks = [p.start for p in law.phases] + [p.end for p in law.phases]
+    marks += list(getattr(external, "breakpoints", ()))
+    first = math.floor(start / cycle)
+    for turn in range(first, math.ceil(end / cycle) + 1):
+        for mark in marks:
+            value = turn * cycle + mark
+            if start < value < end:
+                cuts.add(value)
+    return np.array(sorted(cuts))
+
+
+class _TimeModel:
+    """Right-hand side of the equation in θ, with the state (x, x') and optionally the monodromy columns."""
+
+    def __init__(self, law: MotionLaw, follower: ElasticFollower, rpm: float, external) -> None:
+        self.law = law
+        self.follower = follower
+        self.omega = rpm_to_rad_s(rpm)
+        ratio = follower.omega_n / self.omega
+        self.k2 = ratio**2
+        self.c1 = 2.0 * follower.damping_ratio * ratio
+        self.external = external
+        self.stiffness = follower.stiffness
+
+    def forcing(self, theta: float) -> float:
+        a = float(self.law.kinematics(np.array([theta])).a[0])
+        if self.external is not None:
+            a -= float(self.external(theta)) / self.omega**2
+        return -a
+
+    def spring(self, theta: float) -> float:
+        return self.k2 if self.stiffness is None else self.k2 * float(self.stiffness(theta))
+
+    def rhs(self, theta: float, z: np.ndarray) -> np.ndarray:
+        k = self.spring(theta)
+        return np.array([z[1], self.forcing(theta) - self.c1 * z[1] - k * z[0]])
+
+    def rhs_with_monodromy(self, theta: float, z: np.ndarray) -> np.ndarray:
+        k = self.spring(theta)
+        c = self.c1
+        return np.array([z[1], self.forcing(theta) - c * z[1] - k * z[0],
+                         z[3], -c * z[3] - k * z[2],
+                         z[5], -c * z[5] - k * z[4]])
+
+    def elastic_accel(self, theta: np.ndarray, x: np.ndarray, xp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """ÿ and the link force per unit mass (mm/s²) from the state in θ."""
+        w2 = self.omega**2
+        phi = np.ones_like(theta) if self.stiffness is None else self.stiffness(theta)
+        link = -w2 * (self.k2 * phi * x + self.c1 * xp)
+        f = _external_on_grid(self.external, theta)
+        return link + f, link
+
+
+def _march(fun, z0: np.ndarray, theta_eval: np.ndarray, cuts: np.ndarray, method: str, rtol: float,
+           atol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Integrate from cuts[0] to cuts[-1], restarting at each cut (a discontinuity of the forcing).
+
+    Returns the states at ``theta_eval`` (inside [cuts[0], cuts[-1]]) and the state at cuts[-1].
+    """
+    from scipy.integrate import solve_ivp
+
+    if method not in SOLVERS:
+        raise CamcadError(f"unknown solver {method!r}", "--solver", f"choose one of {', '.join(SOLVERS)}")
+    out = np.empty((len(z0), len(theta_eval)))
+    z = np.array(z0, dtype=float)
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        mask = (theta_eval >= lo) & (theta_eval < hi)
+        sol = solve_ivp(fun, (lo, hi), z, method=method, rtol=rtol, atol=atol,
+                        t_eval=np.append(theta_eval[mask], hi))
+        if not sol.success:
+            raise CamcadError(f"the time integration failed: {sol.message}", "dynamics",
+                              "loosen --rtol or choose another --solver")
+        out[:, mask] = sol.y[:, :-1]
+        z = sol.y[:, -1]
+    out[:, theta_eval == cuts[-1]] = z[:, None]
+    return out, z
+
+
+def steady_state_time(law: MotionLaw, follower: ElasticFollower, rpm: float, *, samples: int = DEFAULT_SAMPLES,
+                      method: str = "RK45", rtol: float = 1e-8, atol: float | None = None,
+                      external=None) -> Response:
+    """Periodic steady state at ``rpm`` by time marching and shooting (module docstring).
+
+    Works with variable stiffness. Knobs: ``method`` (a solve_ivp method), ``rtol``, ``atol``
+    (default rtol × 1e-3 × lift, in mm and mm/rad: the dynamic error is a small fraction of the lift,
+    so a looser atol would dominate). Output at ``samples`` uniform points per cycle.
+    """
+    lift = check_closure(law)
+    model = _TimeModel(law, follower, rpm, external)
+    atol = rtol * 1e-3 * lift if atol is None else atol
+    theta = law.cycle * np.arange(samples) / samples
+    cuts = _breakpoints(law, external, 0.0, law.cycle)
+    z0 = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 1.0])
+    states, z_end = _march(model.rhs_with_monodromy, z0, theta, cuts, method, rtol, atol)
+    monodromy = np.array([[z_end[2], z_end[4]], [z_end[3], z_end[5]]])
+    system = np.eye(2) - monodromy
+    # a free vibration that repeats itself after one cycle (an eigenvalue of the monodromy at 1) makes
+    # I − Φ singular; cond(I − Φ) does not see it, because I − Φ is then small as a whole
+    gap = float(np.min(np.abs(1.0 - np.linalg.eigvals(monodromy))))
+    if gap <= RESONANCE_GAP_PER_RTOL * rtol:
+        raise CamcadError(f"the follower is in resonance at {rpm:g} rpm (a free vibration repeats itself each "
+                          f"cycle within {gap:.2g}): no periodic steady state", "dynamics",
+                          "give a damping ratio > 0, another speed, or a tighter --rtol")
+    start = np.linalg.solve(system, z_end[:2])
+    x = states[0] + states[2] * start[0] + states[4] * start[1]
+    xp = states[1] + states[3] * start[0] + states[5] * start[1]
+    accel_elastic, link = model.elastic_accel(theta, x, xp)
+    kin = law.kinematics(theta)
+    return Response(float(rpm), theta, kin.s, x, model.omega**2 * kin.a, accel_elastic, link,
+                    f"time {method} rtol={rtol:g}")
+
+
+@dataclass(frozen=True)
+class Transient:
+    """Response from given initial conditions: theta (rad), x (mm), x' = dx/dθ (mm/rad), ÿ (mm/s²)."""
+
+    rpm: float
+    theta: np.ndarray
+    dynamic_error: np.ndarray
+    dynamic_error_rate: np.ndarray
+    accel_rigid: np.ndarray
+    accel_elastic: np.ndarray
+
+
+def transient_time(law: MotionLaw, follower: ElasticFollower, rpm: float, theta_end: float, *,
+                   theta_start: float = 0.0, x0: float = 0.0, xdot0: float = 0.0, samples: int = 2001,
+                   method: str = "RK45", rtol: float = 1e-8, atol: float | None = None,
+                   external=None) -> Transient:
+    """Start-up: march from θ_start (rad) with x = x0 (mm), ẋ = xdot0 (mm/s) to θ_end (rad).
+
+    Knobs as ``steady_state_time``; output at ``samples`` points from θ_start to θ_end.
+    """
+    lift = check_closure(law)
+    model = _TimeModel(law, follower, rpm, external)
+    atol = rtol * 1e-3 * lift if atol is None else atol
+    theta = np.linspace(theta_start, theta_end, samples)
+    cuts = _breakpoints(law, external, theta_start, theta_end)
+    states, _ = _march(model.rhs, np.array([x0, xdot0 / model.omega]), theta, cuts, method, rtol, atol)
+    accel_elastic, _ = model.elastic_accel(theta, states[0], states[1])
+    kin = law.kinematics(theta)
+    return Transient(float(rpm), theta, states[0], states[1], model.omega**2 * kin.a, accel_elastic)
+
+
+def steady_state(law: MotionLaw, follower: ElasticFollower, rpm: float, *, method: str = "auto",
+                 samples: int = DEFAULT_SAMPLES, solver: str = "RK45", rtol: float = 1e-8,
+                 external=None) -> Response:
+    """The periodic steady state by ``method`` "frequency", "time" or "auto" (frequency when the stiffness is constant)."""
+    if method == "auto":
+        method = "frequency" if follower.constant_stiffness else "time"
+    if method == "frequency":
+        return steady_state_frequency(law, follower, rpm, samples=samples, external=external)
+    if method == "time":
+        return steady_state_time(law, follower, rpm, samples=samples, method=solver, rtol=rtol, external=external)
+    raise CamcadError(f"unknown method {method!r}", "--method", "choose frequency, time or auto")
+
+
+# --------------------------------------------------------------------------------------------
+# Speed sweeps
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Sweep:
+    """Figures of the steady state over a list of speeds (rpm).
+
+    peak_accel_ratio (elastic / rigid), dynamic_error_max (mm), peak_accel_rigid and
+    peak_accel_elastic (mm/s²), one per speed; ``responses`` keeps the full responses asked for.
+    """
+
+    speeds_rpm: np.ndarray
+    peak_accel_ratio: np.ndarray
+    dynamic_error_max: np.ndarray
+    peak_accel_rigid: np.ndarray
+    peak_accel_elastic: np.ndarray
+    method: str
+    responses: dict = field(default_factory=dict)
+
+
+def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str = "auto",
+          samples: int = DEFAULT_SAMPLES, solver: str = "RK45", rtol: float = 1e-8, external_at=None,
+          keep=(), progress: Callable[[int, int], None] | None = None) -> Sweep:
+    """Steady state at every speed. ``external_at(rpm)`` gives the external load at that speed
+    (or None); ``keep`` lists speeds whose full Response is kept; ``progress(done, total)`` is
+    called after each speed."""
+    speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
+    if method == "auto":
+        method = "frequency" if follower.constant_stiffness else "time"
+    spectrum = law_spectrum(law, samples) if method == "frequency" else None
+    keep = {float(k) for k in keep}
+    ratio, error, rigid, elastic = (np.empty(len(speeds)) for _ in range(4))
+    responses = {}
+    for i, rpm in enumerate(speeds):
+        external = external_at(rpm) if external_at else None
+        if method == "frequency":
+            response = steady_state_frequency(spectrum, follower, rpm, external=external)
+        else:
+            response = steady_state(law, follower, rpm, method=method, samples=samples, solver=solver,
+                                    rtol=rtol, external=external)
+        ratio[i] = response.peak_accel_ratio
+        error[i] = response.dynamic_error_max
+        rigid[i] = response.peak_accel_rigid
+        elastic[i] = response.peak_accel_elastic
+        if float(rpm) in keep:
+            responses[float(rpm)] = response
+        if progress:
+            progress(i + 1, len(speeds))
+    return Sweep(speeds, ratio, error, rigid, elastic, method, responses)
+
+
+
+

@@ -1,0 +1,304 @@
+"""Resonance filtering: remove the band's harmonics from a law, keep its dwells and closure (seed 001).
+"""
+
+from __future__ import annotations
+
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
+from camcad.fourier.analysis import analyse
+from camcad.fourier.resonance import ResonanceBand
+from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, evaluate_series
+
+
+
+def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
+    """θ (rad) where a rise or return begins after a dwell."""
+    starts = []
+    for index, phase in enumerate(phases):
+        if phase.kind != "dwell" and phases[index - 1].kind == "dwell":
+            starts.append(phase.start)
+    return starts
+
+
+def dwell_grid(phases: tuple[Phase, ...], spacing: float) -> np.ndarray:
+    """Points (rad) on every dwell, ends included, at most ``spacing`` apart."""
+    parts = [np.linspace(p.start, p.end, int(math.ceil(p.width / spacing)) + 1)
+             for p in phases if p.kind == "dwell"]
+    return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def _knots_of(law) -> np.ndarray:
+    """Angles (rad) where the law's acceleration may jump or kink: knots, phase ends."""
+    points = [p.start for p in law.phases] + [p.end for p in law.phases]
+    if isinstance(law, PiecewiseLinearLaw):
+        points += list(law.x)
+    if isinstance(law, CorrectedLaw):
+        points += list(_knots_of(law.base))
+    return np.unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
+
+
+def _jumps_and_phase_ends(law) -> np.ndarray:
+    """Angles (rad) where a drawn base law's acceleration jumps, and the ends of its phases."""
+    points = [p.start for p in law.phases] + [p.end for p in law.phases]
+    base = law
+    while isinstance(base, CorrectedLaw):
+        base = base.base
+    if isinstance(base, PiecewiseLinearLaw):
+        points += list(base.x[:-1][np.diff(base.x) == 0])
+    return np.unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
+
+
+def _evaluation_grid(law, samples: int) -> np.ndarray:
+    """A uniform grid plus the knots approached from both sides, so jumps and extremes at knots are seen."""
+    grid = np.arange(samples + 1) * (law.cycle / samples)
+    knots = _knots_of(law)
+    knots = knots[(knots >= 0) & (knots <= law.cycle)]
+    left = np.nextafter(knots, -np.inf)
+    return np.unique(np.concatenate((grid, knots, left[left >= 0])))
+
+
+def start_accelerations(law, window: float, samples: int = 512) -> list[float]:
+    """max |a| (mm/rad²) over [θs, θs + window] after each motion start θs."""
+    values = []
+    for start in motion_starts(tuple(law.phases)):
+        theta = start + np.linspace(0.0, window, samples + 1)
+        values.append(float(np.max(np.abs(law.kinematics(theta).a))))
+    return values
+
+
+@dataclass(frozen=True)
+class FilterResult:
+    """A filtered law and the figures the source and SPEC.md ask for (mm, mm/rad², rad)."""
+
+    law: CorrectedLaw
+    original: Any
+    band: ResonanceBand
+    spectrum: Spectrum
+    removal: FourierLaw
+    compensation: FourierLaw | None
+    max_deviation: float
+    dwell_deviation: float | None
+    removal_bound: float
+    lift_original: float
+    lift_filtered: float
+    peak_accel_original: float
+    peak_accel_filtered: float
+    peak_accel_removed_only: float
+    start_accel_original: float | None
+    start_accel_filtered: float | None
+    start_window: float
+    dwell_tol: float
+    dwells_kept: bool
+    lambda_used: float | None
+    notes: tuple[str, ...]
+
+    @property
+    def peak_accel_ratio(self) -> float:
+        return self.peak_accel_filtered / self.peak_accel_original
+
+    @property
+    def start_accel_ratio(self) -> float | None:
+        if self.start_accel_original is None or self.start_accel_original == 0:
+            return None
+        return self.start_accel_filtered / self.start_accel_original
+
+    def report(self) -> dict:
+        """SPEC.md ``spectrum`` filter keys and the further figures."""
+        band = self.band
+        ratio = self.start_accel_ratio
+        comp = None
+        if self.compensation is not None:
+            amplitudes = self.compensation.coefficients
+            used = np.flatnonzero(np.abs(amplitudes) > 0) + 1
+            comp = {"harmonics": [int(k) for k in used],
+                    "max_amplitude_mm": float(2 * np.max(np.abs(amplitudes))) if len(amplitudes) else 0.0,
+                    "mean_shift_mm": float(self.compensation.mean),
+                    "regularisation": self.lambda_used,
+                    "peak_accel_ratio_without": self.peak_accel_removed_only / self.peak_accel_original}
+        return {
+            "removed": list(band.removed),
+            "attenuated": {str(k): g for k, g in band.gains.items() if g > 0},
+            "resonant": list(band.core),
+            "k_band": [band.k_low, band.k_high],
+            "fn_hz": band.fn_hz, "rpm": list(band.rpm), "band": band.band, "neighbours": band.neighbours,
+            "taper": band.taper,
+            "max_deviation_mm": self.max_deviation,
+            "dwell_deviation_mm": self.dwell_deviation,
+            "removed_amplitude_sum_mm": self.removal_bound,
+            "dwell_tol_mm": self.dwell_tol,
+            "dwells_kept": self.dwells_kept,
+            "lift_mm": self.lift_original,
+            "lift_change_mm": self.lift_filtered - self.lift_original,
+            "peak_accel_ratio": self.peak_accel_ratio,
+            "peak_accel_mm_per_rad2": {"original": self.peak_accel_original, "filtered": self.peak_accel_filtered},
+            "start_accel": {"window_deg": float(np.degrees(self.start_window)),
+                            "original_mm_per_rad2": self.start_accel_original,
+                            "filtered_mm_per_rad2": self.start_accel_filtered,
+                            "ratio": ratio,
+                            "change_percent": None if ratio is None else 100.0 * (ratio - 1.0)},
+            "compensation": comp,
+            "notes": list(self.notes),
+        }
+
+
+def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep_dwells: bool = True,
+               dwell_tol: float | None = None, start_window_deg: float = 7.0,
+               compensation_harmonics: int | None = None, samples: int | None = None,
+               spectrum: Spectrum | None = None) -> FilterResult:
+    """Remove (or taper) the resonant harmonics of ``law``; keep the dwells and the lift within ``dwell_tol``.
+
+    The filtered law is law − Σ_{k} (1 − g_k)·(term k) (``CorrectedLaw``): exact, every other harmonic
+    kept. On the dwells it deviates by the removed terms, at most Σ (1 − g_k) A_k. When that exceeds
+    ``dwell_tol`` (mm, default 1e-3 × lift) and ``keep_dwells`` is set, a compensation δ made only of
+    harmonics outside the removed set (k ≤ ``compensation_harmonics``, default 2·max removed + 8, and a
+    constant) is added: the least-squares fit of −(removed terms) on the dwells and at the extremes of s,
+    regularised by λ·mean(δ² + δ''²/(k_b ω0)⁴) — the displacement and acceleration it costs (k_b the
+    lowest touched harmonic). λ is the largest that meets the tolerance;
+    if none does, the smallest deviation reached is reported with its cost. The resonant harmonics
+    stay exactly zero either way.
+
+    Parameters
+    ----------
+    band : from ``resonant_harmonics``.
+    harmonics : harmonics analysed (at least the highest one touched).
+    start_window_deg : window after each motion start over which max |a| is the start-of-motion load
+        (the source saw it over about the first 7°).
+    samples : uniform grid for maxima (default ≥ 64 points per period of the highest harmonic, ≥ 2^14).
+    """
+    cycle = law.cycle
+    omega = 2.0 * np.pi / cycle
+    notes: list[str] = []
+    wide = max(harmonics, band.highest)
+    if spectrum is None or len(spectrum.coefficients) < wide:
+        spectrum = analyse(law, wide)
+    if not spectrum.converged:
+        notes.append(f"FFT analysis did not reach its tolerance: coefficient error {spectrum.coefficient_error:.3g} mm")
+    removal = np.zeros(band.highest, dtype=complex)
+    for k, gain in band.gains.items():
+        removal[k - 1] = -(1.0 - gain) * spectrum.coefficients[k - 1]
+    removal_law = FourierLaw(cycle, 0.0, removal)
+    bound = float(np.sum(2.0 * np.abs(removal)))
+    phases = tuple(law.phases)
+    if samples is None:
+        top = max(band.highest, compensation_harmonics or 0, 2 * band.highest + 8)
+        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (top + 1)))))
+    grid = _evaluation_grid(law, samples)
+    base = law.kinematics(grid)
+    lift = float(np.ptp(base.s))
+    tol = 1e-3 * lift if dwell_tol is None else float(dwell_tol)
+    if dwell_tol is None:
+        notes.append(f"dwell tolerance not given: 1e-3 of the lift, {tol:.4g} mm")
+    dwells = dwell_grid(phases, cycle / samples)
+    extremes = grid[[int(np.argmax(base.s)), int(np.argmin(base.s))]]
+    keep_points = np.concatenate((dwells, extremes))
+
+    def deviation_on(points, correction: FourierLaw) -> float:
+        if len(points) == 0:
+            return 0.0
+        return float(np.max(np.abs(evaluate_series(correction.mean, correction.coefficients, cycle, points))))
+
+    plain_dwell = deviation_on(keep_points, removal_law)
+    correction = removal_law
+    compensation = None
+    lam = None
+    if not band.removed:
+        notes.append("no harmonic falls in the band: nothing removed")
+    elif keep_dwells and plain_dwell > tol:
+        highest = compensation_harmonics or (2 * max(band.gains) + 8)
+        # fit on 16 points per period of the highest harmonic, check on the fine grid
+        fit_points = np.concatenate((dwell_grid(phases, cycle / (16 * highest)), extremes))
+        compensation, lam, reached = _compensate(removal_law, fit_points, keep_points, band, tol, omega, highest)
+        correction = FourierLaw(cycle, compensation.mean, _add_series(removal, compensation.coefficients))
+        if not reached:
+            notes.append("the dwells and the lift cannot be kept within the tolerance with the harmonics "
+                         "outside the band; the smallest deviation reached is reported with its cost")
+    filtered = CorrectedLaw(law, FourierLaw(cycle, correction.mean, correction.coefficients, phases))
+    delta = correction.kinematics(grid)
+    a_filtered = base.a + delta.a
+    a_removed = base.a + removal_law.kinematics(grid).a
+    peak = float(np.max(np.abs(base.a)))
+    dwell_dev = deviation_on(dwells, correction) if len(dwells) else None
+    kept_dev = deviation_on(keep_points, correction)
+    dwells_kept = kept_dev <= tol * (1 + 1e-9)
+    if compensation is not None:
+        notes.append(f"plain removal moved the dwells/lift by {plain_dwell:.4g} mm (> {tol:.4g} mm); the compensation "
+                     f"brings it to {kept_dev:.4g} mm at peak-acceleration ratio "
+                     f"{np.max(np.abs(a_filtered)) / peak:.4f} (removal alone: {np.max(np.abs(a_removed)) / peak:.4f})")
+    window = float(np.radians(start_window_deg))
+    starts_before = start_accelerations(law, window)
+    starts_after = start_accelerations(filtered, window)
+    return FilterResult(
+        law=filtered, original=law, band=band, spectrum=spectrum, removal=removal_law, compensation=compensation,
+        max_deviation=float(np.max(np.abs(delta.s))), dwell_deviation=dwell_dev, removal_bound=bound,
+        lift_original=lift, lift_filtered=float(np.ptp(base.s + delta.s)),
+        peak_accel_original=peak, peak_accel_filtered=float(np.max(np.abs(a_filtered))),
+        peak_accel_removed_only=float(np.max(np.abs(a_removed))),
+        start_accel_original=max(starts_before) if starts_before else None,
+        start_accel_filtered=max(starts_after) if starts_after else None,
+        start_window=window, dwell_tol=tol, dwells_kept=bool(dwells_kept), lambda_used=lam, notes=tuple(notes))
+
+
+def _add_series(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    out = np.zeros(max(len(first), len(second)), dtype=complex)
+    out[:len(first)] += first
+    out[:len(second)] += second
+    return out
+
+
+def _compensate(removal: FourierLaw, points: np.ndarray, check_points: np.ndarray, band: ResonanceBand,
+                tol: float, omega: float, highest: int) -> tuple[FourierLaw, float, bool]:
+    """δ = x0 + 2 Re Σ_{k∈C} x_k e^{ikω0θ}, C = {1..highest} \\ band, minimising
+    mean_D (removal + δ)² + λ Σ_k 2|x_k|² (1 + (k/k_b)⁴), k_b the lowest touched harmonic: the mean
+    square over the cycle of δ (the displacement change) plus δ''/(k_b ω0)² (the acceleration change,
+    weighted to equal the displacement at the band).
+
+    Solved for every λ from one SVD of the prewhitened design matrix on the fit points D; the
+    largest λ whose max deviation on ``check_points`` is ≤ tol is used (the least cost), else the
+    one with the smallest deviation.
+    """
+    allowed = [k for k in range(1, highest + 1) if k not in band.gains]
+    reference = float(min(band.gains))
+
+    def design_of(theta: np.ndarray) -> np.ndarray:
+        columns = [np.ones(len(theta))]
+        for k in allowed:
+            arg = k * omega * theta
+            columns += [2.0 * np.cos(arg), -2.0 * np.sin(arg)]
+        return np.column_stack(columns)
+
+    count = len(points)
+    target = -evaluate_series(removal.mean, removal.coefficients, removal.cycle, points)
+    check_target = -evaluate_series(removal.mean, removal.coefficients, removal.cycle, check_points)
+    design = design_of(points) / math.sqrt(count)
+    check_design = design_of(check_points)
+    penalty = np.concatenate(([0.0], np.repeat([2.0 * (1.0 + (k / reference) ** 4) for k in allowed], 2)))
+    # the constant costs nothing; a tiny weight keeps the prewhitening invertible
+    penalty[0] = 1e-6 * penalty[1:].min()
+    whiten = 1.0 / np.sqrt(penalty)
+    u, sigma, vt = np.linalg.svd(design * whiten, full_matrices=False)
+    projected = u.T @ (target / math.sqrt(count))
+    best = None
+    chosen = None
+    for lam in sigma[0] ** 2 * np.logspace(2, -16, 109):
+        x = whiten * (vt.T @ (sigma / (sigma**2 + lam) * projected))
+        deviation = float(np.max(np.abs(check_design @ x - check_target)))
+        if best is None or deviation < best[0]:
+            best = (deviation, x, lam)
+        if deviation <= tol:
+            chosen = (deviation, x, lam)
+            break
+    deviation, x, lam = chosen or best
+    coefficients = np.zeros(highest, dtype=complex)
+    for index, k in enumerate(allowed):
+        coefficients[k - 1] = x[1 + 2 * index] + 1j * x[2 + 2 * index]
+    return FourierLaw(removal.cycle, float(x[0]), coefficients), float(lam), chosen is not None
+
+
+
+

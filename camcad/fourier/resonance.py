@@ -1,0 +1,89 @@
+"""The resonance band: which harmonics of a law excite a follower of natural frequency fn over a speed range.
+"""
+
+from __future__ import annotations
+
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camcad.errors import CamcadError
+from camcad.scene.fields import parse_speeds
+
+
+# =============================================================================================
+# Resonance filtering
+# =============================================================================================
+
+@dataclass(frozen=True)
+class ResonanceBand:
+    """Harmonics that meet the natural frequency over a speed range.
+
+    k is *resonant* when |k n/60 − fn| ≤ band·fn for some n ∈ [n1, n2] rpm, i.e.
+        60 fn (1 − band)/n2 ≤ k ≤ 60 fn (1 + band)/n1     (both ends included, to 1e-9 relative).
+    ``removed`` adds ``neighbours`` harmonics on each side. ``gains`` multiply the harmonics: 0 for the
+    removed ones, and with ``taper`` > 0 a raised-cosine ramp g = sin²(π d / (2(taper + 1))) over the
+    next ``taper`` harmonics at distance d from the removed set.
+    """
+
+    fn_hz: float
+    rpm: tuple[float, float]
+    band: float
+    neighbours: int
+    taper: int
+    k_low: float
+    k_high: float
+    core: tuple[int, ...]
+    removed: tuple[int, ...]
+    gains: dict
+
+    @property
+    def highest(self) -> int:
+        return max(self.gains) if self.gains else 0
+
+    def frequency_band_hz(self) -> tuple[float, float]:
+        return self.fn_hz * (1.0 - self.band), self.fn_hz * (1.0 + self.band)
+
+
+def parse_rpm(value, where: str = "--rpm") -> tuple[float, float]:
+    """The speed range (n1, n2) in rpm of a speed or range (see camcad.params.parse_speeds)."""
+    speeds = parse_speeds(value, where)
+    return min(speeds), max(speeds)
+
+
+def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 1, taper: int = 0,
+                       where: str = "filter") -> ResonanceBand:
+    """The resonant harmonics (see ``ResonanceBand``) for natural frequency fn (Hz) over rpm = (n1, n2)."""
+    low, high = parse_rpm(rpm, where)
+    if not (np.isfinite(fn_hz) and fn_hz > 0):
+        raise CamcadError(f"natural frequency {fn_hz!r} Hz must be positive", where, "give fn in Hz, e.g. --fn 160")
+    if not (np.isfinite(band) and 0 <= band < 1):
+        raise CamcadError(f"band {band!r} must be a fraction in [0, 1)", where,
+                          "give the half-width as a fraction of fn, e.g. 0.05 for ±5 %")
+    if neighbours < 0 or taper < 0:
+        raise CamcadError("neighbours and taper must be >= 0", where, "give whole numbers >= 0")
+    k_low = 60.0 * fn_hz * (1.0 - band) / high
+    k_high = 60.0 * fn_hz * (1.0 + band) / low
+    slack = 1e-9
+    first = max(1, int(math.ceil(k_low * (1 - slack))))
+    last = int(math.floor(k_high * (1 + slack)))
+    core = tuple(range(first, last + 1))
+    if len(core) > 100000:
+        raise CamcadError(f"the band covers {len(core)} harmonics", where, "narrow the band or the speed range")
+    removed = set()
+    for k in core:
+        removed.update(j for j in range(k - neighbours, k + neighbours + 1) if j >= 1)
+    gains = {k: 0.0 for k in removed}
+    if taper and removed:
+        for d in range(1, taper + 1):
+            gain = math.sin(math.pi * d / (2 * (taper + 1))) ** 2
+            for j in (min(removed) - d, max(removed) + d):
+                if j >= 1 and j not in gains:
+                    gains[j] = gain
+    return ResonanceBand(float(fn_hz), (low, high), float(band), int(neighbours), int(taper), k_low, k_high,
+                         core, tuple(sorted(removed)), dict(sorted(gains.items())))
+
+
+

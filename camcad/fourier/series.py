@@ -1,0 +1,219 @@
+"""The Fourier series of a motion law and its spectrum: amplitudes, initial phases, evaluation.
+
+Conventions (seed 001; see camcad.fourier): s(θ) = mean + Σ A_k sin(k ω0 θ + φ_k), ω0 = 2π/cycle;
+c_k = (1/T) ∫ s e^{−ikω0θ} dθ, A_k = 2|c_k|, φ_k = arg c_k + π/2.
+"""
+
+from __future__ import annotations
+
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from camcad.law.law import Kinematics, Phase
+
+
+
+# =============================================================================================
+# The series and its spectrum
+# =============================================================================================
+
+def amplitudes_of(coefficients: np.ndarray) -> np.ndarray:
+    """A_k = 2|c_k| (units of the analysed function)."""
+    return 2.0 * np.abs(np.asarray(coefficients))
+
+
+def initial_phases_of(coefficients: np.ndarray) -> np.ndarray:
+    """φ_k = arg c_k + π/2 wrapped to (−π, π] (rad): the sine form s = Σ A_k sin(kω0θ + φ_k)."""
+    phase = np.angle(np.asarray(coefficients)) + np.pi / 2.0
+    return np.pi - np.mod(np.pi - phase, 2.0 * np.pi)
+
+
+def coefficients_from(amplitudes, phases_rad) -> np.ndarray:
+    """c_k from the sine form: c_k = (A_k/2) e^{i(φ_k − π/2)}."""
+    return 0.5 * np.asarray(amplitudes, dtype=float) * np.exp(1j * (np.asarray(phases_rad, dtype=float) - np.pi / 2))
+
+
+def evaluate_series(mean: float, coefficients: np.ndarray, cycle: float, theta, order: int = 0) -> np.ndarray:
+    """d^order/dθ^order of mean + 2 Re Σ_k c_k e^{ikω0θ} at θ (rad); units of s per rad^order."""
+    return evaluate_series_orders(mean, coefficients, cycle, theta, (order,))[0]
+
+
+def evaluate_series_orders(mean: float, coefficients: np.ndarray, cycle: float, theta,
+                           orders=(0, 1, 2, 3)) -> list[np.ndarray]:
+    """Several derivatives of the series at θ (rad), by Horner's scheme in z = e^{iω0θ}.
+
+    Σ_k c_k z^k = z(c_1 + z(c_2 + … + z c_N)): N complex multiply-adds per point and order, no table
+    of exponentials; |z| = 1, so the round-off grows at most like N·eps·Σ|c_k|.
+    """
+    theta = np.asarray(theta, dtype=float)
+    flat = theta.ravel()
+    coefficients = np.asarray(coefficients, dtype=complex)
+    n = len(coefficients)
+    outs = [np.full(flat.shape, mean if order == 0 else 0.0) for order in orders]
+    if n and len(flat):
+        w = np.arange(1, n + 1) * (2.0 * np.pi / cycle)
+        weighted = np.stack([coefficients * (1j * w) ** order for order in orders], axis=1)
+        z = np.exp(1j * (2.0 * np.pi / cycle) * flat)[:, None]
+        total = np.zeros((len(flat), len(orders)), dtype=complex)
+        for k in range(n - 1, -1, -1):
+            total *= z
+            total += weighted[k]
+        values = 2.0 * np.real(total * z)
+        for index, out in enumerate(outs):
+            out += values[:, index]
+    return [out.reshape(theta.shape) for out in outs]
+
+
+def series_on_grid(mean: float, coefficients: np.ndarray, samples: int, order: int = 0,
+                   cycle: float = 2 * np.pi) -> np.ndarray:
+    """The series' order-th derivative at θ_j = j T/M, j = 0..M−1, by one inverse FFT (needs N < M/2)."""
+    coefficients = np.asarray(coefficients, dtype=complex)
+    n = len(coefficients)
+    if 2 * n >= samples:
+        raise ValueError(f"{samples} samples cannot carry {n} harmonics")
+    spectrum = np.zeros(samples // 2 + 1, dtype=complex)
+    w = np.arange(1, n + 1) * (2.0 * np.pi / cycle)
+    spectrum[1:n + 1] = coefficients * (1j * w) ** order
+    spectrum[0] = mean if order == 0 else 0.0
+    return np.fft.irfft(spectrum * samples, n=samples)
+
+
+@dataclass(frozen=True)
+class FourierLaw:
+    """A motion law given by its harmonics: s = mean + 2 Re Σ_{k=1}^{N} c_k e^{ikω0θ} (mm), ω0 = 2π/cycle.
+
+    Satisfies the ``MotionLaw`` protocol; v, a, j are the exact term-by-term derivatives (mm/rad,
+    mm/rad², mm/rad³). Periodic by construction, so it always closes.
+    """
+
+    cycle: float
+    mean: float
+    coefficients: np.ndarray
+    phases: tuple[Phase, ...] = ()
+
+    def __post_init__(self) -> None:
+        c = np.ascontiguousarray(self.coefficients, dtype=complex)
+        c.setflags(write=False)
+        object.__setattr__(self, "coefficients", c)
+
+    @classmethod
+    def from_amplitudes(cls, amplitudes, phases_rad, mean: float, cycle: float,
+                        phases: tuple[Phase, ...] = ()) -> "FourierLaw":
+        """From A_k (mm) and initial phases φ_k (rad) of s = mean + Σ A_k sin(kω0θ + φ_k)."""
+        return cls(cycle, float(mean), coefficients_from(amplitudes, phases_rad), tuple(phases))
+
+    @property
+    def harmonics(self) -> int:
+        return len(self.coefficients)
+
+    def kinematics(self, theta) -> Kinematics:
+        theta = np.asarray(theta, dtype=float)
+        s, v, a, j = evaluate_series_orders(self.mean, self.coefficients, self.cycle, theta)
+        return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
+
+
+@dataclass(frozen=True)
+class CorrectedLaw:
+    """``base`` plus a finite trigonometric ``correction`` (a FourierLaw): the filtered law.
+
+    Removing harmonics R from the infinite series of ``base`` is exactly base − Σ_{k∈R} (term k),
+    so nothing else of the law changes: no truncation, no Gibbs ripple.
+    """
+
+    base: Any
+    correction: FourierLaw
+
+    @property
+    def cycle(self) -> float:
+        return self.base.cycle
+
+    @property
+    def phases(self) -> tuple[Phase, ...]:
+        return tuple(self.base.phases)
+
+    def kinematics(self, theta) -> Kinematics:
+        first = self.base.kinematics(theta)
+        second = self.correction.kinematics(theta)
+        return Kinematics(theta=first.theta, s=first.s + second.s, v=first.v + second.v,
+                          a=first.a + second.a, j=first.j + second.j)
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """Harmonics 1..N of the displacement (mm) and of the acceleration analog (mm/rad²) of a law.
+
+    ``tail_mean_square`` is Σ_{k>N} A_k²/2 (mm²): exact for a FourierLaw, the jump-asymptotic estimate
+    for the exact methods, the discrete remainder for FFT. ``mean_square`` is (1/T)∫(s − mean)² dθ
+    when computed independently of the coefficients (NaN otherwise). ``coefficient_error`` bounds the
+    error of each amplitude A_k (mm): round-off for the exact methods, the difference between the two
+    finest samplings for FFT.
+    """
+
+    cycle: float
+    mean: float
+    coefficients: np.ndarray
+    accel_mean: float
+    accel_coefficients: np.ndarray
+    tail_mean_square: float
+    mean_square: float
+    coefficient_error: float
+    accel_coefficient_error: float
+    method: str
+    samples: int = 0
+    converged: bool = True
+
+    @property
+    def harmonics(self) -> np.ndarray:
+        return np.arange(1, len(self.coefficients) + 1)
+
+    @property
+    def amplitudes(self) -> np.ndarray:
+        return amplitudes_of(self.coefficients)
+
+    @property
+    def phases(self) -> np.ndarray:
+        return initial_phases_of(self.coefficients)
+
+    @property
+    def accel_amplitudes(self) -> np.ndarray:
+        return amplitudes_of(self.accel_coefficients)
+
+    @property
+    def accel_phases(self) -> np.ndarray:
+        return initial_phases_of(self.accel_coefficients)
+
+    def rms_errors(self) -> np.ndarray:
+        """RMS error (mm) of the series truncated after n = 0, 1, …, N harmonics (Parseval)."""
+        power = self.amplitudes**2 / 2.0
+        # tail sums from the top, so small terms are added first
+        tails = np.concatenate((np.cumsum(power[::-1])[::-1], [0.0])) + self.tail_mean_square
+        return np.sqrt(tails)
+
+    def rms_error(self, n: int) -> float:
+        """RMS error (mm) of the series truncated after n harmonics, 0 ≤ n ≤ N."""
+        if not 0 <= n <= len(self.coefficients):
+            raise ValueError(f"n = {n} outside 0..{len(self.coefficients)}")
+        return float(self.rms_errors()[n])
+
+    def least_harmonics(self, tol: float) -> int | None:
+        """Least n with RMS error ≤ tol (mm); None when even N harmonics are not enough."""
+        ok = np.flatnonzero(self.rms_errors() <= tol)
+        return int(ok[0]) if len(ok) else None
+
+    def truncated(self, n: int | None = None, phases: tuple[Phase, ...] = ()) -> FourierLaw:
+        """The law synthesised from the mean and the first n harmonics."""
+        n = len(self.coefficients) if n is None else n
+        return FourierLaw(self.cycle, self.mean, self.coefficients[:n], tuple(phases))
+
+    def table(self) -> list[dict]:
+        """Rows {k, amplitude (mm), phase_deg, accel_amplitude (mm/rad²), accel_phase_deg}."""
+        return [{"k": int(k), "amplitude": float(amp), "phase_deg": float(np.degrees(ph)),
+                 "accel_amplitude": float(aamp), "accel_phase_deg": float(np.degrees(aph))}
+                for k, amp, ph, aamp, aph in zip(self.harmonics, self.amplitudes, self.phases,
+                                                 self.accel_amplitudes, self.accel_phases)]
+
+
+
