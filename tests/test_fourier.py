@@ -346,7 +346,7 @@ def test_band_edges_are_included_exactly():
     assert fourier.resonant_harmonics(100.0 * (1 - 1e-7), (300, 400), 0.0, 0).core == tuple(range(15, 20))
     assert fourier.resonant_harmonics(100.0 * (1 + 1e-7), (300, 400), 0.0, 0).core == tuple(range(16, 21))
     # b = 0.05: [14.25, 21.0] → 15…21, with one neighbour 14…22; a taper of 2 adds 13, 12 and 23, 24
-    band = fourier.resonant_harmonics(100.0, "300:400", 0.05, 1, taper=2)
+    band = fourier.resonant_harmonics(100.0, (300, 400), 0.05, 1, taper=2)
     assert band.core == tuple(range(15, 22))
     assert band.removed == tuple(range(14, 23))
     assert band.gains[13] == pytest.approx(math.sin(math.pi / 6) ** 2) and band.gains[12] == pytest.approx(0.75)
@@ -536,7 +536,7 @@ def test_parse_filter_section():
     with pytest.raises(CamcadError):
         fourier.resonant_harmonics(160.0, (0, 330))
     # a range given high to low is the same range
-    assert fourier.parse_rpm((420, 330)) == (330.0, 420.0)
+    assert fourier.speed_range((420, 330)) == (330.0, 420.0)
     with pytest.raises(CamcadError):
         fourier.resonant_harmonics(160.0, (330, 420), band=1.5)
 

@@ -9,7 +9,8 @@ import ezdxf
 import numpy as np
 import pytest
 
-from camcad.scene.pipeline import PipelineOptions, run_scene
+from camcad.report.scene import run_scene
+from camcad.scene.pipeline import PipelineOptions
 from conftest import SAMPLES
 
 SCENES = SAMPLES / "scenes"

@@ -234,7 +234,7 @@ def profile(
 
 def _scene(path: Path, options, as_json: bool) -> None:
     """The scene pipeline with a progress line on stderr; exit 1 when any check of any model fails."""
-    from camcad.scene.pipeline import run_scene
+    from camcad.report.scene import run_scene
     from camcad.cli.common import console, print_json
 
     if as_json:

@@ -48,6 +48,7 @@ def spectrum(
 
     from camcad import fourier
     from camcad.errors import CamcadError
+    from camcad.scene.fields import parse_rpm
 
     if method not in ("auto", "exact", "fft"):
         raise CamcadError(f"unknown method {method!r}", "--method", "use auto, exact or fft")
@@ -63,7 +64,7 @@ def spectrum(
     if settings.harmonics < 1 or settings.harmonics > 1 << 16:
         raise CamcadError(f"--harmonics {settings.harmonics} is not in 1..65536", "--harmonics", "give e.g. 64")
     natural = fn if fn is not None else (settings.fn_hz if settings.fn_hz is not None else scene_fn)
-    speeds = fourier.parse_rpm(rpm, "--rpm") if rpm is not None else (settings.rpm or scene_rpm)
+    speeds = parse_rpm(rpm, "--rpm") if rpm is not None else (settings.rpm or scene_rpm)
     resonance = None
     if natural is not None and speeds is not None:
         resonance = fourier.resonant_harmonics(natural, speeds, settings.band, settings.neighbours, settings.taper,

@@ -74,7 +74,7 @@ from camcad.fourier.patterns import (
     pattern_coefficients,
     synthesise_standard,
 )
-from camcad.fourier.resonance import ResonanceBand, parse_rpm, resonant_harmonics
+from camcad.fourier.resonance import ResonanceBand, resonant_harmonics, speed_range
 from camcad.fourier.filter import motion_starts, dwell_grid, start_accelerations, FilterResult, filter_law
 from camcad.fourier.export import acceleration_polyline, ExportedLaw, export_polyline
 from camcad.fourier.leadin import LeadInResult, add_lead_in
@@ -114,7 +114,7 @@ __all__ = [
     "monomial_moments",
     "motion_pattern",
     "motion_starts",
-    "parse_rpm",
+    "speed_range",
     "pattern_coefficients",
     "pattern_database",
     "resonant_harmonics",

@@ -10,7 +10,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.scene.fields import parse_speeds
 
 
 # =============================================================================================
@@ -47,16 +46,20 @@ class ResonanceBand:
         return self.fn_hz * (1.0 - self.band), self.fn_hz * (1.0 + self.band)
 
 
-def parse_rpm(value, where: str = "--rpm") -> tuple[float, float]:
-    """The speed range (n1, n2) in rpm of a speed or range (see camcad.params.parse_speeds)."""
-    speeds = parse_speeds(value, where)
-    return min(speeds), max(speeds)
+def speed_range(rpm, where: str = "rpm") -> tuple[float, float]:
+    """(n1, n2) in rpm from one speed or a sequence of speeds; CamcadError unless positive and finite."""
+    values = [rpm] if isinstance(rpm, (int, float)) and not isinstance(rpm, bool) else list(rpm)
+    if not values or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0
+                         for v in values):
+        raise CamcadError(f"speeds must be positive numbers (rpm), got {rpm!r}", where,
+                          "give one speed or a range n1:n2 in rpm")
+    return float(min(values)), float(max(values))
 
 
 def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 1, taper: int = 0,
                        where: str = "filter") -> ResonanceBand:
     """The resonant harmonics (see ``ResonanceBand``) for natural frequency fn (Hz) over rpm = (n1, n2)."""
-    low, high = parse_rpm(rpm, where)
+    low, high = speed_range(rpm, where)
     if not (np.isfinite(fn_hz) and fn_hz > 0):
         raise CamcadError(f"natural frequency {fn_hz!r} Hz must be positive", where, "give fn in Hz, e.g. --fn 160")
     if not (np.isfinite(band) and 0 <= band < 1):

@@ -1,29 +1,90 @@
-"""Atomic file output: a reader never sees a half-written file, and a failed write leaves nothing."""
+"""Atomic file output that cannot be redirected: a reader never sees a half-written file, a failed
+write leaves nothing behind, and a symlink planted in the output folder is never followed.
+
+How: the new content goes into a temporary file created exclusively in the target's own folder
+(``tempfile.mkstemp``: ``O_CREAT | O_EXCL`` with an unpredictable name, mode 0600 widened to the
+umask's default afterwards), is flushed and fsynced, then renamed over the target (``os.replace``,
+atomic on POSIX file systems). The rename replaces a symlink at the target name by the new file; it
+never writes through it. The temporary file is removed on any failure, including KeyboardInterrupt.
+"""
 
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 from typing import Callable
 
+from camcad.errors import CamcadError
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
 
 def write_atomic(path: str | Path, write: Callable[[Path], None]) -> Path:
-    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``.
+    """Call ``write(tmp)`` on a fresh temporary file beside ``path``, then rename it over ``path``.
 
-    The rename is atomic on POSIX file systems (os.replace), so ``path`` holds either the
-    old content or the complete new one.
+    Parameters
+    ----------
+    path : str or Path
+        The file to create or replace. Its folder is created if missing.
+    write : callable
+        Writes the content to the path it is given (it may reopen the file by name).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> write_atomic(folder / "a.txt", lambda tmp: tmp.write_text("x")).read_text()
+    'x'
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise CamcadError("a file stands where the output folder should be", str(path.parent),
+                          "choose another output folder with -o") from None
+    except OSError as err:
+        raise CamcadError(f"cannot create the output folder ({err.strerror})", str(path.parent),
+                          "choose another output folder with -o") from None
+    if path.is_dir():
+        raise CamcadError("the output is an existing folder, not a file name", str(path),
+                          "give a file name with -o")
+    try:
+        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as err:
+        raise CamcadError(f"cannot write into the output folder ({err.strerror})", str(path.parent),
+                          "choose a writable folder with -o") from None
+    tmp = Path(name)
+    try:
+        os.close(handle)
         write(tmp)
+        with open(tmp, "rb+") as stream:
+            os.fsync(stream.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
+    except OSError as err:
+        raise CamcadError(f"cannot write the file ({err.strerror})", str(path),
+                          "check the folder's permissions and free space, or choose another output") from None
     finally:
-        if tmp.exists():
+        if tmp.exists() or tmp.is_symlink():
             tmp.unlink()
     return path
 
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
-    return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    """``write_atomic`` of UTF-8 text with ``\\n`` line ends."""
+    return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8", newline="\n"))
+
+
+def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
+    """``write_atomic`` of raw bytes."""
+    return write_atomic(path, lambda tmp: tmp.write_bytes(data))

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.jsonout import write_json
+from camcad.io.output_folder import OutputFolder
 from camcad.io.atomic import write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
 from camcad.profile.scaled_law import describe_law, describe_phases
@@ -110,26 +111,47 @@ def law_csv_text(result: ProfileResult) -> str:
     return out.getvalue()
 
 
-def write_outputs(result: ProfileResult, outdir: str | Path, settings: ProfileSettings | None = None,
-                  extra: dict | None = None) -> list[Path]:
-    """Write profile.dxf, law.csv, the plots (unless settings.plots is False) and report.json
-    into ``outdir``; ``extra`` keys are merged into report.json. Returns the written paths."""
+def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, settings: ProfileSettings | None = None,
+                  extra: dict | None = None, *, sub: tuple[str, ...] = (), report_json: bool = True,
+                  inputs: tuple[Path, ...] = ()) -> list[Path]:
+    """Write profile.dxf, law.csv, the plots (unless ``settings.plots`` is False) and report.json.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised profile.
+    out : OutputFolder or path
+        Where to write (a path is opened as an ``OutputFolder`` guarding ``inputs``).
+    settings : ProfileSettings, optional
+        DXF flavour and plots; ``result.settings`` by default.
+    extra : dict, optional
+        Keys merged into report.json.
+    sub : tuple of str
+        A subfolder of ``out`` (a mechanism of a group scene).
+    report_json : bool
+        Write report.json (a scene writes one report for all its mechanisms instead).
+
+    Returns
+    -------
+    list of Path
+        The written files.
+    """
+    if not isinstance(out, OutputFolder):
+        with OutputFolder(out, inputs) as folder:
+            return write_outputs(result, folder, settings, extra, sub=sub, report_json=report_json)
     settings = settings or result.settings
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [write_dxf(outdir / "profile.dxf", build_drawing(result), "R12" if settings.r12 else "R2000"),
-               write_text_atomic(outdir / "law.csv", law_csv_text(result))]
+    written = [write_dxf(out.path(*sub, "profile.dxf"), build_drawing(result), "R12" if settings.r12 else "R2000"),
+               write_text_atomic(out.path(*sub, "law.csv"), law_csv_text(result))]
     if settings.plots:
         from camcad.report.profile import plot_profile_set
 
-        written.extend(plot_profile_set(result, outdir))
-    report_path = outdir / "report.json"
-    written.append(report_path)
-    payload = report(result)
-    payload["outputs"] = [str(p) for p in written]
-    if extra:
-        payload.update(extra)
-    write_json(report_path, payload)
+        written.extend(plot_profile_set(result, out.path(*sub) if sub else out.folder))
+    if report_json:
+        report_path = out.path(*sub, "report.json")
+        written.append(report_path)
+        payload = report(result)
+        payload["outputs"] = [str(p) for p in written]
+        if extra:
+            payload.update(extra)
+        write_json(report_path, payload)
     return written
-
-

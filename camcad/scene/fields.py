@@ -174,3 +174,9 @@ def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
     if low == high:
         return [low]
     return [low + (high - low) * i / (RANGE_SPEEDS - 1) for i in range(RANGE_SPEEDS)]
+
+
+def parse_rpm(value: Any, where: str = "--rpm") -> tuple[float, float]:
+    """The speed range (n1, n2) in rpm of a speed or range given as ``parse_speeds`` accepts."""
+    speeds = parse_speeds(value, where)
+    return min(speeds), max(speeds)

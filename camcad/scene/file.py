@@ -52,6 +52,15 @@ class Scene:
     def base_dir(self) -> Path:
         return self.path.parent
 
+    def input_files(self) -> list[Path]:
+        """Every file the scene reads: the scene itself and the law files its [law] sections name."""
+        found = [self.path]
+        for mech in self.mechanisms:
+            law = mech.sections.get("law")
+            if isinstance(law, dict) and isinstance(law.get("file"), str):
+                found.append(self.base_dir / law["file"])
+        return found
+
     def mechanism(self, name: str) -> Mechanism:
         for mech in self.mechanisms:
             if mech.name == name:

@@ -15,7 +15,8 @@ from camcad.fourier.analysis import analyse
 from camcad.fourier.export import ExportedLaw, export_polyline
 from camcad.fourier.filter import FilterResult, filter_law
 from camcad.fourier.leadin import LeadInResult, add_lead_in
-from camcad.fourier.resonance import parse_rpm, resonant_harmonics
+from camcad.fourier.resonance import resonant_harmonics
+from camcad.scene.fields import parse_rpm
 
 
 # =============================================================================================

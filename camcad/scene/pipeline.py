@@ -50,29 +50,35 @@ class MechanismRun:
     dynamics: Any = None
     impact: Any = None
     contact: Any = None
-    outputs: list = field(default_factory=list)
 
 
 @dataclass(frozen=True)
-class SceneRun:
+class SceneResult:
+    """What the pipeline found: the scene, every mechanism's run, the report (SPEC.md keys; no outputs yet)."""
+
+    scene: Scene
+    runs: dict
     report: dict
-    outputs: tuple[Path, ...]
-    passed: bool
+    group: bool
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.report["passed"])
 
 
 Progress = Callable[[str], None]
 
 
-def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
-              progress: Progress | None = None) -> SceneRun:
-    """Run the pipeline on a scene file; write the outputs; return the report (see the module docstring)."""
+def analyse_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
+                  progress: Progress | None = None) -> SceneResult:
+    """Run steps 1–9 of the pipeline on a scene file and return what it found (see the module docstring);
+    ``camcad.report.scene`` writes the outputs (step 10)."""
     scene = read_scene(path)
     say = progress or (lambda _text: None)
     if not scene.mechanisms:
         raise CamcadError("the scene has no mechanism to make a profile of", str(scene.path),
                           "add [law] and [follower], or [mechanisms.NAME] tables (camcad cyclogram runs a bare network)")
     group = bool(scene.mechanisms[0].prefix)
-    outdir = options.output if options.output is not None else Path("camcad-out") / scene.name
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
         from camcad.scene.cyclogram import parse_cyclogram
 
@@ -98,19 +104,8 @@ def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
             runs[name] = run
     else:
         top_skipped["cyclogram"] = "no [cyclogram] in scene"
-    outputs: list[Path] = []
-    for name, run in runs.items():
-        folder = outdir / name if group else outdir
-        say(f"{name}: writing")
-        outputs.extend(_write(run, folder, options))
-    report = _scene_report(scene, runs, group, cyclogram_report, top_skipped, outputs)
-    report_path = outdir / "report.json"
-    outputs.append(report_path)
-    report["outputs"] = [str(p) for p in outputs]
-    from camcad.io.jsonout import write_json
-
-    write_json(report_path, report)
-    return SceneRun(report, tuple(outputs), bool(report["passed"]))
+    report = _scene_report(scene, runs, group, cyclogram_report, top_skipped)
+    return SceneResult(scene, runs, report, group)
 
 
 # --------------------------------------------------------------------------------------------
@@ -314,45 +309,6 @@ def _phases_text(phases) -> str:
 # 10 outputs and the report
 # --------------------------------------------------------------------------------------------
 
-def _write(run: MechanismRun, folder: Path, options: PipelineOptions) -> list[Path]:
-    written: list[Path] = []
-    if run.profile is not None:
-        from camcad.report.profile_files import write_outputs
-
-        written.extend(p for p in write_outputs(run.profile, folder) if p.name != "report.json")
-        (folder / "report.json").unlink(missing_ok=True)  # the scene's one report.json holds it
-    else:
-        from camcad.io.law_write import write_law_csv
-
-        theta = _law_grid(run.law)
-        written.append(write_law_csv(folder / "law.csv", run.law.kinematics(theta)))
-    if options.plots:
-        if run.dynamics is not None:
-            from camcad.report.dynamics import dynamics_plots
-
-            written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
-        if run.impact is not None:
-            from camcad.report.dynamics import impact_plots
-
-            written.extend(impact_plots(run.impact, folder, run.name))
-        if run.contact is not None:
-            from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
-
-            at_worst, sweep = run.contact
-            written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))
-            if len(sweep.rpm) > 1:
-                written.append(plot_safety_versus_speed(sweep, folder / "contact_speed.png",
-                                                        title=f"{run.name}: contact safety factor"))
-    run.outputs = written
-    return written
-
-
-def _law_grid(law):
-    import numpy as np
-
-    return np.linspace(0.0, law.cycle, 721)
-
-
 def _mechanism_report(run: MechanismRun) -> dict:
     out: dict[str, Any] = {}
     if "profile" in run.report:
@@ -370,11 +326,10 @@ def _mechanism_report(run: MechanismRun) -> dict:
             checks[key] = bool(run.report[key].get("passed", True))
     out["checks_by_model"] = checks
     out["passed"] = all(checks.values())
-    out["outputs"] = [str(p) for p in run.outputs]
     return out
 
 
-def _scene_report(scene: Scene, runs: dict, group: bool, cyclogram_report, top_skipped, outputs) -> dict:
+def _scene_report(scene: Scene, runs: dict, group: bool, cyclogram_report, top_skipped) -> dict:
     mechanisms = {name: _mechanism_report(run) for name, run in runs.items()}
     passed = all(m["passed"] for m in mechanisms.values())
     if cyclogram_report is not None:
