@@ -551,10 +551,10 @@ def test_apply_filter_pipeline_step(drdr):
 
 
 def _run(argv, capsys):
-    from camcad.cli import _register_commands, app
+    from camcad.cli import app, register_all
     from camcad.cli.common import run_app
 
-    _register_commands()
+    register_all()
     code = run_app(app, argv)
     captured = capsys.readouterr()
     return code, captured.out, captured.err

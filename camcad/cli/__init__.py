@@ -1,38 +1,100 @@
 """The ``camcad`` command line: a thin typer layer over the library.
 
-Each command lives in its own module of this package and registers itself on ``app``;
-heavy libraries (numpy, scipy, ezdxf, matplotlib) are imported inside the commands so
-that ``camcad --help`` starts fast.
+Each command lives in a module of this package and registers itself on ``app``. Commands load lazily:
+``camcad --help`` and ``camcad --version`` import only typer, and ``camcad COMMAND`` imports only the
+module of that command (``COMMANDS``), which in turn imports the library it needs inside the command
+function — so a command's start-up costs what that command uses (tests/test_startup.py).
 """
 
 from __future__ import annotations
 
 import importlib
-import pkgutil
+import importlib.util
 import sys
 
+import click
 import typer
+from typer.core import TyperGroup
 
+from camcad import __version__
+
+#: command name -> (module that defines it, one-line help shown by ``camcad --help``); a test checks that
+#: each line is the first line of the command's own help, so the two never drift apart
+COMMANDS: dict[str, tuple[str, str]] = {
+    "check": ("camcad.cli.check", "Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."),
+    "fix": ("camcad.cli.check", "Correct an unbalanced law with the smallest change and write a corrected copy."),
+    "profile": ("camcad.cli.profile", "Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots."),
+    "spectrum": ("camcad.cli.spectrum", "Harmonics of a law, the resonance band over a speed range, filtering."),
+    "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
+    "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
+    "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
+    "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
+    "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
+}
+
+
+class LazyGroup(TyperGroup):
+    """A click group that imports a command's module only when that command runs (or its help is asked)."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return [name for name in COMMANDS if _available(name)]
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in COMMANDS or not _available(cmd_name):
+            return None
+        importlib.import_module(COMMANDS[cmd_name][0])
+        built = typer.main.get_group(app)
+        return built.commands.get(cmd_name)
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        rows = [(name, COMMANDS[name][1]) for name in self.list_commands(ctx)]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+def _available(name: str) -> bool:
+    return importlib.util.find_spec(COMMANDS[name][0]) is not None
+
+
+#: plain (click) help: no rich markup, so "[cyclogram]" or "0:100:dwell" in a help text print as written,
+#: and ``camcad --help`` does not import rich
 app = typer.Typer(
+    cls=LazyGroup,
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
-    help="camcad: cam mechanisms from drawn acceleration laws. Angles in deg, lengths in mm, "
-         "speeds in rpm. Exit codes: 0 ok, 1 a check failed, 2 bad input.",
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100},
+    help=("camcad: cam mechanisms from drawn acceleration laws. Angles in deg, lengths in mm, speeds in rpm. "
+          "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 internal error (a bug: please report it). "
+          "Add --debug to any command for the traceback of an internal error."),
 )
 
-_NOT_COMMANDS = {"common"}
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"camcad {__version__}")
+        raise typer.Exit(0)
 
 
-def _register_commands() -> None:
-    for module in pkgutil.iter_modules(__path__):
-        if module.name not in _NOT_COMMANDS and not module.name.startswith("_"):
-            importlib.import_module(f"{__name__}.{module.name}")
+@app.callback()
+def _options(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+    debug: bool = typer.Option(False, "--debug", help="Show the traceback of an internal error (any command)."),
+) -> None:
+    """camcad: cam mechanisms from drawn acceleration laws."""
+
+
+def register_all() -> None:
+    """Import every command module (tests and documentation that need the whole command tree)."""
+    for name in COMMANDS:
+        if _available(name):
+            importlib.import_module(COMMANDS[name][0])
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point: run the app, turn every user-facing failure into one line and exit code 2."""
+    """Entry point: run the app; bad input → one line and exit 2, a bug → one line and exit 3."""
     from camcad.cli.common import run_app
 
-    _register_commands()
     sys.exit(run_app(app, sys.argv[1:] if argv is None else argv))

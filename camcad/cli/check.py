@@ -99,7 +99,7 @@ def _print_report(payload: dict, loaded, fixed: bool = False) -> None:
     from rich.table import Table
 
     out = console()
-    out.print(f"[bold]{payload['source']}[/bold]")
+    out.print(f"{payload['source']}")
     for note in payload["notes"]:
         out.print(f"  note: {note}")
     phase_table = Table(title="phases", show_lines=False)
@@ -137,7 +137,7 @@ def _print_report(payload: dict, loaded, fixed: bool = False) -> None:
                   f"RMS change {payload['rms_change']:.4g} (input y units); {verdict}")
         out.print(f"written: {payload['output']}" + (f", plot {payload['plot']}" if payload.get("plot") else ""))
     else:
-        verdict = "[green]balanced[/green]" if payload["balanced"] else "[red]NOT balanced[/red]: run camcad fix"
+        verdict = "balanced" if payload["balanced"] else "NOT balanced: run camcad fix"
         out.print(verdict)
         if payload.get("plot"):
             out.print(f"plot: {payload['plot']}")

@@ -13,8 +13,17 @@ import typer
 from camcad.errors import CamcadError
 from camcad.io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
 
+#: exit codes (SPEC.md)
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+
+
 def run_app(app: typer.Typer, argv: list[str]) -> int:
-    """Run ``app`` on ``argv``; return the exit code. Bad input → one line on stderr and 2."""
+    """Run ``app`` on ``argv``; return the exit code.
+
+    Bad input (CamcadError, a usage error) → one line on stderr, exit 2. A bug (any other exception,
+    MemoryError included) → one line asking for a report, exit 3; ``--debug`` anywhere on the command
+    line shows its traceback instead.
+    """
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
     if not argv:
@@ -28,31 +37,35 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
     except CamcadError as err:
         if debug:
             raise
-        print(f"camcad: error: {err.message()}", file=sys.stderr)
-        return 2
+        print(f"camcad: error: {_one_line(err.message())}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except typer.Abort:
         print("camcad: error: aborted", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
+    except typer.Exit as stop:
+        return int(stop.exit_code or 0)
     except typer.TyperException as err:  # usage errors from the argument parser
         if debug:
             raise
-        print(f"camcad: error: {' '.join(err.format_message().split())}; see camcad --help",
-              file=sys.stderr)
-        return getattr(err, "exit_code", 2) or 2
+        print(f"camcad: error: {_one_line(err.format_message())}; see camcad --help", file=sys.stderr)
+        return getattr(err, "exit_code", EXIT_BAD_INPUT) or EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("camcad: error: interrupted", file=sys.stderr)
-        return 2
-    except MemoryError:
-        print("camcad: error: out of memory; use a coarser tolerance or a smaller input",
-              file=sys.stderr)
-        return 2
-    except Exception as err:  # noqa: BLE001 - a user never sees a traceback without --debug
-        if debug:
+        return 130
+    except BaseException as err:  # noqa: BLE001 - a user never sees a traceback without --debug
+        if debug or isinstance(err, SystemExit):
             raise
-        print(f"camcad: error: internal error ({type(err).__name__}: {' '.join(str(err).split())}); "
-              "rerun with --debug and report it", file=sys.stderr)
-        return 2
-    return result if isinstance(result, int) else 0
+        what = "out of memory" if isinstance(err, MemoryError) else f"{type(err).__name__}: {err}"
+        print(f"camcad: internal error ({_one_line(what, 160)}) - please report it; rerun with --debug for the "
+              "traceback", file=sys.stderr)
+        return EXIT_INTERNAL
+    return result if isinstance(result, int) else EXIT_OK
+
+
+def _one_line(text: str, limit: int = 400) -> str:
+    """``text`` on one line, at most ``limit`` characters (a long excerpt is cut with an ellipsis)."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def print_json(payload: dict) -> None:
@@ -112,7 +125,8 @@ def console(stderr: bool = False):
 
     stream = sys.stderr if stderr else sys.stdout
     width = shutil.get_terminal_size((120, 24)).columns if stream.isatty() else 120
-    return Console(stderr=stderr, highlight=False, width=width)
+    # markup=False: user text ("0:100:dwell", "[cyclogram]") is printed as written, never interpreted
+    return Console(stderr=stderr, highlight=False, width=width, markup=False, emoji=False)
 
 
 # --- a law from a file, a scene or a standard shape (the commands that analyse a law) ----------

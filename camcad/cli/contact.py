@@ -162,7 +162,7 @@ def _print_cyclogram(payload: dict) -> None:
     out = console()
     report = payload["cyclogram"]
     if not report["feasible"]:
-        out.print(f"[bold red]{report['explanation']}[/]")
+        out.print(f"{report['explanation']}")
         return
     table = Table(title=f"cyclogram — {payload['scene']}: makespan {report['makespan_deg']:.3f} deg")
     for column in ("operation", "from deg", "phase angle deg", "least deg", "bound from", "active"):

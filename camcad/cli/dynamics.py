@@ -176,7 +176,7 @@ def _print_dynamics(payload: dict) -> None:
     d = payload["dynamics"]
     u = OUTPUT_UNITS[d["unit"]]
     unit = d["unit"]
-    out.print(f"[bold]{payload['source']}[/]: fn = {d['natural_frequency_hz']:.4g} Hz, ζ = {d['damping_ratio']:.4g}"
+    out.print(f"{payload['source']}: fn = {d['natural_frequency_hz']:.4g} Hz, ζ = {d['damping_ratio']:.4g}"
               f"{' (variable stiffness)' if d['variable_stiffness'] else ''}, {d['method']} path")
     table = Table("speed, rpm", f"peak rigid, {u.accel_label}", f"peak elastic, {u.accel_label}", "elastic/rigid",
                   f"dynamic error, {unit}")
@@ -210,7 +210,7 @@ def _print_dynamics(payload: dict) -> None:
                   f"{mm['dynamic_error_max_mm']:.4g} {unit}, cam speed {mm['cam_speed_range_rpm'][0]:.2f}…"
                   f"{mm['cam_speed_range_rpm'][1]:.2f} rpm")
     for name, check in d["checks"].items():
-        verdict = "[green]ok[/]" if check["passed"] else "[red]exceeded[/]"
+        verdict = "ok" if check["passed"] else "exceeded"
         out.print(f"{name}: {check['value']:.4g} (allowed {check['allowed']:g}) {verdict}")
     out.print("outputs: " + ", ".join(d["outputs"]))
 
@@ -300,7 +300,7 @@ def _print_impact(payload: dict, result) -> None:
 
     out = console()
     d = payload["impact"]
-    out.print(f"[bold]{payload['source']}[/]: c = {d['reduced_stiffness_N_per_m']:.5g} N/m, m = {d['mass_kg']:.4g} kg, "
+    out.print(f"{payload['source']}: c = {d['reduced_stiffness_N_per_m']:.5g} N/m, m = {d['mass_kg']:.4g} kg, "
               f"f free {d['f_free_hz']:.4g} Hz, on the stop {d['f_stop_hz']:.4g} Hz, τ = {d['pulse_s'] * 1e3:.4g} ms")
     out.print(f"contact at {d['contact_at_deg']:.3f} deg ({d['stop']} stop, preload {d['preload_mm']:g} mm, "
               f"approach phase {d['approach_phase_deg']:g} deg)")
@@ -316,9 +316,9 @@ def _print_impact(payload: dict, result) -> None:
     out.print(f"linearised at {lin['at_deg']:g} deg, {lin['at_rpm']:g} rpm: a = {lin['slope_mm_per_deg']:.4g}·t + "
               f"{lin['intercept_mm']:.4g} (mm, t deg)")
     if d["allowed_amplitude_mm"] is not None:
-        verdict = "[green]ok[/]" if d["passed"] else "[red]exceeded[/]"
+        verdict = "ok" if d["passed"] else "exceeded"
         out.print(f"allowed {d['allowed_amplitude_mm']:g} mm {verdict}; least phase angle {d['phase_limit_deg']:.3f} deg "
                   f"(linearised {d['phase_limit_linear_deg']:.3f} deg)")
     if d["leaves_stop"]:
-        out.print("[yellow]the rebound exceeds the preload: the lever leaves the stop, the linear model is rough there[/]")
+        out.print("the rebound exceeds the preload: the lever leaves the stop, the linear model is rough there")
     out.print("outputs: " + ", ".join(d["outputs"]))

@@ -288,4 +288,4 @@ def _scene_summary(report: dict) -> None:
     elif report.get("mechanisms") and "cyclogram" in report.get("skipped", {}):
         out.print(escape(f"  cyclogram skipped ({report['skipped']['cyclogram']})"))
     out.print(escape(f"wrote {len(report['outputs'])} files; report: {report['outputs'][-1]}"))
-    out.print("all checks passed" if report["passed"] else "[red]FAILED[/red]: a check did not pass (see report.json)")
+    out.print("all checks passed" if report["passed"] else "FAILED: a check did not pass (see report.json)")

@@ -215,7 +215,7 @@ def _print(payload_out: dict, result, resonance, listed: int) -> None:
 
     out = console()
     data = payload_out["spectrum"]
-    out.print(f"[bold]{payload_out['source']}[/bold]: {data['method']} analysis"
+    out.print(f"{payload_out['source']}: {data['method']} analysis"
               + (f" ({data['samples']} samples)" if data["samples"] else "")
               + f", amplitude error <= {data['coefficient_error_mm']:.2g} mm; mean {data['mean']:.6g} mm")
     for note in payload_out["notes"]:
@@ -252,7 +252,7 @@ def _print(payload_out: dict, result, resonance, listed: int) -> None:
         ratio = start["ratio"]
         out.print(f"filtered: removed {data['removed']}; max deviation {data['max_deviation_mm']:.4g} mm, "
                   f"on the dwells {_fmt(data['dwell_deviation_mm'])} mm (tolerance {data['dwell_tol_mm']:.4g} mm, "
-                  f"{'kept' if data['dwells_kept'] else '[red]NOT kept[/red]'}); lift change "
+                  f"{'kept' if data['dwells_kept'] else 'NOT kept'}); lift change "
                   f"{data['lift_change_mm']:.3g} mm; peak acceleration x{data['peak_accel_ratio']:.4f}"
                   + (f"; start of motion x{ratio:.4f}" if ratio is not None else ""))
         for note in data["notes"]:
