@@ -5,4 +5,4 @@ forces in N, stresses in MPa. Inside the library, angles are radians unless a
 name ends in ``_deg``.
 """
 
-__version__ = "0.1.0"
+from camcad.version import __version__

@@ -16,7 +16,7 @@ import click
 import typer
 from typer.core import TyperGroup
 
-from camcad import __version__
+from camcad.version import __version__
 
 #: command name -> (module that defines it, one-line help shown by ``camcad --help``); a test checks that
 #: each line is the first line of the command's own help, so the two never drift apart
