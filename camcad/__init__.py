@@ -5,4 +5,4 @@ forces in N, stresses in MPa. Inside the library, angles are radians unless a
 name ends in ``_deg``.
 """
 
-from camcad.version import __version__
+from camcad.version import __version__ as __version__

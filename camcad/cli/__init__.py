@@ -12,7 +12,7 @@ import importlib
 import importlib.util
 import sys
 
-import click
+
 import typer
 from typer.core import TyperGroup
 
@@ -36,17 +36,17 @@ COMMANDS: dict[str, tuple[str, str]] = {
 class LazyGroup(TyperGroup):
     """A click group that imports a command's module only when that command runs (or its help is asked)."""
 
-    def list_commands(self, ctx: click.Context) -> list[str]:
+    def list_commands(self, ctx) -> list[str]:
         return [name for name in COMMANDS if _available(name)]
 
-    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+    def get_command(self, ctx, cmd_name: str):
         if cmd_name not in COMMANDS or not _available(cmd_name):
             return None
         importlib.import_module(COMMANDS[cmd_name][0])
         built = typer.main.get_group(app)
         return built.commands.get(cmd_name)
 
-    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+    def format_commands(self, ctx, formatter) -> None:
         rows = [(name, COMMANDS[name][1]) for name in self.list_commands(ctx)]
         with formatter.section("Commands"):
             formatter.write_dl(rows)

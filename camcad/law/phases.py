@@ -15,9 +15,9 @@ a return the reverse.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 from camcad.errors import CamcadError
+from camcad.numerics import brent_root
 from camcad.law.law import Phase, PiecewiseLinearLaw
 
 #: |a| at or below this fraction of max|a| counts as zero acceleration
@@ -136,8 +136,8 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
             stretch = ahead[: back[0]] if len(back) else ahead
             if np.any(np.abs(stretch) >= SPLIT_FRACTION * peak):
                 lo, hi = fine[i - 1], fine[i]
-                root = brentq(lambda t: float(law.kinematics(np.array([t - start])).v[0]), lo, hi,
-                              xtol=1e-15, rtol=4 * np.finfo(float).eps) if v[i - 1] != 0 else lo
+                root = brent_root(lambda t: float(law.kinematics(np.array([t - start])).v[0]), lo, hi,
+                                  xtol=1e-15, rtol=4 * np.finfo(float).eps) if v[i - 1] != 0 else lo
                 cuts.append(root)
                 current = -current
     cuts.append(end)

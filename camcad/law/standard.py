@@ -19,6 +19,7 @@ H. A. Rothbart, Cam Design Handbook (2004), ch. 4.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Protocol
@@ -115,8 +116,14 @@ class Polynomial:
     coefficients: tuple[float, ...]  # c_0, c_1, … (powers of u)
 
     def evaluate(self, u: np.ndarray, order: int) -> np.ndarray:
-        poly = np.polynomial.Polynomial(self.coefficients)
-        return poly.deriv(order)(u) if order else poly(u)
+        return np.polynomial.polynomial.polyval(u, self._derivatives[order])
+
+    @functools.cached_property
+    def _derivatives(self) -> tuple[np.ndarray, ...]:
+        """Coefficients of f and its first three derivatives (computed once; evaluated by Horner's rule)."""
+        coefficients = np.asarray(self.coefficients, dtype=float)
+        return tuple(np.polynomial.polynomial.polyder(coefficients, order) if order else coefficients
+                     for order in range(4))
 
     def peaks(self) -> PeakCoefficients:
         """sup |f^(k)|, k = 1..3, taken at the real roots of f^(k+1) in [0, 1] and at the ends.
@@ -300,23 +307,39 @@ class CompositeLaw:
         v = np.zeros_like(t)
         a = np.zeros_like(t)
         j = np.zeros_like(t)
-        level = 0.0
-        for index, seg in enumerate(self.segments):
-            last = index == len(self.segments) - 1
-            inside = (t >= seg.start) & ((t < seg.end) | (last & (t <= seg.end)))
+        # each θ belongs to one segment, [start, end) (the last one closed at the cycle's end); a
+        # zero-width segment holds no θ
+        index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        for k in np.unique(index):
+            seg = self.segments[k]
+            inside = index == k
+            level = self._levels[k]
             if seg.kind == "dwell":
                 s[inside] = level
                 continue
             beta = seg.end - seg.start
             u = np.clip((t[inside] - seg.start) / beta, 0.0, 1.0)
-            sign = 1.0 if seg.kind == "rise" else -1.0
-            h = sign * seg.lift
+            h = seg.lift if seg.kind == "rise" else -seg.lift
             s[inside] = level + h * seg.shape.evaluate(u, 0)
             v[inside] = h * seg.shape.evaluate(u, 1) / beta
             a[inside] = h * seg.shape.evaluate(u, 2) / beta**2
             j[inside] = h * seg.shape.evaluate(u, 3) / beta**3
-            level += h
         return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
+
+    @functools.cached_property
+    def _starts(self) -> np.ndarray:
+        """Start of each segment (rad)."""
+        return np.array([seg.start for seg in self.segments])
+
+    @functools.cached_property
+    def _levels(self) -> tuple[float, ...]:
+        """Displacement at the start of each segment (mm)."""
+        levels, level = [], 0.0
+        for seg in self.segments:
+            levels.append(level)
+            if seg.kind != "dwell":
+                level += seg.lift if seg.kind == "rise" else -seg.lift
+        return tuple(levels)
 
 
 SHAPES: dict[str, RiseShape] = {

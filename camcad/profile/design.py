@@ -8,7 +8,7 @@ radius ρ − Rr stays ≥ ρ_min exactly when κ ≤ 1/(Rr + ρ_min), and κ, u
 through inflections, so g_ρ is continuous. For a groove the outer flank adds
 κ ≥ −1/(Rr + ρ_min). For the flat face ρ = Rb + s + a ≥ ρ_min gives Rb in closed form.
 
-The smallest Rb is the root of g = 0, found with Brent's method (scipy.optimize.brentq) on a
+The smallest Rb is the root of g = 0, found with Brent's method (camcad.numerics.brent_root) on a
 bracket [geometric lower bound, an upper bound found by doubling]; the inner minimum over θ is
 taken on a grid and refined with a bounded Brent search around the worst grid point. For a
 translating follower |φ| = atan(|v − σe|/(d + s)) falls as d = √(Rp² − e²) grows at every θ,
@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camcad.numerics import bounded_minimum, brent_root
 from camcad.law.law import MotionLaw
 from camcad.profile.followers import Follower
 
@@ -60,8 +61,6 @@ class BaseRadiusDesign:
 
 def _worst(values_fn, theta: np.ndarray) -> float:
     """min over θ of values_fn(θ): grid minimum refined by a bounded Brent search."""
-    from scipy.optimize import minimize_scalar
-
     values = values_fn(theta)
     finite = np.where(np.isfinite(values), values, np.inf)
     k = int(np.argmin(finite))
@@ -76,9 +75,9 @@ def _worst(values_fn, theta: np.ndarray) -> float:
         return value if math.isfinite(value) else penalty
 
     if hi > lo:
-        res = minimize_scalar(finite_fn, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
-        if np.isfinite(res.fun):
-            best = min(best, float(res.fun))
+        _, value = bounded_minimum(finite_fn, lo, hi, xatol=1e-12)
+        if np.isfinite(value):
+            best = min(best, float(value))
     return best
 
 
@@ -94,6 +93,32 @@ def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray)
         return np.where(np.isnan(limit), np.inf, limit - np.abs(pitch.pressure_angle))
 
     return _worst(margin, theta)
+
+
+def _translating_pressure_angle_rb(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
+    """The smallest Rb (mm) meeting the pressure-angle limits of a translating roller or knife, in closed form.
+
+    tan|φ| = |v − σe|/(d + s) with d = √(Rp² − e²), so |φ| ≤ limit(θ) ⇔ d ≥ |v − σe|/tan(limit) − s at
+    every θ; d_min is the largest right-hand side (grid maximum refined by a bounded Brent search) and
+    Rb = √(d_min² + e²) − Rr. The limit in force at each θ (rise, return, reversible) is the one the
+    profile's own check applies (``CamGeometry.pressure_angle_limit``).
+    """
+    from camcad.profile.geometry import CamGeometry
+
+    geometry = CamGeometry(law, follower)
+    sigma, offset = follower.sigma, follower.offset
+
+    def needed(t: np.ndarray) -> np.ndarray:   # d required at θ, −inf where no limit applies
+        kin = law.kinematics(t)
+        limit = geometry.pressure_angle_limit(kin.v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = np.abs(kin.v - sigma * offset) / np.tan(limit) - kin.s
+        return np.where(np.isnan(limit), -np.inf, d)
+
+    d_min = -_worst(lambda t: -needed(t), theta)
+    if not math.isfinite(d_min):
+        return 0.0
+    return math.hypot(max(d_min, 0.0), offset) - follower.roller_radius
 
 
 def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
@@ -115,6 +140,24 @@ def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> f
         return worst
 
     return _worst(margin, theta)
+
+
+class _GridCache:
+    """A law whose kinematics on one fixed grid are computed once (the base-radius search evaluates the
+    same θ grid for every trial Rb; only the geometry changes)."""
+
+    def __init__(self, law: MotionLaw, grid: np.ndarray) -> None:
+        self.law, self.grid = law, grid
+        self.cycle, self.phases = law.cycle, law.phases
+        self._kin = law.kinematics(grid)
+
+    def kinematics(self, theta: np.ndarray):
+        return self._kin if theta is self.grid else self.law.kinematics(theta)
+
+    def breakpoints(self) -> np.ndarray:
+        from camcad.profile.scaled_law import law_breakpoints
+
+        return law_breakpoints(self.law)
 
 
 def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float, float]:
@@ -139,8 +182,6 @@ def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str, size: flo
     """Smallest Rb in (lo, hi) with margin ≥ 0: lo itself if it passes, else the bracketed root.
 
     An open range (hi = inf) is bracketed by doubling from ``size`` (mm) up to 1e7 × size."""
-    from scipy.optimize import brentq
-
     if margin_of_rb(lo) >= 0.0:
         return lo, f"{what}: met by any base radius above the geometric minimum {lo:.6g} mm"
     if math.isinf(hi):
@@ -152,15 +193,12 @@ def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str, size: flo
     elif margin_of_rb(hi) < 0.0:
         # oscillating follower: the margin rises, peaks and falls again as the arm straightens;
         # find the peak by a bounded Brent search, then the root on its rising side
-        from scipy.optimize import minimize_scalar
-
-        best = minimize_scalar(lambda rb: -margin_of_rb(rb), bounds=(lo, hi), method="bounded",
-                               options={"xatol": 1e-6 * (hi - lo)})
-        if -best.fun < 0.0:
+        best_x, best_fun = bounded_minimum(lambda rb: -margin_of_rb(rb), lo, hi, xatol=1e-6 * (hi - lo))
+        if -best_fun < 0.0:
             return None, (f"{what}: no base radius between {lo:.6g} and {hi:.6g} mm meets the limit "
-                          f"with this pivot and arm (best {best.x:.6g} mm)")
-        hi = float(best.x)
-    root = brentq(margin_of_rb, lo, hi, xtol=xtol, rtol=4.0 * np.finfo(float).eps)
+                          f"with this pivot and arm (best {best_x:.6g} mm)")
+        hi = float(best_x)
+    root = brent_root(margin_of_rb, lo, hi, xtol=xtol, rtol=4.0 * np.finfo(float).eps)
     rounded = min(root + 2.0 * xtol, hi)  # round up: the result must meet the limit
     return rounded, None
 
@@ -192,14 +230,18 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     limits_given = (follower.pressure_angle_limit_rise_deg is not None
                     or follower.pressure_angle_limit_return_deg is not None)
     rb_pa = None
-    if limits_given:
-        rb_pa, note = _solve(lambda rb: pressure_angle_margin(law, follower.with_base_radius(rb), one_lobe),
+    if limits_given and follower.kind in ("roller", "knife"):
+        rb_pa = max(_translating_pressure_angle_rb(law, follower, one_lobe), lo)
+    elif limits_given:
+        cached = _GridCache(law, one_lobe)
+        rb_pa, note = _solve(lambda rb: pressure_angle_margin(cached, follower.with_base_radius(rb), one_lobe),
                              lo, hi, xtol, "pressure angle", size)
         if note:
             notes.append(note)
     else:
         notes.append("pressure angle: no limit given")
-    rb_rho, note = _solve(lambda rb: curvature_margin(law, follower.with_base_radius(rb), one_lobe),
+    cached = _GridCache(law, one_lobe)
+    rb_rho, note = _solve(lambda rb: curvature_margin(cached, follower.with_base_radius(rb), one_lobe),
                           lo, hi, xtol, "curvature", size)
     if note:
         notes.append(note)

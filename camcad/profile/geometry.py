@@ -43,6 +43,7 @@ them against derivatives of generated points and circumradii of point triples.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -220,7 +221,6 @@ class CamGeometry:
     lobes: int = field(init=False)
     height: float = field(init=False)       # d = √(Rp² − e²) (roller) or Rb (flat), mm
     gamma0: float = field(init=False)       # oscillating: arm angle on the base circle, rad
-    dwell_speed: float = field(init=False)  # |v| below this counts as a dwell
 
     def __post_init__(self) -> None:
         follower = self.follower.validate()
@@ -240,14 +240,15 @@ class CamGeometry:
         object.__setattr__(self, "height", height)
         object.__setattr__(self, "gamma0",
                            arm_angle_on_base_circle(follower) if follower.kind == "oscillating" else 0.0)
-        grid = np.linspace(0.0, cycle, 4097)
-        v = self.law.kinematics(grid).v
-        scale = follower.arm if follower.kind == "oscillating" else 1.0  # ψ' → mm/rad of the roller
-        object.__setattr__(self, "dwell_speed", 1e-9 * scale * max(float(np.max(np.abs(v))), 1e-300))
 
     @property
     def sigma(self) -> float:
         return self.follower.sigma
+
+    @functools.cached_property
+    def dwell_speed(self) -> float:
+        """|outward speed| (mm/rad) below which the follower counts as dwelling: 1e-9 of its peak speed."""
+        return 1e-9 * peak_speed(self.law) * (self.follower.arm if self.follower.kind == "oscillating" else 1.0)
 
     def breakpoints(self) -> np.ndarray:
         """θ (rad) in [0, 2π] where curvature may jump: the law's breakpoints on every lobe."""
@@ -313,3 +314,17 @@ class CamGeometry:
             strict = np.nanmin([rise, back]) if not (math.isnan(rise) and math.isnan(back)) else math.nan
             return np.full(np.shape(outward_speed), strict)
         return np.where(outward_speed < -self.dwell_speed, back, rise)
+
+
+@functools.lru_cache(maxsize=64)
+def _peak_speed_cached(law: MotionLaw) -> float:
+    v = law.kinematics(np.linspace(0.0, float(law.cycle), 4097)).v
+    return max(float(np.max(np.abs(v))), 1e-300)
+
+
+def peak_speed(law: MotionLaw) -> float:
+    """max |v| of ``law`` on 4097 samples of its cycle (mm/rad or rad/rad); cached for hashable laws."""
+    try:
+        return _peak_speed_cached(law)
+    except TypeError:  # a law holding arrays is not hashable: sample it each time
+        return _peak_speed_cached.__wrapped__(law)

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from camcad.errors import CamcadError
+from camcad.numerics import bounded_minimum
 from camcad.law.law import MotionLaw
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
@@ -181,8 +182,6 @@ class ProfileResult:
 def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
     """Smallest finite value of ``fn`` (θ → array): best grid point, then a bounded Brent
     search between its neighbours. ``values`` = fn(theta); non-finite entries are excluded."""
-    from scipy.optimize import minimize_scalar
-
     finite = np.where(np.isfinite(values), values, np.inf)
     if not np.isfinite(finite).any():
         return None
@@ -197,9 +196,9 @@ def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
         return value if math.isfinite(value) else penalty
 
     if hi > lo:
-        res = minimize_scalar(finite_fn, bounds=(lo, hi), method="bounded", options={"xatol": 1e-13})
-        if np.isfinite(res.fun) and res.fun < best.value:
-            best = Extremum(float(res.fun), float(res.x))
+        at, value = bounded_minimum(finite_fn, lo, hi, xatol=1e-13)
+        if np.isfinite(value) and value < best.value:
+            best = Extremum(float(value), float(at))
     return best
 
 
