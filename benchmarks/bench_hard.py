@@ -44,7 +44,8 @@ from camcad.errors import CamcadError  # noqa: E402
 from camcad.law.source import load_law  # noqa: E402
 from camcad.law.standard import compose  # noqa: E402
 from camcad.profile.followers import Follower
-from camcad.profile.synth import ProfileSettings, report, synthesize
+from camcad.profile.summary import report
+from camcad.profile.synth import ProfileSettings, synthesize
 
 LIFT = 25.0
 BETA = 2 * math.pi / 3

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camcad.profile.synth import ProfileSettings, report, synthesize
+from camcad.profile.summary import report
+from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.profile.geometry import CamGeometry
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_peer.py"

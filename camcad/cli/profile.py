@@ -135,7 +135,8 @@ def profile(
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
     from camcad.scene.pipeline import PipelineOptions
     from camcad.profile.followers import Follower
-    from camcad.profile.synth import ProfileSettings, report, synthesize
+    from camcad.profile.summary import report
+    from camcad.profile.synth import ProfileSettings, synthesize
     from camcad.profile import defaults
     from camcad.profile.design import min_base_radius
     from camcad.profile.scaled_law import swing_law

@@ -18,7 +18,8 @@ from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import FOLLOWER_KINDS, Follower
 from camcad.profile.scaled_law import ScaledLaw, swing_law
 from camcad.profile.geometry import CamGeometry
-from camcad.profile.synth import ProfileResult, ProfileSettings, report, synthesize
+from camcad.profile.summary import report
+from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
 
 
 def default_design():

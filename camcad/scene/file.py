@@ -47,6 +47,7 @@ class Scene:
     mechanisms: tuple[Mechanism, ...]
     cyclogram: dict | None = None
     raw: dict = field(default_factory=dict, repr=False)
+    built_laws: dict = field(default_factory=dict, repr=False, compare=False)  # mechanism_law's cache
 
     @property
     def base_dir(self) -> Path:
@@ -157,12 +158,15 @@ def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
     from camcad.law.retime import retime
     from camcad.scene.law import build_law, parse_law
 
+    if phases is None and mech.name in scene.built_laws:
+        return scene.built_laws[mech.name]
     if not mech.has("law"):
         raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",
                           "add [law] with standard, phases and lift (or file)")
     spec = parse_law(mech.sections["law"], mech.where(scene.path, "law"), scene.base_dir)
     built = build_law(spec)
     if phases is None:
+        scene.built_laws[mech.name] = built
         return built
     from dataclasses import replace
 

@@ -3,7 +3,7 @@
 - the cam's contact geometry along the profile (pressure angle, radius of curvature, concave parts
   negative) from camcad.profile, in the form camcad.contact takes;
 - contact stress along the profile over the machine's speeds, with the least admissible phase angle
-  of each rise and return (root finding on σ_max(t) = [σ_H], camcad.cyclogram.least_phase_angle);
+  of each rise and return (root finding on σ_max(t) = [σ_H], camcad.scene.stretch.least_angle);
 - the phase-angle limits of a cyclogram's operations, and the optimal angles fed back into the laws.
 A phase stretched to t keeps its shape and lift (camcad.law.retime); the next dwell takes up the change.
 """
@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from camcad.errors import CamcadError
+from camcad.scene.stretch import PhaseStretch, least_angle
 from camcad.law.law import Phase
 from camcad.scene.file import Mechanism, Scene, mechanism_law
 
@@ -130,33 +131,79 @@ def phase_pressure_function(law, follower_table: dict, index: int, where: str, s
     return phi_max
 
 
-def pressure_angle_limits(law, follower_table: dict, where: str, samples: int) -> dict:
+def pressure_relation(law, follower_table: dict, index: int, where: str, samples: int):
+    """φ_max(widths): the largest |pressure angle| (deg) over phase ``index`` stretched to each width (deg),
+    all widths in one pass (``camcad.scene.stretch.PhaseStretch``)."""
+    cam, _, scale = cam_of(law, follower_table, where)
+    return PhaseStretch.sample(cam, scale, phases_deg(law), index, samples).pressure_max_deg
+
+
+def pressure_angle_limits(law, follower_table: dict, where: str, samples: int,
+                          memo: LimitMemo | None = None) -> dict:
     """{phase label: least phase angle (deg) at which the phase's |pressure angle| meets the follower's
-    limit} by root finding on φ_max(t) (camcad.cyclogram.least_phase_angle); None where no limit is set."""
-    from camcad.cyclogram.limits import least_phase_angle
+    limit}, by root finding on φ_max(t) (``camcad.scene.stretch.least_angle``); None where no limit is set."""
     from camcad.scene.follower import parse_follower
 
     follower = parse_follower(follower_table, where)
     phases = phases_deg(law)
     found: dict[str, Any] = {}
-    counts: dict[str, int] = {}
-    for index, (start, end, kind) in enumerate(phases):
-        if kind == "dwell":
-            continue
-        counts[kind] = counts.get(kind, 0) + 1
-        label = kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"
+    for index, label in motion_labels(phases):
+        start, end, kind = phases[index]
         limit = pressure_angle_limit_of(follower, kind)
         if limit is None:
             found[label] = None
             continue
-        relation = phase_pressure_function(law, follower_table, index, where, samples)
+        relation = pressure_relation(law, follower_table, index, where, samples)
         try:
-            found[label] = least_phase_angle(relation, limit - PRESSURE_MARGIN_DEG, 0.1 * (end - start),
-                                             stretch_room(phases, index),
-                                             source="pressure angle", what=f"{label}").angle_deg
+            found[label] = _solve(memo, (id(law), index, "pressure angle"), relation, limit - PRESSURE_MARGIN_DEG,
+                                  0.1 * (end - start), stretch_room(phases, index), source="pressure angle",
+                                  what=f"{label}").angle_deg
         except CamcadError:
             found[label] = None
     return found
+
+
+class LimitMemo:
+    """Least phase angles already solved in one pipeline run, so the cyclogram's bounds reuse the
+    mechanisms' own (the relation is non-increasing: a crossing inside the new bounds is the answer)."""
+
+    def __init__(self) -> None:
+        self._solved: dict[tuple, list] = {}
+
+    def solve(self, key: tuple, relation, limit: float, lower: float, upper: float, **kwargs):
+        """``least_angle(relation, limit, lower, upper, **kwargs)``, from an earlier answer when one applies."""
+        from dataclasses import replace
+
+        source = kwargs.get("source", "limit")
+        for found in self._solved.get(key, []):
+            if found.limit != limit:
+                continue
+            if found.binding and lower < found.angle_deg <= upper:
+                return replace(found, evaluations=0, source=source)
+            if not found.binding and lower >= found.angle_deg:
+                value = float(relation(np.array([lower]))[0])
+                return replace(found, angle_deg=float(lower), value=value, evaluations=1, source=source)
+        found = least_angle(relation, limit, lower, upper, **kwargs)
+        self._solved.setdefault(key, []).append(found)
+        return found
+
+
+def _solve(memo: "LimitMemo | None", key: tuple, relation, limit, lower, upper, **kwargs):
+    if memo is None:
+        return least_angle(relation, limit, lower, upper, **kwargs)
+    return memo.solve(key, relation, limit, lower, upper, **kwargs)
+
+
+def motion_labels(phases) -> list[tuple[int, str]]:
+    """(index, label) of every rise and return: "rise", "return", then "rise_2", "return_2", ..."""
+    counts: dict[str, int] = {}
+    out = []
+    for index, (_, _, kind) in enumerate(phases):
+        if kind == "dwell":
+            continue
+        counts[kind] = counts.get(kind, 0) + 1
+        out.append((index, kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"))
+    return out
 
 
 def stretched_phase(phases, index: int, width_deg: float):
@@ -237,14 +284,22 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
     return sigma_max
 
 
+def stress_relation(law, follower_table: dict, params, speeds: list[float], index: int, where: str,
+                    samples: int):
+    """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
+    ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible."""
+    cam, _, scale = cam_of(law, follower_table, where)
+    stretch = PhaseStretch.sample(cam, scale, phases_deg(law), index, samples)
+    return lambda widths: stretch.stress_max(widths, params, speeds)
+
+
 def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
-                      with_limits: bool = True):
+                      with_limits: bool = True, memo: LimitMemo | None = None):
     """Contact analysis of one mechanism: stress along the profile at every speed, the worst speed's
     figures (SPEC.md ``contact`` keys), separation, and (``with_limits``) the contact-limited least phase angle
     of each rise and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at
     the worst speed, SpeedSweep)."""
     from camcad.contact import contact_stress, stress_versus_speed
-    from camcad.cyclogram.limits import least_phase_angle
 
     params = contact_params(scene, mech)
     law_where = mech.where(scene.path, "law")
@@ -266,18 +321,14 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     report["versus_speed"] = sweep.report()
     report["follower"] = geometry.kind
     limits: dict[str, Any] = {}
-    counts: dict[str, int] = {}
     notes: list[str] = []
-    for index, (start, end, kind) in enumerate(phases):
-        if kind == "dwell" or not with_limits:
-            continue
-        counts[kind] = counts.get(kind, 0) + 1
-        label = kind if counts[kind] == 1 else f"{kind}_{counts[kind]}"
-        relation = phase_stress_function(law, follower_table, params, speeds, index, law_where, samples)
+    for index, label in (motion_labels(phases) if with_limits else []):
+        start, end, _ = phases[index]
+        relation = stress_relation(law, follower_table, params, speeds, index, law_where, samples)
         try:
-            found = least_phase_angle(relation, params.allowable_stress * (1 - STRESS_MARGIN), 0.1 * (end - start),
-                                      stretch_room(phases, index), source="contact stress",
-                                      what=f"{mech.name} {label}")
+            found = _solve(memo, (id(law), index, "contact"), relation,
+                           params.allowable_stress * (1 - STRESS_MARGIN), 0.1 * (end - start),
+                           stretch_room(phases, index), source="contact stress", what=f"{mech.name} {label}")
             limits[label] = found.angle_deg
             if found.note:
                 notes.append(f"{label}: {found.note}")
@@ -291,11 +342,12 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     return report, at_worst, sweep
 
 
-def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples: int):
+def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples: int,
+                     memo: LimitMemo | None = None):
     """Phase limits of the network's operations: vibration (from the operation's relation) and contact
     stress (from the operation's mechanism, when it has [law], [follower] and [contact]).
     Returns (limits {label: [PhaseLimit]}, skipped {what: why})."""
-    from camcad.cyclogram.limits import least_phase_angle, vibration_limits
+    from camcad.cyclogram.limits import vibration_limits
 
     limits = vibration_limits(network)
     skipped: dict[str, str] = {}
@@ -305,7 +357,7 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
             continue
         mech = by_name[op.mechanism]
         if mech.has("follower"):
-            limits.setdefault(op.label, []).extend(_pressure_limit(scene, mech, op))
+            limits.setdefault(op.label, []).extend(_pressure_limit(scene, mech, op, memo))
         if not mech.has("contact"):
             skipped[f"contact limit {op.label}"] = f"mechanism {op.mechanism} has no [contact]"
             continue
@@ -317,19 +369,18 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
         phases = phases_deg(law)
         index = phase_index(phases, op.phase, op.occurrence, law_where)
         params = contact_params(scene, mech)
-        relation = phase_stress_function(law, mech.sections.get("follower", {}), params, speeds, index,
-                                         law_where, samples)
+        relation = stress_relation(law, mech.sections.get("follower", {}), params, speeds, index, law_where,
+                                   samples)
         upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
         lower = max(op.min_deg, 1e-3 * upper)
-        limits.setdefault(op.label, []).append(least_phase_angle(
-            relation, params.allowable_stress * (1 - STRESS_MARGIN), lower, upper, source="contact",
-            what=f"operation {op.label} ({op.mechanism} {op.phase})"))
+        limits.setdefault(op.label, []).append(_solve(
+            memo, (id(law), index, "contact"), relation, params.allowable_stress * (1 - STRESS_MARGIN), lower,
+            upper, source="contact", what=f"operation {op.label} ({op.mechanism} {op.phase})"))
     return limits, skipped
 
 
-def _pressure_limit(scene: Scene, mech: Mechanism, op) -> list:
+def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = None) -> list:
     """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
-    from camcad.cyclogram.limits import least_phase_angle
     from camcad.scene.follower import parse_follower
 
     follower_table = mech.sections["follower"]
@@ -342,9 +393,9 @@ def _pressure_limit(scene: Scene, mech: Mechanism, op) -> list:
     index = phase_index(phases, op.phase, op.occurrence, mech.where(scene.path, "law"))
     upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
     lower = max(op.min_deg, 1e-3 * upper)
-    relation = phase_pressure_function(law, follower_table, index, where, PRESSURE_SAMPLES)
-    return [least_phase_angle(relation, limit - PRESSURE_MARGIN_DEG, lower, upper, source="pressure angle",
-                              what=f"operation {op.label} ({op.mechanism} {op.phase})")]
+    relation = pressure_relation(law, follower_table, index, where, PRESSURE_SAMPLES)
+    return [_solve(memo, (id(law), index, "pressure angle"), relation, limit - PRESSURE_MARGIN_DEG, lower, upper,
+                   source="pressure angle", what=f"operation {op.label} ({op.mechanism} {op.phase})")]
 
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:

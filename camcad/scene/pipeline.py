@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from camcad.errors import CamcadError
+from camcad.scene.mechanism import LimitMemo
 from camcad.scene.file import Mechanism, Scene, mechanism_law, read_scene
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
@@ -50,6 +51,7 @@ class MechanismRun:
     dynamics: Any = None
     impact: Any = None
     contact: Any = None
+    memo: Any = None        # LimitMemo shared by the scene's runs: least phase angles solved once
 
 
 @dataclass(frozen=True)
@@ -84,23 +86,34 @@ def analyse_scene(path: str | Path, options: PipelineOptions = PipelineOptions()
 
         parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]", [m.name for m in scene.mechanisms if m.prefix])
     runs = {}
+    memo = LimitMemo()
+    # a mechanism the cyclogram will retime needs only its phase limits before the cyclogram; its profile,
+    # dynamics and contact are analysed once, with the phase angles it ends up with
+    retimable = _network_mechanisms(scene)
     for mech in scene.mechanisms:
-        runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say)
+        runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say, memo=memo,
+                                   only_limits=mech.name in retimable)
     top_skipped: dict[str, str] = {}
     cyclogram_report = None
     if scene.cyclogram is not None:
         say("cyclogram")
         cyclogram_report, retimed = _cyclogram(scene, runs, options)
-        for name, phases in retimed.items():
-            mech = scene.mechanism(name)
-            say(f"{name}: regenerating with the cyclogram's phase angles")
-            from camcad.scene.mechanism import law_with_phases
+        from camcad.scene.mechanism import law_with_phases
 
+        for name in retimable:
+            mech = scene.mechanism(name)
             base = mechanism_law(scene, mech)
-            new_law = law_with_phases(base.law, phases, mech.where(scene.path, "law"))
-            run = _analyse(scene, mech, replace(base, law=new_law), options, say, limits=False)
-            run.report["phase_limits"] = runs[name].report.get("phase_limits", {})
-            run.report["retimed_by_cyclogram"] = _phases_text(phases)
+            if name in retimed:
+                say(f"{name}: analysing with the cyclogram's phase angles")
+                base = replace(base, law=law_with_phases(base.law, retimed[name], mech.where(scene.path, "law")))
+            run = _analyse(scene, mech, base, options, say, limits=False, memo=memo)
+            first = runs[name]
+            if "phase_limits" in first.report:
+                run.report["phase_limits"] = first.report["phase_limits"]
+            elif "phase_limits" in first.skipped:
+                run.skipped["phase_limits"] = first.skipped["phase_limits"]
+            if name in retimed:
+                run.report["retimed_by_cyclogram"] = _phases_text(retimed[name])
             runs[name] = run
     else:
         top_skipped["cyclogram"] = "no [cyclogram] in scene"
@@ -112,9 +125,20 @@ def analyse_scene(path: str | Path, options: PipelineOptions = PipelineOptions()
 # one mechanism: steps 2–8
 # --------------------------------------------------------------------------------------------
 
+def _network_mechanisms(scene: Scene) -> list[str]:
+    """Names of the mechanisms that the scene's cyclogram has operations of (in scene order)."""
+    if scene.cyclogram is None:
+        return []
+    named = {str(op.get("mechanism")) for op in scene.cyclogram.get("operations", []) if isinstance(op, dict)
+             and op.get("mechanism") is not None}
+    return [m.name for m in scene.mechanisms if m.name in named]
+
+
 def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say: Progress,
-             limits: bool = True) -> MechanismRun:
-    run = MechanismRun(mech.name, law=built.law)
+             limits: bool = True, memo: LimitMemo | None = None, only_limits: bool = False) -> MechanismRun:
+    """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
+    dynamics), for a mechanism the cyclogram will retime and analyse again."""
+    run = MechanismRun(mech.name, law=built.law, memo=memo)
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -137,10 +161,12 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     else:
         run.skipped["filter"] = "no [filter] in scene"
     # 4 profile
-    if mech.has("follower"):
+    if mech.has("follower") and only_limits:
+        pass
+    elif mech.has("follower"):
         say(f"{mech.name}: profile")
         run.profile = _profile(scene, mech, run.law, options)
-        from camcad.profile.synth import report as profile_report
+        from camcad.profile.summary import report as profile_report
 
         run.report["profile"] = profile_report(run.profile)
         run.ran.append("profile")
@@ -159,6 +185,8 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         if section == "contact" and not mech.has("follower"):
             run.skipped[key] = "no [follower] in scene: the contact needs the profile"
             continue
+        if section == "dynamics" and only_limits:
+            continue
         say(f"{mech.name}: {key}")
         step(scene, mech, run, speeds, options, where(section), limits)
         run.ran.append(key)
@@ -171,11 +199,12 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         if run.contact is not None:
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
-        if run.profile is not None:
+        if mech.has("follower"):
             from camcad.scene.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
 
             for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
-                                                      mech.where(scene.path, "follower"), PRESSURE_SAMPLES).items():
+                                                      mech.where(scene.path, "follower"), PRESSURE_SAMPLES,
+                                                      memo=memo).items():
                 found.setdefault(label, {})["pressure angle"] = angle
         if found:
             run.report["phase_limits"] = {label: {**sources, "least_deg": max(
@@ -255,6 +284,7 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.mechanism import mechanism_contact
 
     report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
+                                                memo=run.memo,
                                                 with_limits=limits)
     run.contact = (at_worst, sweep)
     run.report["contact"] = report
@@ -275,7 +305,8 @@ def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
     network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
                               [m.name for m in scene.mechanisms if m.prefix])
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
-    limits, skipped = cyclogram_limits(scene, network, speeds, options.contact_samples)
+    memo = next(iter(runs.values())).memo if runs else None
+    limits, skipped = cyclogram_limits(scene, network, speeds, options.contact_samples, memo=memo)
     # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
     for op in network.operations:
         run = runs.get(op.mechanism) if op.mechanism else None

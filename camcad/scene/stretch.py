@@ -1,0 +1,271 @@
+"""A motion phase stretched to many widths at once: the fast route to least phase angles.
+
+When a cyclogram lengthens or shortens a phase from width β to t, the phase keeps its shape and lift
+(``camcad.law.retime``): in the normalised angle u = (θ − θ0)/β the displacement is unchanged, the
+velocity analog scales by β/t and the acceleration analog by (β/t)² (v = h f'(u)/t, a = h f''(u)/t²).
+The pressure angle, the pitch curve's radius of curvature and the contact force at a point depend
+only on the follower, s, v, a (and, for a load that acts over a range of cam angles, on θ) — not on
+where the rest of the cycle is. So the phase is sampled once, on u, and every trial width is a
+rescaling of the same samples: a whole set of widths is evaluated in one vectorised pass, with no
+law rebuilt and no profile synthesised per trial (``PhaseStretch``).
+
+The direct route — retime the law, build the cam, sample the stretched phase — is kept in
+``camcad.scene.mechanism`` (``phase_pressure_function``, ``phase_stress_function``); the tests check
+that both give the same relations.
+
+Which neighbour takes up the change follows ``camcad.cyclogram.retime.stretch_phase``: the next dwell
+if it is wide enough (the phase keeps its start), else the previous one (it keeps its end).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
+from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
+from camcad.errors import CamcadError
+from camcad.numerics import brent_root
+from camcad.law.law import Kinematics
+from camcad.profile.geometry import CamGeometry, oscillating_track, pitch_geometry, translating_track
+from camcad.profile.scaled_law import law_breakpoints
+
+#: widths evaluated in one pass to bracket the least phase angle before Brent's method narrows it
+BRACKET_WIDTHS = 16
+#: refinement of a row's peak: zoom levels around the best sample, and samples per level
+ZOOM_LEVELS = 3
+ZOOM_SAMPLES = 17
+
+
+@dataclass(frozen=True)
+class PhaseStretch:
+    """Phase ``index`` of ``cam``'s law, sampled on u ∈ [0, 1] and rescaled to any widths (deg).
+
+    Parameters
+    ----------
+    cam : CamGeometry
+        The cam (law in follower units: mm, or rad of swing).
+    scale : float
+        Follower units → mm at the roller (the arm for an oscillating follower, else 1).
+    phases_deg : list of (start_deg, end_deg, kind)
+        The law's phases.
+    index : int
+        The phase to stretch.
+    u : ndarray
+        Normalised samples in [0, 1] (the law's breakpoints inside the phase included).
+    """
+
+    cam: CamGeometry
+    scale: float
+    phases_deg: tuple
+    index: int
+    u: np.ndarray
+
+    @classmethod
+    def sample(cls, cam: CamGeometry, scale: float, phases_deg, index: int, samples: int) -> "PhaseStretch":
+        """Uniform samples on the phase (``samples`` points, ends included) plus its inner breakpoints."""
+        start, end, _ = phases_deg[index]
+        width = math.radians(end - start)
+        u = np.linspace(0.0, 1.0, samples)
+        inner = (law_breakpoints(cam.law) - math.radians(start)) / width
+        u = np.union1d(u, inner[(inner > 0.0) & (inner < 1.0)])
+        return cls(cam, float(scale), tuple(tuple(p) for p in phases_deg), index, u)
+
+    @property
+    def width_deg(self) -> float:
+        start, end, _ = self.phases_deg[self.index]
+        return end - start
+
+    @property
+    def kind(self) -> str:
+        return self.phases_deg[self.index][2]
+
+    def start_deg(self, widths_deg: np.ndarray) -> np.ndarray:
+        """Start of the stretched phase (deg) for each width: it keeps its start when the next dwell
+        can take up the change, else its end (the previous dwell takes it), as ``stretch_phase`` does."""
+        start, end, _ = self.phases_deg[self.index]
+        change = np.asarray(widths_deg, dtype=float) - (end - start)
+        after = self.index + 1
+        before = self.index - 1
+        room_after = (self.phases_deg[after][1] - self.phases_deg[after][0]
+                      if after < len(self.phases_deg) and self.phases_deg[after][2] == "dwell" else -np.inf)
+        keeps_start = room_after - change >= 0.0
+        return np.where(keeps_start, start, end - np.asarray(widths_deg, dtype=float)) if before >= 0 else \
+            np.full_like(change, start)
+
+    def kinematics(self, widths_deg: np.ndarray, u: np.ndarray | None = None) -> Kinematics:
+        """s, v, a, j (follower units) of the phase stretched to each width: arrays of shape (K, N)."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        u = self.u if u is None else u
+        start, _, _ = self.phases_deg[self.index]
+        base = self.cam.kinematics(math.radians(start) + u * math.radians(self.width_deg))
+        ratio = (self.width_deg / widths)[:, None]
+        shape = (len(widths), u.shape[-1]) if u.ndim == 1 else u.shape
+        theta = np.radians(self.start_deg(widths))[:, None] + u * np.radians(widths)[:, None]
+        return Kinematics(theta=np.broadcast_to(theta, shape),
+                          s=np.broadcast_to(base.s, shape), v=base.v * ratio, a=base.a * ratio**2,
+                          j=base.j * ratio**3)
+
+    def pitch(self, kin: Kinematics):
+        """The pitch-curve geometry (pressure angle, radius of curvature, outward speed) of flattened samples."""
+        flat = Kinematics(theta=np.zeros(kin.s.size), s=np.ravel(kin.s), v=np.ravel(kin.v), a=np.ravel(kin.a),
+                          j=np.ravel(kin.j))
+        f = self.cam.follower
+        if f.kind == "oscillating":
+            track = oscillating_track(flat, f.pivot, f.arm, self.cam.gamma0)
+        else:
+            track = translating_track(flat, self.cam.height, f.offset)
+        return pitch_geometry(flat.theta, track, self.cam.sigma)
+
+    # -- the pressure angle -------------------------------------------------------------------
+    def pressure_max_deg(self, widths_deg: np.ndarray) -> np.ndarray:
+        """The largest |pressure angle| (deg) over the phase, for each width: the best sample refined by
+        ``ZOOM_LEVELS`` rounds of ``ZOOM_SAMPLES`` samples around it (a parabola through the last three)."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        if self.cam.follower.kind == "flat":
+            return np.zeros(len(widths))
+
+        def values(u_rows: np.ndarray) -> np.ndarray:
+            kin = self.kinematics(widths, u_rows)
+            return np.abs(self.pitch(kin).pressure_angle).reshape(u_rows.shape if u_rows.ndim == 2
+                                                                  else (len(widths), -1))
+
+        return np.degrees(_refined_row_max(values, self.u, len(widths)))
+
+    # -- contact stress -----------------------------------------------------------------------
+    def stress_max(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm) -> np.ndarray:
+        """σ_max (MPa) over the phase and the speeds, for each width; +inf where the stretched cam is not
+        admissible (the roller does not fit a concave flank, the follower jams, or a force-closed follower
+        leaves the cam). The sampled maximum, as ``camcad.contact.contact_stress`` reports it."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        kin = self.kinematics(widths)
+        pitch = self.pitch(kin)
+        f = self.cam.follower
+        shape = kin.v.shape
+        s, v, a = kin.s * self.scale, kin.v * self.scale, kin.a * self.scale
+        phi = pitch.pressure_angle.reshape(shape) if f.kind != "flat" else np.zeros(shape)
+        if f.kind == "flat":
+            rho = (self.cam.follower.base_radius + kin.s + kin.a)
+            radius = math.inf
+            back = None
+        else:
+            radius = float(f.roller_radius)
+            rho = pitch.rho.reshape(shape) - radius
+            back = -(pitch.rho.reshape(shape) + radius) if f.groove else None
+        theta = kin.theta
+        load = params.load_over(theta)
+        # The axial force m·a·ω²/1000 + k·s + F0 + Q is affine in ω², so at every θ its size (and its sign)
+        # is extreme at the slowest or the fastest speed; F_n = F/(cos φ ∓ μ|sin φ|) keeps that, and σ_H
+        # grows with |F_n|. The largest σ_H over a speed range, and whether F_n ≤ 0 anywhere in it, are
+        # therefore decided by the two end speeds alone (exactly, not approximately).
+        given = np.asarray(list(speeds_rpm), dtype=float)
+        speeds = np.array([given.min(), given.max()])[:, None, None]   # (2, K, N)
+        force = axial_force(s[None], a[None], speeds, params.mass, params.spring_rate, params.preload, load[None])
+        mu = params.friction
+        denominator = np.cos(phi) - mu * np.abs(np.sin(phi)) * np.sign(v) * np.sign(force)
+        jams = np.any(denominator <= 0.0, axis=(0, 2))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            force_n = force / denominator
+        rho_used = np.broadcast_to(rho, force_n.shape)
+        if params.closure == "form" and back is not None:
+            rho_used = np.where(force_n < 0.0, back[None], rho_used)
+        no_fit = ~np.all(fits(rho_used, radius), axis=(0, 2))
+        pressing = np.abs(force_n) if params.closure == "form" else np.maximum(force_n, 0.0)
+        separation = (np.any(force_n <= 0.0, axis=(0, 2)) if params.closure == "force"
+                      else np.zeros(len(widths), dtype=bool))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sigma = hertz_peak_pressure(pressing, params.width, effective_radius(rho_used, radius), params.e_star)
+        worst = np.nanmax(np.where(np.isfinite(sigma) | np.isinf(sigma), sigma, np.nan), axis=(0, 2))
+        return np.where(jams | no_fit | separation, np.inf, worst)
+
+
+def _refined_row_max(values, u: np.ndarray, rows: int) -> np.ndarray:
+    """max over u of each row of ``values(u_rows)`` (a function of an (rows, M) grid): the best sample of
+    each row, then ``ZOOM_LEVELS`` finer grids around it, the last one closed by a parabola."""
+    grid = values(u)
+    finite = np.where(np.isfinite(grid), grid, -np.inf)
+    best = np.argmax(finite, axis=1)
+    peak = finite[np.arange(rows), best]
+    lo = u[np.maximum(best - 1, 0)]
+    hi = u[np.minimum(best + 1, len(u) - 1)]
+    for _ in range(ZOOM_LEVELS):
+        local = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, ZOOM_SAMPLES)[None, :]
+        vals = values(local)
+        vals = np.where(np.isfinite(vals), vals, -np.inf)
+        k = np.argmax(vals, axis=1)
+        peak = np.maximum(peak, vals[np.arange(rows), k])
+        step = (hi - lo) / (ZOOM_SAMPLES - 1)
+        centre = local[np.arange(rows), k]
+        inner = (k > 0) & (k < ZOOM_SAMPLES - 1)
+        if _ == ZOOM_LEVELS - 1:
+            left = vals[np.arange(rows), np.maximum(k - 1, 0)]
+            right = vals[np.arange(rows), np.minimum(k + 1, ZOOM_SAMPLES - 1)]
+            middle = vals[np.arange(rows), k]
+            curvature = left - 2.0 * middle + right
+            with np.errstate(divide="ignore", invalid="ignore"):
+                offset = 0.5 * (left - right) / curvature
+                vertex = middle - 0.25 * (left - right) * offset
+            ok = inner & np.isfinite(vertex) & (curvature < 0.0) & (np.abs(offset) <= 1.0)
+            peak = np.where(ok, np.maximum(peak, vertex), peak)
+        lo = np.maximum(centre - step, lo)
+        hi = np.minimum(centre + step, hi)
+    return peak
+
+
+def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, source: str = "limit",
+                what: str = "", xtol_deg: float = 1e-10) -> PhaseLimit:
+    """The least phase angle t in [lower, upper] (deg) with relation(t) <= limit, for a relation that is
+    non-increasing in t and evaluates many widths at once (``relation(widths) -> values``).
+
+    The same answer as ``camcad.cyclogram.limits.least_phase_angle`` (which takes a scalar relation): the
+    lower end when it already meets the limit (not binding), a CamcadError when even the upper end does
+    not; otherwise the crossing to ``xtol_deg``. One pass over ``BRACKET_WIDTHS`` widths brackets the
+    crossing, then Brent's method on single widths narrows it. +inf marks an inadmissible width (e.g. an
+    undercut); when the crossing is such a jump rather than the limit, the note says so.
+    """
+    count = 0
+
+    def many(widths) -> np.ndarray:
+        nonlocal count
+        widths = np.atleast_1d(np.asarray(widths, dtype=float))
+        count += len(widths)
+        values = np.asarray(relation(widths), dtype=float)
+        if np.any(np.isnan(values)) or np.any(values == -np.inf):
+            bad = float(widths[np.flatnonzero(np.isnan(values) | (values == -np.inf))[0]])
+            raise CamcadError(f"the {source} relation is not a number at {bad:g} deg", what or source,
+                              "check the data of that operation")
+        return values
+
+    label = f"{what}: " if what else ""
+    ends = many([lower_deg, upper_deg])
+    if ends[0] <= limit:
+        return PhaseLimit(lower_deg, float(ends[0]), limit, False, source, count)
+    if ends[1] > limit:
+        reached = "an inadmissible value" if not math.isfinite(ends[1]) else f"{ends[1]:.6g}"
+        raise CamcadError(f"{label}even the longest phase angle {upper_deg:g} deg gives {source} {reached} "
+                          f"> the limit {limit:g}", what or source,
+                          "raise the operation's upper bound, or change the law, materials or loads")
+    grid = np.linspace(lower_deg, upper_deg, BRACKET_WIDTHS + 2)[1:-1]
+    values = many(grid)
+    below = np.flatnonzero(values <= limit)
+    hi = float(grid[below[0]]) if len(below) else upper_deg
+    lo_candidates = grid[grid < hi]
+    lo = float(lo_candidates[-1]) if len(lo_candidates) else lower_deg
+
+    def excess(t: float) -> float:
+        value = float(many([t])[0])
+        return INADMISSIBLE * (1.0 + abs(limit)) if value == math.inf else value - limit
+
+    root = brent_root(excess, lo, hi, xtol=xtol_deg, rtol=4 * 2.220446049250313e-16)
+    step = xtol_deg
+    while excess(root) >= INADMISSIBLE and root < upper_deg:   # at a jump to inadmissible: step inside
+        root = min(root + step, upper_deg)
+        step *= 2.0
+    value = float(many([root])[0])
+    note = ""
+    if value < limit - 1e-6 * abs(limit):
+        note = (f"set by an inadmissible range below {root:.6g} deg (e.g. an undercut), where {source} "
+                f"is {value:.6g}, under the limit")
+    return PhaseLimit(float(root), value, limit, True, source, count, note)
