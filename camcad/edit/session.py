@@ -940,3 +940,19 @@ class EditSession:
         points = geometry.pitch(theta).points
         gap = float(s[-1] - s[0])
         return points, radius, gap
+
+
+def default_output(session: EditSession) -> Path:
+    """Where the window's save goes without ``-o``: ``<input>.edited.dxf`` beside a drawing,
+    ``<input>.edited<suffix>`` beside a table, ``<name>.edited.dxf`` for a law without a file."""
+    if session.input_path is None:
+        return Path(session.loaded.path.name + ".edited.dxf")
+    path = session.input_path
+    suffix = ".dxf" if session.loaded.curve is not None else path.suffix
+    return path.with_name(path.stem + ".edited" + suffix)
+
+
+def default_script(session: EditSession) -> Path:
+    """Where the window saves the edit script: ``<input>.edits.json``."""
+    path = session.input_path or Path(session.loaded.path.name)
+    return path.with_name(path.stem + ".edits.json")
