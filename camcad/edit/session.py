@@ -295,10 +295,11 @@ def law_problems(law: PiecewiseLinearLaw) -> list[str]:
     if len(x) >= 3 and np.any((x[2:] == x[1:-1]) & (x[1:-1] == x[:-2])):
         problems.append("three vertices at one angle")
     phases = law.phases
+    tol = 1e-9 * law.cycle
     if phases:
-        if phases[0].start != 0.0 or phases[-1].end != law.cycle:
+        if abs(phases[0].start) > tol or abs(phases[-1].end - law.cycle) > tol:
             problems.append("phases do not span the cycle")
-        if any(p.end != q.start for p, q in zip(phases[:-1], phases[1:])):
+        if any(abs(p.end - q.start) > tol for p, q in zip(phases[:-1], phases[1:])):
             problems.append("phases have gaps")
     return problems
 
@@ -639,6 +640,9 @@ class EditSession:
         if name == "move":
             return EditState(self._move(law, i, self.to_law(op["y"]), op.get("to_x_deg"), at), state.restructured)
         if name in ("move_lobe", "move_extrema"):
+            if "end" not in op:  # of a jump from the axis, the end off the axis holds the lobe
+                first, last = jump_group(law.x, i)
+                i = next((j for j in range(first, last + 1) if len(lobe_of(law.a, j))), i)
             return EditState(self._move_lobe(law, i, self.to_law(op["y"]), name == "move_extrema", at),
                              state.restructured)
         if name == "delete":

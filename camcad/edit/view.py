@@ -200,8 +200,11 @@ class EditorView:
         per = math.ceil(len(SHORTCUTS) / columns)
         for c in range(columns):
             chunk = SHORTCUTS[c * per:(c + 1) * per]
-            text = "\n".join(f"{k:<19s} {what}" for k, what in chunk)
-            fig.text(0.045 + c * 0.237, 0.124, text, fontsize=7.4, va="top", family="monospace", color="0.2")
+            x = 0.045 + c * 0.238
+            fig.text(x, 0.124, "\n".join(k for k, _ in chunk), fontsize=7.4, va="top", family="monospace",
+                     color="#1d4ed8")
+            fig.text(x + 0.083, 0.124, "\n".join(w for _, w in chunk), fontsize=7.4, va="top", family="monospace",
+                     color="0.2")
         modes = " · ".join(f"{k} {mode}" for k, mode in enumerate(MODES, start=1))
         fig.text(0.045, 0.022, f"fix modes: {modes}   (a range limits them; mode segment needs one)", fontsize=7.4,
                  va="center", family="monospace", color="0.2")

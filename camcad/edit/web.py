@@ -40,7 +40,7 @@ _PAGE = """<!DOCTYPE html>
  #camcad-verdict.open {{ background: #fde2e2; color: #7f1d1d; border: 1px solid #e76f51; }}
  #camcad-verdict.preview {{ background: #dbeafe; color: #1e3a8a; border: 1px solid #1d4ed8; }}
  #camcad-live {{ font-family: monospace; font-size: 12px; margin: 0; white-space: pre; }}
- #camcad-message {{ font-size: 13px; color: #1f2937; }}
+ #camcad-message {{ font-size: 13px; color: #1f2937; white-space: pre-line; }}
  #camcad-message.error {{ color: #b91c1c; }}
 </style>
 </head>
@@ -212,15 +212,21 @@ class EditorServer:
 
                     self.write_message("data:image/png;base64," + base64.b64encode(blob).decode("ascii"))
 
+        class Icon(_Guard, tornado.web.RequestHandler):
+            def get(self):
+                self.set_header("Content-Type", "image/png")
+                self.write(Path(mpl.get_data_path(), "images", "matplotlib.png").read_bytes())
+
         static = FigureManagerWebAgg.get_static_file_path()
         return tornado.web.Application([
+            (r"/favicon.ico", Icon),
             (r"/", Page),
             (r"/mpl.js", MplJs),
             (r"/_static/(.*)", Static, {"path": static}),
             (r"/_images/(.*)", Static, {"path": str(Path(mpl.get_data_path(), "images"))}),
             (r"/download\.([a-z0-9.]+)", Download),
             (r"/ws", Socket),
-        ])
+        ], log_function=_quiet)
 
     # --- running --------------------------------------------------------------------------------
 
@@ -265,6 +271,15 @@ class EditorServer:
             self._loop.call_soon_threadsafe(self._stop.set)
         if self._thread is not None:
             self._thread.join(10)
+
+
+def _quiet(handler) -> None:
+    """Access log: only server errors (the terminal shows the URL, not every request)."""
+    if handler.get_status() >= 500:
+        import logging
+
+        logging.getLogger("camcad.edit.web").error("%s %s -> %s", handler.request.method, handler.request.uri,
+                                                   handler.get_status())
 
 
 async def _call(function, *args):
