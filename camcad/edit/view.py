@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon, Rectangle
@@ -196,18 +197,9 @@ class EditorView:
         self.readout = fig.text(0.055, 0.148, "", fontsize=9.2, va="center", fontdict=mono)
         self.msg_text = fig.text(0.985, 0.148, "", fontsize=9.2, va="center", ha="right")
         fig.add_artist(Line2D([0.04, 0.985], [0.133, 0.133], transform=fig.transFigure, color="0.8", lw=0.8))
-        columns = 4
-        per = math.ceil(len(SHORTCUTS) / columns)
-        for c in range(columns):
-            chunk = SHORTCUTS[c * per:(c + 1) * per]
-            x = 0.045 + c * 0.238
-            fig.text(x, 0.124, "\n".join(k for k, _ in chunk), fontsize=7.4, va="top", family="monospace",
-                     color="#1d4ed8")
-            fig.text(x + 0.083, 0.124, "\n".join(w for _, w in chunk), fontsize=7.4, va="top", family="monospace",
-                     color="0.2")
-        modes = " · ".join(f"{k} {mode}" for k, mode in enumerate(MODES, start=1))
-        fig.text(0.045, 0.022, f"fix modes: {modes}   (a range limits them; mode segment needs one)", fontsize=7.4,
-                 va="center", family="monospace", color="0.2")
+        # the shortcut list never changes: it is drawn once into an image (text is most of a full draw)
+        self.help_block = _StaticBlock(fig, (0.03, 0.005, 0.995, 0.13), _draw_help)
+        fig.add_artist(self.help_block)
         self._dynamic = [self.range_patch, self.pos_fill, self.neg_fill, self.ghost_a, self.a_line, self.a_marks,
                          self.lobe_line, self.sel_mark, self.ghost_v, self.v_line, self.v_marks, self.ghost_s,
                          self.s_line, self.s_gap, self.p_line, self.p_gap, *self.drag_lines]
@@ -735,7 +727,8 @@ class EditorView:
         if drag.end is not None:
             op["end"] = drag.end
         if drag.free_x:
-            to = min(max(x, 0.0), session.cycle_deg)
+            lo, hi = session.x_limits(drag.index, session.gesture_base)
+            to = min(max(x, math.degrees(lo)), math.degrees(hi))
             if self.snap and drag.snaps_x:
                 px = self._pixels(self.ax_a, np.array(drag.snaps_x), np.zeros(len(drag.snaps_x)))[:, 0]
                 target_px = self._pixels(self.ax_a, to, 0.0)[0, 0]
@@ -970,6 +963,68 @@ class EditorView:
 # ---------------------------------------------------------------------------------------------
 # Helpers
 # ---------------------------------------------------------------------------------------------
+
+HELP_FONT = 7.4
+
+
+def _draw_help(fig: Figure) -> None:
+    """The shortcut list in four columns and the fix modes, on ``fig`` (the help block's own figure)."""
+    columns = 4
+    per = math.ceil(len(SHORTCUTS) / columns)
+    width = fig.get_figwidth()
+    for c in range(columns):
+        chunk = SHORTCUTS[c * per:(c + 1) * per]
+        x = (0.015 * 15.0 + c * 0.238 * 15.0) / width
+        fig.text(x, 0.92, "\n".join(k for k, _ in chunk), fontsize=HELP_FONT, va="top", family="monospace",
+                 color="#1d4ed8")
+        fig.text(x + 0.083 * 15.0 / width, 0.92, "\n".join(w for _, w in chunk), fontsize=HELP_FONT, va="top",
+                 family="monospace", color="0.2")
+    modes = " · ".join(f"{k} {mode}" for k, mode in enumerate(MODES, start=1))
+    fig.text(0.015 * 15.0 / width, 0.13, f"fix modes: {modes}   (a range limits them; mode segment needs one)",
+             fontsize=HELP_FONT, va="center", family="monospace", color="0.2")
+
+
+class _StaticBlock(Artist):
+    """Texts that never change, rendered once (per size and dpi) into an image that every full draw pastes.
+
+    ``rect`` is (x0, y0, x1, y1) in figure fractions; ``build(figure)`` draws the texts on a figure of
+    that size (its own coordinates)."""
+
+    def __init__(self, figure: Figure, rect: tuple[float, float, float, float], build) -> None:
+        super().__init__()
+        self._parent = figure
+        self._rect = rect
+        self._build = build
+        self._cache = None
+        self.last_figure: Figure | None = None
+
+    def render(self, dpi: float) -> np.ndarray:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        fig = self._parent
+        x0, y0, x1, y1 = self._rect
+        w_in, h_in = fig.get_figwidth() * (x1 - x0), fig.get_figheight() * (y1 - y0)
+        key = (round(w_in * dpi), round(h_in * dpi), dpi)
+        if self._cache is None or self._cache[0] != key:
+            block = Figure(figsize=(w_in, h_in), dpi=dpi)
+            FigureCanvasAgg(block)
+            block.patch.set_alpha(0.0)
+            self._build(block)
+            block.canvas.draw()
+            self.last_figure = block
+            self._cache = (key, np.asarray(block.canvas.buffer_rgba())[::-1].copy())
+        return self._cache[1]
+
+    def draw(self, renderer) -> None:
+        if not self.get_visible():
+            return
+        image = self.render(renderer.dpi if hasattr(renderer, "dpi") else self._parent.dpi)
+        box = self._parent.bbox
+        gc = renderer.new_gc()
+        renderer.draw_image(gc, round(box.x0 + box.width * self._rect[0]), round(box.y0 + box.height * self._rect[1]),
+                            image)
+        gc.restore()
+
 
 def _group(x: np.ndarray, index: int) -> tuple[int, int]:
     from .session import jump_group
