@@ -470,11 +470,11 @@ class EditSession:
     # --- finding things ------------------------------------------------------------------------
 
     def vertex_near(self, x_deg: float, end: str | None = None, law: PiecewiseLinearLaw | None = None,
-                    key: str = "x_deg") -> int:
+                    key: str = "x_deg", at: str | None = None) -> int:
         """Index of the vertex nearest the cam angle ``x_deg`` (deg); of a jump, its ``end`` ("left", the
         default, or "right")."""
         law = law or self.law
-        self._inside_cycle(x_deg, key, law)
+        self._inside_cycle(x_deg, key, law, at)
         theta = math.radians(x_deg)
         i = int(np.argmin(np.abs(law.x - theta)))
         first, last = jump_group(law.x, i)
@@ -493,10 +493,10 @@ class EditSession:
         law = law or self.law
         return [math.degrees(p.end) for p in law.phases[:-1]]
 
-    def _inside_cycle(self, value: float, key: str, law: PiecewiseLinearLaw) -> None:
+    def _inside_cycle(self, value: float, key: str, law: PiecewiseLinearLaw, at: str | None = None) -> None:
         cycle_deg = math.degrees(law.cycle)
         if not (math.isfinite(value) and -1e-9 <= value <= cycle_deg + 1e-9):
-            raise CamcadError(f"{key} {value:g} deg is outside the cycle 0..{cycle_deg:g} deg", self.where,
+            raise CamcadError(f"{key} {value:g} deg is outside the cycle 0..{cycle_deg:g} deg", at or self.where,
                               f"give an angle in 0..{cycle_deg:g}")
 
     # --- applying operations ------------------------------------------------------------------
@@ -636,7 +636,7 @@ class EditSession:
             return EditState(law.with_phases(phases), state.restructured)
         if name == "insert":
             return EditState(self._insert(law, op["x_deg"], self.to_law(op["y"]), at), True)
-        i = self.vertex_near(op["x_deg"], op.get("end"), law)
+        i = self.vertex_near(op["x_deg"], op.get("end"), law, at=at)
         if name == "move":
             return EditState(self._move(law, i, self.to_law(op["y"]), op.get("to_x_deg"), at), state.restructured)
         if name in ("move_lobe", "move_extrema"):
@@ -660,7 +660,7 @@ class EditSession:
         a[i] = a_new
         if to_x_deg is None:
             return law.with_ordinates(a)
-        self._inside_cycle(to_x_deg, "to_x_deg", law)
+        self._inside_cycle(to_x_deg, "to_x_deg", law, at)
         lo, hi = self.x_limits(i, law)
         x = law.x.copy()
         first, last = jump_group(x, i)
@@ -809,8 +809,8 @@ class EditSession:
         segment = op.get("segment")
         if segment is not None:
             lo, hi = sorted(segment)
-            self._inside_cycle(lo, "segment", law)
-            self._inside_cycle(hi, "segment", law)
+            self._inside_cycle(lo, "segment", law, at)
+            self._inside_cycle(hi, "segment", law, at)
             if mode == "segment":
                 kwargs["segment_deg"] = (lo, hi)
             else:
