@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import SAMPLES
 
 from camcad.balance import correct
 from camcad.edit.session import EditSession
 from camcad.law.source import load_law
-from conftest import SAMPLES
 
 REQUIRED = os.environ.get("CAMCAD_REQUIRE_BROWSER") == "1"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",

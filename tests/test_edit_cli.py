@@ -11,9 +11,9 @@ from collections import Counter
 import ezdxf
 import numpy as np
 import pytest
+from conftest import SAMPLES, file_digest
 
 from camcad.law.source import load_law
-from conftest import SAMPLES, file_digest
 
 CHECK_KEYS = {"areas", "velocity_closure", "displacement_closure", "rise", "return", "balanced", "tolerance"}
 
@@ -53,7 +53,7 @@ def test_move_undo_min_change_save_equals_fix(cli, tmp_path, name):
     assert np.max(np.abs(ours.law.a - theirs.law.a)) <= 1e-12 * scale
     # the drawings: the same entities, every other entity kept, the original curve kept
     doc_in, doc_ed, doc_fx = ezdxf.readfile(source), ezdxf.readfile(edited), ezdxf.readfile(fixed)
-    kinds = lambda doc: Counter((e.dxftype(), e.dxf.layer) for e in doc.modelspace())  # noqa: E731
+    kinds = lambda doc: Counter((e.dxftype(), e.dxf.layer) for e in doc.modelspace())
     assert kinds(doc_ed) == kinds(doc_fx)
     handle = ours.curve.handle
     in_other = Counter((e.dxftype(), e.dxf.layer) for e in doc_in.modelspace() if e.dxf.handle != handle)

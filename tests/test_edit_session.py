@@ -15,17 +15,24 @@ from collections import Counter
 import ezdxf
 import numpy as np
 import pytest
+from conftest import ROOT, SAMPLES, file_digest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from camcad.balance import MODES, correct, difference_norms
-from camcad.edit.session import (OPERATIONS, EditSession, law_problems, load_script, loaded_from_law,
-                                 normalize_operation, sampled_law, validate_script)
+from camcad.edit.session import (
+    EditSession,
+    law_problems,
+    load_script,
+    loaded_from_law,
+    normalize_operation,
+    sampled_law,
+    validate_script,
+)
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
-from conftest import ROOT, SAMPLES, file_digest
 
 DXF = SAMPLES / "dxf"
 T = 2 * math.pi
@@ -331,7 +338,7 @@ def test_dense_law_lobe_drag_stays_fast():
     s.begin_gesture()
     for y in np.linspace(1.0, 0.9, 20):
         s.apply({"op": "move_lobe", "x_deg": peak, "y": float(y)})
-        s.report
+        assert s.report.tolerance > 0
     s.end_gesture()
     assert (time.perf_counter() - start) / 20 < 0.05   # per drag step: the law, its integral and its check
     assert len(s.law.x) == 10_000 and not law_problems(s.law)
@@ -440,7 +447,7 @@ def test_normalize_keeps_plain_values():
 def test_session_module_imports_no_matplotlib():
     code = ("import sys; import camcad.edit.session, camcad.edit.app; "
             "bad = [m for m in sys.modules if m.split('.')[0] == 'matplotlib']; assert not bad, bad")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+    result = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True, cwd=ROOT,
                             env={"PYTHONPATH": str(ROOT), "PATH": ""})
     assert result.returncode == 0, result.stderr
 

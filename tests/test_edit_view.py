@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 
 matplotlib = pytest.importorskip("matplotlib")
-from matplotlib.backend_bases import KeyEvent, MouseEvent  # noqa: E402
-from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
+from conftest import SAMPLES
+from matplotlib.backend_bases import KeyEvent, MouseEvent
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-from camcad.edit.session import EditSession, loaded_from_law  # noqa: E402
-from camcad.edit.view import SHORTCUTS, EditorView, new_figure  # noqa: E402
-from camcad.law.law import PiecewiseLinearLaw  # noqa: E402
-from camcad.law.phases import detect_phases  # noqa: E402
-from camcad.law.source import load_law  # noqa: E402
-from conftest import SAMPLES  # noqa: E402
+from camcad.edit.session import EditSession, loaded_from_law
+from camcad.edit.view import SHORTCUTS, EditorView, new_figure
+from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.phases import detect_phases
+from camcad.law.source import load_law
 
 T = 2 * math.pi
 
@@ -84,7 +84,7 @@ def test_vertex_drag_is_one_operation_drawn_by_blitting(tmp_path):
     view = make_view(s, tmp_path, canvas=FigureCanvasAgg)   # real full draws here
     assert view.blit and view._background is not None
     i = 120
-    x, y = (int(round(v)) for v in view.display_xy(i))
+    x, y = (round(v) for v in view.display_xy(i))
     target = data_y(view, y - 25)            # the axes stay frozen during the drag
     drag(view, (x, y), (x, y - 25))
     assert s.operations == [{"op": "move", "x_deg": pytest.approx(math.degrees(s.law.x[i])),

@@ -7,7 +7,13 @@ same view in a browser through matplotlib's WebAgg (127.0.0.1 only); ``app`` pic
 window or the browser and runs a script headless.
 """
 
-from .session import (OPERATIONS, EditSession, load_script, normalize_operation, sampled_law,
-                      validate_script)
+from .session import (
+                      OPERATIONS,
+                      EditSession,
+                      load_script,
+                      normalize_operation,
+                      sampled_law,
+                      validate_script,
+)
 
 __all__ = ["OPERATIONS", "EditSession", "load_script", "normalize_operation", "sampled_law", "validate_script"]

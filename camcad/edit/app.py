@@ -10,13 +10,20 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from ..law.law import PiecewiseLinearLaw
 from ..law.source import LoadedLaw
-from .session import DEFAULT_TOL, EditSession, default_output, load_script, loaded_from_law, sampled_law
+from .session import (
+    DEFAULT_TOL,
+    EditSession,
+    default_output,
+    load_script,
+    loaded_from_law,
+    sampled_law,
+)
 
 
 @dataclass
@@ -133,8 +140,8 @@ def _serve(session: EditSession, output: Path | None, port: int, open_browser: b
 
         try:
             webbrowser.open(server.url)
-        except Exception:  # noqa: BLE001 - no browser: the URL is printed
-            pass
+        except Exception as err:  # noqa: BLE001 - no browser: the URL is printed
+            announce(f"camcad edit: could not open a browser ({err}); open the URL above")
     server.run()
 
 

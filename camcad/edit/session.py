@@ -42,12 +42,14 @@ mouse events it took. Every state is an immutable law, so undo restores the exac
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 
@@ -207,7 +209,7 @@ def sampled_law(law, step_deg: float = 0.5) -> PiecewiseLinearLaw:
     if not (math.isfinite(step_deg) and 0 < step_deg <= 10):
         raise CamcadError(f"step {step_deg!r} deg is out of range", "--step", "give a step between 0 and 10 deg")
     cycle = float(law.cycle)
-    count = max(int(round(math.degrees(cycle) / step_deg)), 8)
+    count = max(round(math.degrees(cycle) / step_deg), 8)
     grid = np.linspace(0.0, cycle, count + 1)
     bounds = sorted({float(p.start) for p in law.phases} | {float(p.end) for p in law.phases})
     knots = np.unique(np.concatenate((grid, bounds)))
@@ -299,7 +301,7 @@ def law_problems(law: PiecewiseLinearLaw) -> list[str]:
     if phases:
         if abs(phases[0].start) > tol or abs(phases[-1].end - law.cycle) > tol:
             problems.append("phases do not span the cycle")
-        if any(abs(p.end - q.start) > tol for p, q in zip(phases[:-1], phases[1:])):
+        if any(abs(p.end - q.start) > tol for p, q in itertools.pairwise(phases)):
             problems.append("phases have gaps")
     return problems
 
@@ -383,7 +385,7 @@ class EditSession:
     # --- construction ------------------------------------------------------------------------
 
     @classmethod
-    def from_file(cls, path: str | Path, *, tol: float = DEFAULT_TOL, **options) -> "EditSession":
+    def from_file(cls, path: str | Path, *, tol: float = DEFAULT_TOL, **options) -> EditSession:
         """Read ``path`` with ``load_law(path, **options)`` and start a session on it."""
         from ..law.source import load_law
 

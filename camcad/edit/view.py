@@ -17,9 +17,9 @@ preview that shows the gap, a table of phases and of the vertices around the sel
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from matplotlib.artist import Artist
@@ -30,7 +30,13 @@ from matplotlib.transforms import blended_transform_factory
 
 from ..balance import MODES
 from ..errors import CamcadError
-from .session import EditSession, default_output, default_script, extremum_group, lobe_of
+from .session import (
+    EditSession,
+    default_output,
+    default_script,
+    extremum_group,
+    lobe_of,
+)
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 ABOVE, BELOW = "#2a9d8f", "#e76f51"
@@ -551,9 +557,17 @@ class EditorView:
             for artist in self._dynamic:
                 if artist.get_visible():
                     artist.axes.draw_artist(artist)
-            self.canvas.blit(self.figure.bbox)
+            for box in self._blit_boxes():
+                self.canvas.blit(box)
         if self.live is not None:
             self._notify_live()
+
+    def _blit_boxes(self) -> list:
+        """What a drag changes: the three graphs (with their tick labels' margin) and the profile preview."""
+        from matplotlib.transforms import Bbox
+
+        graphs = Bbox.union([ax.bbox for ax in (self.ax_a, self.ax_v, self.ax_s)]).expanded(1.01, 1.01)
+        return [graphs, self.ax_p.bbox.expanded(1.02, 1.02)]
 
     def status_line(self, law=None) -> str:
         """One line of live numbers: the verdict, the closures and the four areas."""

@@ -103,8 +103,11 @@ class EditorServer:
     def __init__(self, session, *, port: int = 0, output: Path | None = None, title: str = "") -> None:
         require_tornado()
         import tornado.netutil
-        from matplotlib.backends.backend_webagg_core import (FigureCanvasWebAggCore, FigureManagerWebAgg,
-                                                              NavigationToolbar2WebAgg)
+        from matplotlib.backends.backend_webagg_core import (
+            FigureCanvasWebAggCore,
+            FigureManagerWebAgg,
+            NavigationToolbar2WebAgg,
+        )
 
         from .view import EditorView, new_figure
 
@@ -156,7 +159,7 @@ class EditorServer:
         allowed = {f"{ADDRESS}:{self.port}", f"localhost:{self.port}"}
 
         class _Guard:
-            def prepare(self):  # noqa: D401 - tornado hook
+            def prepare(self):
                 if self.request.host not in allowed:
                     raise tornado.web.HTTPError(403, "this editor answers on %s only", server.url)
 
@@ -202,15 +205,23 @@ class EditorServer:
                     server.manager.handle_json(content)
 
             def send_json(self, content):
-                self.write_message(json.dumps(content))
+                self._write(json.dumps(content))
 
             def send_binary(self, blob):
                 if self.supports_binary:
-                    self.write_message(blob, binary=True)
+                    self._write(blob, binary=True)
                 else:
                     import base64
 
-                    self.write_message("data:image/png;base64," + base64.b64encode(blob).decode("ascii"))
+                    self._write("data:image/png;base64," + base64.b64encode(blob).decode("ascii"))
+
+            def _write(self, message, binary=False):
+                """Send, ignoring a page that has gone (closed tab) instead of logging a traceback."""
+                try:
+                    future = self.write_message(message, binary=binary)
+                except tornado.websocket.WebSocketClosedError:
+                    return
+                future.add_done_callback(lambda done: done.exception())
 
         class Icon(_Guard, tornado.web.RequestHandler):
             def get(self):
@@ -251,7 +262,7 @@ class EditorServer:
         except KeyboardInterrupt:
             pass
 
-    def start_in_thread(self) -> "EditorServer":
+    def start_in_thread(self) -> EditorServer:
         """Serve from a background thread (tests, benchmarks); returns when the server accepts connections."""
         self._thread = threading.Thread(target=self.run, name="camcad-edit-web", daemon=True)
         self._thread.start()
