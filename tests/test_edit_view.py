@@ -267,7 +267,7 @@ def test_layout_readout_outside_the_plot_and_shortcuts_not_cut_off():
     help_box = help_figure.bbox
     texts = help_figure.texts
     boxes = [t.get_window_extent(help_renderer) for t in texts]
-    assert len(boxes) == 9
+    assert len(boxes) == 7
     for box in boxes:
         assert help_box.x0 <= box.x0 and box.x1 <= help_box.x1 and help_box.y0 <= box.y0 and box.y1 <= help_box.y1
     for i, first in enumerate(boxes):

@@ -175,7 +175,7 @@ class EditorView:
                                             animated=True, zorder=2))
         self.range_patch = a.add_patch(Rectangle((0, 0), 0, 1, transform=blended_transform_factory(a.transData,
                                                                                                     a.transAxes),
-                                                 facecolor="#7c3aed", alpha=0.12, edgecolor="#7c3aed", lw=1,
+                                                 facecolor="#a78bfa", alpha=0.10, edgecolor="#7c3aed", lw=1.2,
                                                  animated=True, visible=False, zorder=1.5))
         self.ghost_a = line(a, color="0.45", lw=1.2, ls="--", zorder=3, visible=False)
         self.a_line = line(a, color="k", lw=1.3, zorder=4)
@@ -449,7 +449,7 @@ class EditorView:
         session = self.session
         report = session.report_of(law)
         self.title_text.set_text(f"camcad edit — {self.title}")
-        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} operations · "
+        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} operation{'s' if session.applied != 1 else ''} · "
                                   f"undo {'yes' if session.can_undo else 'no'} · redo {'yes' if session.can_redo else 'no'}"
                                   f" · saves to {self.output.name}")
         self.badge.set_text("\n".join(self.badge_lines(law, report)))
@@ -501,7 +501,7 @@ class EditorView:
             lines.append("   mode              max Δ     RMS Δ   closes")
             for k, row in enumerate(self.compare, start=1):
                 if row.error:
-                    lines.append(f"{k}  {row.mode:<16s} {_clip(row.error, 27)}")
+                    lines.append(f"{k}  {row.mode:<16s}  {_clip(row.error, 27)}")
                 else:
                     lines.append(f"{k}  {row.mode:<16s}{row.max_change:9.3g} {row.rms_change:9.3g}   "
                                  f"{'yes' if row.balanced else 'no'}")
@@ -978,23 +978,23 @@ class EditorView:
 # Helpers
 # ---------------------------------------------------------------------------------------------
 
-HELP_FONT = 7.4
+HELP_FONT = 7.2
 
 
 def _draw_help(fig: Figure) -> None:
     """The shortcut list in four columns and the fix modes, on ``fig`` (the help block's own figure)."""
-    columns = 4
+    columns = 3
     per = math.ceil(len(SHORTCUTS) / columns)
-    width = fig.get_figwidth()
+    width = fig.get_figwidth()   # inches; the columns are 4.8 in apart, the descriptions 1.7 in after the keys
     for c in range(columns):
         chunk = SHORTCUTS[c * per:(c + 1) * per]
-        x = (0.015 * 15.0 + c * 0.238 * 15.0) / width
-        fig.text(x, 0.92, "\n".join(k for k, _ in chunk), fontsize=HELP_FONT, va="top", family="monospace",
+        x = (0.2 + c * 4.8) / width
+        fig.text(x, 0.96, "\n".join(k for k, _ in chunk), fontsize=HELP_FONT, va="top", family="monospace",
                  color="#1d4ed8")
-        fig.text(x + 0.083 * 15.0 / width, 0.92, "\n".join(w for _, w in chunk), fontsize=HELP_FONT, va="top",
+        fig.text(x + 1.7 / width, 0.96, "\n".join(w for _, w in chunk), fontsize=HELP_FONT, va="top",
                  family="monospace", color="0.2")
     modes = " · ".join(f"{k} {mode}" for k, mode in enumerate(MODES, start=1))
-    fig.text(0.015 * 15.0 / width, 0.13, f"fix modes: {modes}   (a range limits them; mode segment needs one)",
+    fig.text(0.2 / width, 0.09, f"fix modes: {modes}   (a range limits them; mode segment needs one)",
              fontsize=HELP_FONT, va="center", family="monospace", color="0.2")
 
 
