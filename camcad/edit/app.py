@@ -1,0 +1,148 @@
+"""Running the editor: a script headless, a desktop window (TkAgg), or the browser (WebAgg).
+
+``run_editor`` is what ``camcad edit`` calls: it makes the session, replays ``--script`` when given
+(no window), otherwise opens the desktop window when there is a display and ``--web`` is not asked
+for, else serves the editor on 127.0.0.1 and prints its URL. It returns the check keys of the final
+law, the number of operations applied and the files written.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..law.law import PiecewiseLinearLaw
+from ..law.source import LoadedLaw
+from .session import (
+    DEFAULT_TOL,
+    EditSession,
+    default_output,
+    load_script,
+    loaded_from_law,
+    sampled_law,
+)
+
+
+@dataclass
+class EditOutcome:
+    """What an editing run did: ``payload`` (SPEC check keys of the final law, ``operations``,
+    ``outputs``, ``max_change``/``rms_change`` against the input in input y units) and the verdict."""
+
+    payload: dict
+    balanced: bool
+
+
+def has_display() -> bool:
+    """A desktop session to open a window on (Windows and macOS always; elsewhere $DISPLAY or Wayland)."""
+    if sys.platform in ("win32", "darwin"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def make_session(law, *, name: str, input_path: Path | None, tol: float = DEFAULT_TOL, notes=(),
+                 step_deg: float = 0.5) -> EditSession:
+    """A session on a law read from a file (``LoadedLaw``) or on a closed-form law (sampled every
+    ``step_deg`` into a polyline; it has no drawing, so it saves as a new polyline or a table)."""
+    if isinstance(law, LoadedLaw):
+        return EditSession(law, tol=tol, input_path=input_path, where=str(input_path or name))
+    if not isinstance(law, PiecewiseLinearLaw):
+        law = sampled_law(law, step_deg)
+    loaded = loaded_from_law(law, name, notes)
+    return EditSession(loaded, tol=tol, input_path=None, where=name)
+
+
+def run_editor(session: EditSession, *, script: Path | None = None, output: Path | None = None, web: bool = False,
+               port: int = 0, open_browser: bool = True, announce: Callable[[str], None] = print) -> EditOutcome:
+    """Replay ``script`` headless, or open the editor (desktop window or browser) until it is closed.
+
+    Parameters
+    ----------
+    session : the law to edit.
+    script : an edit script (JSON list of operations); replayed without a window. Its relative save
+        paths are relative to the script's folder.
+    output : with a script, the final law is also saved here (default ``<input>.edited.dxf`` when the
+        script saves nothing); in the window, where ``s`` saves.
+    web : serve the editor in a browser even when there is a display.
+    port : the browser editor's port (0: a free one); the server binds 127.0.0.1 only.
+    open_browser : open the URL in the system's browser.
+    announce : where the URL and notes are printed.
+    """
+    if script is not None:
+        ops = load_script(script)
+        session.base_dir = Path(script).resolve().parent
+        session.replay(ops, where=str(script))
+        if output is not None:
+            session.save(output, record=False)
+        elif not any(op["op"] == "save" for op in ops):
+            session.save(default_output(session), record=False)
+    elif web or not has_display():
+        if not web:
+            announce("camcad edit: no display here, so the editor runs in a browser")
+        _serve(session, output, port, open_browser, announce)
+    else:
+        try:
+            _desktop(session, output)
+        except _NoDesktop as why:
+            announce(f"camcad edit: no desktop window ({why}); the editor runs in a browser")
+            _serve(session, output, port, open_browser, announce)
+    return summary(session)
+
+
+def summary(session: EditSession) -> EditOutcome:
+    report = session.report
+    max_change, rms_change = session.changes()
+    payload = {"source": session.loaded.source, "notes": list(session.loaded.notes), **report.to_dict(),
+               "operations": session.applied, "outputs": [str(p) for p in session.outputs],
+               "max_change": max_change, "rms_change": rms_change, "vertices": len(session.law.x)}
+    return EditOutcome(payload, report.balanced)
+
+
+class _NoDesktop(Exception):
+    pass
+
+
+def _desktop(session: EditSession, output: Path | None) -> None:
+    """The editor in a TkAgg window; returns when the window is closed."""
+    try:
+        import tkinter  # noqa: F401
+
+        import matplotlib
+
+        matplotlib.use("TkAgg", force=True)
+        import matplotlib.pyplot as plt
+    except Exception as err:  # noqa: BLE001 - any failure to get Tk means: use the browser
+        raise _NoDesktop(f"{type(err).__name__}: {err}") from None
+    from .view import FIGSIZE, EditorView
+
+    try:
+        figure = plt.figure(figsize=FIGSIZE, dpi=100)
+    except Exception as err:  # noqa: BLE001 - e.g. TclError: no display name
+        raise _NoDesktop(f"{type(err).__name__}: {err}") from None
+    title = f"camcad edit — {session.where}"
+    figure.canvas.manager.set_window_title(title)
+    view = EditorView(session, figure, blit=True, output=output)
+    figure._camcad_view = view  # keep the view alive as long as the window
+    plt.show(block=True)
+    plt.close(figure)
+
+
+def _serve(session: EditSession, output: Path | None, port: int, open_browser: bool,
+           announce: Callable[[str], None]) -> None:
+    from .web import EditorServer
+
+    server = EditorServer(session, port=port, output=output)
+    announce(f"camcad edit: the editor is at {server.url} (served on {server.address} only; Ctrl+C stops it)")
+    if open_browser:
+        import webbrowser
+
+        try:
+            webbrowser.open(server.url)
+        except Exception as err:  # noqa: BLE001 - no browser: the URL is printed
+            announce(f"camcad edit: could not open a browser ({err}); open the URL above")
+    server.run()
+
+
+__all__ = ["EditOutcome", "has_display", "make_session", "run_editor", "summary"]
