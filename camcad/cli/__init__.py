@@ -19,7 +19,7 @@ from typer.core import TyperGroup
 from camcad.version import __version__
 
 #: command name -> (module that defines it, one-line help shown by ``camcad --help``); a test checks that
-#: each line is the first line of the command's own help, so the two never drift apart
+#: each line opens as the command's own help does
 COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("camcad.cli.check", "Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."),
     "fix": ("camcad.cli.check", "Correct an unbalanced law with the smallest change and write a corrected copy."),
@@ -28,7 +28,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
-    "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
+    "cyclogram": ("camcad.cli.contact", "Optimise the group's cyclogram: least makespan under the phase limits."),
+    "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
 }
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import shutil
 import sys
 import warnings
 from pathlib import Path
@@ -68,6 +70,32 @@ def _one_line(text: str, limit: int = 400) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+@contextlib.contextmanager
+def progress_line(enabled: bool = True):
+    """Progress messages on one line of stderr while a command works, when stderr is a terminal; yields
+    ``say(text)``. Plain escape codes, no rich: a command's start-up pays only for what it uses."""
+    stream = sys.stderr
+    if not enabled or not stream.isatty():
+        yield lambda _text: None
+        return
+    width = shutil.get_terminal_size((80, 24)).columns - 1
+
+    def say(text: str) -> None:
+        stream.write("\r\033[K" + " ".join(str(text).split())[:width])
+        stream.flush()
+
+    try:
+        yield say
+    finally:
+        stream.write("\r\033[K")
+        stream.flush()
+
+
+def echo(text: str = "") -> None:
+    """One line on stdout, printed as written (no markup)."""
+    print(text)
+
+
 def print_json(payload: dict) -> None:
     print(json.dumps(to_jsonable(payload), indent=2))
 
@@ -126,7 +154,7 @@ def console(stderr: bool = False):
     stream = sys.stderr if stderr else sys.stdout
     width = shutil.get_terminal_size((120, 24)).columns if stream.isatty() else 120
     # markup=False: user text ("0:100:dwell", "[cyclogram]") is printed as written, never interpreted
-    return Console(stderr=stderr, highlight=False, width=width, markup=False, emoji=False)
+    return Console(stderr=stderr, highlight=False, width=width, markup=False, emoji=False, soft_wrap=True)
 
 
 # --- a law from a file, a scene or a standard shape (the commands that analyse a law) ----------

@@ -7,8 +7,8 @@ from typing import Annotated
 
 import typer
 
-from . import app
-from .common import (
+from camcad.cli import app
+from camcad.cli.common import (
     CycleOpt,
     HandleOpt,
     JsonOpt,
@@ -40,10 +40,10 @@ def edit(law_file: SourceArg = None,
     """Edit a drawn acceleration law by hand: drag points, lobes and phase boundaries, watch the areas
     balance and the profile close, preview and accept fix's corrections, save the drawing as fix does.
     With --script, replay the edits headless (exit 0 when the final law is balanced, 1 when not)."""
-    from ..edit.app import make_session, run_editor
+    from camcad.edit.app import make_session, run_editor
 
     if web and script is None:
-        from ..edit.web import require_tornado
+        from camcad.edit.web import require_tornado
 
         require_tornado()
     source = resolve_source(law_file, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, None)

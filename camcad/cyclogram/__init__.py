@@ -22,12 +22,53 @@ Angles are degrees throughout this module (the cyclogram is an interface quantit
 
 from __future__ import annotations
 
-from camcad.cyclogram.limits import LinearRelation, INADMISSIBLE, PhaseLimit, least_phase_angle, vibration_limits
-from camcad.cyclogram.network import Operation, Network, make_network, find_cycle
-from camcad.cyclogram.constraints import Constraint, effective_lower_bounds, constraints_of
-from camcad.cyclogram.lp import CyclogramResult, optimise
-from camcad.cyclogram.conflicts import find_conflict, longest_path_times
-from camcad.cyclogram.retime import stretch_phase, retime_phases, format_phases, operation_timing
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
+    from camcad.cyclogram.lp import CyclogramResult, optimise
+    from camcad.cyclogram.limits import INADMISSIBLE, LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
+    from camcad.cyclogram.network import Network, Operation, find_cycle, make_network
+    from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+    from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
+
+#: public name -> the module that defines it (imported on first use: importing this package stays cheap)
+_EXPORTS: dict[str, str] = {
+    "Constraint": "camcad.cyclogram.constraints",
+    "CyclogramResult": "camcad.cyclogram.lp",
+    "INADMISSIBLE": "camcad.cyclogram.limits",
+    "LinearRelation": "camcad.cyclogram.limits",
+    "Network": "camcad.cyclogram.network",
+    "Operation": "camcad.cyclogram.network",
+    "PhaseLimit": "camcad.cyclogram.limits",
+    "constraints_of": "camcad.cyclogram.constraints",
+    "effective_lower_bounds": "camcad.cyclogram.constraints",
+    "find_conflict": "camcad.cyclogram.conflicts",
+    "find_cycle": "camcad.cyclogram.network",
+    "format_phases": "camcad.cyclogram.retime",
+    "least_phase_angle": "camcad.cyclogram.limits",
+    "longest_path_times": "camcad.cyclogram.conflicts",
+    "make_network": "camcad.cyclogram.network",
+    "operation_timing": "camcad.cyclogram.retime",
+    "optimise": "camcad.cyclogram.lp",
+    "retime_phases": "camcad.cyclogram.retime",
+    "stretch_phase": "camcad.cyclogram.retime",
+    "vibration_limits": "camcad.cyclogram.limits",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
 
 
 __all__ = [

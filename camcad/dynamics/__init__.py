@@ -17,24 +17,147 @@ The scene sections ``[dynamics]`` and ``[stops]`` are read by ``camcad.scene.dyn
 
 from __future__ import annotations
 
-from camcad.dynamics.impact import (Impact, ImpactSweep, ReboundRelation, StopModel, find_contact, first_rebound,
-                                    impact_at, impact_force, impact_impulse, impact_sweep, lever_stiffness,
-                                    reduced_mass, response_after_impact, triangular_pulse, triangular_pulse_response)
-from camcad.dynamics.model import (ElasticFollower, HalfSinePulse, StiffnessTable, damping_ratio_from_psi,
-                                   rpm_to_rad_s)
-from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
-from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
-from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
-from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
-from camcad.dynamics.steady import (Response, Sweep, steady_state, steady_state_frequency, steady_state_time, sweep,
-                                    transient_time)
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.dynamics.model import (
+        ElasticFollower,
+        HalfSinePulse,
+        StiffnessTable,
+        damping_ratio_from_psi,
+        rpm_to_rad_s,
+    )
+    from camcad.dynamics.impact import (
+        Impact,
+        ImpactSweep,
+        ReboundRelation,
+        StopModel,
+        find_contact,
+        first_rebound,
+        impact_at,
+        impact_force,
+        impact_impulse,
+        impact_sweep,
+        lever_stiffness,
+        reduced_mass,
+        response_after_impact,
+        triangular_pulse,
+        triangular_pulse_response,
+    )
+    from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+    from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
+    from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
+    from camcad.dynamics.steady import (
+        Response,
+        Sweep,
+        steady_state,
+        steady_state_frequency,
+        steady_state_time,
+        sweep,
+        transient_time,
+    )
+    from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
+
+#: public name -> the module that defines it (imported on first use: importing this package stays cheap)
+_EXPORTS: dict[str, str] = {
+    "ElasticFollower": "camcad.dynamics.model",
+    "HalfSinePulse": "camcad.dynamics.model",
+    "Impact": "camcad.dynamics.impact",
+    "ImpactSweep": "camcad.dynamics.impact",
+    "LawSpectrum": "camcad.dynamics.spectrum",
+    "MotorDrive": "camcad.dynamics.multimass",
+    "MultiMassModel": "camcad.dynamics.multimass",
+    "MultiMassResult": "camcad.dynamics.multimass",
+    "ReboundRelation": "camcad.dynamics.impact",
+    "Residual": "camcad.dynamics.residual",
+    "Response": "camcad.dynamics.steady",
+    "SpeedDrive": "camcad.dynamics.multimass",
+    "StartLoad": "camcad.dynamics.startload",
+    "StiffnessTable": "camcad.dynamics.model",
+    "StopModel": "camcad.dynamics.impact",
+    "Sweep": "camcad.dynamics.steady",
+    "check_closure": "camcad.dynamics.spectrum",
+    "cycloidal_residual_amplitude": "camcad.dynamics.residual",
+    "damping_ratio_from_psi": "camcad.dynamics.model",
+    "find_contact": "camcad.dynamics.impact",
+    "first_rebound": "camcad.dynamics.impact",
+    "impact_at": "camcad.dynamics.impact",
+    "impact_force": "camcad.dynamics.impact",
+    "impact_impulse": "camcad.dynamics.impact",
+    "impact_sweep": "camcad.dynamics.impact",
+    "law_spectrum": "camcad.dynamics.spectrum",
+    "lever_stiffness": "camcad.dynamics.impact",
+    "reduced_mass": "camcad.dynamics.impact",
+    "residual_vibration": "camcad.dynamics.residual",
+    "response_after_impact": "camcad.dynamics.impact",
+    "rpm_to_rad_s": "camcad.dynamics.model",
+    "simulate": "camcad.dynamics.multimass",
+    "start_loads": "camcad.dynamics.startload",
+    "start_pulse": "camcad.dynamics.startload",
+    "steady_state": "camcad.dynamics.steady",
+    "steady_state_frequency": "camcad.dynamics.steady",
+    "steady_state_time": "camcad.dynamics.steady",
+    "sweep": "camcad.dynamics.steady",
+    "transient_time": "camcad.dynamics.steady",
+    "triangular_pulse": "camcad.dynamics.impact",
+    "triangular_pulse_response": "camcad.dynamics.impact",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
+
 
 __all__ = [
-    "ElasticFollower", "HalfSinePulse", "Impact", "ImpactSweep", "LawSpectrum", "MotorDrive", "MultiMassModel",
-    "MultiMassResult", "ReboundRelation", "Residual", "Response", "SpeedDrive", "StartLoad", "StiffnessTable",
-    "StopModel", "Sweep", "check_closure", "cycloidal_residual_amplitude", "damping_ratio_from_psi", "find_contact",
-    "first_rebound", "impact_at", "impact_force", "impact_impulse", "impact_sweep", "law_spectrum",
-    "lever_stiffness", "reduced_mass", "residual_vibration", "response_after_impact", "rpm_to_rad_s", "simulate",
-    "start_loads", "start_pulse", "steady_state", "steady_state_frequency", "steady_state_time", "sweep",
-    "transient_time", "triangular_pulse", "triangular_pulse_response",
+    "ElasticFollower",
+    "HalfSinePulse",
+    "Impact",
+    "ImpactSweep",
+    "LawSpectrum",
+    "MotorDrive",
+    "MultiMassModel",
+    "MultiMassResult",
+    "ReboundRelation",
+    "Residual",
+    "Response",
+    "SpeedDrive",
+    "StartLoad",
+    "StiffnessTable",
+    "StopModel",
+    "Sweep",
+    "check_closure",
+    "cycloidal_residual_amplitude",
+    "damping_ratio_from_psi",
+    "find_contact",
+    "first_rebound",
+    "impact_at",
+    "impact_force",
+    "impact_impulse",
+    "impact_sweep",
+    "law_spectrum",
+    "lever_stiffness",
+    "reduced_mass",
+    "residual_vibration",
+    "response_after_impact",
+    "rpm_to_rad_s",
+    "simulate",
+    "start_loads",
+    "start_pulse",
+    "steady_state",
+    "steady_state_frequency",
+    "steady_state_time",
+    "sweep",
+    "transient_time",
+    "triangular_pulse",
+    "triangular_pulse_response",
 ]

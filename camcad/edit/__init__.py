@@ -7,7 +7,7 @@ same view in a browser through matplotlib's WebAgg (127.0.0.1 only); ``app`` pic
 window or the browser and runs a script headless.
 """
 
-from .session import (
+from camcad.edit.session import (
                       OPERATIONS,
                       EditSession,
                       load_script,

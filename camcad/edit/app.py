@@ -14,9 +14,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..law.law import PiecewiseLinearLaw
-from ..law.source import LoadedLaw
-from .session import (
+from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.source import LoadedLaw
+from camcad.edit.session import (
     DEFAULT_TOL,
     EditSession,
     default_output,
@@ -115,7 +115,7 @@ def _desktop(session: EditSession, output: Path | None) -> None:
         import matplotlib.pyplot as plt
     except Exception as err:  # noqa: BLE001 - any failure to get Tk means: use the browser
         raise _NoDesktop(f"{type(err).__name__}: {err}") from None
-    from .view import FIGSIZE, EditorView
+    from camcad.edit.view import FIGSIZE, EditorView
 
     try:
         figure = plt.figure(figsize=FIGSIZE, dpi=100)
@@ -131,7 +131,7 @@ def _desktop(session: EditSession, output: Path | None) -> None:
 
 def _serve(session: EditSession, output: Path | None, port: int, open_browser: bool,
            announce: Callable[[str], None]) -> None:
-    from .web import EditorServer
+    from camcad.edit.web import EditorServer
 
     server = EditorServer(session, port=port, output=output)
     announce(f"camcad edit: the editor is at {server.url} (served on {server.address} only; Ctrl+C stops it)")

@@ -53,14 +53,14 @@ from typing import Any
 
 import numpy as np
 
-from ..balance import MODES, BalanceReport, Correction, check, correct, difference_norms
-from ..errors import CamcadError
-from ..io.atomic import write_text_atomic
-from ..io.law_write import write_corrected
-from ..io.table_read import TABLE_SUFFIXES
-from ..law.law import Phase, PiecewiseLinearLaw
-from ..law.phases import detect_phases, zero_threshold
-from ..law.source import LoadedLaw, VertexMap
+from camcad.balance import MODES, BalanceReport, Correction, check, correct, difference_norms
+from camcad.errors import CamcadError
+from camcad.io.atomic import write_text_atomic
+from camcad.io.law_write import write_corrected
+from camcad.io.table_read import TABLE_SUFFIXES
+from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.phases import detect_phases, zero_threshold
+from camcad.law.source import LoadedLaw, VertexMap
 
 #: default closure tolerance, a fraction of the rise (the same as ``camcad check``/``fix``)
 DEFAULT_TOL = 1e-5
@@ -387,7 +387,7 @@ class EditSession:
     @classmethod
     def from_file(cls, path: str | Path, *, tol: float = DEFAULT_TOL, **options) -> EditSession:
         """Read ``path`` with ``load_law(path, **options)`` and start a session on it."""
-        from ..law.source import load_law
+        from camcad.law.source import load_law
 
         loaded = load_law(path, **options)
         return cls(loaded, tol=tol, input_path=Path(path))
@@ -931,7 +931,7 @@ class EditSession:
         """The pitch curve of a knife-edge translating follower on this law, for a small preview:
         (points (samples×2, mm), base radius mm, closure gap mm) or None when the cycle does not
         divide 360°. The base radius is chosen as twice the largest |s| so the curve stays round."""
-        from ..profile import CamGeometry, Follower
+        from camcad.profile import CamGeometry, Follower
 
         law = law or self.law
         lobes = 2 * math.pi / law.cycle

@@ -28,9 +28,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon, Rectangle
 from matplotlib.transforms import blended_transform_factory
 
-from ..balance import MODES
-from ..errors import CamcadError
-from .session import (
+from camcad.balance import MODES
+from camcad.errors import CamcadError
+from camcad.edit.session import (
     EditSession,
     default_output,
     default_script,
@@ -1041,14 +1041,14 @@ class _StaticBlock(Artist):
 
 
 def _group(x: np.ndarray, index: int) -> tuple[int, int]:
-    from .session import jump_group
+    from camcad.edit.session import jump_group
 
     return jump_group(x, index)
 
 
 def _lobe_peaks(a: np.ndarray) -> list[tuple[int, float]]:
     """(first index, peak value) of every lobe of ``a``."""
-    from ..law.phases import zero_threshold
+    from camcad.law.phases import zero_threshold
 
     eps = zero_threshold(a)
     sign = np.where(np.abs(a) <= eps, 0, np.sign(a)).astype(int)

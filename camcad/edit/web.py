@@ -17,7 +17,7 @@ import threading
 from io import BytesIO
 from pathlib import Path
 
-from ..errors import CamcadError
+from camcad.errors import CamcadError
 
 ADDRESS = "127.0.0.1"
 
@@ -109,7 +109,7 @@ class EditorServer:
             NavigationToolbar2WebAgg,
         )
 
-        from .view import EditorView, new_figure
+        from camcad.edit.view import EditorView, new_figure
 
         class _Manager(FigureManagerWebAgg):
             _toolbar2_class = NavigationToolbar2WebAgg

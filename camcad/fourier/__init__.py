@@ -42,42 +42,107 @@ Recipes, 3rd ed. (2007), §13.9 (Fourier integrals of piecewise polynomials).
 
 from __future__ import annotations
 
-from camcad.fourier.series import (
-    amplitudes_of,
-    initial_phases_of,
-    coefficients_from,
-    evaluate_series,
-    evaluate_series_orders,
-    series_on_grid,
-    FourierLaw,
-    CorrectedLaw,
-    Spectrum,
-)
-from camcad.fourier.exact import (
-    EPS,
-    monomial_moments,
-    Piece,
-    shape_terms,
-    composite_pieces,
-    uniform_grid_size,
-    knot_sums,
-    tail_mean_square,
-)
-from camcad.fourier.analysis import exact_available, analyse, analyse_samples, max_errors, HEADROOM, least_harmonics
-from camcad.fourier.patterns import (
-    MotionPattern,
-    motion_pattern,
-    pattern_database,
-    TACHOGRAMS,
-    tachogram,
-    Synthesis,
-    pattern_coefficients,
-    synthesise_standard,
-)
-from camcad.fourier.resonance import ResonanceBand, resonant_harmonics, speed_range
-from camcad.fourier.filter import motion_starts, dwell_grid, start_accelerations, FilterResult, filter_law
-from camcad.fourier.export import acceleration_polyline, ExportedLaw, export_polyline
-from camcad.fourier.leadin import LeadInResult, add_lead_in
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.fourier.series import (
+        CorrectedLaw,
+        FourierLaw,
+        Spectrum,
+        amplitudes_of,
+        coefficients_from,
+        evaluate_series,
+        evaluate_series_orders,
+        initial_phases_of,
+        series_on_grid,
+    )
+    from camcad.fourier.exact import (
+        EPS,
+        Piece,
+        composite_pieces,
+        knot_sums,
+        monomial_moments,
+        shape_terms,
+        tail_mean_square,
+        uniform_grid_size,
+    )
+    from camcad.fourier.export import ExportedLaw, acceleration_polyline, export_polyline
+    from camcad.fourier.filter import FilterResult, dwell_grid, filter_law, motion_starts, start_accelerations
+    from camcad.fourier.analysis import HEADROOM, analyse, analyse_samples, exact_available, least_harmonics, max_errors
+    from camcad.fourier.leadin import LeadInResult, add_lead_in
+    from camcad.fourier.patterns import (
+        MotionPattern,
+        Synthesis,
+        TACHOGRAMS,
+        motion_pattern,
+        pattern_coefficients,
+        pattern_database,
+        synthesise_standard,
+        tachogram,
+    )
+    from camcad.fourier.resonance import ResonanceBand, resonant_harmonics, speed_range
+
+#: public name -> the module that defines it (imported on first use: importing this package stays cheap)
+_EXPORTS: dict[str, str] = {
+    "CorrectedLaw": "camcad.fourier.series",
+    "EPS": "camcad.fourier.exact",
+    "ExportedLaw": "camcad.fourier.export",
+    "FilterResult": "camcad.fourier.filter",
+    "FourierLaw": "camcad.fourier.series",
+    "HEADROOM": "camcad.fourier.analysis",
+    "LeadInResult": "camcad.fourier.leadin",
+    "MotionPattern": "camcad.fourier.patterns",
+    "Piece": "camcad.fourier.exact",
+    "ResonanceBand": "camcad.fourier.resonance",
+    "Spectrum": "camcad.fourier.series",
+    "Synthesis": "camcad.fourier.patterns",
+    "TACHOGRAMS": "camcad.fourier.patterns",
+    "acceleration_polyline": "camcad.fourier.export",
+    "add_lead_in": "camcad.fourier.leadin",
+    "amplitudes_of": "camcad.fourier.series",
+    "analyse": "camcad.fourier.analysis",
+    "analyse_samples": "camcad.fourier.analysis",
+    "coefficients_from": "camcad.fourier.series",
+    "composite_pieces": "camcad.fourier.exact",
+    "dwell_grid": "camcad.fourier.filter",
+    "evaluate_series": "camcad.fourier.series",
+    "evaluate_series_orders": "camcad.fourier.series",
+    "exact_available": "camcad.fourier.analysis",
+    "export_polyline": "camcad.fourier.export",
+    "filter_law": "camcad.fourier.filter",
+    "initial_phases_of": "camcad.fourier.series",
+    "knot_sums": "camcad.fourier.exact",
+    "least_harmonics": "camcad.fourier.analysis",
+    "max_errors": "camcad.fourier.analysis",
+    "monomial_moments": "camcad.fourier.exact",
+    "motion_pattern": "camcad.fourier.patterns",
+    "motion_starts": "camcad.fourier.filter",
+    "pattern_coefficients": "camcad.fourier.patterns",
+    "pattern_database": "camcad.fourier.patterns",
+    "resonant_harmonics": "camcad.fourier.resonance",
+    "series_on_grid": "camcad.fourier.series",
+    "shape_terms": "camcad.fourier.exact",
+    "speed_range": "camcad.fourier.resonance",
+    "start_accelerations": "camcad.fourier.filter",
+    "synthesise_standard": "camcad.fourier.patterns",
+    "tachogram": "camcad.fourier.patterns",
+    "tail_mean_square": "camcad.fourier.exact",
+    "uniform_grid_size": "camcad.fourier.exact",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
 
 
 __all__ = [
@@ -114,12 +179,12 @@ __all__ = [
     "monomial_moments",
     "motion_pattern",
     "motion_starts",
-    "speed_range",
     "pattern_coefficients",
     "pattern_database",
     "resonant_harmonics",
     "series_on_grid",
     "shape_terms",
+    "speed_range",
     "start_accelerations",
     "synthesise_standard",
     "tachogram",

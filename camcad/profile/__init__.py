@@ -13,26 +13,80 @@ report), ``defaults`` (the built-in design). The scene's [follower] section is r
 ``camcad.scene.follower``; the output files are written by ``camcad.report.profile_files``.
 """
 
-from camcad.profile.defaults import DEFAULT_NAME
-from camcad.profile.design import BaseRadiusDesign, min_base_radius
-from camcad.profile.followers import FOLLOWER_KINDS, Follower
-from camcad.profile.scaled_law import ScaledLaw, swing_law
-from camcad.profile.geometry import CamGeometry
-from camcad.profile.summary import report
-from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.profile.design import BaseRadiusDesign, min_base_radius
+    from camcad.profile.geometry import CamGeometry
+    from camcad.profile.defaults import DEFAULT_NAME
+    from camcad.profile.followers import FOLLOWER_KINDS, Follower
+    from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.profile.scaled_law import ScaledLaw, swing_law
+    from camcad.profile.summary import report
+
+#: public name -> the module that defines it (imported on first use: importing this package stays cheap)
+_EXPORTS: dict[str, str] = {
+    "BaseRadiusDesign": "camcad.profile.design",
+    "CamGeometry": "camcad.profile.geometry",
+    "DEFAULT_NAME": "camcad.profile.defaults",
+    "FOLLOWER_KINDS": "camcad.profile.followers",
+    "Follower": "camcad.profile.followers",
+    "ProfileResult": "camcad.profile.synth",
+    "ProfileSettings": "camcad.profile.synth",
+    "ScaledLaw": "camcad.profile.scaled_law",
+    "min_base_radius": "camcad.profile.design",
+    "report": "camcad.profile.summary",
+    "swing_law": "camcad.profile.scaled_law",
+    "synthesize": "camcad.profile.synth",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
 
 
 def default_design():
     """The built-in design of ``defaults``: (name, law, follower)."""
     from camcad.law.standard import compose
     from camcad.profile import defaults
+    from camcad.profile.followers import Follower
 
-    law = compose(defaults.DEFAULT_PHASES_DEG, defaults.DEFAULT_LIFT_MM, defaults.DEFAULT_RISE_SHAPE,
-                  defaults.DEFAULT_RETURN_SHAPE)
-    follower = Follower("roller", defaults.DEFAULT_BASE_RADIUS_MM, defaults.DEFAULT_ROLLER_RADIUS_MM,
-                        defaults.DEFAULT_OFFSET_MM)
+    law = compose(
+        defaults.DEFAULT_PHASES_DEG,
+        defaults.DEFAULT_LIFT_MM,
+        defaults.DEFAULT_RISE_SHAPE,
+        defaults.DEFAULT_RETURN_SHAPE,
+    )
+    follower = Follower(
+        "roller", defaults.DEFAULT_BASE_RADIUS_MM, defaults.DEFAULT_ROLLER_RADIUS_MM, defaults.DEFAULT_OFFSET_MM
+    )
     return defaults.DEFAULT_NAME, law, follower
 
 
-__all__ = ["BaseRadiusDesign", "CamGeometry", "DEFAULT_NAME", "FOLLOWER_KINDS", "Follower", "ProfileResult",
-           "ProfileSettings", "ScaledLaw", "default_design", "min_base_radius", "report", "swing_law", "synthesize"]
+__all__ = [
+    "BaseRadiusDesign",
+    "CamGeometry",
+    "DEFAULT_NAME",
+    "FOLLOWER_KINDS",
+    "Follower",
+    "ProfileResult",
+    "ProfileSettings",
+    "ScaledLaw",
+    "default_design",
+    "min_base_radius",
+    "report",
+    "swing_law",
+    "synthesize",
+]

@@ -24,6 +24,7 @@ Warnings (``camcad.verdict.Warning``):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from camcad.profile.synth import Extremum, PressureAngleCheck, ProfileResult
 from camcad.verdict import Check, Verdict, Warning
@@ -34,6 +35,8 @@ SHARP_RADIUS_FRACTION = 0.25
 NEAR_LIMIT_DEG = 0.5
 #: fewer written points per lobe than this is flagged
 MIN_POINTS_PER_LOBE = 32
+#: a margin below this fraction of the limit counts as "at the limit" (a cyclogram holds phases there)
+AT_LIMIT_RATIO = 1e-5
 
 
 def _at(extremum: Extremum | None) -> str:
@@ -106,7 +109,13 @@ def profile_verdict(result: ProfileResult, phases: str = "the law's own phase an
             f"convex profile radius {rho.value:.4g} mm {_at(rho)} is {rho.value / f.roller_radius:.2f} of the "
             f"roller radius {f.roller_radius:g} mm: near undercut, high contact stress; a larger base radius or "
             "a longer phase helps", rho.value, f"convex profile radius < {SHARP_RADIUS_FRACTION:g} x roller radius"))
+    if "cyclogram" in phases:
+        # the cyclogram shortens each phase to its least admissible angle: a check at its limit is held there
+        checks = [replace(c, note=(c.note + "; " if c.note else "") + "held at its limit by the cyclogram, margin 0")
+                  if c.margin_ratio is not None and 0.0 <= c.margin_ratio < AT_LIMIT_RATIO else c for c in checks]
     for check in checks:
+        if "held at its limit" in check.note:
+            continue
         if check.name.endswith(("pressure angle, rise", "pressure angle, return")) and check.margin is not None \
                 and 0.0 <= check.margin < NEAR_LIMIT_DEG:
             warnings.append(Warning(f"{check.name} {check.value:.4g} deg is within {check.margin:.3g} deg of its "

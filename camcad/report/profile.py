@@ -1,7 +1,10 @@
-"""Plots of a synthesised cam (PNG): kinematics, pressure angle, curvature, profile, hodograph.
+"""Plots of a synthesised cam: kinematics, pressure angle, curvature, profile, hodograph, and the one-page
+summary that a scene writes by default.
 
-Each figure says its units, shades what is not allowed, and labels the extrema, so that a
-reader sees at a glance whether the design passes and where it is tight.
+Each ``plot_*`` function returns a matplotlib Figure (``camcad.report.figure``); each ``draw_*`` function
+draws into axes the caller gives, so the summary page reuses them. Each figure says its units, shades
+what is not allowed, and labels the extrema and the margins, so that a reader sees at a glance whether
+the design passes and where it is tight.
 """
 
 from __future__ import annotations
@@ -11,19 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from camcad.io.atomic import write_atomic
-from camcad.report.figure import pyplot
+from camcad.report.figure import COLOURS, new_figure, save_figure
 
 PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
 FORBIDDEN = "#f4c7c3"
-
-
-def _save(fig, path: Path) -> Path:
-    plt = pyplot()
-    try:
-        return write_atomic(path, lambda tmp: fig.savefig(tmp, format="png", dpi=130))
-    finally:
-        plt.close(fig)
 
 
 def _shade_phases(ax, result) -> None:
@@ -48,44 +42,55 @@ def _annotate_extrema(ax, x: np.ndarray, y: np.ndarray, unit: str) -> None:
                     textcoords="offset points", xytext=(6, 4 if va == "bottom" else -4), va=va, fontsize=8)
 
 
-def _theta_axis(ax) -> None:
+def _theta_axis(ax, step: int = 30) -> None:
     ax.set_xlim(0, 360)
-    ax.set_xticks(np.arange(0, 361, 30))
+    ax.set_xticks(np.arange(0, 361, step))
     ax.grid(True, lw=0.4, alpha=0.6)
 
 
-def plot_kinematics(result, path: Path) -> Path:
-    plt = pyplot()
+def plot_kinematics(result):
+    """s, v, a and j against the cam angle, phases shaded, extrema labelled. Returns a Figure."""
+    fig, axes = new_figure(10, 10, rows=4, sharex=True)
+    draw_kinematics(list(axes), result)
+    fig.suptitle(f"{result.name}: motion law — green rise, orange return, white dwell", fontsize=11)
+    return fig
+
+
+def draw_kinematics(axes, result, rows: tuple[str, ...] = ("s", "v", "a", "j"), titles: bool = True) -> None:
+    """The law's kinematic functions named in ``rows`` into ``axes`` (one each)."""
     t = result.table
     deg = np.degrees(t.theta)
     unit = "rad" if result.follower.kind == "oscillating" else "mm"
-    rows = [(t.s, unit, "s", "displacement"), (t.v, f"{unit}/rad", "v = ds/dθ", "velocity analog"),
-            (t.a, f"{unit}/rad²", "a = d²s/dθ²", "acceleration analog"),
-            (t.j, f"{unit}/rad³", "j = d³s/dθ³", "jerk analog")]
-    fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True)
-    for ax, (y, units, symbol, title) in zip(axes, rows):
+    table = {"s": (t.s, unit, "s", "displacement"), "v": (t.v, f"{unit}/rad", "v = ds/dθ", "velocity analog"),
+             "a": (t.a, f"{unit}/rad²", "a = d²s/dθ²", "acceleration analog"),
+             "j": (t.j, f"{unit}/rad³", "j = d³s/dθ³", "jerk analog")}
+    for ax, (y, units, symbol, title) in zip(axes, (table[r] for r in rows)):
         _shade_phases(ax, result)
         ax.plot(deg, y, lw=1.4, color="#1f4e79")
         ax.axhline(0.0, color="black", lw=0.6)
         ax.set_ylabel(f"{symbol} ({units})")
-        ax.set_title(title, fontsize=9, loc="right")
+        if titles:
+            ax.set_title(title, fontsize=9, loc="right")
         _annotate_extrema(ax, deg, y, units)
         low, high = np.nanmin(y), np.nanmax(y)
         pad = 0.25 * (high - low) if high > low else 1.0
         ax.set_ylim(low - pad, high + pad)
         _theta_axis(ax)
     axes[-1].set_xlabel("cam angle θ (deg)")
-    fig.suptitle(f"{result.name}: motion law — green rise, orange return, white dwell", fontsize=11)
-    fig.tight_layout()
-    return _save(fig, path)
 
 
-def plot_pressure_angle(result, path: Path) -> Path:
-    plt = pyplot()
+def plot_pressure_angle(result):
+    """The pressure angle against the cam angle with its limits shaded. Returns a Figure."""
+    fig, ax = new_figure(10, 5)
+    draw_pressure_angle(ax, result)
+    return fig
+
+
+def draw_pressure_angle(ax, result) -> None:
+    """The pressure angle, its limits (the region over them shaded) and its extrema, into ``ax``."""
     t = result.table
     deg = np.degrees(t.theta)
     phi = np.degrees(t.pressure_angle)
-    fig, ax = plt.subplots(figsize=(10, 5))
     _shade_phases(ax, result)
     if result.follower.kind == "flat":
         ax.plot(deg, phi, lw=1.6, color="#1f4e79")
@@ -116,12 +121,17 @@ def plot_pressure_angle(result, path: Path) -> Path:
     ax.set_ylabel("pressure angle (deg)")
     ax.set_xlabel("cam angle θ (deg)")
     _theta_axis(ax)
-    fig.tight_layout()
-    return _save(fig, path)
 
 
-def plot_curvature(result, path: Path) -> Path:
-    plt = pyplot()
+def plot_curvature(result):
+    """The radius of curvature of the profile (and pitch curve) with the undercut zone. Returns a Figure."""
+    fig, ax = new_figure(10, 5)
+    draw_curvature(ax, result)
+    return fig
+
+
+def draw_curvature(ax, result) -> None:
+    """Radii of curvature against the cam angle, the undercut zone and the ρ_min limit, into ``ax``."""
     t = result.table
     f = result.follower
     deg = np.degrees(t.theta)
@@ -135,7 +145,6 @@ def plot_curvature(result, path: Path) -> Path:
         # through an inflection ρ passes ±∞: break the line there instead of drawing a wall
         return np.where(np.abs(rho) <= cap, rho, np.nan)
 
-    fig, ax = plt.subplots(figsize=(10, 5))
     _shade_phases(ax, result)
     if f.kind != "flat" and f.roller_radius > 0.0:
         ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0, label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
@@ -155,15 +164,19 @@ def plot_curvature(result, path: Path) -> Path:
     ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10)
     ax.legend(loc="lower right", fontsize=8)
     _theta_axis(ax)
-    fig.tight_layout()
-    return _save(fig, path)
 
 
-def plot_profile(result, path: Path) -> Path:
-    plt = pyplot()
+def plot_profile(result):
+    """The cam as drawn: profile, pitch curve, base circle, the follower at θ = 0. Returns a Figure."""
+    fig, ax = new_figure(8, 8)
+    draw_profile(ax, result)
+    return fig
+
+
+def draw_profile(ax, result, legend: bool = True, title: str | None = None) -> None:
+    """The cam profile, pitch curve, base circle and the follower at θ = 0, into ``ax``."""
     f = result.follower
     geometry = result.geometry
-    fig, ax = plt.subplots(figsize=(8, 8))
 
     def closed(points: np.ndarray) -> np.ndarray:
         return np.vstack((points, points[:1]))
@@ -208,27 +221,25 @@ def plot_profile(result, path: Path) -> Path:
                     color="#b03a2e", lw=0.8, ls="--",
                     label=f"roller at the largest pressure angle ({math.degrees(worst.value):.1f}° @ {math.degrees(worst.at):.0f}°)")
     turn = "clockwise" if f.cw else "counter-clockwise"
-    ax.set_title(f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10)
+    ax.set_title(title or f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10)
     ax.set_aspect("equal")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
-    fig.tight_layout()
-    return _save(fig, path)
+    if legend:
+        ax.legend(loc="lower left", fontsize=7 if legend is True else legend, framealpha=0.9)
 
 
-def plot_hodograph(result, path: Path) -> Path:
+def plot_hodograph(result):
     """The velocity hodograph: s against v = ds/dθ (the follower's phase portrait).
 
     For a translating follower it doubles as the classical construction of the base radius:
     the pressure angle at each point is the angle from the vertical of the line from the cam
     centre O = (σe, −d) to the point (v, s), so O must lie below both lines drawn at the rise
-    and return limits tangent to the curve (the shaded wedge)."""
-    plt = pyplot()
+    and return limits tangent to the curve (the shaded wedge). Returns a Figure."""
+    fig, ax = new_figure(8, 7)
     t = result.table
     f = result.follower
-    fig, ax = plt.subplots(figsize=(8, 7))
     if f.kind == "oscillating":
         ax.plot(t.v, np.degrees(t.s), color="#1f4e79", lw=1.6)
         ax.set_xlabel("ψ' = dψ/dθ (rad/rad)")
@@ -271,15 +282,98 @@ def plot_hodograph(result, path: Path) -> Path:
     ax.axvline(0.0, color="black", lw=0.6)
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.legend(loc="upper left", fontsize=8)
-    fig.tight_layout()
-    return _save(fig, path)
+    return fig
 
 
-def plot_profile_set(result, outdir: str | Path) -> list[Path]:
-    """All profile plots into ``outdir``; returns the written paths."""
-    outdir = Path(outdir)
-    return [plot_kinematics(result, outdir / "kinematics.png"),
-            plot_pressure_angle(result, outdir / "pressure_angle.png"),
-            plot_curvature(result, outdir / "curvature.png"),
-            plot_profile(result, outdir / "profile.png"),
-            plot_hodograph(result, outdir / "hodograph.png")]
+def plot_summary(result, report: dict | None = None):
+    """One page per cam: the profile, the law (s and a), the pressure angle and the curvature with their
+    limits, and the verdict — every check with its margin, tightest first, and the warnings.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam.
+    report : dict, optional
+        Its report (``camcad.profile.report``, or the scene's mechanism report, which adds the models'
+        checks); computed from ``result`` when not given.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import textwrap
+
+    from camcad.profile.summary import report as profile_report
+
+    report = report if report is not None else profile_report(result)
+    fig = new_figure(15, 9, rows=1, cols=1, layout=None)[0]
+    fig.clear()
+    # fixed margins: a layout engine would measure every label of the page before drawing it (~40 % of the
+    # time of this figure)
+    grid = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.25, 1.25], left=0.05, right=0.985, top=0.92, bottom=0.1,
+                            wspace=0.32, hspace=0.32)
+    turn = "clockwise" if result.follower.cw else "counter-clockwise"
+    profile_ax = fig.add_subplot(grid[:, 0])
+    draw_profile(profile_ax, result, legend=6, title=f"cam profile at θ = 0 (turns {turn})")
+    profile_ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), fontsize=7, ncol=1, frameon=False)
+    law_ax = fig.add_subplot(grid[0, 1])
+    draw_kinematics([law_ax], result, rows=("s",), titles=False)
+    accel = law_ax.twinx()
+    t = result.table
+    unit = "rad" if result.follower.kind == "oscillating" else "mm"
+    accel.plot(np.degrees(t.theta), t.a, color="#c27c0e", lw=1.0, ls="--")
+    accel.set_ylabel(f"a (dashed, {unit}/rad²)", color="#c27c0e")
+    law_ax.set_title("displacement s (solid) and acceleration analog a (dashed)", fontsize=9, loc="left")
+    law_ax.set_xlabel("cam angle θ (deg)")
+    pressure_ax = fig.add_subplot(grid[0, 2])
+    draw_pressure_angle(pressure_ax, result)
+    curvature_ax = fig.add_subplot(grid[1, 1])
+    draw_curvature(curvature_ax, result)
+    for ax in (law_ax, pressure_ax, curvature_ax):
+        _theta_axis(ax, 60)
+    text_ax = fig.add_subplot(grid[1, 2])
+    text_ax.axis("off")
+    lines = _verdict_lines(report)
+    wrapped = []
+    for line, colour in lines:
+        for k, piece in enumerate(textwrap.wrap(line, 66) or [""]):
+            wrapped.append(("    " + piece if k else piece, colour))
+    height_in = text_ax.get_position().height * fig.get_figheight()
+    step = 1.3 * 8.0 / 72.0 / height_in            # one line of 8 pt text, in axes fractions
+    y = 1.0
+    for k, (line, colour) in enumerate(wrapped[: int(1.0 / step)]):
+        text_ax.text(0.0, y, line, transform=text_ax.transAxes, fontsize=8, va="top", family="monospace",
+                     color=colour, weight="bold" if k == 0 else "normal")
+        y -= step
+    verdict = "all checks passed" if report.get("passed") else "FAILED"
+    phases = report.get("phase_angles", "")
+    fig.suptitle(f"{result.name}: {verdict}" + (f" — {phases}" if phases else ""), fontsize=12,
+                 color=COLOURS["ok"] if report.get("passed") else COLOURS["fail"])
+    return fig
+
+
+def _verdict_lines(report: dict) -> list[tuple[str, str]]:
+    """(text, colour) lines of the summary's verdict panel (``camcad.report.verdict_text``)."""
+    from camcad.report.verdict_text import verdict_lines
+
+    colour = {"ok": COLOURS["ok"], "fail": COLOURS["fail"], "warn": "#b35900"}
+    prefix = {"ok": "ok   ", "fail": "FAIL ", "warn": "!    "}
+    lines = [("checks, tightest margin first; warnings", "black")]
+    lines += [(prefix[status] + text, colour[status]) for status, text in verdict_lines(report)]
+    return lines
+
+
+#: the plots of a profile by name; "summary" is what a run writes unless asked for more
+PLOTS = {"summary": plot_summary, "kinematics": plot_kinematics, "pressure_angle": plot_pressure_angle,
+         "curvature": plot_curvature, "profile": plot_profile, "hodograph": plot_hodograph}
+
+
+def save_profile_plots(result, folder: str | Path, which=("summary",), report: dict | None = None) -> list[Path]:
+    """Draw the plots named in ``which`` (keys of ``PLOTS``; "all" for every one) and save each as
+    ``<name>.png`` in ``folder``. Returns the written paths."""
+    names = list(PLOTS) if "all" in which else [name for name in PLOTS if name in which]
+    written = []
+    for name in names:
+        fig = plot_summary(result, report) if name == "summary" else PLOTS[name](result)
+        written.append(save_figure(fig, Path(folder) / f"{name}.png"))
+    return written

@@ -114,8 +114,8 @@ def law_csv_text(result: ProfileResult) -> str:
 
 def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, settings: ProfileSettings | None = None,
                   extra: dict | None = None, *, sub: tuple[str, ...] = (), report_json: bool = True,
-                  inputs: tuple[Path, ...] = ()) -> list[Path]:
-    """Write profile.dxf, law.csv, the plots (unless ``settings.plots`` is False) and report.json.
+                  inputs: tuple[Path, ...] = (), plots: tuple[str, ...] | None = None) -> list[Path]:
+    """Write profile.dxf, law.csv, the plots and report.json.
 
     Parameters
     ----------
@@ -131,6 +131,9 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
         A subfolder of ``out`` (a mechanism of a group scene).
     report_json : bool
         Write report.json (a scene writes one report for all its mechanisms instead).
+    plots : tuple of str, optional
+        Names of ``camcad.report.profile.PLOTS`` to draw ("all" for every one); by default the summary
+        page when ``settings.plots`` is true, none otherwise.
 
     Returns
     -------
@@ -139,14 +142,16 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
     """
     if not isinstance(out, OutputFolder):
         with OutputFolder(out, inputs) as folder:
-            return write_outputs(result, folder, settings, extra, sub=sub, report_json=report_json)
+            return write_outputs(result, folder, settings, extra, sub=sub, report_json=report_json, plots=plots)
     settings = settings or result.settings
+    if plots is None:
+        plots = ("summary",) if settings.plots else ()
     written = [write_dxf(out.path(*sub, "profile.dxf"), build_drawing(result), "R12" if settings.r12 else "R2000"),
                write_text_atomic(out.path(*sub, "law.csv"), law_csv_text(result))]
-    if settings.plots:
-        from camcad.report.profile import plot_profile_set
+    if plots:
+        from camcad.report.profile import save_profile_plots
 
-        written.extend(plot_profile_set(result, out.path(*sub) if sub else out.folder))
+        written.extend(save_profile_plots(result, out.path(*sub) if sub else out.folder, plots))
     if report_json:
         report_path = out.path(*sub, "report.json")
         written.append(report_path)

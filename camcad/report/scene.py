@@ -1,13 +1,19 @@
 """Step 10 of the scene pipeline: the outputs of a scene, written into one output folder as a unit.
 
 Per mechanism (a subfolder named by ``safe_name`` for a group scene): profile.dxf, law.csv and the
-plots of the models it ran; for the whole scene one report.json. The folder is an ``OutputFolder``: no
-output replaces a file the scene reads, names cannot leave the folder, and a concurrent run into the
-same folder waits for this one.
+plots asked for; for the whole scene one report.json. The folder is an ``OutputFolder``: no output
+replaces a file the scene reads, names cannot leave the folder, and a concurrent run into the same
+folder waits for this one.
+
+Plots: by default one summary page per mechanism (``summary.png``: the profile, the law, the pressure
+angle and the curvature with their limits, and the verdict with every margin); ``plots=("all",)`` adds
+every plot of the profile and of the models the mechanism ran (dynamics, impact, contact). When several
+mechanisms have plots and the machine has several cores, their plots are drawn in parallel processes.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Callable
 
@@ -16,10 +22,13 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
 #: cam-angle samples of law.csv for a mechanism without a profile
 LAW_SAMPLES = 721
+#: plot names that belong to the models a mechanism ran (drawn with "all" or when named)
+MODEL_PLOTS = ("dynamics", "impact", "contact")
 
 
 def default_folder(scene_name: str) -> Path:
@@ -35,13 +44,23 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     folder = options.output if options.output is not None else default_folder(result.scene.name)
     outputs: list[Path] = []
     with OutputFolder(folder, result.scene.input_files()) as out:
+        written: dict[str, list[Path]] = {}
+        jobs = []
         for name, run in result.runs.items():
             sub = (name,) if result.group else ()
             say(f"{name}: writing")
-            written = _write_mechanism(run, out, sub, options)
+            written[name] = _write_data(run, out, sub, options)
             target = result.report["mechanisms"][name] if result.group else result.report
-            target["outputs"] = [str(p) for p in written]
-            outputs.extend(written)
+            if options.plots:
+                jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
+        if jobs:
+            say("plots")
+            for name, paths in _draw_all(jobs):
+                written[name].extend(paths)
+        for name, paths in written.items():
+            target = result.report["mechanisms"][name] if result.group else result.report
+            target["outputs"] = [str(p) for p in paths]
+            outputs.extend(paths)
         report_path = out.path("report.json")
         outputs.append(report_path)
         result.report["outputs"] = [str(p) for p in outputs]
@@ -49,38 +68,71 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     return result
 
 
-def run_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
+def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
               progress: Callable[[str], None] | None = None) -> SceneResult:
-    """The whole pipeline on a scene file: ``analyse_scene`` then ``write_scene``."""
-    return write_scene(analyse_scene(path, options, progress), options, progress)
+    """The whole pipeline on a scene (a file, or a ``Scene`` built from a command's options):
+    ``analyse_scene`` then ``write_scene``."""
+    return write_scene(analyse_scene(source, options, progress), options, progress)
 
 
-def _write_mechanism(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...],
-                     options: PipelineOptions) -> list[Path]:
-    written: list[Path] = []
+def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions) -> list[Path]:
+    """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile)."""
     if run.profile is not None:
         from camcad.report.profile_files import write_outputs
 
-        written.extend(write_outputs(run.profile, out, sub=sub, report_json=False))
-    else:
-        theta = np.linspace(0.0, run.law.cycle, LAW_SAMPLES)
-        written.append(write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta)))
-    if options.plots:
-        folder = out.path(*sub) if sub else out.folder
-        if run.dynamics is not None:
-            from camcad.report.dynamics import dynamics_plots
+        return write_outputs(run.profile, out, sub=sub, report_json=False, plots=())
+    theta = np.linspace(0.0, run.law.cycle, LAW_SAMPLES)
+    return [write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta))]
 
-            written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
-        if run.impact is not None:
-            from camcad.report.dynamics import impact_plots
 
-            written.extend(impact_plots(run.impact, folder, run.name))
-        if run.contact is not None:
-            from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
+def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], report: dict) -> list[Path]:
+    """Draw and save the plots of one mechanism named in ``plots`` into ``folder``."""
+    every = "all" in plots
+    written: list[Path] = []
+    if run.profile is not None:
+        from camcad.report.profile import PLOTS, save_profile_plots
 
-            at_worst, sweep = run.contact
-            written.append(plot_contact_stress(at_worst, out.path(*sub, "contact.png"), title=run.name))
-            if len(sweep.rpm) > 1:
-                written.append(plot_safety_versus_speed(sweep, out.path(*sub, "contact_speed.png"),
-                                                        title=f"{run.name}: contact safety factor"))
+        wanted = tuple(name for name in PLOTS if every or name in plots)
+        written.extend(save_profile_plots(run.profile, folder, wanted, report))
+    if run.dynamics is not None and (every or "dynamics" in plots):
+        from camcad.report.dynamics import dynamics_plots
+
+        written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
+    if run.impact is not None and (every or "impact" in plots):
+        from camcad.report.dynamics import impact_plots
+
+        written.extend(impact_plots(run.impact, folder, run.name))
+    if run.contact is not None and (every or "contact" in plots):
+        from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
+
+        at_worst, sweep = run.contact
+        written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))
+        if len(sweep.rpm) > 1:
+            written.append(plot_safety_versus_speed(sweep, folder / "contact_speed.png",
+                                                    title=f"{run.name}: contact safety factor"))
     return written
+
+
+def _plot_job(job) -> tuple[str, list[Path]]:
+    name, run, folder, plots, report = job
+    return name, mechanism_plots(run, folder, plots, report)
+
+
+def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
+    """Every mechanism's plots: in parallel processes (fork) when there are several and several cores."""
+    workers = min(len(jobs), os.cpu_count() or 1)
+    if workers < 2 or not hasattr(os, "fork"):
+        return [_plot_job(job) for job in jobs]
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    # MechanismRun.memo holds the pipeline's solved limits: not needed to draw, and not worth pickling
+    light = [(name, _without_memo(run), folder, plots, report) for name, run, folder, plots, report in jobs]
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        return list(pool.map(_plot_job, light))
+
+
+def _without_memo(run: MechanismRun) -> MechanismRun:
+    from dataclasses import replace
+
+    return replace(run, memo=None)

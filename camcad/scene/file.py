@@ -48,6 +48,7 @@ class Scene:
     cyclogram: dict | None = None
     raw: dict = field(default_factory=dict, repr=False)
     built_laws: dict = field(default_factory=dict, repr=False, compare=False)  # mechanism_law's cache
+    from_file: bool = True   # False: built by a command from its options (``path`` only names it)
 
     @property
     def base_dir(self) -> Path:
@@ -55,7 +56,7 @@ class Scene:
 
     def input_files(self) -> list[Path]:
         """Every file the scene reads: the scene itself and the law files its [law] sections name."""
-        found = [self.path]
+        found = [self.path] if self.from_file else []
         for mech in self.mechanisms:
             law = mech.sections.get("law")
             if isinstance(law, dict) and isinstance(law.get("file"), str):
@@ -87,7 +88,14 @@ def read_toml(path: Path) -> dict:
 def read_scene(path: str | Path) -> Scene:
     """Read and check the scene's structure (each section's content is checked by its parser)."""
     path = Path(path)
-    raw = read_toml(path)
+    return scene_from_dict(read_toml(path), path)
+
+
+def scene_from_dict(raw: dict, path: str | Path, from_file: bool = True) -> Scene:
+    """A scene from the tables of a TOML document (``raw``); ``path`` names it in messages and, when
+    ``from_file``, is the file it was read from (relative law files are found beside it). A scene built
+    by a command from its options has ``from_file=False`` and absolute law files."""
+    path = Path(path)
     where = str(path)
     for key in raw:
         if key not in TOP_LEVEL:
@@ -112,7 +120,7 @@ def read_scene(path: str | Path) -> Scene:
     cyclogram = raw.get("cyclogram")
     if cyclogram is not None and not isinstance(cyclogram, dict):
         raise CamcadError("[cyclogram] must be a table", where, "write [cyclogram] with [[cyclogram.operations]]")
-    return Scene(path, name.strip(), description, speeds, mechanisms, cyclogram, raw)
+    return Scene(path, name.strip(), description, speeds, mechanisms, cyclogram, raw, from_file=from_file)
 
 
 def _mechanisms(raw: dict, path: Path) -> tuple[Mechanism, ...]:

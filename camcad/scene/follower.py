@@ -21,6 +21,8 @@ FOLLOWER_FIELDS: list[Field] = [
     Field("type", "str", choices=FOLLOWER_KINDS, default="roller",
           help="roller, knife, flat or oscillating"),
     Field("base_radius", "float", "mm", positive=True, help="base-circle radius of the profile"),
+    Field("auto_base_radius", "bool", default=False,
+          help="use the smallest base radius that meets the pressure-angle and curvature limits"),
     Field("roller_radius", "float", "mm", minimum=0.0, help="roller radius (0 = knife edge)"),
     Field("offset", "float", "mm", default=0.0, help="offset e of a translating follower's axis"),
     Field("pivot", "float", "mm", positive=True, help="pivot distance C of an oscillating follower"),
@@ -82,8 +84,14 @@ def parse_follower(table, where: str) -> Follower:
             if not base > 0.0:
                 raise CamcadError(f"initial_angle {values['initial_angle']:g} deg gives base radius "
                                   f"{base:g} mm", where, "use a larger initial angle")
+    if values["auto_base_radius"]:
+        if base is not None:
+            raise CamcadError("base_radius and auto_base_radius both choose the base radius", where,
+                              "give only one of them")
+        base = 1.0  # a placeholder until follower_for_law sizes it for its law
     if base is None:
-        raise CamcadError("missing value 'base_radius' (mm)", where, "add base_radius = ...")
+        raise CamcadError("missing value 'base_radius' (mm)", where,
+                          "add base_radius = ... (or auto_base_radius = true)")
     follower = Follower(
         kind=kind, base_radius=base, roller_radius=roller, offset=values["offset"],
         pivot=values["pivot"], arm=values["arm"], cw=values["cw"],
@@ -107,5 +115,30 @@ def _limit(value: float | None) -> float | None:
     return value
 
 
+def follower_for_law(table, where: str, law):
+    """The follower of a [follower] table on ``law`` (mm, or mm of the roller's arc for an oscillating
+    follower): (follower, the law in follower units, scale to mm at the roller, notes).
 
+    An oscillating follower's law becomes a swing (``swing_law``; ``swing`` deg, else arc / arm), and
+    ``auto_base_radius`` sizes the base radius as the smallest that meets the limits (``min_base_radius``).
+    This is the one place where a scene's follower meets its law: the profile, the contact and the phase
+    limits all go through it.
+    """
+    from camcad.profile.design import min_base_radius
+    from camcad.profile.scaled_law import swing_law
 
+    follower = parse_follower(table, where)
+    notes: list[str] = []
+    scale = 1.0
+    if follower.kind == "oscillating":
+        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(table, where))
+        scale = follower.arm      # ψ (rad) → arc of the roller centre (mm)
+    if read_table(table, FOLLOWER_FIELDS, where)["auto_base_radius"]:
+        design = min_base_radius(law, follower)
+        if design.rb_min is None:
+            raise CamcadError("no base radius meets the limits: " + "; ".join(design.notes), where,
+                              "relax the pressure-angle or curvature limits, or change the follower")
+        follower = follower.with_base_radius(design.rb_min)
+        notes.append(f"base radius {design.rb_min:.9g} mm: the smallest that meets the limits "
+                     f"(limited by {design.limited_by})")
+    return follower, law, scale, notes

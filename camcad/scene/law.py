@@ -31,8 +31,8 @@ def law_fields() -> list[Field]:
 
     shapes = _shape_names()
     return [
-        Field("standard", "str", choices=shapes, help="(a standard shape)"),
-        Field("return_standard", "str", choices=shapes),
+        Field("standard", "str", help=f"(a standard shape: {', '.join(shapes)}, or scca:b:c:d)"),
+        Field("return_standard", "str", help="(the returns' shape; default: standard)"),
         Field("phases", "str", help='"0:90:dwell,90:180:rise,180:270:dwell,270:360:return" (deg)'),
         Field("lift", "float", "mm, or deg of swing", positive=True),
         Field("file", "str", help="(a DXF drawing or a .csv table of the acceleration)"),
@@ -82,6 +82,14 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                           'add standard = "cycloidal" (with phases and lift) or file = "accel.dxf"')
     if values["standard"] is not None and values["file"] is not None:
         raise CamcadError("the law has both 'standard' and 'file'", where, "keep one of them")
+    for key in ("standard", "return_standard"):
+        if values[key] is not None:
+            from camcad.law.standard import shape_named
+
+            try:
+                shape_named(values[key])
+            except KeyError as err:
+                raise CamcadError(str(err.args[0]), f"{where} {key}", "pick one of the names listed") from None
     if values["standard"] is not None:
         for key in ("phases", "lift"):
             if values[key] is None:

@@ -67,15 +67,10 @@ class ContactGeometry:
 def cam_of(law, follower_table: dict, where: str):
     """(CamGeometry, follower, scale) of a law on the [follower] of a scene; ``scale`` turns the follower's
     s, v, a into mm at the roller (the arm length for an oscillating follower, whose law becomes a swing)."""
-    from camcad.scene.follower import parse_follower, swing_of
-    from camcad.profile.scaled_law import swing_law
     from camcad.profile.geometry import CamGeometry
+    from camcad.scene.follower import follower_for_law
 
-    follower = parse_follower(follower_table, where)
-    scale = 1.0
-    if follower.kind == "oscillating":
-        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(follower_table, where))
-        scale = follower.arm      # ψ (rad) → arc of the roller centre (mm)
+    follower, law, scale, _ = follower_for_law(follower_table, where, law)
     return CamGeometry(law, follower), follower, scale
 
 

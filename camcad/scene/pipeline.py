@@ -34,7 +34,7 @@ class PipelineOptions:
     arcs: bool = False
     spline: bool = False
     r12: bool = False
-    plots: bool = True
+    plots: tuple[str, ...] = ("summary",)   # names of the plots to draw ("all": every one; (): none)
     contact_samples: int = CONTACT_SAMPLES
 
 
@@ -71,11 +71,11 @@ class SceneResult:
 Progress = Callable[[str], None]
 
 
-def analyse_scene(path: str | Path, options: PipelineOptions = PipelineOptions(),
+def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
                   progress: Progress | None = None) -> SceneResult:
     """Run steps 1–9 of the pipeline on a scene file and return what it found (see the module docstring);
     ``camcad.report.scene`` writes the outputs (step 10)."""
-    scene = read_scene(path)
+    scene = path if isinstance(path, Scene) else read_scene(path)
     say = progress or (lambda _text: None)
     if not scene.mechanisms:
         raise CamcadError("the scene has no mechanism to make a profile of", str(scene.path),
@@ -106,7 +106,9 @@ def analyse_scene(path: str | Path, options: PipelineOptions = PipelineOptions()
             if name in retimed:
                 say(f"{name}: analysing with the cyclogram's phase angles")
                 base = replace(base, law=law_with_phases(base.law, retimed[name], mech.where(scene.path, "law")))
-            run = _analyse(scene, mech, base, options, say, limits=False, memo=memo)
+            run = _analyse(scene, mech, base, options, say, limits=False, memo=memo,
+                           phase_source=("the cyclogram's phase angles" if name in retimed
+                                         else "the law's own phase angles (the cyclogram did not retime them)"))
             first = runs[name]
             if "phase_limits" in first.report:
                 run.report["phase_limits"] = first.report["phase_limits"]
@@ -135,7 +137,8 @@ def _network_mechanisms(scene: Scene) -> list[str]:
 
 
 def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say: Progress,
-             limits: bool = True, memo: LimitMemo | None = None, only_limits: bool = False) -> MechanismRun:
+             limits: bool = True, memo: LimitMemo | None = None, only_limits: bool = False,
+             phase_source: str = "the law's own phase angles") -> MechanismRun:
     """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
     dynamics), for a mechanism the cyclogram will retime and analyse again."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
@@ -168,7 +171,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         run.profile = _profile(scene, mech, run.law, options)
         from camcad.profile.summary import report as profile_report
 
-        run.report["profile"] = profile_report(run.profile)
+        run.report["profile"] = profile_report(run.profile, phase_source)
         run.ran.append("profile")
     else:
         run.skipped["profile"] = "no [follower] in scene"
@@ -242,17 +245,16 @@ def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
 
 
 def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
-    from camcad.profile.synth import ProfileSettings, synthesize
-    from camcad.scene.follower import parse_follower, swing_of
-    from camcad.profile.scaled_law import swing_law
+    from dataclasses import replace as with_fields
 
-    where = mech.where(scene.path, "follower")
-    follower = parse_follower(mech.sections["follower"], where)
-    if follower.kind == "oscillating":
-        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(mech.sections["follower"], where))
+    from camcad.profile.synth import ProfileSettings, synthesize
+    from camcad.scene.follower import follower_for_law
+
+    follower, law, _, notes = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"), law)
     settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
-                               plots=options.plots, name=mech.name)
-    return synthesize(law, follower, settings.validate(), name=mech.name)
+                               plots=bool(options.plots), name=mech.name)
+    result = synthesize(law, follower, settings.validate(), name=mech.name)
+    return with_fields(result, notes=tuple(notes) + result.notes) if notes else result
 
 
 def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:

@@ -1,0 +1,69 @@
+"""Start-up: each command imports only what it needs (structural checks, not timings).
+
+Each case runs ``camcad ...`` in a fresh interpreter and lists the top-level packages it imported
+(``sys.modules`` at exit). Timings are measured by benchmarks/bench_cli.py, not here.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PROBE = """
+import json, sys
+from camcad.cli import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+print("\\nMODULES" + json.dumps(sorted({name.split('.')[0] for name in sys.modules} |
+                                      {name for name in sys.modules if name.startswith(('scipy.', 'camcad.'))})))
+"""
+
+
+def imported(*args: str, cwd: Path) -> set[str]:
+    done = subprocess.run([sys.executable, "-c", PROBE, *args], capture_output=True, text=True, cwd=cwd,
+                          timeout=120)
+    marker = done.stdout.rsplit("\nMODULES", 1)
+    assert len(marker) == 2, done.stderr
+    return set(json.loads(marker[1]))
+
+
+def test_help_and_version_import_no_numerical_library(tmp_path):
+    for args in (["--help"], ["--version"], ["profile", "--help"], ["check", "--help"]):
+        modules = imported(*args, cwd=tmp_path)
+        for heavy in ("numpy", "scipy", "matplotlib", "ezdxf", "shapely", "rich", "pydantic"):
+            assert heavy not in modules, (args, heavy)
+
+
+def test_the_default_profile_without_plots_needs_no_optimiser_and_no_plotting(tmp_path):
+    modules = imported("profile", "--no-plots", "-o", str(tmp_path / "out"), cwd=tmp_path)
+    assert "numpy" in modules and "ezdxf" in modules
+    for unneeded in ("scipy.optimize", "matplotlib", "pydantic", "rich", "camcad.fourier", "camcad.dynamics",
+                     "camcad.cyclogram.lp", "scipy.sparse"):
+        assert unneeded not in modules, unneeded
+
+
+def test_a_command_imports_only_its_own_command_module(tmp_path):
+    modules = imported("check", "--help", cwd=tmp_path)
+    commands = {m for m in modules if m.startswith("camcad.cli.") and m != "camcad.cli.common"}
+    assert commands == {"camcad.cli.check"}
+
+
+def test_the_command_list_in_help_is_each_command_s_own_first_line():
+    from camcad.cli import COMMANDS, app, register_all
+    import typer
+
+    register_all()
+    group = typer.main.get_group(app)
+    for name, (_, line) in COMMANDS.items():
+        command = group.commands[name]
+        first = " ".join((command.help or "").split("\n\n")[0].split())
+        # the one-line summary opens as the command's own help does (same first words)
+        assert first.split()[:2] == line.split()[:2], (name, first, line)
