@@ -136,10 +136,12 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
         name = defaults.DEFAULT_NAME
         if abs(cycle - 360.0) > 1e-9 and phases is None:
             raise CamcadError("--cycle needs --phases for the built-in law", "--cycle", "give --phases too")
-        law = {"standard": rise_law or defaults.DEFAULT_RISE_SHAPE,
-               "return_standard": return_law or defaults.DEFAULT_RETURN_SHAPE,
-               "phases": phases or _default_phases(), "lift": defaults.DEFAULT_LIFT_MM if lift is None else lift,
-               "cycle": cycle}
+        from camcad.scene.default import default_tables
+
+        law = default_tables()["law"]
+        law.update({"cycle": cycle, **{key: value for key, value in (
+            ("standard", rise_law), ("return_standard", return_law), ("phases", phases), ("lift", lift))
+            if value is not None}})
         if rb is None and not auto_rb:
             rb = defaults.DEFAULT_BASE_RADIUS_MM
         if rr is None and kind in ("roller", "oscillating"):
@@ -195,14 +197,6 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
                 raise CamcadError(f"{option} is for an oscillating follower", option,
                                   "drop it or use --follower oscillating")
     return name, {"name": name, "law": law, "follower": follower}
-
-
-def _default_phases() -> str:
-    parts, start = [], 0.0
-    for kind, width in defaults.DEFAULT_PHASES_DEG:
-        parts.append(f"{start:g}:{start + width:g}:{kind}")
-        start += width
-    return ",".join(parts)
 
 
 # ------------------------------------------------------------------------------------------------
