@@ -371,8 +371,12 @@ def test_cli_default_run_in_a_fresh_directory(cli, tmp_path, monkeypatch):
     assert run.code == 0, run.err
     out = tmp_path / "camcad-out" / "default"
     names = {p.name for p in out.iterdir()}
-    assert {"profile.dxf", "law.csv", "report.json", "kinematics.png", "pressure_angle.png", "curvature.png",
-            "profile.png", "hodograph.png"} <= names
+    # by default one summary page; --plots all draws every plot
+    assert names == {"profile.dxf", "law.csv", "report.json", "summary.png"}
+    every = cli("profile", "--plots", "all", "-o", tmp_path / "all")
+    assert every.code == 0, every.err
+    assert {p.name for p in (tmp_path / "all").iterdir()} == names | {
+        "kinematics.png", "pressure_angle.png", "curvature.png", "profile.png", "hodograph.png"}
     assert not [n for n in names if n.endswith(".tmp")]
     data = json.loads((out / "report.json").read_text())
     for key in ("pressure_angle_max_deg", "pressure_angle_max_at_deg", "pressure_angle_min_deg",

@@ -231,7 +231,8 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
                     or follower.pressure_angle_limit_return_deg is not None)
     rb_pa = None
     if limits_given and follower.kind in ("roller", "knife"):
-        rb_pa = max(_translating_pressure_angle_rb(law, follower, one_lobe), lo)
+        # rounded up by the tolerance, as the root finder's result is: the design must meet its limits
+        rb_pa = max(_translating_pressure_angle_rb(law, follower, one_lobe) + 2.0 * xtol, lo)
     elif limits_given:
         cached = _GridCache(law, one_lobe)
         rb_pa, note = _solve(lambda rb: pressure_angle_margin(cached, follower.with_base_radius(rb), one_lobe),
