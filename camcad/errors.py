@@ -34,3 +34,22 @@ def nearest_name(name: str, valid: list[str]) -> str:
     if close:
         return f"did you mean '{close[0]}'? valid keys: {', '.join(valid)}"
     return f"valid keys: {', '.join(valid)}"
+
+
+def excerpt(value: object, limit: int = 40) -> str:
+    """A short, printable excerpt of ``value`` for an error message: its repr cut to ``limit`` characters,
+    and for a long list or text its length. An error line never echoes a whole 100,000-number array.
+
+    Examples
+    --------
+    >>> excerpt([1.5] * 100000)
+    '[1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5,... (a list of 100000 items)'
+    >>> excerpt("short")
+    "'short'"
+    """
+    text = repr(value)
+    if len(text) <= limit:
+        return text
+    size = f" (a {type(value).__name__} of {len(value)} items)" if isinstance(value, (list, tuple, dict)) else \
+        (f" ({len(value)} characters)" if isinstance(value, (str, bytes)) else "")
+    return text[:limit] + "..." + size

@@ -64,7 +64,7 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
     return result if isinstance(result, int) else EXIT_OK
 
 
-def _one_line(text: str, limit: int = 400) -> str:
+def _one_line(text: str, limit: int = 280) -> str:
     """``text`` on one line, at most ``limit`` characters (a long excerpt is cut with an ellipsis)."""
     text = " ".join(str(text).split())
     return text if len(text) <= limit else text[: limit - 3] + "..."

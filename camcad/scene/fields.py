@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from camcad.errors import CamcadError, nearest_name
+from camcad.errors import CamcadError, excerpt, nearest_name
 
 _MISSING = object()
 
@@ -67,40 +67,40 @@ def _coerce(raw: Any, field: Field, where: str) -> Any:
     name = _describe(field)
     if field.kind == "float":
         if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-            raise CamcadError(f"{name} must be a number, got {raw!r}", where,
+            raise CamcadError(f"{name} must be a number, got {excerpt(raw)}", where,
                               f"write {field.name} = 12.5 (a plain number in {field.unit or 'its unit'})")
         value = float(raw)
         if not math.isfinite(value):
-            raise CamcadError(f"{name} must be finite, got {raw!r}", where, "give a finite number")
+            raise CamcadError(f"{name} must be finite, got {excerpt(raw)}", where, "give a finite number")
         _check_range(value, field, where)
         return value
     if field.kind == "int":
         if isinstance(raw, bool) or not isinstance(raw, int):
-            raise CamcadError(f"{name} must be a whole number, got {raw!r}", where,
+            raise CamcadError(f"{name} must be a whole number, got {excerpt(raw)}", where,
                               f"write {field.name} = 3")
         _check_range(raw, field, where)
         return raw
     if field.kind == "str":
         if not isinstance(raw, str):
-            raise CamcadError(f"{name} must be text, got {raw!r}", where,
+            raise CamcadError(f"{name} must be text, got {excerpt(raw)}", where,
                               f'write {field.name} = "..." in quotes')
         if field.choices and raw not in field.choices:
-            raise CamcadError(f"{name} is {raw!r}, not one of {', '.join(field.choices)}", where,
+            raise CamcadError(f"{name} is {excerpt(raw)}, not one of {', '.join(field.choices)}", where,
                               nearest_name(raw, list(field.choices)).replace("valid keys", "choices"))
         return raw
     if field.kind == "bool":
         if not isinstance(raw, bool):
-            raise CamcadError(f"{name} must be true or false, got {raw!r}", where,
+            raise CamcadError(f"{name} must be true or false, got {excerpt(raw)}", where,
                               f"write {field.name} = true")
         return raw
     if field.kind == "list":
         if not isinstance(raw, list):
-            raise CamcadError(f"{name} must be a list, got {raw!r}", where,
+            raise CamcadError(f"{name} must be a list, got {excerpt(raw)}", where,
                               f"write {field.name} = [ ... ]")
         return raw
     if field.kind == "table":
         if not isinstance(raw, dict):
-            raise CamcadError(f"{name} must be a table, got {raw!r}", where,
+            raise CamcadError(f"{name} must be a table, got {excerpt(raw)}", where,
                               f"write it as [.{field.name}] or {field.name} = {{ ... }}")
         return raw
     if field.kind == "number_or_list":
@@ -137,27 +137,27 @@ def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
     """
     fix = 'write rpm = 300, rpm = [280, 420] or rpm = "280:420:20"'
     if isinstance(value, bool) or value is None:
-        raise CamcadError(f"rpm must be a speed, got {value!r}", where, fix)
+        raise CamcadError(f"rpm must be a speed, got {excerpt(value)}", where, fix)
     step = None
     if isinstance(value, (int, float)):
         ends = [float(value)]
     elif isinstance(value, (list, tuple)):
         if len(value) != 2 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value):
-            raise CamcadError(f"rpm {value!r} must be two numbers [n1, n2]", where, fix)
+            raise CamcadError(f"rpm {excerpt(value)} must be two numbers [n1, n2]", where, fix)
         ends = [float(v) for v in value]
     elif isinstance(value, str):
         parts = [p.strip() for p in value.split(":")]
         try:
             numbers = [float(p) for p in parts]
         except ValueError:
-            raise CamcadError(f"rpm {value!r} is not N, N1:N2 or N1:N2:STEP", where, fix) from None
+            raise CamcadError(f"rpm {excerpt(value)} is not N, N1:N2 or N1:N2:STEP", where, fix) from None
         if len(numbers) not in (1, 2, 3):
-            raise CamcadError(f"rpm {value!r} is not N, N1:N2 or N1:N2:STEP", where, fix)
+            raise CamcadError(f"rpm {excerpt(value)} is not N, N1:N2 or N1:N2:STEP", where, fix)
         ends, step = numbers[:2], (numbers[2] if len(numbers) == 3 else None)
     else:
-        raise CamcadError(f"rpm must be a number, [n1, n2] or \"n1:n2:step\", got {value!r}", where, fix)
+        raise CamcadError(f"rpm must be a number, [n1, n2] or \"n1:n2:step\", got {excerpt(value)}", where, fix)
     if not all(math.isfinite(e) and e > 0 for e in ends):
-        raise CamcadError(f"speeds must be positive, got {value!r}", where, fix)
+        raise CamcadError(f"speeds must be positive, got {excerpt(value)}", where, fix)
     if len(ends) == 1:
         return ends
     low, high = sorted(ends)

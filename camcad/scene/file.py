@@ -14,8 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from camcad.errors import CamcadError
-from camcad.errors import nearest_name
+from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
 
 MECHANISM_SECTIONS = ("law", "follower", "filter", "dynamics", "stops", "contact")
@@ -67,7 +66,7 @@ class Scene:
         for mech in self.mechanisms:
             if mech.name == name:
                 return mech
-        raise CamcadError(f"no mechanism named {name!r}", str(self.path),
+        raise CamcadError(f"no mechanism named {excerpt(name)}", str(self.path),
                           nearest_name(name, [m.name for m in self.mechanisms]).replace("valid keys", "mechanisms"))
 
 
@@ -102,10 +101,10 @@ def scene_from_dict(raw: dict, path: str | Path, from_file: bool = True) -> Scen
             raise CamcadError(f"unknown section or key '{key}'", where, nearest_name(key, list(TOP_LEVEL)))
     name = raw.get("name", path.stem)
     if not isinstance(name, str) or not name.strip():
-        raise CamcadError(f"'name' must be text, got {name!r}", where, 'write name = "my_cam"')
+        raise CamcadError(f"'name' must be text, got {excerpt(name)}", where, 'write name = "my_cam"')
     description = raw.get("description", "")
     if not isinstance(description, str):
-        raise CamcadError(f"'description' must be text, got {description!r}", where, 'write description = "..."')
+        raise CamcadError(f"'description' must be text, got {excerpt(description)}", where, 'write description = "..."')
     speeds = None
     machine = raw.get("machine")
     if machine is not None:
