@@ -175,3 +175,13 @@ def test_composite_breakpoints_include_the_inner_pieces():
     for expected in (15.0, 45.0, 60.0, 75.0, 105.0, 120.0, 180.0, 195.0, 300.0, 360.0):
         assert np.min(np.abs(points - expected)) < 1e-9
     assert law.describe().startswith("rise modified_trapezoid 0-120, dwell 120-180")
+
+
+def test_laws_with_acceleration_jumps_have_an_infinite_peak_jerk():
+    # the acceleration of a simple harmonic rise jumps from 0 (dwell) to π²h/(2β²): its jerk has a Dirac there
+    harmonic = peak_coefficients(standard.SHAPES["harmonic"])
+    assert harmonic.jerk == float("inf") and harmonic.to_dict()["cj"] is None
+    assert harmonic.to_dict()["jerk_infinite"] and harmonic.to_dict()["cj_smooth"] == pytest.approx(math.pi**3 / 2)
+    # the cycloidal rise starts and ends at a = 0: finite jerk 4π² (its closed form)
+    cycloidal = peak_coefficients(standard.SHAPES["cycloidal"])
+    assert cycloidal.jerk == pytest.approx(4 * math.pi**2, rel=1e-12) and cycloidal.to_dict()["cj"] is not None

@@ -52,6 +52,19 @@ class PeakCoefficients:
     cj: float
     acceleration_jumps: bool
 
+    @property
+    def jerk(self) -> float:
+        """The true peak jerk coefficient: +inf where the acceleration jumps (the jerk has a Dirac there),
+        else ``cj``. ``cj`` itself is the sup over the smooth pieces, as the published tables give it."""
+        return math.inf if self.acceleration_jumps else self.cj
+
+    def to_dict(self) -> dict:
+        """JSON form: ``cj`` is null when the jerk is infinite, with ``jerk_infinite`` saying so and
+        ``cj_smooth`` the sup over the smooth pieces."""
+        return {"cv": self.cv, "ca": self.ca, "cj": None if self.acceleration_jumps else self.cj,
+                "cj_smooth": self.cj, "jerk_infinite": self.acceleration_jumps,
+                "acceleration_jumps": self.acceleration_jumps}
+
 
 def peak_coefficients(shape: RiseShape) -> PeakCoefficients:
     """Closed-form peak coefficients of ``shape`` (every shape of this module has them)."""
