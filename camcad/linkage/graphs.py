@@ -65,7 +65,7 @@ def pairs_for(links: int, dof: int, where: str = "--links/--dof") -> int:
     Examples
     --------
     >>> pairs_for(4, 1), pairs_for(6, 1), pairs_for(10, 1), pairs_for(9, 2)
-    (4, 7, 12, 11)
+    (4, 7, 13, 11)
     """
     if links < 2 or dof < 1:
         raise CamcadError(f"a chain needs at least 2 links and 1 degree of freedom, got n={links}, W={dof}",
