@@ -396,3 +396,76 @@ def adjustable_chains(links: int, dof: int, locked: int) -> AdjustableAtlas:
     return AdjustableAtlas(links, dof, locked, [c for _, (_, c) in ordered], len(base), colourings,
                            len(seen_all), len(seen_forest), len(seen_weak), len(seen_simple),
                            time.perf_counter() - start, SEED_TABLE1.get((links, dof, locked)), by_base)
+
+
+@dataclass
+class AtlasReport:
+    """The atlas of one class: the chains (canonical numbering) and the JSON payload."""
+
+    chains: list[Chain]
+    payload: dict
+    adjustable: bool
+
+
+def _discrepancy(key: tuple[int, int, int], result: AdjustableAtlas) -> str | None:
+    seed = SEED_TABLE1.get(key)
+    if seed is None or seed == len(result.chains):
+        return None
+    return (f"Table 1 of the seed gives {seed}; camcad's rule gives {len(result.chains)}. Without any kinematic "
+            f"condition (every colouring up to isomorphism) the count is {result.count_unconditional}; with the "
+            f"contracted chain only connected, simple and of minimum degree 2 (no rigid-sub-chain check) it is "
+            f"{result.count_contracted_simple}. No single rule tried reproduces all six rows of Table 1 (the rule "
+            "that gives 1, 3, 4, 7, 38 gives this number); the seed's rule for this row is not recoverable from "
+            "the abstract (see docs/linkage.md)")
+
+
+def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
+    """The atlas report of ordinary chains (n = ``links``, W = ``dof``) or, with ``adjustable`` = m, of
+    adjustable chains (n' = ``links``, W' = ``dof``, m locked pairs).
+
+    Payload keys: ``count``, ``chains`` (each: links, pairs, assortment, locked_pairs, adjustable_links,
+    fractionated), ``rule``, ``seed_count`` (when Table 1 of the seed has the class), ``published_count``
+    (ordinary chains with a published count), ``discrepancy`` (text, when the seed's count differs),
+    ``counts`` (under weaker rules), ``seconds``.
+
+    Examples
+    --------
+    >>> atlas(6, 1, adjustable=2).payload["count"], atlas(6, 1, adjustable=2).payload["seed_count"]
+    (38, 38)
+    """
+    from .graphs import is_connected
+
+    if adjustable is None:
+        result = ordinary_chains(links, dof)
+        chains = result.chains
+        payload = {"kind": "ordinary", "links": links, "dof": dof, "pairs": pairs_for(links, dof),
+                   "count": len(chains), "rule": RULE_ORDINARY, "candidates": result.candidates,
+                   "seconds": result.seconds, "by_assortment": result.by_assortment}
+        if (links, dof) in PUBLISHED_ORDINARY:
+            payload["published_count"] = PUBLISHED_ORDINARY[(links, dof)]
+            payload["published_source"] = ("Tsai, Mechanism Design: Enumeration of Kinematic Structures According "
+                                           "to Function (CRC 2001), planar chains with revolute pairs")
+    else:
+        result = adjustable_chains(links, dof, adjustable)
+        chains = result.chains
+        payload = {"kind": "adjustable", "links": links, "dof": dof, "adjustable": adjustable,
+                   "base_links": links + adjustable, "base_dof": dof + adjustable,
+                   "count": len(chains), "rule": RULE_ADJUSTABLE,
+                   "counts": {"rule": len(chains), "unconditional": result.count_unconditional,
+                              "locked_pairs_forest": result.count_forest,
+                              "contracted_connected_min_degree_2": result.count_contracted_connected_min2,
+                              "contracted_simple": result.count_contracted_simple},
+                   "base_chains": result.base_chains, "colourings": result.colourings, "seconds": result.seconds}
+        if result.seed_count is not None:
+            payload["seed_count"] = result.seed_count
+            payload["seed_source"] = "Sunkuev 1984, Table 1 (abstract, ch. 1)"
+            payload["discrepancy"] = _discrepancy((links, dof, adjustable), result)
+    items = []
+    for index, chain in enumerate(chains, start=1):
+        item = {"index": index, **chain.to_json()}
+        cut = any(not is_connected(chain.n - 1, [(u - (u > v0), w - (w > v0)) for u, w in chain.edges
+                                                 if v0 not in (u, w)]) for v0 in range(chain.n))
+        item["fractionated"] = cut
+        items.append(item)
+    payload["chains"] = items
+    return AtlasReport(chains, payload, adjustable is not None)

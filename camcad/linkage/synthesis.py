@@ -6,7 +6,8 @@ the work done):
 - ``precision``: three precision points, Freudenstein's closed form (``camcad.linkage.precision``);
 - ``lsq``: least squares over N points (``camcad.linkage.deviation``), started from ``precision``;
 - ``q``: the seed's Q method (``camcad.linkage.qmethod``);
-- ``minimax``: the equal-ripple reference (``camcad.linkage.minimax``), started from ``q``.
+- ``minimax``: the equal-ripple accuracy reference (``camcad.linkage.minimax``), started from the Q
+  method run without the transmission-angle limit (an S-point interpolant); limits checked, not imposed.
 
 ``position_evaluations`` counts the positions a method computed to find its mechanism (a method
 started from another includes the other's count; ``position_breakdown`` splits it); the final check
@@ -63,6 +64,11 @@ class FgenResult:
     q: QResult | None = None
     minimax: MinimaxResult | None = None
     notes: list[str] = field(default_factory=list)
+    q_nodes_phi: np.ndarray | None = None   # rad, the Q method's nodes (also when it started minimax)
+
+    @property
+    def q_subsets(self) -> list[tuple[int, ...]]:
+        return node_subsets(len(self.q_nodes_phi)) if self.q_nodes_phi is not None else []
 
 
 def _check_options(options: FgenOptions) -> None:
@@ -134,7 +140,9 @@ def synthesize(target: Target, options: FgenOptions) -> FgenResult:
     else:
         count = options.nodes or 5
         node_phi = nodes(count, target.dphi, options.spacing)
-        q_result = q_synthesis(target, node_phi, limits, work, grid=options.grid, seed=options.seed,
+        q_limits = limits if method == "q" else Limits(0.0, limits.ratio_max)
+        q_nodes = node_phi
+        q_result = q_synthesis(target, node_phi, q_limits, work, grid=options.grid, seed=options.seed,
                                keep=options.keep, pick=options.pick)
         fg = q_result.mechanism
         breakdown["q"] = work.positions
@@ -146,12 +154,15 @@ def synthesize(target: Target, options: FgenOptions) -> FgenResult:
             fg = mm_result.mechanism
             breakdown["remez"] = work.positions - before
             node_phi = np.radians(mm_result.references_deg)
+            notes.append("minimax is the accuracy reference: the equal-ripple four-bar near the S-point "
+                         "interpolant of the Q method run without the transmission-angle limit; the limits are "
+                         "checked, not imposed")
             if not mm_result.converged:
                 notes.append(f"minimax: {mm_result.message}")
     scaled = fg.scaled(options.frame_mm)
     evaluation = evaluate(scaled, target)
     return FgenResult(method, target, options, scaled, evaluation, np.asarray(node_phi), work, breakdown,
-                      q_result, mm_result, notes)
+                      q_result, mm_result, notes, None if q_result is None else np.asarray(q_nodes))
 
 
 def _check(value: float, limit: float, margin: float, passed: bool, why: str) -> dict:
