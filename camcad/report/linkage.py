@@ -346,7 +346,17 @@ def fgen_drawing(result) -> Drawing:
     r = 0.025 * scale
     lines, circles, paths, texts = [], [], [], []
     h = 0.03 * scale
-    lines.append(DxfLine("FRAME", (0.0, 0.0), (fg.d, 0.0)))
+
+    def trimmed(layer, p, q):
+        """The line p–q shortened by the joint radius at both ends (links meet the joint circles)."""
+        d = np.subtract(q, p)
+        length = float(np.hypot(*d))
+        if length <= 2 * r:
+            return None
+        u = d / length
+        return DxfLine(layer, tuple(map(float, np.add(p, r * u))), tuple(map(float, np.subtract(q, r * u))))
+
+    lines.append(trimmed("FRAME", (0.0, 0.0), (fg.d, 0.0)))
     for x0 in (0.0, fg.d):
         lines.append(DxfLine("FRAME", (x0 - 2 * r, -1.6 * r), (x0 + 2 * r, -1.6 * r)))
         lines.append(DxfLine("FRAME", (x0, -r), (x0, -1.6 * r)))
@@ -357,7 +367,7 @@ def fgen_drawing(result) -> Drawing:
         j = _positions(fg, theta)
         pts = [tuple(map(float, j[name])) for name in ("O", "A", "B", "C")]
         for p, q in zip(pts, pts[1:]):
-            lines.append(DxfLine(layer, p, q))
+            lines.append(trimmed(layer, p, q))
         for p in pts:
             circles.append(DxfCircle("JOINTS", p, r))
         suffix = "1" if layer == "LINKS" else "2"
@@ -378,8 +388,8 @@ def fgen_drawing(result) -> Drawing:
     low = min(0.0, float(np.nanmin(np.r_[j["A"][:, 1], j["B"][:, 1]]))) - 6 * r
     for k, line in enumerate(info):
         texts.append(DxfText("TEXT", line, (0.0, low - k * 1.8 * h), h))
-    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(lines), texts=tuple(texts),
-                   layers=("FRAME", "LINKS", "EXTREME_POSITIONS", "JOINTS", "PATHS", "TEXT"))
+    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(x for x in lines if x is not None),
+                   texts=tuple(texts), layers=("FRAME", "LINKS", "EXTREME_POSITIONS", "JOINTS", "PATHS", "TEXT"))
 
 
 def error_csv(result) -> str:
