@@ -18,31 +18,39 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+from timing import median_time
 
-from camcad.linkage.atlas import PUBLISHED_ORDINARY, SEED_TABLE1, adjustable_chains, ordinary_chains
+from camcad.linkage.atlas import (
+    PUBLISHED_ORDINARY,
+    SEED_TABLE1,
+    adjustable_chains,
+    ordinary_chains,
+)
 from camcad.linkage.claims import compare_objectives
 from camcad.linkage.fgen import Limits
 from camcad.linkage.synthesis import FgenOptions, synthesize
 from camcad.linkage.target import make_target
-from timing import median_time
+
+
+def _row(kernel: str, method: str, setting: str, time_s: float, error: float, unit: str) -> dict:
+    return {"kernel": kernel, "method": method, "setting": setting, "time_s": time_s, "error": error,
+            "error_unit": unit}
 
 
 def atlas_rows(quick: bool) -> list[dict]:
     rows = []
     ordinary = [(4, 1), (6, 1), (8, 1), (5, 2), (7, 2)] + ([] if quick else [(9, 2), (10, 1)])
     for links, dof in ordinary:
-        elapsed, result = median_time(lambda: ordinary_chains(links, dof), 1 if quick or links >= 9 else 3)
-        rows.append(dict(kernel="linkage atlas", method="ordinary chains (contracted graphs)",
-                         setting=f"n={links} W={dof}: {len(result.chains)} chains, {result.candidates} candidates",
-                         time_s=elapsed, error=abs(len(result.chains) - PUBLISHED_ORDINARY[(links, dof)]),
-                         error_unit="chains vs published"))
+        elapsed, result = median_time(lambda n=links, w=dof: ordinary_chains(n, w), 1 if quick or links >= 9 else 3)
+        rows.append(_row("linkage atlas", "ordinary chains (contracted graphs)",
+                         f"n={links} W={dof}: {len(result.chains)} chains, {result.candidates} candidates", elapsed,
+                         abs(len(result.chains) - PUBLISHED_ORDINARY[(links, dof)]), "chains vs published"))
     table = [(4, 1, 1), (4, 1, 2), (4, 1, 3), (6, 1, 1), (6, 1, 2)] + ([] if quick else [(8, 1, 1)])
     for key in table:
-        elapsed, result = median_time(lambda: adjustable_chains(*key), 1 if quick or key[0] >= 8 else 3)
-        rows.append(dict(kernel="linkage atlas", method="adjustable chains (coloured, contracted check)",
-                         setting=f"n'={key[0]} W'={key[1]} m={key[2]}: {len(result.chains)} (seed {SEED_TABLE1[key]})",
-                         time_s=elapsed, error=abs(len(result.chains) - SEED_TABLE1[key]),
-                         error_unit="chains vs seed Table 1"))
+        elapsed, result = median_time(lambda k=key: adjustable_chains(*k), 1 if quick or key[0] >= 8 else 3)
+        rows.append(_row("linkage atlas", "adjustable chains (coloured, contracted check)",
+                         f"n'={key[0]} W'={key[1]} m={key[2]}: {len(result.chains)} (seed {SEED_TABLE1[key]})",
+                         elapsed, abs(len(result.chains) - SEED_TABLE1[key]), "chains vs seed Table 1"))
     return rows
 
 
@@ -51,20 +59,19 @@ def fgen_rows(quick: bool) -> list[dict]:
     rows = []
     methods = ["precision", "q"] + ([] if quick else ["lsq", "minimax"])
     for method in methods:
-        elapsed, result = median_time(lambda: synthesize(target, FgenOptions(method=method)), 1)
-        rows.append(dict(kernel="linkage fgen log10", method=method,
-                         setting=f"{result.work.positions} positions, mu_min {result.evaluation.mu_min_deg:.1f} deg",
-                         time_s=elapsed, error=result.evaluation.max_error_deg, error_unit="deg (max |error|)"))
+        elapsed, result = median_time(lambda m=method: synthesize(target, FgenOptions(method=m)), 1)
+        rows.append(_row("linkage fgen log10", method,
+                         f"{result.work.positions} positions, mu_min {result.evaluation.mu_min_deg:.1f} deg", elapsed,
+                         result.evaluation.max_error_deg, "deg (max |error|)"))
     starts = 2 if quick else 12
     claim = compare_objectives(target, Limits(30.0, 10.0), starts=starts, seed=0)
     s = claim["summary"]
     for name, label in (("q", "Q, one local search"), ("max_deviation", "max deviation, one local search"),
                         ("least_squares", "least squares, one local search")):
-        rows.append(dict(kernel="linkage claim (same starts)", method=label,
-                         setting=f"{starts} starts: {s[name]['admissible']} admissible, median "
-                                 f"{s[name]['median_positions']:.0f} positions",
-                         time_s=s[name]["median_seconds"], error=s[name]["median_error_deg"],
-                         error_unit="deg (median max |error|)"))
+        rows.append(_row("linkage claim (same starts)", label,
+                         f"{starts} starts: {s[name]['admissible']} admissible, median "
+                         f"{s[name]['median_positions']:.0f} positions", s[name]["median_seconds"],
+                         s[name]["median_error_deg"], "deg (median max |error|)"))
     return rows
 
 

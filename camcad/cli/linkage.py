@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
@@ -17,7 +17,7 @@ linkage_app = typer.Typer(no_args_is_help=True, help="Linkages after the cam (se
 app.add_typer(linkage_app, name="linkage")
 
 
-def _atlas_summary(payload: dict) -> None:
+def _atlas_summary(payload: dict, seconds: float) -> None:
     lines = []
     if payload["kind"] == "adjustable":
         lines.append(f"camcad linkage atlas: adjustable chains n'={payload['links']}, W'={payload['dof']}, "
@@ -26,7 +26,7 @@ def _atlas_summary(payload: dict) -> None:
     else:
         lines.append(f"camcad linkage atlas: ordinary chains n={payload['links']}, W={payload['dof']}, "
                      f"p={payload['pairs']} pairs")
-    lines.append(f"  count          {payload['count']}  ({payload['seconds']:.2f} s)")
+    lines.append(f"  count          {payload['count']}  (enumerated in {seconds:.2f} s)")
     if "published_count" in payload:
         same = "matches" if payload["published_count"] == payload["count"] else "DIFFERS from"
         lines.append(f"  published      {payload['published_count']} ({same} the count)")
@@ -52,7 +52,7 @@ def _atlas_summary(payload: dict) -> None:
 def atlas(
     links: Annotated[int, typer.Option("--links", help="Number of links n (frame counted); with --adjustable, n'.")],
     dof: Annotated[int, typer.Option("--dof", help="Mobility W; with --adjustable, W' of the adjustable chain.")] = 1,
-    adjustable: Annotated[Optional[int], typer.Option(
+    adjustable: Annotated[int | None, typer.Option(
         "--adjustable", help="m locked pairs: enumerate adjustable chains (seed Table 1).")] = None,
     output: OutOpt = None,
     no_plots: NoPlotsOpt = False,
@@ -68,7 +68,7 @@ def atlas(
     if as_json:
         print_json(report.payload)
     else:
-        _atlas_summary(report.payload)
+        _atlas_summary(report.payload, report.seconds)
 
 
 def _fgen_table(reports: list[dict]) -> str:
@@ -86,9 +86,10 @@ def _fgen_table(reports: list[dict]) -> str:
 
 
 def _fgen_summary(payload: dict) -> None:
-    lines = [f"camcad linkage fgen: {payload['function']} on [{payload['x'][0]:g}, {payload['x'][1]:g}], input "
-             f"{payload['input_range_deg']:g} deg, output {payload['output_range_deg']:g} deg, method "
-             f"{payload['method']}", _fgen_table([payload])]
+    head = (f"camcad linkage fgen: {payload['function']} on [{payload['x'][0]:g}, {payload['x'][1]:g}], input "
+            f"{payload['input_range_deg']:g} deg, output {payload['output_range_deg']:g} deg, method "
+            f"{payload['method']}")
+    lines = [head, _fgen_table([payload])]
     lines.append(f"  offsets        phi0 {payload['offsets_deg']['phi0']:.4f} deg, psi0 "
                  f"{payload['offsets_deg']['psi0']:.4f} deg, branch {payload['branch']:+d}, {payload['grashof']['class']}")
     lines.append("  nodes (deg)    " + ", ".join(f"{v:.4f}" for v in payload["nodes_deg"][:12])
@@ -115,31 +116,31 @@ def _fgen_summary(payload: dict) -> None:
 
 @linkage_app.command()
 def fgen(
-    function: Annotated[Optional[str], typer.Option("--function", help='y = f(x), e.g. "log10(x)" (x, pi, e, '
+    function: Annotated[str | None, typer.Option("--function", help='y = f(x), e.g. "log10(x)" (x, pi, e, '
                                                      '+-*/^, sin cos tan exp log log10 sqrt ...).')] = None,
-    table: Annotated[Optional[Path], typer.Option("--table", help="Two-column table x, y (.csv/.txt) instead of "
+    table: Annotated[Path | None, typer.Option("--table", help="Two-column table x, y (.csv/.txt) instead of "
                                                   "--function.")] = None,
-    x: Annotated[Optional[str], typer.Option("--x", help="Interval X0:X1 of x (default with --table: the "
+    x: Annotated[str | None, typer.Option("--x", help="Interval X0:X1 of x (default with --table: the "
                                              "table's range).")] = None,
-    input_range: Annotated[Optional[float], typer.Option("--input-range", help="Turn of the input link (deg, "
+    input_range: Annotated[float | None, typer.Option("--input-range", help="Turn of the input link (deg, "
                                                          "signed).")] = None,
-    output_range: Annotated[Optional[float], typer.Option("--output-range", help="Turn of the output link (deg, "
+    output_range: Annotated[float | None, typer.Option("--output-range", help="Turn of the output link (deg, "
                                                           "signed).")] = None,
     method: Annotated[str, typer.Option("--method", help="q (the seed's), precision, lsq, minimax, or all "
                                         "(compare the four).")] = "q",
-    nodes: Annotated[Optional[int], typer.Option("--nodes", help="q: S nodes (odd, default 5); precision: 3; "
+    nodes: Annotated[int | None, typer.Option("--nodes", help="q: S nodes (odd, default 5); precision: 3; "
                                                  "lsq: N points (default 41).")] = None,
     spacing: Annotated[str, typer.Option("--spacing", help="Nodes: chebyshev or uniform.")] = "chebyshev",
     mu_min: Annotated[float, typer.Option("--mu-min", help="Smallest transmission angle (deg).")] = 30.0,
     ratio_max: Annotated[float, typer.Option("--ratio-max", help="Largest link-length ratio.")] = 10.0,
     frame: Annotated[float, typer.Option("--frame", help="Frame length OC of the result (mm).")] = 100.0,
-    phi0: Annotated[Optional[float], typer.Option("--phi0", help="precision: input offset (deg); default "
+    phi0: Annotated[float | None, typer.Option("--phi0", help="precision: input offset (deg); default "
                                                   "scanned.")] = None,
-    psi0: Annotated[Optional[float], typer.Option("--psi0", help="precision: output offset (deg).")] = None,
+    psi0: Annotated[float | None, typer.Option("--psi0", help="precision: output offset (deg).")] = None,
     pick: Annotated[str, typer.Option("--pick", help="q, the seed's last step: centre of the Q rectangle, or "
                                       "search it for the least deviation.")] = "centre",
     seed: Annotated[int, typer.Option("--seed", help="q: random shift of the scan grid.")] = 0,
-    max_error: Annotated[Optional[float], typer.Option("--max-error", help="Also check the largest error "
+    max_error: Annotated[float | None, typer.Option("--max-error", help="Also check the largest error "
                                                        "(deg).")] = None,
     output: OutOpt = None,
     no_plots: NoPlotsOpt = False,

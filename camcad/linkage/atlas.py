@@ -24,10 +24,19 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from itertools import combinations
+from itertools import combinations, pairwise
 
 from ..errors import CamcadError
-from .graphs import LOCKED, ORDINARY, Chain, canonical_form, chain_problems, pairs_for, relabel, rigid_subchain
+from .graphs import (
+    LOCKED,
+    ORDINARY,
+    Chain,
+    canonical_form,
+    chain_problems,
+    pairs_for,
+    relabel,
+    rigid_subchain,
+)
 
 #: largest chains enumerated (links n = n' + m of the ordinary chain); 12-link 1-DOF chains (6856 of them)
 #: take minutes and cannot be drawn legibly, so the CLI refuses beyond this
@@ -177,7 +186,7 @@ def _expand(h: int, contracted: list[tuple[int, int]], counts: list[int]) -> tup
     for (i, j), k in zip(contracted, counts):
         path = [i] + list(range(nxt, nxt + k)) + [j]
         nxt += k
-        edges.extend((min(a, b), max(a, b)) for a, b in zip(path, path[1:]))
+        edges.extend((min(a, b), max(a, b)) for a, b in pairwise(path))
     return nxt, edges
 
 
@@ -405,6 +414,7 @@ class AtlasReport:
     chains: list[Chain]
     payload: dict
     adjustable: bool
+    seconds: float = 0.0
 
 
 def _discrepancy(key: tuple[int, int, int], result: AdjustableAtlas) -> str | None:
@@ -426,7 +436,8 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
     Payload keys: ``count``, ``chains`` (each: links, pairs, assortment, locked_pairs, adjustable_links,
     fractionated), ``rule``, ``seed_count`` (when Table 1 of the seed has the class), ``published_count``
     (ordinary chains with a published count), ``discrepancy`` (text, when the seed's count differs),
-    ``counts`` (under weaker rules), ``seconds``.
+    ``counts`` (under weaker rules). ``AtlasReport.seconds`` is the enumeration time (not in the payload,
+    so that the written files stay byte-identical).
 
     Examples
     --------
@@ -440,7 +451,7 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
         chains = result.chains
         payload = {"kind": "ordinary", "links": links, "dof": dof, "pairs": pairs_for(links, dof),
                    "count": len(chains), "rule": RULE_ORDINARY, "candidates": result.candidates,
-                   "seconds": result.seconds, "by_assortment": result.by_assortment}
+                   "by_assortment": result.by_assortment}
         if (links, dof) in PUBLISHED_ORDINARY:
             payload["published_count"] = PUBLISHED_ORDINARY[(links, dof)]
             payload["published_source"] = ("Tsai, Mechanism Design: Enumeration of Kinematic Structures According "
@@ -455,7 +466,7 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
                               "locked_pairs_forest": result.count_forest,
                               "contracted_connected_min_degree_2": result.count_contracted_connected_min2,
                               "contracted_simple": result.count_contracted_simple},
-                   "base_chains": result.base_chains, "colourings": result.colourings, "seconds": result.seconds}
+                   "base_chains": result.base_chains, "colourings": result.colourings}
         if result.seed_count is not None:
             payload["seed_count"] = result.seed_count
             payload["seed_source"] = "Sunkuev 1984, Table 1 (abstract, ch. 1)"
@@ -468,4 +479,4 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
         item["fractionated"] = cut
         items.append(item)
     payload["chains"] = items
-    return AtlasReport(chains, payload, adjustable is not None)
+    return AtlasReport(chains, payload, adjustable is not None, result.seconds)

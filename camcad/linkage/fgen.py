@@ -23,7 +23,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .fourbar import grashof, output_angle, output_derivatives, transmission_angle, worst_transmission_angle
+from .fourbar import (
+    grashof,
+    output_angle,
+    output_derivatives,
+    transmission_angle,
+    worst_transmission_angle,
+)
 from .target import Target
 
 #: points of the verification grid (uniform in φ, ends included)
@@ -54,7 +60,7 @@ class FunctionGenerator:
     def links(self) -> tuple[float, float, float, float]:
         return self.a, self.b, self.c, self.d
 
-    def scaled(self, frame: float) -> "FunctionGenerator":
+    def scaled(self, frame: float) -> FunctionGenerator:
         """The same mechanism with the frame length d = ``frame`` (angles unchanged)."""
         k = frame / self.d
         return replace(self, a=self.a * k, b=self.b * k, c=self.c * k, d=frame)

@@ -149,7 +149,6 @@ def _distances(n: int, edges) -> np.ndarray:
 
 
 def _smacof(pos: np.ndarray, dist: np.ndarray, iterations: int = 80) -> np.ndarray:
-    n = len(pos)
     x = pos.copy()
     weight = np.where(dist > 0, 1.0 / np.maximum(dist, 1e-9) ** 2, 0.0)
     vmat = -weight

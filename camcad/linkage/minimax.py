@@ -64,8 +64,8 @@ def _extrema(fg: FunctionGenerator, target: Target, work: Work) -> tuple[np.ndar
             continue
         sign = 1.0 if err[k] > 0 else -1.0
         lo, hi = sorted((phi[k - 1], phi[k + 1]))
-        res = minimize_scalar(lambda t: -sign * float(structural_error(fg, target, t, work)), bounds=(lo, hi),
-                              method="bounded", options={"xatol": 1e-13})
+        res = minimize_scalar(lambda t, s=sign: -s * float(structural_error(fg, target, t, work)),
+                              bounds=(lo, hi), method="bounded", options={"xatol": 1e-13})
         xs.append(res.x)
         es.append(-sign * res.fun)
     return np.array(xs), np.array(es)
@@ -130,7 +130,7 @@ def minimax_synthesis(target: Target, start: FunctionGenerator, work: Work, max_
         if len(xs) == 0:
             message = "the linkage does not close over the whole range"
             break
-        new_refs, new_es = _alternating(xs, es, count)
+        new_refs, _ = _alternating(xs, es, count)
         peak = float(np.max(np.abs(es)))
         if len(new_refs) < count:
             message = f"the error has only {len(new_refs)} alternating extrema"

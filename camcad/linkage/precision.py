@@ -75,7 +75,7 @@ def three_point(target: Target, nodes_phi, phi0: float, psi0: float, work: Work 
     got = output_angle(a, b, c, d, theta, sigma)
     if not np.all(np.isfinite(got)) or np.max(np.abs(np.angle(np.exp(1j * (got - beta))))) > 1e-6:
         return None
-    return FunctionGenerator(a, b, c, d, float(np.remainder(phi0, 2 * math.pi)),
+    return FunctionGenerator(float(a), b, float(c), d, float(np.remainder(phi0, 2 * math.pi)),
                              float(np.remainder(psi0, 2 * math.pi)), sigma)
 
 

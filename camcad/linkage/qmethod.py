@@ -215,7 +215,7 @@ class QProblem:
             b_k = c + rot[k] * (b_1 - c)
             return np.sign(((a_pts[k] - c).conj() * (b_k - c)).imag)
 
-        cands, oks, gaps = [], [], np.zeros(m)
+        cands, gaps = [], np.zeros(m)
         for subset in self.subsets:
             i, j = subset[1] - 1, subset[2] - 1
             z1, r1, z2, r2 = centres[i], radii[i], centres[j], radii[j]
@@ -422,8 +422,10 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
         chosen = list(starts)
         samples = 0
     if not chosen:
-        raise CamcadError("the Q method found no free parameters for which the pivot exists", "--method q",
-                          "loosen --ratio-max, check the ranges, or try --nodes 5")
+        raise CamcadError("no four-bar within the link-ratio limit has an output pivot through the nodes of this "
+                          "target (the Q method's circles never meet): the function may be beyond a four-bar",
+                          "--method q", "loosen --ratio-max, change the ranges, or see the best deviation fit with "
+                                        "--method lsq")
     runs = []
     best = None
     check = np.linspace(0.0, target.dphi, 41)

@@ -14,9 +14,9 @@ Angles are radians inside this module; the public attributes ending ``_deg`` are
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -86,7 +86,7 @@ def make_target(function: Callable, x0: float, x1: float, input_range_deg: float
     --------
     >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
     >>> round(math.degrees(float(t.psi(t.dphi))), 12), round(math.degrees(float(t.psi(t.dphi / 2))), 6)
-    (90.0, 52.643934)
+    (90.0, 52.646625)
     """
     for name, value in (("--x", x0), ("--x", x1), ("--input-range", input_range_deg),
                         ("--output-range", output_range_deg)):
@@ -115,7 +115,9 @@ def make_target(function: Callable, x0: float, x1: float, input_range_deg: float
         raise CamcadError(f"{label} is not strictly monotone on [{x0:g}, {x1:g}]: it turns near x = {grid[k]:.6g}",
                           where, "a function generator needs a monotone function: narrow --x to one monotone piece")
     if derivative is None:
-        def derivative(x, f=function, h=1e-5 * max(1.0, abs(x1 - x0))):
+        step = 1e-5 * max(1.0, abs(x1 - x0))
+
+        def derivative(x, f=function, h=step):
             x = np.asarray(x, dtype=float)
             return (f(x - 2 * h) - 8 * f(x - h) + 8 * f(x + h) - f(x + 2 * h)) / (12 * h)
     return Target(label, float(x0), float(x1), float(input_range_deg), float(output_range_deg), function, derivative,

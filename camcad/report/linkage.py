@@ -11,6 +11,7 @@ an adjustable link are filled vertices and its locked pairs thick edges.
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,18 @@ from ..io.jsonout import write_json
 
 PNG_METADATA = {"Software": None}
 FORBIDDEN = "#f4c7c3"
+
+
+def _write_dxf(path: Path, drawing: Drawing) -> Path:
+    """``write_dxf`` with ezdxf's fixed metadata (no creation time, no random GUIDs): byte-identical files."""
+    import ezdxf
+
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        return write_dxf(path, drawing)
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
 def _save_png(fig, path: Path, dpi: int = 130) -> Path:
@@ -86,7 +99,7 @@ def atlas_drawing(chains, layouts, title: str, adjustable: bool, cell_mm: float 
     thick: a closed outline 1.6 mm wide), ATLAS_ADJUSTABLE_LINK (links of an adjustable link drawn filled:
     concentric circles), ATLAS_TEXT (numbers and title).
     """
-    rows, cols = _grid(len(chains))
+    _, cols = _grid(len(chains))
     radius = 0.06 * cell_mm
     scale = 0.36 * cell_mm
     lines, circles, paths, texts = [], [], [], []
@@ -157,7 +170,7 @@ def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]
     layouts = [layout(chain.n, chain.edges) for chain in report.chains]
     title = atlas_title(payload)
     written = [write_text_atomic(out_dir / "atlas.csv", atlas_csv(payload)),
-               write_dxf(out_dir / "atlas.dxf", atlas_drawing(report.chains, layouts, title, report.adjustable))]
+               _write_dxf(out_dir / "atlas.dxf", atlas_drawing(report.chains, layouts, title, report.adjustable))]
     if plots:
         fig = atlas_figure(report.chains, layouts, title, report.adjustable)
         written.append(_save_png(fig, out_dir / "atlas.png", dpi=110 if len(report.chains) > 100 else 140))
@@ -366,7 +379,7 @@ def fgen_drawing(result) -> Drawing:
     for layer, theta in (("LINKS", fg.phi0), ("EXTREME_POSITIONS", fg.phi0 + t.dphi)):
         j = _positions(fg, theta)
         pts = [tuple(map(float, j[name])) for name in ("O", "A", "B", "C")]
-        for p, q in zip(pts, pts[1:]):
+        for p, q in pairwise(pts):
             lines.append(trimmed(layer, p, q))
         for p in pts:
             circles.append(DxfCircle("JOINTS", p, r))
@@ -379,12 +392,12 @@ def fgen_drawing(result) -> Drawing:
         paths.append(DxfPath("PATHS", np.asarray(j[name], dtype=float), False))
     texts.append(DxfText("TEXT", "O", (-3 * r, 1.5 * r), h))
     texts.append(DxfText("TEXT", "C", (fg.d + 1.5 * r, 1.5 * r), h))
+    offsets = (f"phi0 {math.degrees(fg.phi0) % 360:.3f} deg  psi0 {math.degrees(fg.psi0) % 360:.3f} deg  "
+               f"input {t.input_range_deg:g} deg  output {t.output_range_deg:g} deg")
+    accuracy = (f"max error {result.evaluation.max_error_deg:.4g} deg  min transmission angle "
+                f"{result.evaluation.mu_min_deg:.2f} deg")
     info = [f"four-bar function generator: {t.label}, x {t.x0:g}..{t.x1:g}, method {result.method}",
-            f"OA {fg.a:.3f}  AB {fg.b:.3f}  CB {fg.c:.3f}  OC {fg.d:.3f} mm",
-            f"phi0 {math.degrees(fg.phi0) % 360:.3f} deg  psi0 {math.degrees(fg.psi0) % 360:.3f} deg  "
-            f"input {t.input_range_deg:g} deg  output {t.output_range_deg:g} deg",
-            f"max error {result.evaluation.max_error_deg:.4g} deg  min transmission angle "
-            f"{result.evaluation.mu_min_deg:.2f} deg"]
+            f"OA {fg.a:.3f}  AB {fg.b:.3f}  CB {fg.c:.3f}  OC {fg.d:.3f} mm", offsets, accuracy]
     low = min(0.0, float(np.nanmin(np.r_[j["A"][:, 1], j["B"][:, 1]]))) - 6 * r
     for k, line in enumerate(info):
         texts.append(DxfText("TEXT", line, (0.0, low - k * 1.8 * h), h))
@@ -410,7 +423,7 @@ def write_fgen_outputs(out_dir: Path, result, payload: dict, plots: bool = True,
     pivots) into ``out_dir``; ``prefix`` names the files of one method when several are written."""
     out_dir = Path(out_dir)
     written = [write_text_atomic(out_dir / f"{prefix}error.csv", error_csv(result)),
-               write_dxf(out_dir / f"{prefix}linkage.dxf", fgen_drawing(result))]
+               _write_dxf(out_dir / f"{prefix}linkage.dxf", fgen_drawing(result))]
     if plots:
         written.append(_save_png(error_figure(result), out_dir / f"{prefix}error.png"))
         written.append(_save_png(positions_figure(result), out_dir / f"{prefix}positions.png"))
