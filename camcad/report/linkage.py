@@ -270,9 +270,10 @@ def pivot_figure(result):
     ax.annotate("B1", (b_1.real, b_1.imag), textcoords="offset points", xytext=(4, 4), fontsize=9)
     centre = np.array([(pts[:, 0].max() + pts[:, 0].min()) / 2, (pts[:, 1].max() + pts[:, 1].min()) / 2])
     ax.plot(*pts.T, "o", color="#c0392b", ms=5, label="pivots C of the subsets")
-    span = max(np.ptp(np.r_[pts[:, 0], 0, b_1.real]), np.ptp(np.r_[pts[:, 1], 0, b_1.imag]), 2.0)
-    mid = np.array([(max(pts[:, 0].max(), b_1.real, 1) + min(pts[:, 0].min(), b_1.real, 0)) / 2,
-                    (max(pts[:, 1].max(), b_1.imag, 0) + min(pts[:, 1].min(), b_1.imag, 0)) / 2])
+    xs_all = np.r_[pts[:, 0], 0.0, b_1.real, a_pts.real]
+    ys_all = np.r_[pts[:, 1], 0.0, b_1.imag, a_pts.imag]
+    span = max(np.ptp(xs_all), np.ptp(ys_all), 2.0)
+    mid = np.array([(xs_all.max() + xs_all.min()) / 2, (ys_all.max() + ys_all.min()) / 2])
     ax.set_xlim(mid[0] - 0.75 * span, mid[0] + 0.75 * span)
     ax.set_ylim(mid[1] - 0.75 * span, mid[1] + 0.75 * span)
     ax.set_aspect("equal")
@@ -281,14 +282,20 @@ def pivot_figure(result):
     ax.set_ylabel("y (crank lengths)")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
-    half = max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1]), 1e-12) * 1.6
+    # the zoom never goes below 1e-6 of the pivot's distance: below that the K pivots coincide for any drawing
+    # (and matplotlib cannot place ticks on a span near the floating-point resolution)
+    half = max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1]), 1e-6 * max(1.0, float(np.hypot(*pts.mean(axis=0))))) * 1.6
     zoom.add_patch(Rectangle((pts[:, 0].min(), pts[:, 1].min()), np.ptp(pts[:, 0]), np.ptp(pts[:, 1]),
                              fill=False, ls="--", color="black", lw=0.9))
     zoom.plot([pts[:, 0].min(), pts[:, 0].max()], [pts[:, 1].min(), pts[:, 1].max()], color="#c0392b", lw=1.4)
     labels = ["C" + "".join(str(i) for i in s) for s in result.q_subsets]
-    for (x, y), label in zip(pts, labels):
-        zoom.plot(x, y, "o", color="#c0392b", ms=6)
-        zoom.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=9)
+    if max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) < 0.05 * half:     # the pivots coincide at this scale
+        zoom.plot(*pts[0], "o", color="#c0392b", ms=6)
+        zoom.annotate(" = ".join(labels), tuple(pts[0]), textcoords="offset points", xytext=(6, 6), fontsize=9)
+    else:
+        for (x, y), label in zip(pts, labels):
+            zoom.plot(x, y, "o", color="#c0392b", ms=6)
+            zoom.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=9)
     zoom.plot(*centre, "+", color="black", ms=12, mew=1.5)
     zoom.annotate("pivot taken" if q.pick == "centre" else "rectangle centre", tuple(centre),
                   textcoords="offset points", xytext=(6, -14), fontsize=8)
