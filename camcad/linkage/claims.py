@@ -90,13 +90,15 @@ def _outcome(mech: FunctionGenerator | None, target: Target, limits: Limits, wor
 
 
 def summarise(rows: list[dict]) -> dict:
-    """Medians, best values, success counts and head-to-head wins of Q over each deviation method."""
+    """Medians, best values, success counts (admissible; within 1e-6 deg of the best of that method:
+    ``reaching_best``) and head-to-head wins of Q over each deviation method."""
     out = {"starts": len(rows)}
     for name in ("q", "max_deviation", "least_squares"):
         ok = [r[name]["max_error_deg"] for r in rows if r[name]["admissible"]]
         out[name] = {"admissible": len(ok),
                      "median_error_deg": statistics.median(ok) if ok else math.inf,
                      "best_error_deg": min(ok) if ok else math.inf,
+                     "reaching_best": sum(1 for e in ok if e <= min(ok) + 1e-6),
                      "median_positions": statistics.median(r[name]["positions"] for r in rows),
                      "median_evaluations": statistics.median(r[name]["evaluations"] for r in rows),
                      "median_seconds": statistics.median(r[name]["seconds"] for r in rows)}
