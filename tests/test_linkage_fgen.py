@@ -303,7 +303,7 @@ def test_docstring_examples_run():
 
     names = ["graphs", "atlas", "layout", "fourbar", "expr", "target", "fgen", "precision", "qmethod", "deviation",
              "minimax", "synthesis", "claims"]
-    for name in names:
-        module = importlib.import_module(f"camcad.linkage.{name}")
+    for name in [f"camcad.linkage.{n}" for n in names] + ["camcad.report.linkage"]:
+        module = importlib.import_module(name)
         failed, _ = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert failed == 0, name

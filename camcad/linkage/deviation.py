@@ -42,6 +42,19 @@ def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Li
     """Least-squares four-bar over ``points`` uniform points, from ``start`` (module docstring).
 
     Returns the mechanism with a = 1 (scale it with ``FunctionGenerator.scaled``).
+
+    Examples
+    --------
+    Started on the four-bar that made the target, it stays there (zero residual):
+
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> from camcad.linkage.target import make_target
+    >>> f = lambda x: output_angle(1.0, 3.0, 2.25, 2.5, 1.0 + x, 1) - output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1)
+    >>> t = make_target(f, 0.0, 1.0, math.degrees(1.0), math.degrees(f(1.0)), "four-bar")
+    >>> start = FunctionGenerator(1.0, 3.0, 2.25, 2.5, 1.0, output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1), 1)
+    >>> fg = least_squares_synthesis(t, start, Limits(), Work())
+    >>> [round(v, 9) for v in fg.links()]
+    [1.0, 3.0, 2.25, 2.5]
     """
     from scipy.optimize import least_squares
 
@@ -64,7 +77,21 @@ def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Li
 
 def max_deviation_synthesis(target: Target, start: FunctionGenerator, limits: Limits, work: Work,
                             points: int = 41, max_evaluations: int = 4000) -> FunctionGenerator:
-    """Minimise the maximum structural error over ``points`` uniform points by Nelder–Mead from ``start``."""
+    """Minimise the maximum structural error over ``points`` uniform points by Nelder–Mead from ``start``
+    (a = 1 in the result; N positions per value of the objective).
+
+    Examples
+    --------
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> from camcad.linkage.target import make_target
+    >>> f = lambda x: output_angle(1.0, 3.0, 2.25, 2.5, 1.0 + x, 1) - output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1)
+    >>> t = make_target(f, 0.0, 1.0, math.degrees(1.0), math.degrees(f(1.0)), "four-bar")
+    >>> start = FunctionGenerator(1.0, 3.0, 2.25, 2.5, 1.0, output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1), 1)
+    >>> w = Work()
+    >>> fg = max_deviation_synthesis(t, start, Limits(), w, max_evaluations=50)
+    >>> [round(v, 6) for v in fg.links()], w.positions % 41 <= 4 * w.objective_evaluations
+    ([1.0, 3.0, 2.25, 2.5], True)
+    """
     from scipy.optimize import minimize
 
     phi = np.linspace(0.0, target.dphi, points)

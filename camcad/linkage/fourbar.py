@@ -204,7 +204,14 @@ def output_derivatives(a: float, b: float, c: float, d: float, theta, branch: in
 
 def joints(a: float, b: float, c: float, d: float, theta, branch: int = 1) -> dict[str, np.ndarray]:
     """Joint positions O, A, B, C (each (N, 2), or (2,) for a scalar θ) in the frame of the module
-    docstring (O at the origin, C on +x)."""
+    docstring (O at the origin, C on +x); lengths in the links' unit.
+
+    Examples
+    --------
+    >>> j = joints(1.0, 3.0, 1.0, 3.0, math.pi / 2, branch=-1)
+    >>> [round(float(v), 12) for v in j["B"]]
+    [3.0, 1.0]
+    """
     theta = np.asarray(theta, dtype=float)
     beta = output_angle(a, b, c, d, theta, branch)
     zero = np.zeros_like(theta)

@@ -28,7 +28,6 @@ individualisation search that keeps the lexicographically smallest relabelled ad
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import combinations
 
 from ..errors import CamcadError
 
@@ -379,7 +378,13 @@ class Chain:
 
 
 def relabel(chain: Chain, order: tuple[int, ...]) -> Chain:
-    """``chain`` with vertex ``order[k]`` renamed k; edges re-sorted."""
+    """``chain`` with vertex ``order[k]`` renamed k; edges re-sorted.
+
+    Examples
+    --------
+    >>> relabel(Chain(3, ((0, 1), (1, 2))), (2, 1, 0)).edges
+    ((0, 1), (1, 2))
+    """
     position = {v: k for k, v in enumerate(order)}
 
     def edge(e):
@@ -390,13 +395,16 @@ def relabel(chain: Chain, order: tuple[int, ...]) -> Chain:
 
 
 def canonical_chain(chain: Chain) -> tuple[tuple, Chain]:
-    """(certificate, the chain relabelled in canonical order)."""
+    """(certificate, the chain relabelled in canonical order): isomorphic chains come out identical.
+
+    Examples
+    --------
+    >>> a = canonical_chain(Chain(4, ((0, 1), (0, 3), (1, 2), (2, 3)), locked=((0, 1),)))[1]
+    >>> b = canonical_chain(Chain(4, ((0, 2), (0, 3), (1, 2), (1, 3)), locked=((1, 3),)))[1]
+    >>> a == b
+    True
+    """
     locked = set(chain.locked)
     colours = [LOCKED if e in locked else ORDINARY for e in chain.edges]
     cert, order = canonical_form(chain.n, chain.edges, colours)
     return cert, relabel(chain, order)
-
-
-def edge_subsets(edges, m: int):
-    """All m-subsets of ``edges`` (in lexicographic order of positions)."""
-    return combinations(edges, m)

@@ -33,6 +33,8 @@ GRID = 2001
 
 @dataclass
 class MinimaxResult:
+    """The equal-ripple mechanism (a = 1), its level |E| (deg), the S + 1 references and the errors there."""
+
     mechanism: FunctionGenerator
     level_deg: float                   # |E|
     references_deg: list[float]        # the S + 1 reference points φ_j
@@ -98,6 +100,19 @@ def minimax_synthesis(target: Target, start: FunctionGenerator, work: Work, max_
     """Equal-ripple four-bar from ``start`` by the Remez exchange (module docstring).
 
     Returns the mechanism with a = 1.
+
+    Examples
+    --------
+    A target made by a four-bar is reproduced exactly: the level is zero.
+
+    >>> import math
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> from camcad.linkage.target import make_target
+    >>> f = lambda x: output_angle(1.0, 3.0, 2.25, 2.5, 1.0 + x, 1) - output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1)
+    >>> t = make_target(f, 0.0, 1.0, math.degrees(1.0), math.degrees(f(1.0)), "four-bar")
+    >>> start = FunctionGenerator(1.0, 3.0, 2.25, 2.5, 1.0, output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1), 1)
+    >>> minimax_synthesis(t, start, Work()).level_deg < 1e-9
+    True
     """
     from scipy.optimize import least_squares
 
@@ -113,6 +128,9 @@ def minimax_synthesis(target: Target, start: FunctionGenerator, work: Work, max_
     level = float(np.mean(np.abs(err0))) * (1.0 if err0[0] >= 0 else -1.0)
     fg = start
     message, converged, iteration = "iteration limit", False, 0
+    if len(es) and float(np.max(np.abs(es))) < 1e-13:
+        max_iterations = 0                   # the start reproduces the target: nothing to equalise
+        message, converged = "the start reproduces the target (zero error)", True
     for iteration in range(1, max_iterations + 1):
         signs = (-1.0) ** np.arange(count)
 

@@ -87,6 +87,16 @@ def precision_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, p
     ------
     CamcadError
         When no admissible mechanism exists for the given (or any scanned) offsets.
+
+    Examples
+    --------
+    >>> from camcad.linkage.fgen import nodes
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> w = Work()
+    >>> fg = precision_synthesis(t, nodes(3, t.dphi), Limits(), w, 45.0, 135.0)
+    >>> w.positions, float(np.max(np.abs(structural_error(fg, t, nodes(3, t.dphi))))) < 1e-12
+    (3, True)
     """
     if (phi0_deg is None) != (psi0_deg is None):
         raise CamcadError("give both offsets or neither", "--phi0/--psi0",

@@ -312,7 +312,19 @@ PENALTY_WEIGHT = 10.0
 
 def penalised(problem: QProblem, b: float, alpha: float) -> float:
     """Q + 10 × (violation of the transmission-angle margin in rad + violation of the log link-ratio
-    margin + violation of b's bounds): the exact-penalty objective the local search minimises."""
+    margin + violation of b's bounds): the exact-penalty objective the local search minimises.
+
+    Examples
+    --------
+    Within the limits it is Q itself:
+
+    >>> from camcad.linkage.fgen import nodes
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> p = QProblem(t, nodes(5, t.dphi), Limits(30.0, 10.0), Work())
+    >>> penalised(p, 1.3378, 3.5439) == p.state(1.3378, 3.5439).q
+    True
+    """
     st = problem.state(b, alpha)
     lo, hi = _bounds(problem.limits)
     bound = max(0.0, lo - b) + max(0.0, b - hi)
@@ -327,9 +339,20 @@ def _bounds(limits: Limits) -> tuple[float, float]:
 
 
 def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = True) -> tuple[np.ndarray, float]:
-    """Minimise the penalised Q from ``start`` = (b, α rad) by Nelder–Mead (log b, α), then, when K = 2
-    and Q is nearly zero, by Gauss–Newton on the vector C_145 − C_123 (whose length is Q), kept only if
-    it meets the limits. Returns ((b, α), penalised value)."""
+    """Minimise the penalised Q from ``start`` = (b, α rad) by Nelder–Mead (log b, α), finish on an active
+    limit with SLSQP, then, when K = 2 and Q is nearly zero, by Gauss–Newton on the vector C_145 − C_123
+    (whose length is Q), each kept only if it lowers the penalised Q. Returns ((b, α), penalised value).
+
+    Examples
+    --------
+    >>> from camcad.linkage.fgen import nodes
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> p = QProblem(t, nodes(5, t.dphi), Limits(30.0, 10.0), Work())
+    >>> x, value = local_minimum(p, (1.4, math.radians(214.0)))
+    >>> round(value, 7)
+    0.0009526
+    """
     from scipy.optimize import least_squares, minimize
 
     def objective(y):
@@ -377,7 +400,14 @@ def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = 
 
 def grid_minima(values: np.ndarray) -> list[tuple[int, int]]:
     """Cells (i, j) of a scan grid (rows: b, columns: α, α periodic) where the pivots exist (value <
-    PENALTY/2) and the value is not above any of the 8 neighbours': the discrete local minima, best first."""
+    PENALTY/2) and the value is not above any of the 8 neighbours': the discrete local minima, best first.
+
+    Examples
+    --------
+    >>> v = np.array([[5.0, 4.0, 6.0, 7.0], [8.0, 7.5, 6.5, 6.2], [7.0, 6.6, 6.3, 1.0]])
+    >>> grid_minima(v)
+    [(2, 3), (0, 1)]
+    """
     padded = np.pad(values, ((1, 1), (0, 0)), constant_values=np.inf)
     padded = np.concatenate([padded[:, -1:], padded, padded[:, :1]], axis=1)
     centre = padded[1:-1, 1:-1]
@@ -405,6 +435,20 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
     ``starts`` (b, α rad) replaces the scan by given starts (single local runs). Last step (seed):
     ``pick='centre'`` the centre of the rectangle, ``'search'`` the pivot of least maximum deviation
     inside it.
+
+    Examples
+    --------
+    A target made by the crank-rocker a = 1, b = 3, c = 2.25, d = 2.5: Q reaches zero and the pivot gives
+    the frame length back.
+
+    >>> from camcad.linkage.fgen import nodes
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> from camcad.linkage.target import make_target
+    >>> f = lambda x: output_angle(1.0, 3.0, 2.25, 2.5, 1.0 + x, 1) - output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1)
+    >>> t = make_target(f, 0.0, 1.0, math.degrees(1.0), math.degrees(f(1.0)), "four-bar")
+    >>> r = q_synthesis(t, nodes(5, t.dphi), Limits(30.0, 10.0), Work(), grid=(16, 32), keep=2)
+    >>> r.state.q < 1e-10, round(r.mechanism.d, 9)
+    (True, 2.5)
     """
     problem = QProblem(target, nodes_phi, limits, work)
     lo, hi = _bounds(limits)

@@ -128,7 +128,18 @@ def target_from_table(path: Path, x0: float | None, x1: float | None, input_rang
                       output_range_deg: float) -> Target:
     """A ``Target`` from a two-column table (x, y) read by ``camcad.io.table_read`` and interpolated by a
     not-a-knot cubic spline (its derivative is the spline's). --x defaults to the table's x-range and
-    must lie inside it."""
+    must lie inside it.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> folder = tempfile.mkdtemp()
+    >>> path = Path(folder) / "squares.csv"
+    >>> _ = path.write_text(chr(10).join(["x,y"] + [f"{k / 10},{(k / 10) ** 2}" for k in range(11)]))
+    >>> t = target_from_table(path, None, None, 60.0, 90.0)
+    >>> round(math.degrees(float(t.psi(t.dphi / 2))), 9)        # a cubic spline is exact for x^2: 90 * 0.25
+    22.5
+    """
     from scipy.interpolate import CubicSpline
 
     from ..io.table_read import read_table

@@ -51,7 +51,18 @@ def _grid(count: int) -> tuple[int, int]:
 
 
 def atlas_figure(chains, layouts, title: str, adjustable: bool):
-    """All chains of an atlas in one figure: a cell per chain, numbered as in the JSON list."""
+    """All chains of an atlas in one figure: a cell per chain, numbered as in the JSON list; adjustable
+    links as filled vertices and thick locked pairs (seed Fig. 2).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.layout import layout
+    >>> r = atlas(4, 1, adjustable=2)
+    >>> fig = atlas_figure(r.chains, [layout(c.n, c.edges) for c in r.chains], "n'=4, m=2", True)
+    >>> len(fig.axes), len(fig.axes[0].collections)
+    (1, 3)
+    """
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
 
@@ -98,6 +109,15 @@ def atlas_drawing(chains, layouts, title: str, adjustable: bool, cell_mm: float 
     Layers: ATLAS_PAIR (pairs, lines), ATLAS_LINK (links, circles), ATLAS_LOCKED_PAIR (locked pairs drawn
     thick: a closed outline 1.6 mm wide), ATLAS_ADJUSTABLE_LINK (links of an adjustable link drawn filled:
     concentric circles), ATLAS_TEXT (numbers and title).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.layout import layout
+    >>> r = atlas(4, 1, adjustable=1)                 # the five-bar with one locked pair
+    >>> d = atlas_drawing(r.chains, [layout(c.n, c.edges) for c in r.chains], "n'=4, m=1", True)
+    >>> len(d.lines), len(d.paths), len(d.circles)    # 4 free pairs, 1 locked band, 3 + 2 x 4 circles
+    (4, 1, 11)
     """
     _, cols = _grid(len(chains))
     radius = 0.06 * cell_mm
@@ -139,6 +159,14 @@ def atlas_drawing(chains, layouts, title: str, adjustable: bool, cell_mm: float 
 
 
 def atlas_csv(payload: dict) -> str:
+    """One CSV row per chain: index, links, pairs (u-v), assortment, locked pairs, fractionated.
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> atlas_csv(atlas(4, 1).payload).splitlines()[1]
+    '1,4,0-1 0-2 1-3 2-3,n2=4,,false'
+    """
     lines = ["index,links,pairs,assortment,locked_pairs,fractionated"]
     for item in payload["chains"]:
         pairs = " ".join(f"{u}-{v}" for u, v in item["pairs"])
@@ -149,6 +177,14 @@ def atlas_csv(payload: dict) -> str:
 
 
 def atlas_title(payload: dict) -> str:
+    """The atlas's title: class, count and the reference count (seed Table 1 or published).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> atlas_title(atlas(6, 1, adjustable=1).payload)
+    "adjustable chains n'=6, W'=1, m=1: 7 (seed Table 1: 7)"
+    """
     if payload["kind"] == "adjustable":
         head = (f"adjustable chains n'={payload['links']}, W'={payload['dof']}, m={payload['adjustable']}: "
                 f"{payload['count']}")
@@ -162,7 +198,16 @@ def atlas_title(payload: dict) -> str:
 
 
 def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]:
-    """Write atlas.json, atlas.csv, atlas.dxf and (unless ``plots`` is False) atlas.png into ``out_dir``."""
+    """Write atlas.json, atlas.csv, atlas.dxf and (unless ``plots`` is False) atlas.png into ``out_dir``
+    (atomically, byte-identical for the same input); returns the paths.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from camcad.linkage.atlas import atlas
+    >>> sorted(p.name for p in write_atlas_outputs(Path(tempfile.mkdtemp()), atlas(4, 1), plots=False))
+    ['atlas.csv', 'atlas.dxf', 'atlas.json']
+    """
     from ..linkage.layout import layout
 
     out_dir = Path(out_dir)
@@ -185,7 +230,18 @@ def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]
 
 def error_figure(result):
     """Structural error (deg) against the input angle with the nodes marked, and the transmission angle
-    with its limit."""
+    with its limit (forbidden bands shaded).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> [ax.get_ylabel() for ax in error_figure(r).axes[:2]]
+    ['output angle error Δψ (deg)', 'μ (deg)']
+    """
     from matplotlib.figure import Figure
 
     ev, t = result.evaluation, result.target
@@ -237,7 +293,18 @@ def error_figure(result):
 
 def pivot_figure(result):
     """The Q method's signature picture: the circles of possible output pivots (one per node ≥ 2), the K
-    pivots of the node subsets, their bounding rectangle and its diagonal Q (zoomed on the right)."""
+    pivots of the node subsets, their bounding rectangle and its diagonal Q (zoomed on the right).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> fig = pivot_figure(synthesize(t, FgenOptions(method="q")))
+    >>> fig.axes[1].get_title()
+    'zoom: Q = diagonal = 9.526e-04 crank lengths (2 subsets)'
+    """
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Rectangle
 
@@ -318,7 +385,18 @@ def _positions(fg, theta):
 
 
 def positions_figure(result):
-    """The linkage in its two extreme positions of the working range (and faint intermediate ones)."""
+    """The linkage in its two extreme positions of the working range (and faint intermediate ones), in mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> positions_figure(r).axes[0].get_xlabel()
+    'x (mm)'
+    """
     from matplotlib.figure import Figure
 
     fg, t = result.mechanism, result.target
@@ -360,7 +438,19 @@ def positions_figure(result):
 
 def fgen_drawing(result) -> Drawing:
     """The kinematic diagram as DXF: FRAME (frame line and ground marks), LINKS (first position),
-    EXTREME_POSITIONS (last position), JOINTS (pair circles), PATHS (paths of A and B), TEXT."""
+    EXTREME_POSITIONS (last position), JOINTS (pair circles), PATHS (paths of A and B), TEXT; mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> d = fgen_drawing(r)
+    >>> sorted({x.layer for x in d.lines}), len(d.circles), len(d.paths)
+    (['EXTREME_POSITIONS', 'FRAME', 'LINKS'], 8, 2)
+    """
     fg, t = result.mechanism, result.target
     scale = max(fg.a, fg.b, fg.c, fg.d)
     r = 0.025 * scale
@@ -413,6 +503,18 @@ def fgen_drawing(result) -> Drawing:
 
 
 def error_csv(result) -> str:
+    """The structural error as CSV: φ (deg), x, ψ_target and ψ of the mechanism (deg), error (deg).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> error_csv(r).splitlines()[1]
+    'phi_deg,x,psi_target_deg,psi_deg,error_deg'
+    """
     ev, t = result.evaluation, result.target
     phi = ev.phi[::10] if len(ev.phi) > 1000 else ev.phi
     err = ev.error[::10] if len(ev.phi) > 1000 else ev.error
@@ -427,7 +529,21 @@ def error_csv(result) -> str:
 
 def write_fgen_outputs(out_dir: Path, result, payload: dict, plots: bool = True, prefix: str = "") -> list[Path]:
     """Write fgen.json, error.csv, linkage.dxf and the PNG plots (error, positions and, for the Q method,
-    pivots) into ``out_dir``; ``prefix`` names the files of one method when several are written."""
+    pivots) into ``out_dir``; ``prefix`` names the files of one method when several are written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from camcad.linkage.synthesis import report
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> files = write_fgen_outputs(Path(tempfile.mkdtemp()), r, report(r), plots=False)
+    >>> sorted(p.name for p in files)
+    ['error.csv', 'fgen.json', 'linkage.dxf']
+    """
     out_dir = Path(out_dir)
     written = [write_text_atomic(out_dir / f"{prefix}error.csv", error_csv(result)),
                _write_dxf(out_dir / f"{prefix}linkage.dxf", fgen_drawing(result))]
