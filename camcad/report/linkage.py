@@ -68,8 +68,9 @@ def atlas_figure(chains, layouts, title: str, adjustable: bool):
 
     rows, cols = _grid(len(chains))
     cell = 1.15 if len(chains) <= 60 else 0.85
-    fig = Figure(figsize=(max(4.0, cols * cell), rows * cell + 0.7))
-    ax = fig.add_axes((0.005, 0.005, 0.99, 1 - 0.55 / (rows * cell + 0.7)))
+    head = 0.95 if adjustable else 0.7
+    fig = Figure(figsize=(max(6.5, cols * cell), rows * cell + head))
+    ax = fig.add_axes((0.005, 0.005, 0.99, 1 - (head - 0.1) / (rows * cell + head)))
     ax.set_axis_off()
     ax.set_aspect("equal")
     thin, thick, points, fills = [], [], [], []
@@ -91,14 +92,17 @@ def atlas_figure(chains, layouts, title: str, adjustable: bool):
         ax.add_collection(LineCollection(thick, colors="black", linewidths=3.0, zorder=1))
     ax.set_xlim(-1.6, cols * 3.0 - 1.4)
     ax.set_ylim(-(rows - 1) * 3.0 - 1.6, 1.6)
-    # vertex size: a radius of 0.16 cell units in points (the axes fill the figure's width)
-    width_pt = fig.get_figwidth() * 72 * 0.99
-    radius_pt = 0.16 * width_pt / (cols * 3.0 + 0.2)
+    # vertex size: a radius of 0.16 data units in points (equal aspect: the tighter of the two scales)
+    box = ax.get_position()
+    x_range = cols * 3.0 - 1.4 + 1.6
+    y_range = (rows - 1) * 3.0 + 3.2
+    per_unit = min(box.width * fig.get_figwidth() * 72 / x_range, box.height * fig.get_figheight() * 72 / y_range)
+    radius_pt = 0.16 * per_unit
     pts = np.array(points)
     ax.scatter(pts[:, 0], pts[:, 1], s=(2 * radius_pt) ** 2, c=fills, edgecolors="black", linewidths=0.8, zorder=2)
     legend = "links: vertices, pairs: edges"
     if adjustable:
-        legend += "; adjustable link: filled vertices and thick (locked) pairs, seed Fig. 2"
+        legend += "\nadjustable link: filled vertices and thick (locked) pairs (seed Fig. 2)"
     fig.suptitle(f"{title}\n{legend}", fontsize=9)
     return fig
 
