@@ -38,8 +38,9 @@ def _penalty(fg: FunctionGenerator, target: Target, limits: Limits, work: Work) 
 
 
 def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Limits, work: Work,
-                            points: int = 41) -> FunctionGenerator:
-    """Least-squares four-bar over ``points`` uniform points, from ``start`` (module docstring).
+                            points: int = 41, phi=None) -> FunctionGenerator:
+    """Least-squares four-bar over ``points`` uniform points (or the given ``phi``, rad), from ``start``
+    (module docstring).
 
     Returns the mechanism with a = 1 (scale it with ``FunctionGenerator.scaled``).
 
@@ -58,7 +59,7 @@ def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Li
     """
     from scipy.optimize import least_squares
 
-    phi = np.linspace(0.0, target.dphi, points)
+    phi = np.linspace(0.0, target.dphi, points) if phi is None else np.asarray(phi, dtype=float)
     branch = start.branch
 
     def residuals(x):

@@ -141,7 +141,7 @@ def synthesize(target: Target, options: FgenOptions) -> FgenResult:
             points = options.nodes or DEFAULT_LSQ_POINTS
             node_phi = nodes(points, target.dphi, options.spacing)
             before = work.positions
-            fg = least_squares_synthesis(target, fg, limits, work, points)
+            fg = least_squares_synthesis(target, fg, limits, work, points, phi=node_phi)
             breakdown["least squares"] = work.positions - before
     else:
         count = options.nodes or 5
