@@ -1,0 +1,272 @@
+"""A four-bar as a function generator: its structural error against a target, its checks, its nodes.
+
+The mechanism (``FunctionGenerator``) is the four-bar of ``camcad.linkage.fourbar`` with two angle
+offsets: the input link stands at θ = φ0 + φ and the output link at β = ψ0 + ψ when the target's
+input coordinate is φ (``camcad.linkage.target``). The *structural error* is
+
+    Δψ(φ) = β(φ0 + φ) − ψ0 − ψ_target(φ)   (wrapped to (−π, π]),
+
+the output angle the mechanism gives minus the one the function asks for. Scheme parameters:
+a, b, c, d (up to scale: three ratios), φ0 and ψ0 — S = 5 (Sunkuev 1984 ch. 2: S is the number of
+parameters of the kinematic scheme).
+
+Every synthesis method counts the *position computations* it makes (``Work``): one position is
+the configuration of the linkage at one input angle (an output angle from the loop closure, or a
+transmission angle from the diagonal). The verification of a result on a dense grid is counted
+apart (``evaluate``), the same for every method.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from camcad.linkage.fourbar import (
+    grashof,
+    output_angle,
+    output_derivatives,
+    transmission_angle,
+    worst_transmission_angle,
+)
+from camcad.linkage.target import Target
+
+#: points of the verification grid (uniform in φ, ends included)
+CHECK_POINTS = 2001
+
+
+@dataclass
+class Work:
+    """Counters of a synthesis run: position computations and objective evaluations."""
+
+    positions: int = 0
+    objective_evaluations: int = 0
+    notes: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class FunctionGenerator:
+    """A four-bar function generator: links a, b, c, d (one length unit), offsets φ0, ψ0 (rad), branch ±1."""
+
+    a: float
+    b: float
+    c: float
+    d: float
+    phi0: float
+    psi0: float
+    branch: int
+
+    def links(self) -> tuple[float, float, float, float]:
+        return self.a, self.b, self.c, self.d
+
+    def scaled(self, frame: float) -> FunctionGenerator:
+        """The same mechanism with the frame length d = ``frame`` (angles unchanged)."""
+        k = frame / self.d
+        return replace(self, a=self.a * k, b=self.b * k, c=self.c * k, d=frame)
+
+    def output(self, phi, work: Work | None = None):
+        """β(φ0 + φ), rad; counts the positions in ``work``."""
+        phi = np.asarray(phi, dtype=float)
+        if work is not None:
+            work.positions += int(phi.size)
+        return output_angle(self.a, self.b, self.c, self.d, self.phi0 + phi, self.branch)
+
+
+def wrap(angle):
+    """Angle wrapped to (−π, π].
+
+    Examples
+    --------
+    >>> round(float(wrap(3 * math.pi / 2)), 12) == round(-math.pi / 2, 12)
+    True
+    """
+    return -np.remainder(-np.asarray(angle, dtype=float) + math.pi, 2 * math.pi) + math.pi
+
+
+def structural_error(fg: FunctionGenerator, target: Target, phi, work: Work | None = None):
+    """Structural error Δψ(φ) = β(φ0 + φ) − ψ0 − ψ_target(φ), rad, wrapped to (−π, π]; NaN where
+    the linkage does not close (Sunkuev 1984 ch. 2: the deviation of the reproduced from the given
+    dependence). Counts ``len(phi)`` positions in ``work``.
+
+    Examples
+    --------
+    A parallelogram (β = θ on branch −1) judged against ψ = φ has no error:
+
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(lambda x: x, 0.0, 1.0, 60.0, 60.0, "x")
+    >>> fg = FunctionGenerator(1.0, 3.0, 1.0, 3.0, 0.5, 0.5, -1)
+    >>> w = Work()
+    >>> float(np.max(np.abs(structural_error(fg, t, np.linspace(0, t.dphi, 5), w)))) < 1e-12, w.positions
+    (True, 5)
+    """
+    return wrap(fg.output(phi, work) - fg.psi0 - target.psi(phi))
+
+
+def error_slope(fg: FunctionGenerator, target: Target, phi, work: Work | None = None):
+    """dΔψ/dφ = β'(θ) − ψ_target'(φ) with the exact β' of ``fourbar.output_derivatives`` (dimensionless).
+
+    Examples
+    --------
+    The parallelogram against ψ = φ: slope 0.
+
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(lambda x: x, 0.0, 1.0, 60.0, 60.0, "x", derivative=lambda x: np.ones_like(x))
+    >>> fg = FunctionGenerator(1.0, 3.0, 1.0, 3.0, 0.5, 0.5, -1)
+    >>> abs(float(error_slope(fg, t, 0.3))) < 1e-12
+    True
+    """
+    phi = np.asarray(phi, dtype=float)
+    if work is not None:
+        work.positions += int(phi.size)
+    _, d_beta, _ = output_derivatives(fg.a, fg.b, fg.c, fg.d, fg.phi0 + phi, fg.branch)
+    return d_beta - target.dpsi_dphi(phi)
+
+
+def nodes(count: int, span: float, spacing: str = "chebyshev") -> np.ndarray:
+    """``count`` interpolation nodes on [0, span] (rad or deg alike).
+
+    Chebyshev spacing: φ_k = span (1 − cos((2k − 1)π/(2 count)))/2, k = 1..count (the zeros of
+    the Chebyshev polynomial mapped to the interval, Freudenstein's usual choice of precision
+    points); uniform: φ_k = span (k − ½)/count.
+
+    Examples
+    --------
+    >>> [round(float(v), 4) for v in nodes(3, 60.0)]
+    [4.0192, 30.0, 55.9808]
+    """
+    k = np.arange(1, count + 1)
+    if spacing == "chebyshev":
+        return span * (1.0 - np.cos((2 * k - 1) * np.pi / (2 * count))) / 2.0
+    if spacing == "uniform":
+        return span * (k - 0.5) / count
+    raise ValueError(f"unknown spacing {spacing!r}")
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Design limits: smallest transmission angle μ_min (deg) and largest link ratio max/min."""
+
+    mu_min_deg: float = 30.0
+    ratio_max: float = 10.0
+
+    def ratio_margin(self, fg: FunctionGenerator) -> float:
+        """log(ratio_max) − log(max link / min link) (≥ 0: within the limit)."""
+        links = fg.links()
+        return math.log(self.ratio_max) - math.log(max(links) / min(links))
+
+    def mu_margin(self, fg: FunctionGenerator, target: Target, work: Work | None = None) -> float:
+        """Worst min(μ, 180° − μ) over the working range minus μ_min, rad (closed form, ≤ 4 positions);
+        −1 when the linkage does not close somewhere in the range."""
+        lo = fg.phi0 + min(0.0, target.dphi)
+        hi = fg.phi0 + max(0.0, target.dphi)
+        if work is not None:
+            work.positions += 2 + sum(1 for base in (0.0, math.pi)
+                                      for k in range(math.ceil((lo - base) / (2 * math.pi)),
+                                                     math.floor((hi - base) / (2 * math.pi)) + 1))
+        worst = worst_transmission_angle(fg.a, fg.b, fg.c, fg.d, lo, hi)
+        return -1.0 if math.isnan(worst) else worst - math.radians(self.mu_min_deg)
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """A mechanism checked on the dense grid (``CHECK_POINTS`` points over the working range)."""
+
+    phi: np.ndarray              # rad
+    error: np.ndarray            # rad
+    max_error_deg: float
+    rms_error_deg: float
+    mu_min_deg: float            # worst min(μ, 180 − μ) over the range, closed form
+    mu_min_at_deg: float         # input coordinate φ where it occurs (grid)
+    branch_continuous: bool
+    largest_step_deg: float      # largest change of β between neighbouring grid points
+    step_bound_deg: float        # what a continuous motion allows: 1.5 max|β'| h
+    grashof: str
+    grashof_margin: float
+    extrema: list[tuple[float, float]]   # (φ deg, error deg) at the local extrema of the error, ends included
+    positions: int               # position computations of this check
+
+
+def _local_extrema(phi: np.ndarray, err: np.ndarray) -> list[int]:
+    """Indices of local extrema of ``err`` on the grid, both ends included."""
+    idx = [0]
+    d = np.diff(err)
+    for k in range(1, len(err) - 1):
+        if d[k - 1] * d[k] < 0 or (d[k - 1] != 0 and d[k] == 0):
+            idx.append(k)
+    idx.append(len(err) - 1)
+    return idx
+
+
+def evaluate(fg: FunctionGenerator, target: Target, points: int = CHECK_POINTS) -> Evaluation:
+    """Check a function generator on a dense grid: structural error, transmission angle, branch.
+
+    The branch is continuous when the linkage closes at every grid point and no step of the output
+    angle between neighbours exceeds 1.5 × max|β'| × h (the exact β' of ``output_derivatives``): a
+    jump would mean the loop closure passed to the other assembly branch.
+
+    Examples
+    --------
+    A four-bar judged against its own position function has no error:
+
+    >>> from camcad.linkage.target import make_target
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> fg = FunctionGenerator(1.0, 3.0, 2.5, 3.0, 1.0, 0.0, 1)
+    >>> beta0 = output_angle(1.0, 3.0, 2.5, 3.0, 1.0, 1)
+    >>> t = make_target(lambda x: output_angle(1.0, 3.0, 2.5, 3.0, 1.0 + x, 1), 0.0, 0.5,
+    ...                 math.degrees(0.5), math.degrees(output_angle(1.0, 3.0, 2.5, 3.0, 1.5, 1) - beta0), "self")
+    >>> fg = FunctionGenerator(1.0, 3.0, 2.5, 3.0, 1.0, beta0, 1)
+    >>> evaluate(fg, t).max_error_deg < 1e-9
+    True
+    """
+    phi = np.linspace(0.0, target.dphi, points)
+    work = Work()
+    beta = fg.output(phi, work)
+    err = wrap(beta - fg.psi0 - target.psi(phi))
+    finite = np.isfinite(err)
+    _, d_beta, _ = output_derivatives(fg.a, fg.b, fg.c, fg.d, fg.phi0 + phi, fg.branch)
+    work.positions += points
+    h = abs(phi[1] - phi[0])
+    steps = np.abs(wrap(np.diff(beta)))
+    bound = 1.5 * np.nanmax(np.abs(d_beta)) * h if finite.any() else 0.0
+    continuous = bool(finite.all() and np.all(np.isfinite(d_beta)) and steps.max() <= bound + 1e-15)
+    mu = transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + phi)
+    dev = np.minimum(mu, math.pi - mu)
+    worst = worst_transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + min(0.0, target.dphi),
+                                     fg.phi0 + max(0.0, target.dphi))
+    g = grashof(fg.a, fg.b, fg.c, fg.d)
+    if finite.all():
+        ext = _local_extrema(phi, err)
+        extrema = [(math.degrees(phi[k]), math.degrees(err[k])) for k in ext]
+        max_err = float(np.max(np.abs(err)))
+        rms = float(np.sqrt(np.trapezoid(err ** 2, phi) / (phi[-1] - phi[0])))
+    else:
+        extrema, max_err, rms = [], float("inf"), float("inf")
+    k_mu = int(np.nanargmin(dev)) if np.isfinite(dev).any() else 0
+    return Evaluation(phi, err, math.degrees(max_err), math.degrees(rms),
+                      math.degrees(worst) if math.isfinite(worst) else float("nan"), math.degrees(phi[k_mu]),
+                      continuous, float(np.degrees(steps.max())) if steps.size else 0.0, float(np.degrees(bound)),
+                      g.name, g.margin, extrema, work.positions)
+
+
+def from_pivots(a_point: complex, b_point: complex, c_point: complex, phi_1: float, psi_1: float) -> FunctionGenerator:
+    """The function generator whose input pivot is the origin, whose crank end A and coupler end B stand
+    at ``a_point``, ``b_point`` (complex, any frame) when φ = ``phi_1``, and whose output pivot is
+    ``c_point``; ψ0 makes node 1 exact (ψ(φ_1) = ``psi_1``).
+
+    Examples
+    --------
+    >>> fg = from_pivots(1 + 0j, 1 + 3j, 3 + 0j, 0.0, 0.0)
+    >>> [round(v, 12) for v in fg.links()], fg.branch
+    ([1.0, 3.0, 3.605551275464, 3.0], -1)
+    """
+    frame = math.atan2(c_point.imag, c_point.real)
+    turn = complex(math.cos(-frame), math.sin(-frame))
+    a_l, b_l, c_l = a_point * turn, b_point * turn, c_point * turn
+    a = abs(a_l)
+    d = c_l.real
+    theta_1 = math.atan2(a_l.imag, a_l.real)
+    beta_1 = math.atan2((b_l - c_l).imag, (b_l - c_l).real)
+    cross = ((a_l - c_l).conjugate() * (b_l - c_l)).imag
+    return FunctionGenerator(a, abs(b_l - a_l), abs(b_l - c_l), d, theta_1 - phi_1, beta_1 - psi_1,
+                             1 if cross > 0 else -1)

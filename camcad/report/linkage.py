@@ -1,0 +1,561 @@
+"""Plots, drawings and output files of ``camcad linkage`` (atlas and fgen).
+
+Figures are ``matplotlib.figure.Figure`` objects (Agg, no pyplot state); DXF drawings are
+``camcad.io.dxf_write.Drawing`` objects; ``write_atlas_outputs`` and ``write_fgen_outputs`` write a
+command's files atomically into its output folder. Same input, same bytes: no timestamps.
+
+Atlas diagrams follow the seed's Fig. 2 convention: links are vertices, pairs are edges; the links of
+an adjustable link are filled vertices and its locked pairs thick edges.
+"""
+
+from __future__ import annotations
+
+import math
+from itertools import pairwise
+from pathlib import Path
+
+import numpy as np
+
+from camcad.io.atomic import write_atomic, write_text_atomic
+from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfText, write_dxf
+from camcad.io.jsonout import write_json
+
+PNG_METADATA = {"Software": None}
+FORBIDDEN = "#f4c7c3"
+
+
+def _write_dxf(path: Path, drawing: Drawing) -> Path:
+    """``write_dxf`` with ezdxf's fixed metadata (no creation time, no random GUIDs): byte-identical files."""
+    import ezdxf
+
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        return write_dxf(path, drawing)
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
+
+
+def _save_png(fig, path: Path, dpi: int = 130) -> Path:
+    return write_atomic(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi, metadata=PNG_METADATA))
+
+
+# --------------------------------------------------------------------------------------------
+# Atlas
+# --------------------------------------------------------------------------------------------
+
+def _grid(count: int) -> tuple[int, int]:
+    cols = max(1, min(count, math.ceil(math.sqrt(count * 1.4))))
+    rows = math.ceil(count / cols)
+    return rows, cols
+
+
+def atlas_figure(chains, layouts, title: str, adjustable: bool):
+    """All chains of an atlas in one figure: a cell per chain, numbered as in the JSON list; adjustable
+    links as filled vertices and thick locked pairs (seed Fig. 2).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.layout import layout
+    >>> r = atlas(4, 1, adjustable=2)
+    >>> fig = atlas_figure(r.chains, [layout(c.n, c.edges) for c in r.chains], "n'=4, m=2", True)
+    >>> len(fig.axes), len(fig.axes[0].collections)
+    (1, 3)
+    """
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+
+    rows, cols = _grid(len(chains))
+    cell = 1.15 if len(chains) <= 60 else 0.85
+    head = 0.95 if adjustable else 0.7
+    fig = Figure(figsize=(max(6.5, cols * cell), rows * cell + head))
+    ax = fig.add_axes((0.005, 0.005, 0.99, 1 - (head - 0.1) / (rows * cell + head)))
+    ax.set_axis_off()
+    ax.set_aspect("equal")
+    thin, thick, points, fills = [], [], [], []
+    for k, (chain, pos) in enumerate(zip(chains, layouts)):
+        r, c = divmod(k, cols)
+        origin = np.array([c * 3.0, -r * 3.0])
+        p = pos * 1.05 + origin
+        locked = set(chain.locked)
+        for e in chain.edges:
+            (thick if e in locked else thin).append([p[e[0]], p[e[1]]])
+        filled = {v for e in chain.locked for v in e}
+        for v in range(chain.n):
+            points.append(p[v])
+            fills.append("black" if v in filled else "white")
+        ax.text(origin[0] - 1.35, origin[1] + 1.2, str(k + 1), fontsize=6 if len(chains) > 60 else 7,
+                color="#555555", va="center")
+    ax.add_collection(LineCollection(thin, colors="black", linewidths=0.8, zorder=1))
+    if thick:
+        ax.add_collection(LineCollection(thick, colors="black", linewidths=3.0, zorder=1))
+    ax.set_xlim(-1.6, cols * 3.0 - 1.4)
+    ax.set_ylim(-(rows - 1) * 3.0 - 1.6, 1.6)
+    # vertex size: a radius of 0.16 data units in points (equal aspect: the tighter of the two scales)
+    box = ax.get_position()
+    x_range = cols * 3.0 - 1.4 + 1.6
+    y_range = (rows - 1) * 3.0 + 3.2
+    per_unit = min(box.width * fig.get_figwidth() * 72 / x_range, box.height * fig.get_figheight() * 72 / y_range)
+    radius_pt = 0.16 * per_unit
+    pts = np.array(points)
+    ax.scatter(pts[:, 0], pts[:, 1], s=(2 * radius_pt) ** 2, c=fills, edgecolors="black", linewidths=0.8, zorder=2)
+    legend = "links: vertices, pairs: edges"
+    if adjustable:
+        legend += "\nadjustable link: filled vertices and thick (locked) pairs (seed Fig. 2)"
+    fig.suptitle(f"{title}\n{legend}", fontsize=9)
+    return fig
+
+
+def atlas_drawing(chains, layouts, title: str, adjustable: bool, cell_mm: float = 40.0) -> Drawing:
+    """The atlas as a DXF drawing: one diagram per chain in a grid of ``cell_mm`` cells.
+
+    Layers: ATLAS_PAIR (pairs, lines), ATLAS_LINK (links, circles), ATLAS_LOCKED_PAIR (locked pairs drawn
+    thick: a closed outline 1.6 mm wide), ATLAS_ADJUSTABLE_LINK (links of an adjustable link drawn filled:
+    concentric circles), ATLAS_TEXT (numbers and title).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.layout import layout
+    >>> r = atlas(4, 1, adjustable=1)                 # the five-bar with one locked pair
+    >>> d = atlas_drawing(r.chains, [layout(c.n, c.edges) for c in r.chains], "n'=4, m=1", True)
+    >>> len(d.lines), len(d.paths), len(d.circles)    # 4 free pairs, 1 locked band, 3 + 2 x 4 circles
+    (4, 1, 11)
+    """
+    _, cols = _grid(len(chains))
+    radius = 0.06 * cell_mm
+    scale = 0.36 * cell_mm
+    lines, circles, paths, texts = [], [], [], []
+    for k, (chain, pos) in enumerate(zip(chains, layouts)):
+        r, c = divmod(k, cols)
+        origin = np.array([c * cell_mm, -r * cell_mm])
+        p = pos * scale + origin
+        locked = set(chain.locked)
+        filled = {v for e in chain.locked for v in e}
+        for u, v in chain.edges:
+            a, b = p[u], p[v]
+            d = b - a
+            length = float(np.hypot(*d))
+            if length == 0:
+                continue
+            unit = d / length
+            start, end = a + unit * radius, b - unit * radius
+            if (u, v) in locked:
+                normal = np.array([-unit[1], unit[0]]) * 0.8
+                band = np.array([start + normal, end + normal, end - normal, start - normal])
+                paths.append(DxfPath("ATLAS_LOCKED_PAIR", band, True))
+            else:
+                lines.append(DxfLine("ATLAS_PAIR", tuple(start), tuple(end)))
+        for v in range(chain.n):
+            centre = (float(p[v][0]), float(p[v][1]))
+            if v in filled:
+                for f in (1.0, 0.75, 0.5, 0.25):
+                    circles.append(DxfCircle("ATLAS_ADJUSTABLE_LINK", centre, radius * f))
+            else:
+                circles.append(DxfCircle("ATLAS_LINK", centre, radius))
+        texts.append(DxfText("ATLAS_TEXT", str(k + 1), (float(origin[0] - 0.48 * cell_mm),
+                                                         float(origin[1] + 0.4 * cell_mm)), 2.5))
+    texts.append(DxfText("ATLAS_TEXT", title, (-0.5 * cell_mm, 0.62 * cell_mm), 3.5))
+    layers = ("ATLAS_PAIR", "ATLAS_LINK", "ATLAS_TEXT") + (("ATLAS_LOCKED_PAIR", "ATLAS_ADJUSTABLE_LINK")
+                                                           if adjustable else ())
+    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(lines), texts=tuple(texts), layers=layers)
+
+
+def atlas_csv(payload: dict) -> str:
+    """One CSV row per chain: index, links, pairs (u-v), assortment, locked pairs, fractionated.
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> atlas_csv(atlas(4, 1).payload).splitlines()[1]
+    '1,4,0-1 0-2 1-3 2-3,n2=4,,false'
+    """
+    lines = ["index,links,pairs,assortment,locked_pairs,fractionated"]
+    for item in payload["chains"]:
+        pairs = " ".join(f"{u}-{v}" for u, v in item["pairs"])
+        locked = " ".join(f"{u}-{v}" for u, v in item.get("locked_pairs", []))
+        assortment = " ".join(f"n{k}={v}" for k, v in item["assortment"].items())
+        lines.append(f"{item['index']},{item['links']},{pairs},{assortment},{locked},{str(item['fractionated']).lower()}")
+    return "\n".join(lines) + "\n"
+
+
+def atlas_title(payload: dict) -> str:
+    """The atlas's title: class, count and the reference count (seed Table 1 or published).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> atlas_title(atlas(6, 1, adjustable=1).payload)
+    "adjustable chains n'=6, W'=1, m=1: 7 (seed Table 1: 7)"
+    """
+    if payload["kind"] == "adjustable":
+        head = (f"adjustable chains n'={payload['links']}, W'={payload['dof']}, m={payload['adjustable']}: "
+                f"{payload['count']}")
+        if "seed_count" in payload:
+            head += f" (seed Table 1: {payload['seed_count']})"
+        return head
+    head = f"ordinary chains n={payload['links']}, W={payload['dof']}: {payload['count']}"
+    if "published_count" in payload:
+        head += f" (published: {payload['published_count']})"
+    return head
+
+
+def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]:
+    """Write atlas.json, atlas.csv, atlas.dxf and (unless ``plots`` is False) atlas.png into ``out_dir``
+    (atomically, byte-identical for the same input); returns the paths.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from camcad.linkage.atlas import atlas
+    >>> sorted(p.name for p in write_atlas_outputs(Path(tempfile.mkdtemp()), atlas(4, 1), plots=False))
+    ['atlas.csv', 'atlas.dxf', 'atlas.json']
+    """
+    from camcad.linkage.layout import layout
+
+    out_dir = Path(out_dir)
+    payload = report.payload
+    layouts = [layout(chain.n, chain.edges) for chain in report.chains]
+    title = atlas_title(payload)
+    written = [write_text_atomic(out_dir / "atlas.csv", atlas_csv(payload)),
+               _write_dxf(out_dir / "atlas.dxf", atlas_drawing(report.chains, layouts, title, report.adjustable))]
+    if plots:
+        fig = atlas_figure(report.chains, layouts, title, report.adjustable)
+        written.append(_save_png(fig, out_dir / "atlas.png", dpi=110 if len(report.chains) > 100 else 140))
+    payload["outputs"] = [str(p) for p in written] + [str(out_dir / "atlas.json")]
+    written.append(write_json(out_dir / "atlas.json", payload))
+    return written
+
+
+# --------------------------------------------------------------------------------------------
+# Function generator
+# --------------------------------------------------------------------------------------------
+
+def error_figure(result):
+    """Structural error (deg) against the input angle with the nodes marked, and the transmission angle
+    with its limit (forbidden bands shaded).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> [ax.get_ylabel() for ax in error_figure(r).axes[:2]]
+    ['output angle error Δψ (deg)', 'μ (deg)']
+    """
+    from matplotlib.figure import Figure
+
+    ev, t = result.evaluation, result.target
+    phi = np.degrees(ev.phi)
+    err = np.degrees(ev.error)
+    fig = Figure(figsize=(8.5, 6.2), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    ax.axhline(0, color="grey", lw=0.6)
+    ax.plot(phi, err, color="#1f4e9c", lw=1.4, label="structural error")
+    nodes_deg = np.degrees(result.nodes_phi)
+    if result.method == "minimax":
+        node_err = np.interp(nodes_deg, phi, err)
+        ax.plot(nodes_deg, node_err, "s", color="#c0392b", ms=5, label=f"{len(nodes_deg)} reference points")
+    elif len(nodes_deg) <= 12:
+        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "o", color="#c0392b", ms=5,
+                label=f"{len(nodes_deg)} interpolation nodes")
+    else:
+        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "|", color="#c0392b", ms=8,
+                label=f"{len(nodes_deg)} fitting points")
+    k = int(np.argmax(np.abs(err)))
+    ax.plot(phi[k], err[k], "D", color="black", ms=5, label="largest |error|")
+    ax.set_ylabel("output angle error Δψ (deg)")
+    ax.set_title(f"{result.method}: {t.label} on [{t.x0:g}, {t.x1:g}], input {t.input_range_deg:g} deg, "
+                 f"output {t.output_range_deg:g} deg\nmax |error| {abs(err[k]):.4g} deg at φ = {phi[k]:.1f} deg, "
+                 f"RMS {ev.rms_error_deg:.3g} deg", fontsize=10)
+    ax.grid(True, lw=0.4, alpha=0.6)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    top = ax.secondary_xaxis("top", functions=(lambda p: t.x0 + (t.x1 - t.x0) * p / t.input_range_deg,
+                                               lambda x: (x - t.x0) / (t.x1 - t.x0) * t.input_range_deg))
+    top.set_xlabel("x", fontsize=8)
+    fg = result.mechanism
+    from camcad.linkage.fourbar import transmission_angle
+
+    mu = np.degrees(transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + ev.phi))
+    limit = result.options.limits.mu_min_deg
+    ax2.axhspan(0, limit, color=FORBIDDEN, lw=0, label=f"below μ_min = {limit:g} deg")
+    ax2.axhspan(180 - limit, 180, color=FORBIDDEN, lw=0)
+    ax2.plot(phi, mu, color="#2d7f3b", lw=1.3, label="transmission angle μ")
+    ax2.set_ylim(0, 180)
+    ax2.set_yticks([0, 30, 60, 90, 120, 150, 180])
+    ax2.set_ylabel("μ (deg)")
+    ax2.set_xlabel("input angle φ from the first position (deg)")
+    ax2.grid(True, lw=0.4, alpha=0.6)
+    ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax2.set_title(f"worst min(μ, 180−μ) = {ev.mu_min_deg:.2f} deg (limit {limit:g}, margin "
+                  f"{ev.mu_min_deg - limit:+.2f})", fontsize=9)
+    return fig
+
+
+def pivot_figure(result):
+    """The Q method's signature picture: the circles of possible output pivots (one per node ≥ 2), the K
+    pivots of the node subsets, their bounding rectangle and its diagonal Q (zoomed on the right).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> fig = pivot_figure(synthesize(t, FgenOptions(method="q")))
+    >>> fig.axes[1].get_title()
+    'zoom: Q = diagonal = 9.526e-04 crank lengths (2 subsets)'
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Circle, Rectangle
+
+    q = result.q
+    st = q.state
+    fig = Figure(figsize=(11, 5.2), layout="constrained")
+    ax, zoom = fig.subplots(1, 2)
+    pts = np.array([[c.real, c.imag] for c in st.pivots])
+    colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"]
+    phi = np.asarray(result.q_nodes_phi)
+    a_pts = np.exp(1j * (phi - phi[0]))
+    b_1 = a_pts[0] + st.b * np.exp(1j * st.alpha)
+    for k, (centre, radius) in enumerate(st.circles, start=2):
+        for axis in (ax, zoom):
+            axis.add_patch(Circle((centre.real, centre.imag), radius, fill=False, lw=0.9,
+                                  color=colours[(k - 2) % len(colours)], label=f"pivots keeping node {k}"
+                                  if axis is ax else None))
+    centre_pt = complex((max(c.real for c in st.pivots) + min(c.real for c in st.pivots)) / 2,
+                        (max(c.imag for c in st.pivots) + min(c.imag for c in st.pivots)) / 2)
+    ax.plot([0, centre_pt.real], [0, centre_pt.imag], color="black", lw=2.5, alpha=0.35, label="frame OC")
+    ax.plot([0, a_pts[0].real], [0, a_pts[0].imag], color="black", lw=2, label="crank OA1, coupler A1B1")
+    ax.plot([a_pts[0].real, b_1.real], [a_pts[0].imag, b_1.imag], color="black", lw=1.2)
+    ax.plot([centre_pt.real, b_1.real], [centre_pt.imag, b_1.imag], color="black", lw=1.2, ls="--",
+            label="rocker CB1")
+    ax.plot(a_pts.real, a_pts.imag, "k.", ms=4)
+    for k, a_k in enumerate(a_pts[1:], start=2):
+        ax.annotate(f"A{k}", (a_k.real, a_k.imag), textcoords="offset points", xytext=(4, 2), fontsize=7)
+    ax.annotate("O", (0, 0), textcoords="offset points", xytext=(-10, -10), fontsize=9)
+    ax.annotate("A1", (a_pts[0].real, a_pts[0].imag), textcoords="offset points", xytext=(4, -10), fontsize=9)
+    ax.annotate("B1", (b_1.real, b_1.imag), textcoords="offset points", xytext=(4, 4), fontsize=9)
+    centre = np.array([(pts[:, 0].max() + pts[:, 0].min()) / 2, (pts[:, 1].max() + pts[:, 1].min()) / 2])
+    ax.plot(*pts.T, "o", color="#c0392b", ms=5, label="pivots C of the subsets")
+    xs_all = np.r_[pts[:, 0], 0.0, b_1.real, a_pts.real]
+    ys_all = np.r_[pts[:, 1], 0.0, b_1.imag, a_pts.imag]
+    span = max(np.ptp(xs_all), np.ptp(ys_all), 2.0)
+    mid = np.array([(xs_all.max() + xs_all.min()) / 2, (ys_all.max() + ys_all.min()) / 2])
+    ax.set_xlim(mid[0] - 0.75 * span, mid[0] + 0.75 * span)
+    ax.set_ylim(mid[1] - 0.75 * span, mid[1] + 0.75 * span)
+    ax.set_aspect("equal")
+    ax.set_title("circles of output pivots C (crank OA = 1 at node 1)", fontsize=10)
+    ax.set_xlabel("x (crank lengths)")
+    ax.set_ylabel("y (crank lengths)")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
+    # the zoom never goes below 1e-6 of the pivot's distance: below that the K pivots coincide for any drawing
+    # (and matplotlib cannot place ticks on a span near the floating-point resolution)
+    half = max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1]), 1e-6 * max(1.0, float(np.hypot(*pts.mean(axis=0))))) * 1.6
+    zoom.add_patch(Rectangle((pts[:, 0].min(), pts[:, 1].min()), np.ptp(pts[:, 0]), np.ptp(pts[:, 1]),
+                             fill=False, ls="--", color="black", lw=0.9))
+    zoom.plot([pts[:, 0].min(), pts[:, 0].max()], [pts[:, 1].min(), pts[:, 1].max()], color="#c0392b", lw=1.4)
+    labels = ["C" + "".join(str(i) for i in s) for s in result.q_subsets]
+    if max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) < 0.05 * half:     # the pivots coincide at this scale
+        zoom.plot(*pts[0], "o", color="#c0392b", ms=6)
+        zoom.annotate(" = ".join(labels), tuple(pts[0]), textcoords="offset points", xytext=(6, 6), fontsize=9)
+    else:
+        for (x, y), label in zip(pts, labels):
+            zoom.plot(x, y, "o", color="#c0392b", ms=6)
+            zoom.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=9)
+    zoom.plot(*centre, "+", color="black", ms=12, mew=1.5)
+    zoom.annotate("pivot taken" if q.pick == "centre" else "rectangle centre", tuple(centre),
+                  textcoords="offset points", xytext=(6, -14), fontsize=8)
+    zoom.set_xlim(centre[0] - half, centre[0] + half)
+    zoom.set_ylim(centre[1] - half, centre[1] + half)
+    zoom.set_aspect("equal")
+    zoom.ticklabel_format(useOffset=True, style="sci", scilimits=(-3, 3))
+    zoom.grid(True, lw=0.4, alpha=0.5)
+    zoom.set_title(f"zoom: Q = diagonal = {st.q:.3e} crank lengths ({len(st.pivots)} subsets)", fontsize=10)
+    zoom.set_xlabel("x (crank lengths)")
+    fig.suptitle(f"Q method (Sunkuev 1984): free parameters b/a = {st.b:.5g}, α = "
+                 f"{math.degrees(st.alpha) % 360:.3f} deg", fontsize=10)
+    return fig
+
+
+def _positions(fg, theta):
+    from camcad.linkage.fourbar import joints
+
+    return joints(fg.a, fg.b, fg.c, fg.d, theta, fg.branch)
+
+
+def positions_figure(result):
+    """The linkage in its two extreme positions of the working range (and faint intermediate ones), in mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> positions_figure(r).axes[0].get_xlabel()
+    'x (mm)'
+    """
+    from matplotlib.figure import Figure
+
+    fg, t = result.mechanism, result.target
+    fig = Figure(figsize=(8.5, 6.0), layout="constrained")
+    ax = fig.subplots()
+    thetas = fg.phi0 + np.linspace(0.0, t.dphi, 9)
+    for k, theta in enumerate(thetas):
+        j = _positions(fg, theta)
+        if not np.all(np.isfinite(j["B"])):
+            continue
+        xs = [j["O"][0], j["A"][0], j["B"][0], j["C"][0]]
+        ys = [j["O"][1], j["A"][1], j["B"][1], j["C"][1]]
+        end = k in (0, len(thetas) - 1)
+        ax.plot(xs, ys, "-o", color=("#1f4e9c" if k == 0 else "#c0392b") if end else "#bbbbbb",
+                lw=2.0 if end else 0.7, ms=5 if end else 2, zorder=3 if end else 1,
+                label=("first position (φ = 0)" if k == 0 else f"last position (φ = {t.input_range_deg:g} deg)")
+                if end else None)
+    path = np.linspace(0.0, t.dphi, 200) + fg.phi0
+    j = _positions(fg, path)
+    ax.plot(j["A"][:, 0], j["A"][:, 1], color="#1f4e9c", lw=0.6, ls=":")
+    ax.plot(j["B"][:, 0], j["B"][:, 1], color="#c0392b", lw=0.6, ls=":")
+    ax.plot([0, fg.d], [0, 0], color="black", lw=2.5, solid_capstyle="butt")
+    for name, point in (("O", (0.0, 0.0)), ("C", (fg.d, 0.0))):
+        ax.plot(*point, "^", color="black", ms=11, zorder=4)
+        ax.annotate(name, point, textcoords="offset points", xytext=(-4, -18), fontsize=10)
+    j0 = _positions(fg, fg.phi0)
+    for name in ("A", "B"):
+        ax.annotate(name + "₀", tuple(j0[name]), textcoords="offset points", xytext=(6, 6), fontsize=10,
+                    color="#1f4e9c")
+    ax.set_aspect("equal")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title(f"OA = {fg.a:.2f}, AB = {fg.b:.2f}, CB = {fg.c:.2f}, OC = {fg.d:.2f} mm; "
+                 f"{result.evaluation.grashof}, branch {fg.branch:+d}", fontsize=10)
+    return fig
+
+
+def fgen_drawing(result) -> Drawing:
+    """The kinematic diagram as DXF: FRAME (frame line and ground marks), LINKS (first position),
+    EXTREME_POSITIONS (last position), JOINTS (pair circles), PATHS (paths of A and B), TEXT; mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> d = fgen_drawing(r)
+    >>> sorted({x.layer for x in d.lines}), len(d.circles), len(d.paths)
+    (['EXTREME_POSITIONS', 'FRAME', 'LINKS'], 8, 2)
+    """
+    fg, t = result.mechanism, result.target
+    scale = max(fg.a, fg.b, fg.c, fg.d)
+    r = 0.025 * scale
+    lines, circles, paths, texts = [], [], [], []
+    h = 0.03 * scale
+
+    def trimmed(layer, p, q):
+        """The line p–q shortened by the joint radius at both ends (links meet the joint circles)."""
+        d = np.subtract(q, p)
+        length = float(np.hypot(*d))
+        if length <= 2 * r:
+            return None
+        u = d / length
+        return DxfLine(layer, tuple(map(float, np.add(p, r * u))), tuple(map(float, np.subtract(q, r * u))))
+
+    lines.append(trimmed("FRAME", (0.0, 0.0), (fg.d, 0.0)))
+    for x0 in (0.0, fg.d):
+        lines.append(DxfLine("FRAME", (x0 - 2 * r, -1.6 * r), (x0 + 2 * r, -1.6 * r)))
+        lines.append(DxfLine("FRAME", (x0, -r), (x0, -1.6 * r)))
+        for k in range(5):
+            xa = x0 - 2 * r + k * r
+            lines.append(DxfLine("FRAME", (xa, -1.6 * r), (xa - 0.7 * r, -2.3 * r)))
+    for layer, theta in (("LINKS", fg.phi0), ("EXTREME_POSITIONS", fg.phi0 + t.dphi)):
+        j = _positions(fg, theta)
+        pts = [tuple(map(float, j[name])) for name in ("O", "A", "B", "C")]
+        for p, q in pairwise(pts):
+            lines.append(trimmed(layer, p, q))
+        for p in pts:
+            circles.append(DxfCircle("JOINTS", p, r))
+        suffix = "1" if layer == "LINKS" else "2"
+        for name, p in zip(("A", "B"), pts[1:3]):
+            texts.append(DxfText("TEXT", name + suffix, (p[0] + 1.5 * r, p[1] + 1.5 * r), h))
+    path = fg.phi0 + np.linspace(0.0, t.dphi, 90)
+    j = _positions(fg, path)
+    for name in ("A", "B"):
+        paths.append(DxfPath("PATHS", np.asarray(j[name], dtype=float), False))
+    texts.append(DxfText("TEXT", "O", (-3 * r, 1.5 * r), h))
+    texts.append(DxfText("TEXT", "C", (fg.d + 1.5 * r, 1.5 * r), h))
+    offsets = (f"phi0 {math.degrees(fg.phi0) % 360:.3f} deg  psi0 {math.degrees(fg.psi0) % 360:.3f} deg  "
+               f"input {t.input_range_deg:g} deg  output {t.output_range_deg:g} deg")
+    accuracy = (f"max error {result.evaluation.max_error_deg:.4g} deg  min transmission angle "
+                f"{result.evaluation.mu_min_deg:.2f} deg")
+    info = [f"four-bar function generator: {t.label}, x {t.x0:g}..{t.x1:g}, method {result.method}",
+            f"OA {fg.a:.3f}  AB {fg.b:.3f}  CB {fg.c:.3f}  OC {fg.d:.3f} mm", offsets, accuracy]
+    low = min(0.0, float(np.nanmin(np.r_[j["A"][:, 1], j["B"][:, 1]]))) - 6 * r
+    for k, line in enumerate(info):
+        texts.append(DxfText("TEXT", line, (0.0, low - k * 1.8 * h), h))
+    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(x for x in lines if x is not None),
+                   texts=tuple(texts), layers=("FRAME", "LINKS", "EXTREME_POSITIONS", "JOINTS", "PATHS", "TEXT"))
+
+
+def error_csv(result) -> str:
+    """The structural error as CSV: φ (deg), x, ψ_target and ψ of the mechanism (deg), error (deg).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> error_csv(r).splitlines()[1]
+    'phi_deg,x,psi_target_deg,psi_deg,error_deg'
+    """
+    ev, t = result.evaluation, result.target
+    phi = ev.phi[::10] if len(ev.phi) > 1000 else ev.phi
+    err = ev.error[::10] if len(ev.phi) > 1000 else ev.error
+    lines = ["# phi_deg: input angle from the first position; psi_deg: output angle from the first position",
+             "phi_deg,x,psi_target_deg,psi_deg,error_deg"]
+    for p, e in zip(phi, err):
+        target = math.degrees(float(t.psi(p)))
+        lines.append(f"{math.degrees(p):.10g},{float(t.x_of(p)):.10g},{target:.10g},{target + math.degrees(e):.10g},"
+                     f"{math.degrees(e):.10g}")
+    return "\n".join(lines) + "\n"
+
+
+def write_fgen_outputs(out_dir: Path, result, payload: dict, plots: bool = True, prefix: str = "") -> list[Path]:
+    """Write fgen.json, error.csv, linkage.dxf and the PNG plots (error, positions and, for the Q method,
+    pivots) into ``out_dir``; ``prefix`` names the files of one method when several are written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from camcad.linkage.synthesis import report
+    >>> import numpy as np
+    >>> from camcad.linkage.synthesis import FgenOptions, synthesize
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> r = synthesize(t, FgenOptions(method="precision", phi0_deg=45.0, psi0_deg=135.0))
+    >>> files = write_fgen_outputs(Path(tempfile.mkdtemp()), r, report(r), plots=False)
+    >>> sorted(p.name for p in files)
+    ['error.csv', 'fgen.json', 'linkage.dxf']
+    """
+    out_dir = Path(out_dir)
+    written = [write_text_atomic(out_dir / f"{prefix}error.csv", error_csv(result)),
+               _write_dxf(out_dir / f"{prefix}linkage.dxf", fgen_drawing(result))]
+    if plots:
+        written.append(_save_png(error_figure(result), out_dir / f"{prefix}error.png"))
+        written.append(_save_png(positions_figure(result), out_dir / f"{prefix}positions.png"))
+        if result.q is not None and result.method == "q":
+            written.append(_save_png(pivot_figure(result), out_dir / f"{prefix}pivots.png"))
+    payload["outputs"] = [str(p) for p in written] + [str(out_dir / f"{prefix}fgen.json")]
+    written.append(write_json(out_dir / f"{prefix}fgen.json", payload))
+    return written
