@@ -1,8 +1,147 @@
 """camcad: cam mechanism design from drawn acceleration laws.
 
-Units at every interface: cam angle in degrees, lengths in mm, speeds in rpm,
-forces in N, stresses in MPa. Inside the library, angles are radians unless a
-name ends in ``_deg``.
+The public API, in the order of the main workflow (degrees and mm at the boundary, as at the command line;
+a name that takes radians says so)::
+
+    import camcad
+    loaded = camcad.load_law("accel.dxf", lift=25.0)            # a drawn law (DXF or table)
+    report = camcad.check(loaded.law)                             # area balance
+    fixed = camcad.correct(loaded.law, "min-change")              # the least change that balances it
+    follower = camcad.Follower("roller", base_radius=50.0, roller_radius=10.0)
+    result = camcad.synthesize(fixed.law, follower)               # the cam profile and its checks
+    figure = camcad.plot_summary(result)                          # a matplotlib Figure
+    camcad.write_outputs(result, "out/")                          # profile.dxf, law.csv, report.json
+
+Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
+``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``report``,
+``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
+Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
+Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
+Scenes: ``read_scene``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure): ``plot_summary``,
+``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``, ``plot_hodograph``.
+
+Every name loads on first use, so ``import camcad`` costs almost nothing (the command line's start-up
+depends on it).
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from camcad.version import __version__ as __version__
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.balance.checking import BalanceReport, check
+    from camcad.balance.correction import Correction, correct
+    from camcad.contact import ContactParams, contact_stress
+    from camcad.cyclogram.lp import optimise
+    from camcad.cyclogram.network import Operation, make_network
+    from camcad.dynamics.impact import StopModel, impact_sweep
+    from camcad.dynamics.model import ElasticFollower
+    from camcad.dynamics.residual import residual_vibration
+    from camcad.dynamics.steady import steady_state
+    from camcad.errors import CamcadError
+    from camcad.fourier.analysis import analyse
+    from camcad.fourier.filter import filter_law
+    from camcad.fourier.resonance import resonant_harmonics
+    from camcad.io.law_write import write_corrected
+    from camcad.law.kinematics_deg import kinematics_deg
+    from camcad.law.phases import parse_phases
+    from camcad.law.source import LoadedLaw, load_law
+    from camcad.law.standard import compose
+    from camcad.profile.design import min_base_radius
+    from camcad.profile.followers import Follower
+    from camcad.profile.summary import report
+    from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.report.profile import (plot_curvature, plot_hodograph, plot_kinematics, plot_pressure_angle,
+                                       plot_profile, plot_summary)
+    from camcad.report.profile_files import write_outputs
+    from camcad.report.scene import run_scene
+    from camcad.scene.file import read_scene
+    from camcad.scene.pipeline import analyse_scene
+
+#: public name -> the module that defines it
+_EXPORTS: dict[str, str] = {
+    "CamcadError": "camcad.errors",
+    "load_law": "camcad.law.source", "LoadedLaw": "camcad.law.source",
+    "compose": "camcad.law.standard", "parse_phases": "camcad.law.phases",
+    "kinematics_deg": "camcad.law.kinematics_deg",
+    "check": "camcad.balance.checking", "BalanceReport": "camcad.balance.checking",
+    "correct": "camcad.balance.correction", "Correction": "camcad.balance.correction",
+    "write_corrected": "camcad.io.law_write",
+    "Follower": "camcad.profile.followers", "ProfileSettings": "camcad.profile.synth",
+    "ProfileResult": "camcad.profile.synth", "synthesize": "camcad.profile.synth",
+    "report": "camcad.profile.summary", "min_base_radius": "camcad.profile.design",
+    "write_outputs": "camcad.report.profile_files",
+    "analyse": "camcad.fourier.analysis", "resonant_harmonics": "camcad.fourier.resonance",
+    "filter_law": "camcad.fourier.filter",
+    "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
+    "residual_vibration": "camcad.dynamics.residual", "StopModel": "camcad.dynamics.impact",
+    "impact_sweep": "camcad.dynamics.impact",
+    "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
+    "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
+    "optimise": "camcad.cyclogram.lp",
+    "read_scene": "camcad.scene.file", "analyse_scene": "camcad.scene.pipeline", "run_scene": "camcad.report.scene",
+    "plot_summary": "camcad.report.profile", "plot_kinematics": "camcad.report.profile",
+    "plot_pressure_angle": "camcad.report.profile", "plot_curvature": "camcad.report.profile",
+    "plot_profile": "camcad.report.profile", "plot_hodograph": "camcad.report.profile",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'camcad' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
+
+
+__all__ = [
+    "__version__",
+    "BalanceReport",
+    "CamcadError",
+    "ContactParams",
+    "Correction",
+    "ElasticFollower",
+    "Follower",
+    "LoadedLaw",
+    "Operation",
+    "ProfileResult",
+    "ProfileSettings",
+    "StopModel",
+    "analyse",
+    "analyse_scene",
+    "check",
+    "compose",
+    "contact_stress",
+    "correct",
+    "filter_law",
+    "impact_sweep",
+    "kinematics_deg",
+    "load_law",
+    "make_network",
+    "min_base_radius",
+    "optimise",
+    "parse_phases",
+    "plot_curvature",
+    "plot_hodograph",
+    "plot_kinematics",
+    "plot_pressure_angle",
+    "plot_profile",
+    "plot_summary",
+    "read_scene",
+    "report",
+    "residual_vibration",
+    "resonant_harmonics",
+    "run_scene",
+    "steady_state",
+    "synthesize",
+    "write_corrected",
+    "write_outputs",
+]
