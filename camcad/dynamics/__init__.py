@@ -26,12 +26,12 @@ from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResul
 from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
 from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
 from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
-from camcad.dynamics.steady import (Response, Sweep, steady_state, steady_state_frequency, steady_state_time, sweep,
+from camcad.dynamics.steady import (ResonanceError, Response, Sweep, steady_state, steady_state_frequency, steady_state_time, sweep,
                                     transient_time)
 
 __all__ = [
     "ElasticFollower", "HalfSinePulse", "Impact", "ImpactSweep", "LawSpectrum", "MotorDrive", "MultiMassModel",
-    "MultiMassResult", "ReboundRelation", "Residual", "Response", "SpeedDrive", "StartLoad", "StiffnessTable",
+    "MultiMassResult", "ReboundRelation", "Residual", "ResonanceError", "Response", "SpeedDrive", "StartLoad", "StiffnessTable",
     "StopModel", "Sweep", "check_closure", "cycloidal_residual_amplitude", "damping_ratio_from_psi", "find_contact",
     "first_rebound", "impact_at", "impact_force", "impact_impulse", "impact_sweep", "law_spectrum",
     "lever_stiffness", "reduced_mass", "residual_vibration", "response_after_impact", "rpm_to_rad_s", "simulate",

@@ -116,6 +116,25 @@ OUTPUT_UNITS = {
 }
 
 
+def unit_key(key: str, unit: str) -> str:
+    """A JSON key that carries a length, in the law's unit: ``_mm`` → ``_rad`` (``_mm2`` → ``_rad2``).
+
+    Keys of a translating follower's law keep their SPEC.md names (``dynamic_error_max_mm``); those of an
+    oscillating follower's law (rad or deg of swing) say so (``dynamic_error_max_rad``).
+
+    Examples
+    --------
+    >>> unit_key("dynamic_error_max_mm", "rad"), unit_key("variance_mm2", "deg"), unit_key("lift_mm", "mm")
+    ('dynamic_error_max_rad', 'variance_deg2', 'lift_mm')
+    """
+    if unit == "mm":
+        return key
+    for suffix in ("_mm2", "_mm"):
+        if key.endswith(suffix):
+            return key[: -len(suffix)] + "_" + unit + suffix[3:]
+    return key.replace("_mm_", f"_{unit}_")
+
+
 # --------------------------------------------------------------------------------------------
 # The elastic follower
 # --------------------------------------------------------------------------------------------
