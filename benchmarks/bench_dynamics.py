@@ -113,13 +113,14 @@ def run(quick: bool = False) -> list[dict]:
     rows = []
     sample_counts = (256, 1024, 4096, 16384) if quick else (256, 512, 1024, 2048, 4096, 8192, 16384, 65536)
     for samples in sample_counts:
-        seconds, accels = _timed(lambda: _frequency_sweep(law, follower, speeds, samples))
+        seconds, accels = _timed(lambda samples=samples: _frequency_sweep(law, follower, speeds, samples))
         rows.append({"kernel": "sdof sweep", "method": "frequency", "setting": f"N={samples}", "time_s": seconds,
                      "error": _error(accels, reference), "error_unit": ERROR_UNIT, "reference": REFERENCE})
     settings = [("RK45", r) for r in ((1e-4, 1e-6) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8))]
     settings += [("DOP853", r) for r in ((1e-8,) if quick else (1e-6, 1e-8, 1e-10))]
     for method, rtol in settings:
-        seconds, accels = _timed(lambda: _time_sweep(law, follower, speeds, method, rtol), max_repeats=3)
+        seconds, accels = _timed(lambda method=method, rtol=rtol: _time_sweep(law, follower, speeds, method, rtol),
+                                 max_repeats=3)
         rows.append({"kernel": "sdof sweep", "method": f"time {method}", "setting": f"rtol={rtol:g}",
                      "time_s": seconds, "error": _error(accels, reference), "error_unit": ERROR_UNIT,
                      "reference": REFERENCE})

@@ -25,11 +25,11 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+from timing import median_time
 
 from camcad import fourier
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.standard import compose
-from timing import median_time  # noqa: E402
 
 LIFT = 25.0
 PHASES = [("dwell", 65.0), ("rise", 110.0), ("dwell", 115.0), ("return", 70.0)]
@@ -72,8 +72,8 @@ def run(quick: bool) -> list[dict]:
     rows = []
 
     def row(method, setting, elapsed, error, unit="mm vs closed form"):
-        rows.append(dict(kernel="fourier", method=method, setting=setting, time_s=elapsed, error=float(error),
-                         error_unit=unit, reference=REFERENCES.get(unit.split(",")[0], unit)))
+        rows.append({"kernel": "fourier", "method": method, "setting": setting, "time_s": elapsed, "error": float(error),
+                         "error_unit": unit, "reference": REFERENCES.get(unit.split(",")[0], unit)})
 
     def amplitude_error(spectrum):
         return np.max(np.abs(spectrum.amplitudes[:HARMONICS] - reference))
@@ -82,10 +82,10 @@ def run(quick: bool) -> list[dict]:
     for count in sizes:
         theta = np.arange(count + 1) * (TWO_PI / count)
         polyline = PiecewiseLinearLaw(theta, law.kinematics(theta).a, TWO_PI, law.phases)
-        elapsed, spectrum = _median_time(lambda: fourier.analyse(polyline, HARMONICS), repeats)
+        elapsed, spectrum = _median_time(lambda polyline=polyline: fourier.analyse(polyline, HARMONICS), repeats)
         row("exact, polyline of a", f"M={count} uniform knots", elapsed, amplitude_error(spectrum))
         s = law.kinematics(theta[:-1]).s
-        elapsed, spectrum = _median_time(lambda: fourier.analyse_samples(s, TWO_PI, HARMONICS), repeats)
+        elapsed, spectrum = _median_time(lambda s=s: fourier.analyse_samples(s, TWO_PI, HARMONICS), repeats)
         row("rfft of s samples", f"M={count}", elapsed, amplitude_error(spectrum))
     scattered = 1 << 12 if quick else 1 << 16
     rng = np.random.default_rng(1)
@@ -94,7 +94,7 @@ def run(quick: bool) -> list[dict]:
     elapsed, spectrum = _median_time(lambda: fourier.analyse(polyline, HARMONICS), max(1, repeats // 2))
     row("exact, polyline, scattered knots", f"M={scattered} random knots", elapsed, amplitude_error(spectrum))
     for tol in (1e-6, 1e-9, 1e-12):
-        elapsed, spectrum = _median_time(lambda: fourier.analyse(Opaque(law), HARMONICS, tol=tol), repeats)
+        elapsed, spectrum = _median_time(lambda tol=tol: fourier.analyse(Opaque(law), HARMONICS, tol=tol), repeats)
         row("fft adaptive (sampling doubled)", f"tol={tol:g} -> M={spectrum.samples}", elapsed,
             amplitude_error(spectrum))
     elapsed, spectrum = _median_time(lambda: fourier.analyse(law, HARMONICS), repeats)
@@ -107,10 +107,10 @@ def run(quick: bool) -> list[dict]:
     exact_s = law.kinematics(grid).s
     for n in (4, 16, 64, 256):
         kept = fourier.FourierLaw(TWO_PI, full.mean, full.coefficients[:n], law.phases)
-        elapsed, s_n = _median_time(lambda: kept.kinematics(grid).s, repeats)
-        rows.append(dict(kernel="fourier truncation", method="series cut after N harmonics", setting=f"N={n}",
-                         time_s=elapsed, error=float(np.sqrt(np.mean((s_n - exact_s) ** 2))),
-                         error_unit="mm RMS vs the law's closed-form s", reference="the composite law's own s(θ)"))
+        elapsed, s_n = _median_time(lambda kept=kept: kept.kinematics(grid).s, repeats)
+        rows.append({"kernel": "fourier truncation", "method": "series cut after N harmonics", "setting": f"N={n}",
+                         "time_s": elapsed, "error": float(np.sqrt(np.mean((s_n - exact_s) ** 2))),
+                         "error_unit": "mm RMS vs the law's closed-form s", "reference": "the composite law's own s(θ)"})
 
     # filtering the law sampled at 2^16 points
     count = 1 << 16

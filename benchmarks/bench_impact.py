@@ -25,8 +25,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad.dynamics.impact import triangular_pulse, triangular_pulse_response  # noqa: E402
-from timing import median_time  # noqa: E402
+import itertools
+
+from timing import median_time
+
+from camcad.dynamics.impact import triangular_pulse, triangular_pulse_response
 
 MASS = 0.0075911          # kg, reduced mass of the lever (sample shuttle_lift.toml)
 F_STOP = 768.0            # Hz (published, seed 000)
@@ -71,7 +74,7 @@ def _integrate(method: str, rtol: float, t: np.ndarray) -> np.ndarray:
     cuts = [0.0, TAU, 2 * TAU, t[-1]]
     state = np.array([0.0, V0])
     out = np.empty_like(t)
-    for a, b in zip(cuts[:-1], cuts[1:]):
+    for a, b in itertools.pairwise(cuts):
         inside = (t >= a) & (t < b)
         sol = solve_ivp(rhs, (a, b), state, method=method, rtol=rtol, atol=rtol * 1e-9,
                         t_eval=np.append(t[inside], b))
@@ -94,15 +97,15 @@ def run(quick: bool = False) -> list[dict]:
     rows = []
     elapsed, q = _timed(lambda: triangular_pulse_response(t, omega=OMEGA, damping_ratio=ZETA, mass=MASS,
                                                           peak_force=PEAK_FORCE, rise_time=TAU)[0], repeats)
-    rows.append(dict(kernel="stop impact response", method="closed-form Duhamel", setting="-", time_s=elapsed,
-                     error=float(np.max(np.abs(q - reference)) / scale), error_unit=unit, reference=REFERENCE))
+    rows.append({"kernel": "stop impact response", "method": "closed-form Duhamel", "setting": "-", "time_s": elapsed,
+                     "error": float(np.max(np.abs(q - reference)) / scale), "error_unit": unit, "reference": REFERENCE})
     settings = [("RK45", 1e-4), ("RK45", 1e-8)] if quick else [("RK45", 1e-4), ("RK45", 1e-6), ("RK45", 1e-8),
                                                                ("DOP853", 1e-10)]
     for method, rtol in settings:
-        elapsed, q = _timed(lambda: _integrate(method, rtol, t), max(1, repeats // 2))
-        rows.append(dict(kernel="stop impact response", method=f"solve_ivp {method}", setting=f"rtol={rtol:g}",
-                         time_s=elapsed, error=float(np.max(np.abs(q - reference)) / scale), error_unit=unit,
-                         reference=REFERENCE))
+        elapsed, q = _timed(lambda method=method, rtol=rtol: _integrate(method, rtol, t), max(1, repeats // 2))
+        rows.append({"kernel": "stop impact response", "method": f"solve_ivp {method}", "setting": f"rtol={rtol:g}",
+                         "time_s": elapsed, "error": float(np.max(np.abs(q - reference)) / scale), "error_unit": unit,
+                         "reference": REFERENCE})
     return rows
 
 

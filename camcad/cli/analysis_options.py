@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
-UnitOpt = Annotated[Optional[str], typer.Option(
+UnitOpt = Annotated[str | None, typer.Option(
     "--unit", help="Unit of the law's displacement: mm (translating follower), rad or deg (oscillating); "
                    "default mm for a law file, from the scene for a scene.")]
 PhaseAnglesOpt = Annotated[str, typer.Option(
@@ -32,7 +32,13 @@ def progress(enabled: bool, label: str):
     (None, no-op) when disabled (e.g. with --json)."""
     if not enabled:
         return None, lambda: None
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
 
     from camcad.cli.common import console
 

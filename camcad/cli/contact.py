@@ -13,7 +13,14 @@ import typer
 
 from camcad.cli import app
 from camcad.cli.analysis_options import PhaseAnglesOpt, emit
-from camcad.cli.common import JsonOpt, MechanismOpt, NoPlotsOpt, OutOpt, RpmOpt, SceneArg
+from camcad.cli.common import (
+    JsonOpt,
+    MechanismOpt,
+    NoPlotsOpt,
+    OutOpt,
+    RpmOpt,
+    SceneArg,
+)
 
 SamplesOpt = Annotated[int, typer.Option("--samples", help="Cam-angle samples per phase for the stress maximum.")]
 

@@ -17,17 +17,54 @@ The scene sections ``[dynamics]`` and ``[stops]`` are read by ``camcad.scene.dyn
 
 from __future__ import annotations
 
-from camcad.dynamics.impact import (Impact, ImpactSweep, ReboundRelation, StopModel, find_contact, first_rebound,
-                                    impact_at, impact_force, impact_impulse, impact_sweep, lever_stiffness,
-                                    reduced_mass, response_after_impact, triangular_pulse, triangular_pulse_response)
-from camcad.dynamics.model import (ElasticFollower, HalfSinePulse, StiffnessTable, damping_ratio_from_psi,
-                                   rpm_to_rad_s)
-from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
-from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
+from camcad.dynamics.impact import (
+                                    Impact,
+                                    ImpactSweep,
+                                    ReboundRelation,
+                                    StopModel,
+                                    find_contact,
+                                    first_rebound,
+                                    impact_at,
+                                    impact_force,
+                                    impact_impulse,
+                                    impact_sweep,
+                                    lever_stiffness,
+                                    reduced_mass,
+                                    response_after_impact,
+                                    triangular_pulse,
+                                    triangular_pulse_response,
+)
+from camcad.dynamics.model import (
+                                    ElasticFollower,
+                                    HalfSinePulse,
+                                    StiffnessTable,
+                                    damping_ratio_from_psi,
+                                    rpm_to_rad_s,
+)
+from camcad.dynamics.multimass import (
+                                    MotorDrive,
+                                    MultiMassModel,
+                                    MultiMassResult,
+                                    SpeedDrive,
+                                    simulate,
+)
+from camcad.dynamics.residual import (
+                                    Residual,
+                                    cycloidal_residual_amplitude,
+                                    residual_vibration,
+)
 from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
 from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
-from camcad.dynamics.steady import (ResonanceError, Response, Sweep, steady_state, steady_state_frequency, steady_state_time, sweep,
-                                    transient_time)
+from camcad.dynamics.steady import (
+                                    ResonanceError,
+                                    Response,
+                                    Sweep,
+                                    steady_state,
+                                    steady_state_frequency,
+                                    steady_state_time,
+                                    sweep,
+                                    transient_time,
+)
 
 __all__ = [
     "ElasticFollower", "HalfSinePulse", "Impact", "ImpactSweep", "LawSpectrum", "MotorDrive", "MultiMassModel",

@@ -179,7 +179,7 @@ class StiffnessTable:
         return slopes[index]
 
     @classmethod
-    def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> "StiffnessTable":
+    def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> StiffnessTable:
         pairs = np.asarray(pairs, dtype=float).reshape(-1, 2)
         order = np.argsort(pairs[:, 0])
         return cls(np.radians(pairs[order, 0]), pairs[order, 1], float(np.radians(cycle_deg)))
@@ -206,7 +206,7 @@ class ElasticFollower:
 
     @classmethod
     def from_mass_stiffness(cls, mass_kg: float, stiffness_n_per_m: float, damping_ratio: float = 0.0,
-                            stiffness: StiffnessTable | None = None) -> "ElasticFollower":
+                            stiffness: StiffnessTable | None = None) -> ElasticFollower:
         """fn = √(c/m)/(2π) Hz from the reduced mass (kg) and stiffness (N/m)."""
         fn = math.sqrt(stiffness_n_per_m / mass_kg) / (2.0 * math.pi)
         return cls(fn, damping_ratio, mass_kg, stiffness)

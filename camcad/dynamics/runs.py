@@ -25,8 +25,9 @@ Resonance rules (docs/analyses.md):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -107,7 +108,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
         by_kind[item.phase.kind] = max(by_kind[item.phase.kind], item.amplitude)
     worst_residual = max(((item.amplitude, rpm, item) for rpm, items in residuals.items() for item in items),
                          key=lambda entry: entry[0], default=(0.0, speeds[0], None))
-    key = lambda name: unit_key(name, unit.name)  # noqa: E731
+    key = lambda name: unit_key(name, unit.name)
     report: dict[str, Any] = {
         "natural_frequency_hz": follower.natural_frequency_hz, "damping_ratio": follower.damping_ratio,
         "mass_kg": follower.mass_kg, "variable_stiffness": not follower.constant_stiffness,
@@ -340,7 +341,7 @@ def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     from camcad.dynamics.steady import steady_state
 
     unit = OUTPUT_UNITS[settings.output_unit]
-    kwargs = dict(method=settings.method, samples=settings.samples, solver=settings.solver, rtol=settings.rtol)
+    kwargs = {"method": settings.method, "samples": settings.samples, "solver": settings.solver, "rtol": settings.rtol}
     plain = start_loads(steady_state(law, follower, rpm, **kwargs), law, follower, unit.si_scale)
     pulsed = None
     if settings.start_pulse_ratio:
@@ -368,9 +369,8 @@ def _start_load_dict(load, unit) -> dict:
 
 def _multimass_entry(law, settings, rpm: float) -> dict:
     """The multi-mass model at ``rpm``: flywheel held at speed, elastic shaft; figures over the third cycle."""
-    from camcad.dynamics.model import unit_key
+    from camcad.dynamics.model import rpm_to_rad_s, unit_key
     from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
-    from camcad.dynamics.model import rpm_to_rad_s
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,

@@ -4,17 +4,18 @@ time marching with shooting, transients, and sweeps over speed (see camcad.dynam
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
 from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
-from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw
 from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw
 
 #: a law whose displacement or velocity does not return to its start within this fraction of the
 #: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
@@ -249,7 +250,7 @@ def _march(fun, z0: np.ndarray, theta_eval: np.ndarray, cuts: np.ndarray, method
         raise CamcadError(f"unknown solver {method!r}", "--solver", f"choose one of {', '.join(SOLVERS)}")
     out = np.empty((len(z0), len(theta_eval)))
     z = np.array(z0, dtype=float)
-    for lo, hi in zip(cuts[:-1], cuts[1:]):
+    for lo, hi in itertools.pairwise(cuts):
         mask = (theta_eval >= lo) & (theta_eval < hi)
         sol = solve_ivp(fun, (lo, hi), z, method=method, rtol=rtol, atol=atol,
                         t_eval=np.append(theta_eval[mask], hi))

@@ -3,18 +3,16 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.analysis import analyse
 from camcad.fourier.resonance import ResonanceBand
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, evaluate_series
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 
 def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
@@ -28,7 +26,7 @@ def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
 
 def dwell_grid(phases: tuple[Phase, ...], spacing: float) -> np.ndarray:
     """Points (rad) on every dwell, ends included, at most ``spacing`` apart."""
-    parts = [np.linspace(p.start, p.end, int(math.ceil(p.width / spacing)) + 1)
+    parts = [np.linspace(p.start, p.end, math.ceil(p.width / spacing) + 1)
              for p in phases if p.kind == "dwell"]
     return np.concatenate(parts) if parts else np.zeros(0)
 
@@ -187,7 +185,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     phases = tuple(law.phases)
     if samples is None:
         top = max(band.highest, compensation_harmonics or 0, 2 * band.highest + 8)
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (top + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (top + 1))))
     grid = _evaluation_grid(law, samples)
     base = law.kinematics(grid)
     lift = float(np.ptp(base.s))

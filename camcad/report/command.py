@@ -8,9 +8,10 @@ never be replaced), run the scene-layer function that returns the ``AnalysisRepo
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from camcad.io.jsonout import write_json
 from camcad.io.output_folder import OutputFolder, safe_name
@@ -29,7 +30,7 @@ class CommandRun:
     report: Any
     outputs: list = field(default_factory=list)
     payload: dict = field(default_factory=dict)
-    lines: Callable[["CommandRun"], list] | None = None
+    lines: Callable[[CommandRun], list] | None = None
 
     @property
     def exit_code(self) -> int:

@@ -85,7 +85,7 @@ def plot_safety_versus_speed(sweep, *, title: str = ""):
     bottom.plot(sweep.rpm, sweep.safety_factor, "o-", color="black", ms=3, label="safety factor [σ_H]/σ_max")
     worst = int(np.argmin(sweep.safety_factor))
     bottom.axhline(1.0, color=COLOURS["limit"], ls="--",
-                   label=f"1: least {sweep.safety_factor[worst]:.4g} at {sweep.rpm[worst]:g} rpm, margin "
+                   label=f"1: least {sweep.safety_factor[worst]:.3f} at {sweep.rpm[worst]:g} rpm, margin "
                          f"{sweep.safety_factor[worst] - 1:.3g}")
     bottom.set_ylabel("safety factor")
     bottom.set_xlabel("shaft speed n, rpm")

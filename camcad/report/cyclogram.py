@@ -72,7 +72,7 @@ def plot_gantt(result, *, title: str = "", network=None):
     """
     view = result if isinstance(result, CyclogramView) else cyclogram_view(result, network)
     net = view.network
-    cycle = 360.0 if net.cycle_deg <= 360.0 else net.cycle_deg
+    cycle = max(360.0, net.cycle_deg)
     with_mechanism = [op for op in net.operations if op.mechanism]
     shown = with_mechanism or list(net.operations)
     shown.sort(key=lambda op: (view.event_times_deg[op.tail] % cycle, op.label))
@@ -198,9 +198,9 @@ def plot_network(result, *, title: str = "", network=None):
         styles.add(style)
         bend = 0.25 if lanes[op.tail] == lanes[op.head] else 0.08
         ax.annotate("", xy=end, xytext=start,
-                    arrowprops=dict(arrowstyle="-|>", color=ACTIVE_COLOUR if critical else SLACK_COLOUR,
-                                    linewidth=2.0 if critical else 1.0, linestyle="--" if active_max else "-",
-                                    shrinkA=10, shrinkB=10, connectionstyle=f"arc3,rad={bend}"))
+                    arrowprops={"arrowstyle": "-|>", "color": ACTIVE_COLOUR if critical else SLACK_COLOUR,
+                                    "linewidth": 2.0 if critical else 1.0, "linestyle": "--" if active_max else "-",
+                                    "shrinkA": 10, "shrinkB": 10, "connectionstyle": f"arc3,rad={bend}"})
         p0, p2 = to_display.transform(start), to_display.transform(end)
         middle = (p0 + p2) / 2
         dx, dy = p2 - p0
@@ -213,7 +213,7 @@ def plot_network(result, *, title: str = "", network=None):
     for (x0, y0, x1, y1), (_, _, _, _, text, critical) in zip(boxes, pending):
         x, y = from_display.transform(((x0 + x1) / 2, (y0 + y1) / 2))
         ax.text(x, y, text, ha="center", va="center", fontsize=7, color=ACTIVE_COLOUR if critical else "black",
-                bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.9), zorder=5)
+                bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.9}, zorder=5)
     for event, time in times.items():
         critical = event in view.critical_path
         ax.plot(time, lanes[event], "o", markersize=17, markerfacecolor="white",

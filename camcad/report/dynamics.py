@@ -33,6 +33,15 @@ def _check(verdict, name: str):
     return None
 
 
+def _warnings_footer(fig, verdict) -> None:
+    """The verdict's warnings (at most three) in red under the plot: what a reader must not miss."""
+    warnings = list(verdict.warnings) if verdict is not None else []
+    if warnings:
+        text = "\n".join(f"WARNING: {w.what}" for w in warnings[:3])
+        fig.text(0.01, 0.005, text, fontsize=7.5, color=COLOURS["fail"], ha="left", va="bottom", wrap=True)
+        fig.get_layout_engine().set(rect=(0, 0.03 + 0.025 * min(len(warnings), 3), 1, 1 - 0.03 - 0.025 * min(len(warnings), 3)))
+
+
 def _limit_label(check, scale: float = 1.0, unit: str = "") -> str:
     unit = f" {unit}" if unit else ""
     return (f"limit {check.limit * scale:.4g}{unit}: worst {check.value * scale:.4g}{unit}, "
@@ -93,6 +102,7 @@ def plot_acceleration_cycle(responses, phases, *, title: str = "", unit: str = "
     bottom.legend(fontsize=7.5, loc="upper right")
     bottom.grid(alpha=0.3)
     bottom.set_xlim(0, np.degrees(first.theta[-1] + first.theta[1] - first.theta[0]))
+    _warnings_footer(fig, verdict)
     return fig
 
 
@@ -131,10 +141,11 @@ def plot_speed_sweep(run, *, title: str = "", verdict=None):
         middle.annotate(f"×{sweep.peak_accel_ratio[i]:.3g} at {speeds[i]:g} rpm", (speeds[i], sweep.peak_accel_ratio[i]),
                         textcoords="offset points", xytext=(5, -12), fontsize=8)
     middle.set_ylabel("elastic / rigid")
-    for kind, colour in (("rise", "tab:blue"), ("return", "tab:orange")):
+    for kind, colour, style in (("rise", "tab:blue", "-"), ("return", "tab:orange", "--")):
         values = [max((r.amplitude for r in run.residuals[float(s)] if r.phase.kind == kind), default=np.nan)
                   for s in speeds]
-        bottom.plot(speeds, np.array(values) * 1e3, color=colour, marker=marker, ms=3, label=f"after the {kind}")
+        bottom.plot(speeds, np.array(values) * 1e3, color=colour, ls=style, marker=marker, ms=3,
+                    label=f"after the {kind} (from rest)")
     residual = _check(verdict, "residual vibration")
     if residual is not None and residual.limit is not None:
         bottom.axhline(residual.limit * 1e3, color=COLOURS["limit"], ls="--", lw=0.9,
@@ -148,8 +159,11 @@ def plot_speed_sweep(run, *, title: str = "", verdict=None):
     for index, k in enumerate(ks[:40]):
         n = 60.0 * fn / (k * per_turn)
         for ax in (top, middle, bottom):
-            ax.axvline(n, color="0.75", lw=0.6, ls=":", zorder=0,
-                       label=("k·n/60 = fn (harmonic k in resonance)" if (index == 0 and ax is middle) else None))
+            ax.axvline(n, color="0.6", lw=0.7, ls=":", zorder=0,
+                       label=("k·n/60 = fn: harmonic k in resonance" if (index == 0 and ax is middle) else None))
+        if len(ks) <= 20:
+            top.text(n, 1.0, f"k={k}", transform=top.get_xaxis_transform(), fontsize=7, color="0.4", ha="center",
+                     va="bottom")
     for rpm in sweep.unbounded:
         for ax in (top, middle, bottom):
             ax.axvline(rpm, color=COLOURS["fail"], lw=1.2,
@@ -157,8 +171,9 @@ def plot_speed_sweep(run, *, title: str = "", verdict=None):
     for ax in (top, middle, bottom):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7.5, loc="best")
-    bottom.text(0.99, 0.04, f"fn = {fn:g} Hz, damping ratio {settings.follower.damping_ratio:g}", ha="right",
+    bottom.text(0.99, 0.04, f"fn = {fn:g} Hz, damping ratio {settings.follower.damping_ratio:.3g}", ha="right",
                 va="bottom", fontsize=8, transform=bottom.transAxes)
+    _warnings_footer(fig, verdict)
     return fig
 
 
@@ -281,7 +296,14 @@ def write_figures(figures, out, sub: tuple[str, ...] = ()) -> list[Path]:
 
 
 def dynamics_lines(run) -> list[str]:
-    from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
+    from camcad.report.text import (
+        common_applies,
+        fmt,
+        header_lines,
+        output_lines,
+        table,
+        verdict_lines,
+    )
 
     report = run.report
     d = report.body
@@ -332,7 +354,14 @@ def dynamics_lines(run) -> list[str]:
 
 
 def impact_lines(run) -> list[str]:
-    from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
+    from camcad.report.text import (
+        common_applies,
+        fmt,
+        header_lines,
+        output_lines,
+        table,
+        verdict_lines,
+    )
 
     report = run.report
     d = report.body
@@ -376,7 +405,9 @@ def dynamics_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.dynamics import run_dynamics_report
 
-    src = resolve_source(command.request.law, command="dynamics")
+    require = () if command.request.fn is not None else (
+        ("dynamics", "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta"),)
+    src = resolve_source(command.request.law, command="dynamics", require=require)
     inputs = list(src.inputs) + ([command.request.compare] if command.request.compare is not None else [])
     with open_folder(command.output, src.name, inputs) as out:
         report = run_dynamics_report(command.request, src, progress)
@@ -391,7 +422,8 @@ def impact_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.stops import run_impact_report
 
-    src = resolve_source(command.request.law, command="impact")
+    src = resolve_source(command.request.law, command="impact", require=(
+        ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))
     with open_folder(command.output, src.name, src.inputs) as out:
         report = run_impact_report(command.request, src, progress)
         written = write_figures(impact_figures(report), out) if command.plots else []

@@ -114,8 +114,11 @@ def plot_spectrum(spectrum, *, band=None, title: str = "", max_harmonics: int | 
 
     handles = [Patch(color=_KEPT, label="kept")]
     if band is not None:
-        handles += [Patch(color=_REMOVED, label="removed"), Patch(color=_TAPERED, label="tapered"),
-                    Patch(color=_BAND, label="resonance band")]
+        if any(g == 0 for g in band.gains.values()):
+            handles.append(Patch(color=_REMOVED, label="removed"))
+        if any(g > 0 for g in band.gains.values()):
+            handles.append(Patch(color=_TAPERED, label="tapered"))
+        handles.append(Patch(color=_BAND, label="resonance band"))
         low_hz, high_hz = band.frequency_band_hz()
         axes[0].set_title(
             f"resonance band (shaded): k·n/60 in [{low_hz:.4g}, {high_hz:.4g}] Hz for n in "
@@ -126,8 +129,8 @@ def plot_spectrum(spectrum, *, band=None, title: str = "", max_harmonics: int | 
     axes[0].legend(handles=handles, loc="upper right", fontsize=8)
     zeros = sorted(set(zero_lists[0]) & set(zero_lists[1]))
     if zeros:
-        axes[1].text(0.01, 0.02, f"zero amplitude (not drawn): k = {_short_list(zeros)}", transform=axes[1].transAxes,
-                     fontsize=7.5, color="0.35", va="bottom")
+        axes[-1].set_xlabel(f"harmonic k (frequency k·n/60 Hz at n rpm); zero amplitude, not drawn: "
+                            f"k = {_short_list(zeros)}")
     fig.suptitle(title or "harmonic amplitudes", fontsize=11)
     return fig
 
@@ -180,8 +183,10 @@ def plot_filtered(original, written, *, title: str = "", verdict=None, unit: str
                             label=(f"{name} limit ±{check.limit * scale:.3g} {fine}: value {check.value * scale:.3g}, "
                                    f"margin {check.margin * scale:.3g} {fine}") if sign > 0 else None)
     peak = int(np.argmax(np.abs(deviation)))
+    right = deg[peak] > 0.7 * deg[-1]
     axes[1].annotate(f"largest {abs(deviation[peak]):.3g} {fine} at {deg[peak]:.1f}°", (deg[peak], deviation[peak]),
-                     fontsize=8, xytext=(5, 5), textcoords="offset points")
+                     fontsize=8, xytext=(-5 if right else 5, 5), textcoords="offset points",
+                     ha="right" if right else "left")
     axes[1].set_ylabel(f"deviation of s ({fine})")
     axes[1].legend(loc="lower left", fontsize=7.5)
     axes[2].plot(deg, first.a, color=_KEPT, lw=1.4, label=labels[0])
@@ -273,7 +278,14 @@ def write_spectrum(report, out, *, r12: bool = False, plots: bool = True) -> lis
 def spectrum_lines(run) -> list[str]:
     """The text output of ``camcad spectrum``: header, harmonics, truncation errors, resonance, the filter's
     figures, the verdict (tightest margins first) and the files written."""
-    from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
+    from camcad.report.text import (
+        common_applies,
+        fmt,
+        header_lines,
+        output_lines,
+        table,
+        verdict_lines,
+    )
 
     report = run.report
     data = report.body

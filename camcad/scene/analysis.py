@@ -92,7 +92,7 @@ class PhaseAngles:
         return out
 
     @classmethod
-    def of_law(cls, law, source: str = "law", note: str = "") -> "PhaseAngles":
+    def of_law(cls, law, source: str = "law", note: str = "") -> PhaseAngles:
         return cls(source, tuple((math.degrees(p.start), math.degrees(p.end), p.kind) for p in law.phases), note)
 
 
@@ -224,7 +224,7 @@ def law_unit(scene, mech, override: str | None, law=None) -> tuple[str, str]:
 
 
 def resolve_source(request: LawRequest, *, allow_scene: bool = True, scene_only: bool = False,
-                   command: str = "") -> AnalysisSource:
+                   command: str = "", require: tuple[tuple[str, str], ...] = ()) -> AnalysisSource:
     """The law of a scene (.toml, one mechanism picked with --mechanism), a drawn law file, or a standard
     shape, with its unit, its speeds and the phase angles analysed (module docstring).
 
@@ -237,6 +237,8 @@ def resolve_source(request: LawRequest, *, allow_scene: bool = True, scene_only:
         True for commands that take a scene only.
     command : str
         The command's name, for messages.
+    require : tuple of (section, fix)
+        Sections a scene's mechanism must have (checked before anything is computed), with how to add them.
 
     Returns
     -------
@@ -262,7 +264,7 @@ def resolve_source(request: LawRequest, *, allow_scene: bool = True, scene_only:
         if looks_like_scene(source):
             if not allow_scene:
                 raise CamcadError("is a scene, not a law", str(source), "give the law file the scene's [law] names")
-            return _scene_source(source, request, speeds, command)
+            return _scene_source(source, request, speeds, command, require)
     if scene_only:
         raise CamcadError("no scene given", "command line", f"give a scene file: camcad {command} SCENE.toml")
     if request.phase_angles == "cyclogram":
@@ -295,7 +297,8 @@ def resolve_source(request: LawRequest, *, allow_scene: bool = True, scene_only:
                           inputs=[source])
 
 
-def _scene_source(path: Path, request: LawRequest, speeds, command: str) -> AnalysisSource:
+def _scene_source(path: Path, request: LawRequest, speeds, command: str,
+                  require: tuple[tuple[str, str], ...] = ()) -> AnalysisSource:
     from camcad.scene.file import mechanism_law, read_scene
 
     for option, value in (("--standard", request.standard), ("--phases", request.phases), ("--lift", request.lift),
@@ -315,6 +318,9 @@ def _scene_source(path: Path, request: LawRequest, speeds, command: str) -> Anal
         mech = scene.mechanisms[0]
     else:
         mech = scene.mechanism(request.mechanism)
+    for section, fix in require:
+        if not mech.has(section):
+            raise CamcadError(f"the scene has no [{section}] section", mech.where(scene.path, section), fix)
     if speeds is None and scene.speeds_rpm:
         speeds = list(scene.speeds_rpm)
     built = mechanism_law(scene, mech)

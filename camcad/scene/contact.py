@@ -5,17 +5,14 @@ library function (``run_contact``): every mechanism's Hertz stress along its pro
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-
-
+from camcad.contact import ContactParams
 from camcad.errors import CamcadError
 from camcad.scene.fields import Field, read_table
-from camcad.contact import ContactParams
 from camcad.verdict import Check, Verdict, Warning
 
 #: a safety factor [σ_H]/σ_max below 1 + this (and a margin below this fraction of a limit) is warned about
@@ -142,7 +139,12 @@ def contact_of_mechanism(scene, mech, speeds: list[float], samples: int, phase_a
     """The contact analysis of one mechanism on the law ``camcad profile`` analyses: its [law] at the
     cyclogram's phase angles (unless ``phase_angles`` is "law"; ``found``: the CyclogramAngles already
     computed), after its [filter] step."""
-    from camcad.scene.analysis import LawRequest, PhaseAngles, law_unit, scene_phase_angles
+    from camcad.scene.analysis import (
+        LawRequest,
+        PhaseAngles,
+        law_unit,
+        scene_phase_angles,
+    )
     from camcad.scene.file import mechanism_law
     from camcad.scene.filter import filter_step
     from camcad.scene.mechanism import law_with_phases

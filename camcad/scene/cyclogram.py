@@ -4,20 +4,16 @@ as one library function (``run_cyclogram``), with the verdict the pipeline's ste
 
 from __future__ import annotations
 
-
-
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-
-from camcad.errors import CamcadError
-from camcad.errors import nearest_name
-from camcad.scene.fields import Field, read_table
 from camcad.cyclogram.limits import LinearRelation
 from camcad.cyclogram.network import Network, Operation, make_network
+from camcad.errors import CamcadError, nearest_name
+from camcad.scene.fields import Field, read_table
 from camcad.verdict import Check, Verdict, Warning
 
 #: cycle slack below this fraction of the cycle is warned about

@@ -10,10 +10,14 @@ from typing import Any
 
 import numpy as np
 
+from camcad.dynamics.model import (
+    ElasticFollower,
+    StiffnessTable,
+    damping_ratio_from_psi,
+)
+from camcad.dynamics.steady import DEFAULT_SAMPLES, SOLVERS
 from camcad.errors import CamcadError
 from camcad.scene.fields import Field, read_table
-from camcad.dynamics.model import ElasticFollower, StiffnessTable, damping_ratio_from_psi
-from camcad.dynamics.steady import DEFAULT_SAMPLES, SOLVERS
 
 # --------------------------------------------------------------------------------------------
 # The scene's [dynamics] section

@@ -4,16 +4,13 @@ one library function (``run_impact_report``).
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-
+from camcad.dynamics.impact import STOP_SIDES, StopModel, lever_stiffness, reduced_mass
 from camcad.errors import CamcadError
 from camcad.scene.fields import Field, read_table
-from camcad.dynamics.impact import STOP_SIDES, StopModel, lever_stiffness, reduced_mass
-
 
 # --------------------------------------------------------------------------------------------
 # The scene's [stops] section
