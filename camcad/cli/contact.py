@@ -29,9 +29,11 @@ SamplesOpt = Annotated[int, typer.Option("--samples", help="Cam-angle samples pe
 def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = None, output: OutOpt = None,
             no_plots: NoPlotsOpt = False, samples: SamplesOpt = 2000, phase_angles: PhaseAnglesOpt = "auto",
             as_json: JsonOpt = False) -> None:
-    """Hertz contact stress along the profile, safety factor against speed, separation and the least
-    phase angle of each rise and return, at the phase angles camcad profile uses (the cyclogram's in a group
-    scene); exit 0 ok, 1 stress over [σ_H] or separation, 2 bad input."""
+    """Hertz contact stress along the profile, safety factor, phase limits.
+
+    The safety factor against speed, separation and the least phase angle of each rise and return, at the
+    phase angles camcad profile uses (the cyclogram's in a group scene); exit 0 ok, 1 stress over [σ_H] or
+    separation, 2 bad input."""
     from camcad.report.contact import ContactCommand, contact_command
     from camcad.scene.contact import ContactRequest
 
@@ -42,9 +44,10 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
 @app.command()
 def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, no_plots: NoPlotsOpt = False,
               samples: SamplesOpt = 2000, as_json: JsonOpt = False) -> None:
-    """Optimise the group's cyclogram: least makespan by LP under the operations' bounds and their
-    phase-angle limits (vibration, contact stress, pressure angle, impact rebound); exit 1 when the network
-    is infeasible."""
+    """Optimise a group's cyclogram: least makespan under the phase limits.
+
+    By LP under the operations' bounds and their phase-angle limits (vibration, contact stress, pressure
+    angle, impact rebound); exit 1 when the network is infeasible."""
     from camcad.report.cyclogram import CyclogramCommand, cyclogram_command
     from camcad.scene.cyclogram import CyclogramRequest
 

@@ -57,9 +57,10 @@ def dynamics(source: SourceArg = None,
              lift: LiftOpt = None, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
              x_deg: XDegOpt = False, mechanism: MechanismOpt = None, output: OutOpt = None,
              no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
-    """Elastic follower over a speed range: rigid vs elastic acceleration, dynamic error, residual vibration
-    (always reported, also at resonance); exit 1 when a given limit is exceeded or a speed has no bounded
-    steady state."""
+    """Elastic follower over a speed range: rigid vs elastic acceleration.
+
+    Dynamic error, residual vibration (always reported, also at resonance), start-of-motion loads; exit 1
+    when a given limit is exceeded or a speed has no bounded steady state."""
     from camcad.report.dynamics import DynamicsCommand, dynamics_command
     from camcad.scene.analysis import LawRequest
     from camcad.scene.dynamics import DynamicsRequest
@@ -92,8 +93,9 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
            lift: LiftOpt = None, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
            x_deg: XDegOpt = False, mechanism: MechanismOpt = None, output: OutOpt = None,
            no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
-    """Impact on a limit stop: force and first rebound against speed, least phase angle for an allowed
-    amplitude (exit 1 when the rebound exceeds it or the preload)."""
+    """Impact on a limit stop: force and first rebound against speed.
+
+    And the least phase angle for an allowed amplitude (exit 1 when the rebound exceeds it or the preload)."""
     from camcad.report.dynamics import DynamicsCommand, impact_command
     from camcad.scene.analysis import LawRequest
     from camcad.scene.stops import ImpactRequest

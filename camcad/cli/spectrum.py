@@ -60,9 +60,12 @@ def spectrum(
         x_deg: XDegOpt = False, mechanism: MechanismOpt = None,
         output: OutOpt = None, no_plots: NoPlotsOpt = False,
         as_json: JsonOpt = False) -> None:
-    """Harmonics of a law (amplitudes and initial phases of s and a), truncation error against N, the
-    resonance band over a speed range; with --filter the resonant harmonics are removed, the filtered law is
-    written and judged (deviation, dwells, peak acceleration, closure: exit 1 when a limit is exceeded)."""
+    """Harmonics of a law, the resonance band over a speed range, filtering.
+
+    Amplitudes and initial phases of s and a, truncation error against N, the resonance band over a speed
+    range; with --filter the resonant harmonics are removed, the filtered law is written and judged
+    (deviation, dwells, peak acceleration, closure: exit 1 when a limit is exceeded). An unbalanced law is
+    refused (exit 2) unless --force."""
     from camcad.report.spectrum import SpectrumCommand, spectrum_command
     from camcad.scene.analysis import LawRequest
     from camcad.scene.filter import SpectrumRequest
