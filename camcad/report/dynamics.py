@@ -87,7 +87,8 @@ def plot_acceleration_cycle(responses, phases, *, title: str = "", unit: str = "
         allowed = ratio.limit * fastest.peak_accel_rigid * u.si_scale
         for sign in (-1, 1):
             top.axhline(sign * allowed, color=COLOURS["limit"], ls="--", lw=0.8,
-                        label=(f"peak ratio {_limit_label(ratio)} (at {fastest.rpm:g} rpm)" if sign > 0 else None))
+                        label=(f"{ratio.limit:g} × rigid peak at {fastest.rpm:g} rpm; worst ratio over the speeds "
+                               f"{ratio.value:.4g}, margin {ratio.margin:.3g}" if sign > 0 else None))
     error = _check(verdict, "dynamic error")
     if error is not None and error.limit is not None:
         for sign in (-1, 1):
