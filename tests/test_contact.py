@@ -265,7 +265,7 @@ def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
     from camcad.scene.mechanism import phase_grid, phase_stress_function, phases_deg
     from camcad.scene.file import mechanism_law, read_scene
 
-    done = cli("contact", SAMPLE, "--json", "-o", tmp_path, "--rpm", "300:420:60")
+    done = cli("contact", SAMPLE, "--json", "-o", tmp_path, "--rpm", "300:420:60", "--phase-angles", "law")
     assert done.code == 0, done.err
     payload = done.json()
     for key in ("sigma_max_MPa", "at_deg", "safety_factor", "separation", "phase_limit_deg"):

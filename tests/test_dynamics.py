@@ -335,7 +335,8 @@ def test_cli_dynamics_json(cli, tmp_path):
     assert set(d["residual_vibration_mm"]) == {"rise", "return"}
     law = dwell_rise_dwell_return()
     direct = dynamics.sweep(law, ElasticFollower(40.0, 0.05), [280, 350, 420])
-    assert d["peak_accel_ratio"] == pytest.approx(list(direct.peak_accel_ratio), rel=1e-12)
+    # the JSON carries 10 significant digits (camcad.verdict.REPORT_DIGITS)
+    assert d["peak_accel_ratio"] == pytest.approx(list(direct.peak_accel_ratio), rel=1e-9)
     assert (tmp_path / "dynamics_cycle.png").stat().st_size > 10_000
     assert (tmp_path / "dynamics.json").exists()
     failed = cli("dynamics", "--standard", "cycloidal", "--phases", PHASES, "--lift", "25", "--fn", "40",
@@ -350,7 +351,10 @@ def test_cli_dynamics_scene_with_variable_stiffness_and_multimass(cli, tmp_path)
     d = result.json()["dynamics"]
     assert d["unit"] == "rad" and d["variable_stiffness"] and d["method"] == "time"
     assert d["peak_accel_ratio"][0] > 2.0  # the source: elastic accelerations exceed rigid ones > 2x
-    assert d["peak_accel_rigid_rad_s2"][0] == pytest.approx(3221.0, rel=1e-3)
+    # closed form of the simple harmonic rise: a_max = (π²/2) h/β² per rad², times ω² (h 0.421 rad, β 64°)
+    omega = 2 * math.pi * 420 / 60
+    assert d["peak_accel_rigid_rad_s2"][0] == pytest.approx(math.pi**2 / 2 * 0.421 / math.radians(64) ** 2 * omega**2,
+                                                            rel=1e-6)
     assert "multimass" in d and d["start_load"]["phases"][0]["with_pulse"]["increase"] > 1.0
 
 
@@ -385,5 +389,5 @@ def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     ours = dynamics.start_loads(dynamics.steady_state(law, follower, 300.0), law, follower)
     theirs = dynamics.start_loads(dynamics.steady_state(led, follower, 300.0), led, follower)
     assert lead["reduction"] == pytest.approx([a.peak_link_accel / b.peak_link_accel for a, b in zip(ours, theirs)],
-                                              rel=1e-12)
+                                              rel=1e-9)
     assert lead["reduction"][0] > 1.05  # measured 1.10 here (the source reports 3.45x for its batten law)

@@ -377,14 +377,17 @@ def test_filtered_law_closes_and_dwell_deviation_is_bounded(drdr):
     result = fourier.filter_law(drdr, band, keep_dwells=False)
     ends = result.law.kinematics(np.array([0.0, TWO_PI]))
     assert abs(ends.s[1] - ends.s[0]) <= 1e-12 * LIFT and abs(ends.v[1] - ends.v[0]) <= 1e-12 * LIFT
-    # the dwell deviation is the removed terms on the dwells, recomputed here from the original's
-    # amplitudes and phases on a dense grid, and bounded by the sum of the removed amplitudes
+    # the dwell deviation is the removed terms on the dwells, measured from θ = 0 (where a written law is
+    # read back from s = 0), recomputed here from the original's amplitudes and phases on a dense grid, and
+    # bounded by twice the sum of the removed amplitudes
     spectrum = fourier.analyse(drdr, 64)
     k = np.array(band.removed)
     dwells = np.concatenate([np.linspace(p.start, p.end, 20001) for p in drdr.phases if p.kind == "dwell"])
     removed_terms = np.sin(np.outer(dwells, k) + spectrum.phases[k - 1]) @ spectrum.amplitudes[k - 1]
-    assert result.dwell_deviation == pytest.approx(np.max(np.abs(removed_terms)), rel=1e-4)
-    assert result.dwell_deviation <= np.sum(spectrum.amplitudes[k - 1]) == pytest.approx(result.removal_bound)
+    at_zero = np.sin(spectrum.phases[k - 1]) @ spectrum.amplitudes[k - 1]
+    assert result.dwell_deviation == pytest.approx(np.max(np.abs(removed_terms - at_zero)), rel=1e-4)
+    assert np.sum(spectrum.amplitudes[k - 1]) == pytest.approx(result.removal_bound)
+    assert result.dwell_deviation <= 2 * result.removal_bound
     report = result.report()
     for key in ("removed", "max_deviation_mm", "dwell_deviation_mm", "peak_accel_ratio"):
         assert key in report
@@ -565,7 +568,8 @@ def test_cli_spectrum_json_and_filter(tmp_path, capsys):
     code, stdout, _ = _run(["spectrum", "--standard", "cycloidal", "--phases",
                             "0:70:dwell,70:170:rise,170:280:dwell,280:360:return", "--lift", "25",
                             "--fn", "100", "--rpm", "300:400", "--band", "0", "--filter", "--no-keep-dwells",
-                            "-N", "32", "--tol", "1e-3", "--no-plots", "-o", str(out), "--json"], capsys)
+                            "--dwell-tol", "0.05", "-N", "32", "--tol", "1e-3", "--no-plots", "-o", str(out),
+                            "--json"], capsys)
     assert code == 0
     payload = json.loads(stdout)
     spectrum = payload["spectrum"]
@@ -594,4 +598,6 @@ def test_cli_exit_1_when_dwells_cannot_be_kept(capsys, tmp_path):
                             "0:70:dwell,70:170:rise,170:280:dwell,280:360:return", "--fn", "5", "--rpm", "100:150",
                             "--band", "0", "--filter", "--dwell-tol", "1e-6", "--no-plots", "-o", str(tmp_path),
                             "--json"], capsys)
-    assert code == 1 and json.loads(stdout)["spectrum"]["dwells_kept"] is False
+    spectrum = json.loads(stdout)["spectrum"]
+    assert code == 1 and spectrum["filter"]["dwells_kept"] is False
+    assert spectrum["checks"]["dwell deviation"]["passed"] is False and spectrum["passed"] is False

@@ -641,21 +641,38 @@ def test_undamped_response_next_to_resonance_is_the_closed_form(detuning):
 
 @pytest.mark.parametrize("method", ["frequency", "time"])
 @pytest.mark.parametrize("fn, harmonic", [(5.0, 1), (10.0, 2)])
-def test_exact_resonance_is_refused(method, fn, harmonic):
-    # ω = ωn/k exactly (300 rpm is 5 Hz): the undamped periodic response does not exist (harmonic 1) or is
-    # not unique (harmonic 2 of a one-harmonic law: any free vibration repeats itself). Both paths refuse.
+def test_exact_resonance_is_refused_only_for_a_harmonic_that_is_not_zero(method, fn, harmonic):
+    # ω = ωn/k exactly (300 rpm is 5 Hz). Harmonic 1 of the one-harmonic law is not zero: no bounded periodic
+    # response, both paths refuse. Harmonic 2 is zero: the frequency path gives the ζ → 0 limit (that harmonic
+    # dropped), the closed form x = X cos θ, X = −(h/2) ω²/(ωn² − ω²); the time path cannot tell the harmonics
+    # apart (any free vibration repeats itself each cycle) and refuses.
     assert rpm_to_rad_s(300.0) * harmonic == ElasticFollower(fn, 0.0).omega_n
+    if harmonic == 2 and method == "frequency":
+        response = dynamics.steady_state(CosineLaw(), ElasticFollower(fn, 0.0), 300.0, method=method, samples=64)
+        omega, wn = rpm_to_rad_s(300.0), 2 * math.pi * fn
+        expected = -12.5 * omega**2 / (wn**2 - omega**2) * np.cos(response.theta)
+        assert np.max(np.abs(response.dynamic_error - expected)) <= 1e-12 * 25.0
+        assert "zeta -> 0 limit" in response.notes[0]
+        return
     with pytest.raises(CamcadError, match="resonance") as caught:
         dynamics.steady_state(CosineLaw(), ElasticFollower(fn, 0.0), 300.0, method=method, samples=64)
     if method == "frequency":
         assert f"harmonic {harmonic}" in str(caught.value)
 
 
-def test_cli_refuses_resonance_in_one_line(cli, tmp_path):
+def test_cli_reports_resonance_and_the_residual_vibration(cli, tmp_path):
+    # 300 rpm is exactly fn = 5 Hz: harmonic 1 of the cycle resonates, so there is no bounded steady state
+    # (check failed, exit 1) — but the residual vibration after the 90° rise (T = 0.05 s, r = T fn = 0.25) is
+    # finite and reported: A = h |sin πr| / (π r |r² − 1|) (closed form, test_dynamics).
     phases = "0:90:dwell,90:180:rise,180:270:dwell,270:360:return"
     result = cli("dynamics", "--standard", "cycloidal", "--phases", phases, "--lift", "25", "--fn", "5", "--zeta", "0",
-                 "--rpm", "300", "--no-plots", "-o", tmp_path / "d")
-    assert one_line_error(result) and "resonance" in result.err
+                 "--rpm", "300", "--no-plots", "-o", tmp_path / "d", "--json")
+    assert result.code == 1, result.err
+    d = result.json()["dynamics"]
+    assert d["checks"]["bounded steady state"]["passed"] is False and d["unbounded"][0]["harmonic"] == 1
+    r = 0.25
+    assert d["residual_vibration_mm"]["rise"] == pytest.approx(
+        25.0 * abs(math.sin(math.pi * r)) / (math.pi * r * abs(r * r - 1)), rel=1e-9)
 
 
 @pytest.mark.parametrize("r", [1 - 1e-7, 1 + 1e-7])

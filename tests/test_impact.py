@@ -167,15 +167,32 @@ def test_impact_force_and_rebound_are_proportional_to_speed():
     assert 0.07 * 420 / 280 == pytest.approx(0.105, rel=1e-12)
 
 
-def test_sample_reproduces_the_published_shuttle_lift_figures():
+#: published first-rebound amplitudes (Podgorny et al. 2018, seed 000), mm, and force at 280/420 rpm, N
+PUBLISHED_REBOUND = {280.0: 0.070, 320.0: 0.078, 370.0: 0.092, 420.0: 0.105}
+PUBLISHED_FORCE = {280.0: 4.137, 420.0: 6.2}
+
+
+def test_sample_is_calibrated_at_280_rpm_and_validated_at_the_other_speeds():
+    # CALIBRATED: the sample's lever dimensions, stop stiffness, damping and reduced mass were chosen so that the
+    # model gives the published 4.137 N and 0.070 mm at 280 rpm — agreement there is by construction, not a
+    # result. VALIDATED: the model's force and rebound are proportional to the speed (everything is linear in
+    # v0 ∝ n), so its predictions elsewhere are A(n) = A(280)·n/280; the published rebounds are not exactly
+    # proportional. Deviations of the model from the published figures (stated in the sample's header):
+    #   320 rpm: 0.0800 vs 0.078 mm (+2.6 %); 370 rpm: 0.0925 vs 0.092 (+0.5 %); 420 rpm: 0.105 vs 0.105 (0.0 %);
+    #   force at 420 rpm: 6.206 vs 6.2 N (+0.1 %).
     law, stop = shuttle_law(), shuttle_stop()
-    sweep = impact.impact_sweep(law, stop, [280.0, 320.0, 370.0, 420.0])
-    # chosen to match at 280 rpm (see the sample's header) ...
-    assert sweep.force_n[0] == pytest.approx(4.137, abs=0.001)
-    assert sweep.rebound_mm[0] == pytest.approx(0.070, abs=0.0005)
-    # ... then the model predicts the published 6.2 N and 0.078, 0.092, 0.105 mm within 3 %
-    assert sweep.force_n[3] == pytest.approx(6.2, rel=0.01)
-    assert sweep.rebound_mm[1:] == pytest.approx([0.078, 0.092, 0.105], rel=0.03)
+    speeds = sorted(PUBLISHED_REBOUND)
+    sweep = impact.impact_sweep(law, stop, speeds)
+    assert sweep.force_n[0] == pytest.approx(PUBLISHED_FORCE[280.0], abs=0.001)       # calibrated
+    assert sweep.rebound_mm[0] == pytest.approx(PUBLISHED_REBOUND[280.0], abs=0.0005)  # calibrated
+    deviations = {}
+    for n, model in zip(speeds, sweep.rebound_mm):
+        assert model == pytest.approx(sweep.rebound_mm[0] * n / 280.0, rel=1e-9)   # proportional: the model's law
+        deviations[n] = model / PUBLISHED_REBOUND[n] - 1.0
+    assert deviations[320.0] == pytest.approx(0.026, abs=0.002)
+    assert deviations[370.0] == pytest.approx(0.005, abs=0.002)
+    assert deviations[420.0] == pytest.approx(0.000, abs=0.002)
+    assert sweep.force_n[-1] / PUBLISHED_FORCE[420.0] - 1.0 == pytest.approx(0.001, abs=0.001)
     # it stays pressed on the stop: the rebound is below the preload
     assert not any(item.leaves_stop for item in sweep.impacts)
 
@@ -235,11 +252,13 @@ def test_cli_impact_scene_json(cli, tmp_path):
     # at the nominal 35 deg the rebound passes the published 0.1 mm limit above 400 rpm: the check fails
     assert result.code == 1, result.err
     d = result.json()["impact"]
+    assert d["checks"]["first rebound"]["passed"] is False and d["checks"]["rebound below the preload"]["passed"]
     for key in ("reduced_stiffness_N_per_m", "f_free_hz", "f_stop_hz", "impulse_Ns", "pulse_s", "force_N",
                 "rebound_mm", "phase_limit_deg", "passed"):
         assert key in d
     assert d["speeds_rpm"][0] == 280.0 and d["speeds_rpm"][-1] == 420.0 and len(d["rebound_mm"]) == 15
-    assert d["phase_limit_deg"] == pytest.approx(36.75, abs=0.01)
+    # the exact relation A(t) = A0 t0/t at the fastest speed: t = t0 A0/[a], with A0 the 420 rpm rebound
+    assert d["phase_limit_deg"] == pytest.approx(35.0 * d["rebound_mm"][-1] / 0.1, rel=1e-9)
     assert (tmp_path / "impact_rebound.png").stat().st_size > 10_000
     assert (tmp_path / "impact_response.png").exists()
     relaxed = cli("impact", SHUTTLE, "--json", "--no-plots", "-o", tmp_path, "--allowed", "0.11", "--rpm", "300")

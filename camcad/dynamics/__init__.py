@@ -49,6 +49,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
     from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
     from camcad.dynamics.steady import (
+        ResonanceError,
         Response,
         Sweep,
         steady_state,
@@ -71,6 +72,7 @@ _EXPORTS: dict[str, str] = {
     "MultiMassResult": "camcad.dynamics.multimass",
     "ReboundRelation": "camcad.dynamics.impact",
     "Residual": "camcad.dynamics.residual",
+    "ResonanceError": "camcad.dynamics.steady",
     "Response": "camcad.dynamics.steady",
     "SpeedDrive": "camcad.dynamics.multimass",
     "StartLoad": "camcad.dynamics.startload",
@@ -129,6 +131,7 @@ __all__ = [
     "MultiMassResult",
     "ReboundRelation",
     "Residual",
+    "ResonanceError",
     "Response",
     "SpeedDrive",
     "StartLoad",

@@ -116,6 +116,25 @@ OUTPUT_UNITS = {
 }
 
 
+def unit_key(key: str, unit: str) -> str:
+    """A JSON key that carries a length, in the law's unit: ``_mm`` → ``_rad`` (``_mm2`` → ``_rad2``).
+
+    Keys of a translating follower's law keep their SPEC.md names (``dynamic_error_max_mm``); those of an
+    oscillating follower's law (rad or deg of swing) say so (``dynamic_error_max_rad``).
+
+    Examples
+    --------
+    >>> unit_key("dynamic_error_max_mm", "rad"), unit_key("variance_mm2", "deg"), unit_key("lift_mm", "mm")
+    ('dynamic_error_max_rad', 'variance_deg2', 'lift_mm')
+    """
+    if unit == "mm":
+        return key
+    for suffix in ("_mm2", "_mm"):
+        if key.endswith(suffix):
+            return key[: -len(suffix)] + "_" + unit + suffix[3:]
+    return key.replace("_mm_", f"_{unit}_")
+
+
 # --------------------------------------------------------------------------------------------
 # The elastic follower
 # --------------------------------------------------------------------------------------------
@@ -160,7 +179,7 @@ class StiffnessTable:
         return slopes[index]
 
     @classmethod
-    def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> "StiffnessTable":
+    def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> StiffnessTable:
         pairs = np.asarray(pairs, dtype=float).reshape(-1, 2)
         order = np.argsort(pairs[:, 0])
         return cls(np.radians(pairs[order, 0]), pairs[order, 1], float(np.radians(cycle_deg)))
@@ -187,7 +206,7 @@ class ElasticFollower:
 
     @classmethod
     def from_mass_stiffness(cls, mass_kg: float, stiffness_n_per_m: float, damping_ratio: float = 0.0,
-                            stiffness: StiffnessTable | None = None) -> "ElasticFollower":
+                            stiffness: StiffnessTable | None = None) -> ElasticFollower:
         """fn = √(c/m)/(2π) Hz from the reduced mass (kg) and stiffness (N/m)."""
         fn = math.sqrt(stiffness_n_per_m / mass_kg) / (2.0 * math.pi)
         return cls(fn, damping_ratio, mass_kg, stiffness)

@@ -1,103 +1,282 @@
-"""Dynamics and stop-impact analyses of one law, as reports: what `camcad dynamics`, `camcad impact` and
-the scene pipeline (steps 5, 6 and 8 of SPEC.md) share.
+"""Dynamics and stop-impact analyses of one law over the machine's speeds, with their verdicts: what
+`camcad dynamics`, `camcad impact` and the scene pipeline (steps 5, 6 and 8 of SPEC.md) share.
 
-The models are in camcad.dynamics.sdof, .multimass and .impact; this module runs them over the machine's
-speeds and gathers the figures under the SPEC.md ``dynamics`` and ``impact`` keys (plus a ``passed`` flag
-against the limits the settings give).
+The models are in camcad.dynamics.steady, .residual, .multimass and .impact; this module runs them over
+the speeds and gathers the figures under the SPEC.md ``dynamics`` and ``impact`` keys, and a
+``camcad.verdict.Verdict``: every check a figure, a limit and a margin (a figure without a limit is
+reported for information), and the warnings a senior engineer would give even where no limit is set.
+
+Units: the law's displacement is in mm (translating follower) or rad (oscillating follower,
+``output_unit = "rad"``); every key that carries a length says its unit (``dynamic_error_max_mm`` or
+``dynamic_error_max_rad``, see ``camcad.dynamics.model.unit_key``).
+
+Resonance rules (docs/analyses.md):
+
+- the residual vibration after each motion phase is always computed (Duhamel integral, finite at any
+  speed: the free vibration after a phase that starts from rest);
+- the periodic steady state at a speed is refused only when a harmonic in exact resonance has a
+  non-zero amplitude (``ResonanceError``): that speed is reported as unbounded and the check
+  "bounded steady state" fails; a resonant harmonic of zero amplitude is dropped (the ζ → 0 limit)
+  with a note;
+- a harmonic of non-zero amplitude within ``NEAR_RESONANCE`` of the natural frequency is warned about
+  with its frequency ratio kn/(60 fn)·(360°/cycle) and speed.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any, Callable
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+
+from camcad.verdict import Check, Verdict, Warning
+
+#: a harmonic of non-zero amplitude whose frequency is within this fraction of the natural frequency at
+#: some speed is "near resonance" (the ±5 % band the resonance filter removes by default)
+NEAR_RESONANCE = 0.05
+#: a harmonic whose displacement amplitude is at most this fraction of the lift counts as zero
+#: (the sampled spectrum's round-off is ~1e-16 of the lift)
+ZERO_AMPLITUDE = 1e-12
 
 
 @dataclass(frozen=True)
 class DynamicsRun:
+    """What ``run_dynamics`` found: ``report`` (SPEC.md ``dynamics`` keys and more, without the verdict),
+    ``verdict``, the ``sweep`` (camcad.dynamics.steady.Sweep), the speeds whose responses are kept for
+    plots, the settings, and the residual vibration at every speed (``residuals``: {rpm: [Residual]})."""
+
     report: dict
     sweep: Any
     keep: tuple[float, ...]
     settings: Any
+    verdict: Verdict = field(default_factory=Verdict)
+    residuals: dict = field(default_factory=dict)
+    lift: float = 0.0
+    phases: tuple = ()
+    cycle: float = 2.0 * math.pi
+
+    def to_dict(self) -> dict:
+        """``report`` with ``passed``, ``checks``, ``tightest`` and ``warnings`` of the verdict."""
+        return {**self.report, **self.verdict.to_dict()}
 
 
 def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | None = None,
-                 lead_in: tuple[float, float] | None = None, compare=None, compare_name: str = "") -> DynamicsRun:
-    """The elastic follower over ``speeds`` (rpm): SPEC.md ``dynamics`` keys, start-of-motion loads, the
-    multi-mass model when the settings have one, the limit checks and ``passed``.
+                 lead_in: tuple[float, float] | None = None, compare=None, compare_name: str = "",
+                 applies: str = "") -> DynamicsRun:
+    """The elastic follower over ``speeds`` (rpm): SPEC.md ``dynamics`` keys, residual vibration at every
+    speed, start-of-motion loads, the multi-mass model when the settings have one, and the verdict.
 
-    lead_in: (angle deg, fraction) — compare with lead-in segments before each motion (camcad.fourier).
-    compare: a second law whose start-of-motion load is compared.
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (mm, or rad for ``settings.output_unit == "rad"``); must close over its cycle.
+    settings : camcad.scene.dynamics.DynamicsSettings
+        The follower, the limits (``allowed_*``) and the solver knobs.
+    speeds : list of float
+        Cam speeds, rpm (the first one is the SPEC.md residual-vibration speed).
+    lead_in : (float, float) or None
+        (angle deg, fraction of the peak) — compare with lead-in segments before each motion.
+    compare : MotionLaw or None
+        A second law whose start-of-motion load is compared.
+    applies : str
+        Added to every check's ``applies`` (e.g. which phase angles were analysed).
+
+    Returns
+    -------
+    DynamicsRun
     """
-    from camcad.dynamics.model import OUTPUT_UNITS
+    from camcad.dynamics.model import OUTPUT_UNITS, unit_key
     from camcad.dynamics.residual import residual_vibration
+    from camcad.dynamics.spectrum import check_closure
     from camcad.dynamics.steady import sweep
 
     follower = settings.follower
+    lift = check_closure(law)
+    speeds = [float(s) for s in speeds]
     fastest = max(speeds)
     keep = tuple(sorted({speeds[0], fastest}))
+    unit = OUTPUT_UNITS[settings.output_unit]
+    # the residual vibration first: it exists at every speed, resonance or not
+    residuals = {rpm: residual_vibration(law, follower, rpm) for rpm in speeds}
     result = sweep(law, follower, speeds, method=settings.method, samples=settings.samples, solver=settings.solver,
                    rtol=settings.rtol, keep=keep, progress=progress)
-    unit = OUTPUT_UNITS[settings.output_unit]
-    residuals = residual_vibration(law, follower, speeds[0])
+    first = residuals[speeds[0]]
     by_kind = {"rise": 0.0, "return": 0.0}
-    for item in residuals:
+    for item in first:
         by_kind[item.phase.kind] = max(by_kind[item.phase.kind], item.amplitude)
+    worst_residual = max(((item.amplitude, rpm, item) for rpm, items in residuals.items() for item in items),
+                         key=lambda entry: entry[0], default=(0.0, speeds[0], None))
+    key = lambda name: unit_key(name, unit.name)
     report: dict[str, Any] = {
         "natural_frequency_hz": follower.natural_frequency_hz, "damping_ratio": follower.damping_ratio,
         "mass_kg": follower.mass_kg, "variable_stiffness": not follower.constant_stiffness,
-        "unit": unit.name, "speeds_rpm": list(result.speeds_rpm), "peak_accel_ratio": list(result.peak_accel_ratio),
-        "dynamic_error_max_mm": list(result.dynamic_error_max),
+        "unit": unit.name, "lift": lift, "speeds_rpm": list(result.speeds_rpm),
+        "peak_accel_ratio": [_finite_or_none(v) for v in result.peak_accel_ratio],
+        key("dynamic_error_max_mm"): [_finite_or_none(v) for v in result.dynamic_error_max],
         f"peak_accel_rigid_{unit.accel_key}": list(result.peak_accel_rigid * unit.si_scale),
-        f"peak_accel_elastic_{unit.accel_key}": list(result.peak_accel_elastic * unit.si_scale),
-        "residual_vibration_mm": by_kind,
+        f"peak_accel_elastic_{unit.accel_key}": [_finite_or_none(v * unit.si_scale)
+                                                 for v in result.peak_accel_elastic],
+        key("residual_vibration_mm"): by_kind,
+        "residual_vibration_rpm": speeds[0],
         "residual_vibration_phases": [{"kind": r.phase.kind, "start_deg": math.degrees(r.phase.start),
-                                       "end_deg": math.degrees(r.phase.end), "amplitude_mm": r.amplitude,
-                                       "rpm": r.rpm} for r in residuals],
+                                       "end_deg": math.degrees(r.phase.end), key("amplitude_mm"): r.amplitude,
+                                       "rpm": r.rpm} for r in first],
+        key("residual_vibration_max_mm"): {"value": worst_residual[0], "rpm": worst_residual[1],
+                                           "phase": None if worst_residual[2] is None else worst_residual[2].phase.kind},
         "method": result.method,
         "accuracy": ({"samples": settings.samples} if result.method == "frequency"
                      else {"solver": settings.solver, "rtol": settings.rtol, "samples": settings.samples}),
-        "start_load": {"rpm": fastest, "phases": _start_load_entries(law, follower, fastest, settings)},
+        "unbounded": [{"rpm": rpm, "harmonic": err.harmonic, key("amplitude_mm"): err.amplitude,
+                       "why": err.what} for rpm, err in result.unbounded.items()],
+        "notes": sorted({note for notes in result.notes.values() for note in notes}),
     }
-    if compare is not None:
-        report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
-    if lead_in is not None:
-        from camcad.fourier.leadin import add_lead_in
+    skipped: dict[str, str] = {}
+    if fastest in result.unbounded:
+        skipped["start_load"] = f"no bounded steady state at {fastest:g} rpm"
+    else:
+        report["start_load"] = {"rpm": fastest, "phases": _start_load_entries(law, follower, fastest, settings)}
+        if compare is not None:
+            report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
+        if lead_in is not None:
+            from camcad.fourier.leadin import add_lead_in
 
-        angle, fraction = lead_in
-        result_lead = add_lead_in(law, angle, fraction, where="lead-in")
-        report["lead_in"] = {"angle_deg": angle, "fraction": fraction, "balanced": result_lead.balanced,
-                             **_compared(report, result_lead.law, follower, fastest, settings, unit)}
+            angle, fraction = lead_in
+            result_lead = add_lead_in(law, angle, fraction, where="lead-in")
+            report["lead_in"] = {"angle_deg": angle, "fraction": fraction, "balanced": result_lead.balanced,
+                                 **_compared(report, result_lead.law, follower, fastest, settings, unit)}
     if settings.has_multimass and settings.shaft_stiffness is not None:
         report["multimass"] = _multimass_entry(law, settings, fastest)
     elif settings.has_multimass:
-        report["skipped"] = {"multimass": "rigid shaft: the multi-mass model reduces to the single-DOF one"}
-    checks = {}
-    for key, value, allowed in (
-            ("peak_accel_ratio", float(np.max(result.peak_accel_ratio)), settings.allowed_peak_accel_ratio),
-            ("dynamic_error_max_mm", float(np.max(result.dynamic_error_max)), settings.allowed_dynamic_error_mm),
-            ("residual_vibration_mm", max(by_kind.values()), settings.allowed_residual_mm)):
-        if allowed is not None:
-            checks[key] = {"value": value, "allowed": allowed, "passed": value <= allowed}
-    report["checks"] = checks
-    report["passed"] = all(check["passed"] for check in checks.values())
-    return DynamicsRun(report, result, keep, settings)
+        skipped["multimass"] = "rigid shaft: the multi-mass model reduces to the single-DOF one"
+    if skipped:
+        report["skipped"] = skipped
+    verdict = _dynamics_verdict(law, result, residuals, settings, lift, unit.name, applies)
+    return DynamicsRun(report, result, keep, settings, verdict, residuals, lift, tuple(law.phases), float(law.cycle))
+
+
+def _finite_or_none(value: float):
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def _speed_text(speeds) -> str:
+    speeds = [float(s) for s in speeds]
+    return f"{min(speeds):g} rpm" if min(speeds) == max(speeds) else f"{min(speeds):g}-{max(speeds):g} rpm"
+
+
+def _worst_text(speeds, at: float) -> str:
+    """"at 300 rpm" for one speed, "worst of 280-420 rpm (at 300 rpm)" for several."""
+    speeds = [float(s) for s in speeds]
+    if min(speeds) == max(speeds):
+        return f"at {at:g} rpm"
+    return f"worst of {_speed_text(speeds)} (at {at:g} rpm)"
+
+
+def _dynamics_verdict(law, result, residuals: dict, settings, lift: float, unit: str, applies: str) -> Verdict:
+    """Checks (worst speed first named) and warnings of a dynamics run."""
+    from camcad.dynamics.spectrum import law_spectrum
+
+    speeds = list(result.speeds_rpm)
+    span = _speed_text(speeds)
+    tail = f"; {applies}" if applies else ""
+    checks: list[Check] = []
+    warnings: list[Warning] = []
+    if result.unbounded:
+        worst = min(result.unbounded)
+        err = result.unbounded[worst]
+        checks.append(Check("bounded steady state", float(len(result.unbounded)), 0.0, "speeds",
+                            applies=f"{span}{tail}",
+                            note=f"no bounded periodic steady state at {', '.join(f'{r:g}' for r in result.unbounded)}"
+                                 f" rpm: {err.what}"))
+    ratio_value = float(np.max(result.peak_accel_ratio)) if len(speeds) else None
+    checks.append(Check("peak acceleration ratio elastic/rigid", ratio_value, settings.allowed_peak_accel_ratio, "",
+                        applies=f"{_worst_text(speeds, speeds[int(np.argmax(result.peak_accel_ratio))])}{tail}"))
+    error_value = float(np.max(result.dynamic_error_max))
+    i_error = int(np.argmax(result.dynamic_error_max))
+    checks.append(Check("dynamic error", error_value, settings.allowed_dynamic_error_mm, unit,
+                        applies=f"max |y - s| over the cycle, {_worst_text(speeds, speeds[i_error])}{tail}"))
+    worst_res = max(((item.amplitude, rpm, item.phase.kind) for rpm, items in residuals.items() for item in items),
+                    default=(0.0, speeds[0], "rise"))
+    checks.append(Check("residual vibration", worst_res[0], settings.allowed_residual_mm, unit,
+                        applies=f"after the {worst_res[2]} started from rest, {_worst_text(speeds, worst_res[1])}"
+                                f"{tail}"))
+    # warnings: near resonance, dynamic error larger than the lift
+    spectrum = law_spectrum(law, min(settings.samples, 1 << 14))
+    amplitudes = 2.0 * np.abs(spectrum.coefficients[1:-1])
+    orders = spectrum.orders[1:-1]
+    nonzero = amplitudes > ZERO_AMPLITUDE * lift
+    wn = settings.follower.omega_n
+    closest = None
+    for rpm in speeds:
+        omega = 2.0 * math.pi * rpm / 60.0
+        ratios = orders * omega / wn
+        candidates = np.flatnonzero(nonzero & (np.abs(ratios - 1.0) <= NEAR_RESONANCE))
+        for index in candidates:
+            gap = abs(ratios[index] - 1.0)
+            if closest is None or gap < closest[0]:
+                closest = (gap, rpm, int(index) + 1, float(ratios[index]), float(amplitudes[index]))
+    if closest is not None:
+        gap, rpm, k, ratio, amplitude = closest
+        zeta = settings.follower.damping_ratio
+        magnification = 1.0 / math.hypot(1.0 - ratio**2, 2.0 * zeta * ratio) if (ratio != 1.0 or zeta > 0) \
+            else math.inf
+        warnings.append(Warning(
+            f"near resonance: harmonic {k} (amplitude {amplitude:.3g} {unit}) at {rpm:g} rpm has frequency ratio "
+            f"{ratio:.4f} to fn {settings.follower.natural_frequency_hz:g} Hz (magnification "
+            f"{magnification:.3g} with damping ratio {zeta:.3g})", ratio,
+            f"a harmonic of non-zero amplitude within ±{100 * NEAR_RESONANCE:g} % of fn"))
+    if math.isfinite(error_value) and error_value > lift:
+        warnings.append(Warning(
+            f"dynamic error {error_value:.4g} {unit} at {speeds[i_error]:g} rpm is larger than the lift "
+            f"{lift:.4g} {unit}: the follower does not follow the law", error_value, "dynamic error > lift"))
+    return Verdict(tuple(checks), tuple(warnings))
 
 
 @dataclass(frozen=True)
 class ImpactRun:
+    """What ``run_impact`` found: ``report`` (SPEC.md ``impact`` keys), the sweep, the stop model, the verdict."""
+
     report: dict
     sweep: Any
     model: Any
+    verdict: Verdict = field(default_factory=Verdict)
+
+    def to_dict(self) -> dict:
+        return {**self.report, **self.verdict.to_dict()}
 
 
-def run_impact(law, model, speeds: list[float], *, progress: Callable | None = None) -> ImpactRun:
+#: a rebound within this fraction of its limit (or of the preload) is warned about
+CLOSE_TO_LIMIT = 0.05
+
+
+def run_impact(law, model, speeds: list[float], *, progress: Callable | None = None,
+               applies: str = "") -> ImpactRun:
     """Impact on the limit stop over ``speeds`` (rpm): SPEC.md ``impact`` keys, the linearised rebound
-    relation, the least phase angle for the allowed amplitude and ``passed``."""
+    relation, the least phase angle for the allowed amplitude, and the verdict.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law; the contact point moves ``model.ratio`` mm per unit of its displacement.
+    model : StopModel
+        The lever on its stop (camcad.dynamics.impact).
+    speeds : list of float
+        Cam speeds, rpm.
+    applies : str
+        Added to every check's ``applies`` (e.g. which phase angles were analysed).
+
+    Returns
+    -------
+    ImpactRun
+        Checks: rebound against the allowed amplitude (mm, worst speed), rebound against the preload (the
+        lever stays pressed on its stop, the model's premise), the approach phase angle against the least
+        one for the allowed amplitude (deg).
+    """
     from camcad.dynamics.impact import impact_sweep
 
+    speeds = [float(s) for s in speeds]
     keep = sorted({speeds[0], max(speeds)})
     result = impact_sweep(law, model, speeds, keep=keep, progress=progress)
     relation = result.relation
@@ -118,13 +297,35 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
         "allowed_amplitude_mm": model.allowed_amplitude_mm,
         "phase_limit_deg": None, "phase_limit_linear_deg": None,
     }
-    passed = True
     if model.allowed_amplitude_mm is not None:
         report["phase_limit_deg"] = relation.least_phase(model.allowed_amplitude_mm)
         report["phase_limit_linear_deg"] = (model.allowed_amplitude_mm - intercept) / slope
-        passed = bool(max(rebounds) <= model.allowed_amplitude_mm)
-    report["passed"] = passed
-    return ImpactRun(report, result, model)
+    verdict = _impact_verdict(result, model, report, applies)
+    return ImpactRun(report, result, model, verdict)
+
+
+def _impact_verdict(result, model, report: dict, applies: str) -> Verdict:
+    speeds = list(result.speeds_rpm)
+    tail = f"; {applies}" if applies else ""
+    rebounds = result.rebound_mm
+    worst = int(np.argmax(rebounds))
+    worst_text = _worst_text(speeds, speeds[worst])
+    checks = [Check("first rebound", float(rebounds[worst]), model.allowed_amplitude_mm, "mm",
+                    applies=f"{worst_text}{tail}"),
+              Check("rebound below the preload", float(rebounds[worst]), model.preload_mm, "mm",
+                    applies=f"{worst_text}; the lever stays pressed on its stop (the model's premise){tail}")]
+    if report["phase_limit_deg"] is not None:
+        checks.append(Check(f"approach phase angle ({result.contact.phase.kind})", float(result.phase_deg),
+                            float(report["phase_limit_deg"]), "deg", sense="min",
+                            applies=f"least angle for the allowed rebound at {result.relation.rpm:g} rpm{tail}"))
+    warnings = []
+    for check in checks:
+        ratio = check.margin_ratio
+        if check.limit is not None and ratio is not None and 0.0 <= ratio < CLOSE_TO_LIMIT:
+            warnings.append(Warning(f"{check.name} {check.value:.4g} {check.unit} is within "
+                                    f"{100 * ratio:.2g} % of its limit {check.limit:.4g} {check.unit}",
+                                    check.value, f"margin < {100 * CLOSE_TO_LIMIT:g} % of the limit"))
+    return Verdict(tuple(checks), tuple(warnings))
 
 
 def _one_or_list(values):
@@ -140,7 +341,7 @@ def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     from camcad.dynamics.steady import steady_state
 
     unit = OUTPUT_UNITS[settings.output_unit]
-    kwargs = dict(method=settings.method, samples=settings.samples, solver=settings.solver, rtol=settings.rtol)
+    kwargs = {"method": settings.method, "samples": settings.samples, "solver": settings.solver, "rtol": settings.rtol}
     plain = start_loads(steady_state(law, follower, rpm, **kwargs), law, follower, unit.si_scale)
     pulsed = None
     if settings.start_pulse_ratio:
@@ -160,8 +361,6 @@ def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
 
 
 def _start_load_dict(load, unit) -> dict:
-    import math
-
     return {"kind": load.phase.kind, "start_deg": math.degrees(load.phase.start), "at_deg": load.at_deg,
             f"peak_link_accel_{unit.accel_key}": load.peak_link_accel * unit.si_scale,
             f"peak_rigid_accel_{unit.accel_key}": load.peak_rigid_accel * unit.si_scale,
@@ -170,12 +369,8 @@ def _start_load_dict(load, unit) -> dict:
 
 def _multimass_entry(law, settings, rpm: float) -> dict:
     """The multi-mass model at ``rpm``: flywheel held at speed, elastic shaft; figures over the third cycle."""
-    import math
-
-    import numpy as np
-
+    from camcad.dynamics.model import rpm_to_rad_s, unit_key
     from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
-    from camcad.dynamics.model import rpm_to_rad_s
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,
@@ -188,7 +383,8 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
     return {"rpm": rpm, "drive": "flywheel at constant speed", "cycles": 3,
             "shaft_frequency_hz": math.sqrt(model.shaft_stiffness / model.cam_inertia) / (2.0 * math.pi),
             "peak_accel_ratio": float(np.max(np.abs(result.accel_elastic[last])) / np.max(np.abs(rigid))),
-            "dynamic_error_max_mm": float(np.max(np.abs(result.dynamic_error[last]))),
+            unit_key("dynamic_error_max_mm", settings.output_unit):
+                float(np.max(np.abs(result.dynamic_error[last]))),
             "cam_speed_range_rpm": [float(result.cam_speed_rpm[last].min()), float(result.cam_speed_rpm[last].max())]}
 
 

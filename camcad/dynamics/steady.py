@@ -4,17 +4,18 @@ time marching with shooting, transients, and sweeps over speed (see camcad.dynam
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
 from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
-from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw
 from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+from camcad.errors import CamcadError
+from camcad.law.law import MotionLaw
 
 #: a law whose displacement or velocity does not return to its start within this fraction of the
 #: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
@@ -24,13 +25,31 @@ DEFAULT_SAMPLES = 16384
 SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 #: frequency path: a harmonic whose |D_k| = |ωn² − Ω_k² + 2iζωnΩ_k| is at most this fraction of ωn² is in
 #: resonance. The exact response there is unbounded (ζ = 0) and the computed one is ruled by the round-off
-#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is refused instead.
+#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is not computed from D_k.
 RESONANCE_DETUNING = 1e-10
+#: a resonant harmonic whose forcing, as a displacement amplitude 2|F_k|/Ω_k², is at most this fraction of the
+#: lift is zero (round-off of the sampled spectrum is ~1e-16 of the lift): its term is dropped, which is the
+#: ζ → 0 limit of the damped response (X_k = F_k/D_k = 0 for every ζ > 0 when F_k = 0)
+ZERO_HARMONIC = 1e-12
 #: time path: an eigenvalue λ of the monodromy matrix with |1 − λ| ≤ this × rtol is resonance. The shooting
 #: solve divides by 1 − λ, and the marched monodromy carries an error of the order of rtol, so the response
 #: would be ruled by integration error (measured: relative error ≈ 0.02–0.1 rtol/|1 − λ|, ≤ 1e-3 here).
 RESONANCE_GAP_PER_RTOL = 100.0
 
+
+class ResonanceError(CamcadError):
+    """No bounded periodic steady state at one speed: exact resonance with a harmonic that is not zero.
+
+    ``rpm`` the speed; ``harmonic`` the order k in resonance (None on the time path, which cannot tell);
+    ``amplitude`` the displacement amplitude of that harmonic's forcing (law units; None on the time path).
+    """
+
+    def __init__(self, what: str, rpm: float, harmonic: int | None = None, amplitude: float | None = None,
+                 fix: str = "give a damping ratio > 0 or another speed") -> None:
+        super().__init__(what, "dynamics", fix)
+        self.rpm = float(rpm)
+        self.harmonic = harmonic
+        self.amplitude = amplitude
 
 
 # --------------------------------------------------------------------------------------------
@@ -53,6 +72,7 @@ class Response:
     accel_elastic: np.ndarray
     link_accel: np.ndarray
     method: str = ""
+    notes: tuple[str, ...] = ()
 
     @property
     def displacement_elastic(self) -> np.ndarray:
@@ -88,6 +108,37 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     Exact (to the sampling error, knob ``samples``) for constant stiffness; a follower with
     variable stiffness raises CamcadError (use ``steady_state_time``). ``external`` is a periodic
     load per unit mass (callable θ → mm/s²), sampled on the same grid.
+
+    Exact resonance (|D_k| ≤ ``RESONANCE_DETUNING`` ωn², in practice ζ = 0 and Ω_k = ωn): a harmonic whose
+    forcing is zero (displacement amplitude ≤ ``ZERO_HARMONIC`` × lift) is dropped — the ζ → 0 limit, a
+    bounded steady state, stated in ``Response.notes``; one that is not zero has no bounded steady state
+    and raises ``ResonanceError`` naming the harmonic and its amplitude.
+
+    Parameters
+    ----------
+    law_or_spectrum : MotionLaw or LawSpectrum
+        The law (mm or rad) or its sampled spectrum (``law_spectrum``).
+    follower : ElasticFollower
+        Natural frequency (Hz) and damping ratio; constant stiffness.
+    rpm : float
+        Cam speed, rpm.
+    samples : int
+        Samples per cycle when a law is given.
+    external : callable or None
+        Load per unit mass, θ (rad) → law units/s².
+
+    Returns
+    -------
+    Response
+        Sampled over one cycle; law units, law units/s².
+
+    Examples
+    --------
+    >>> from camcad.law.standard import compose
+    >>> law = compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 25.0, "cycloidal")
+    >>> r = steady_state_frequency(law, ElasticFollower(6.0, 0.0), 60.0, samples=1024)   # harmonic 6 is zero
+    >>> "zeta -> 0 limit" in r.notes[0]
+    True
     """
     if not follower.constant_stiffness:
         raise CamcadError("the frequency-domain path needs a constant stiffness", "dynamics",
@@ -98,17 +149,25 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     wn, zeta = follower.omega_n, follower.damping_ratio
     big_omega = spectrum.orders * omega
     denominator = wn**2 - big_omega**2 + 2j * zeta * wn * big_omega
-    # the Nyquist term (the last) is dropped below, so its denominator does not matter
-    resonant = np.flatnonzero(np.abs(denominator[:-1]) <= RESONANCE_DETUNING * wn**2)
-    if len(resonant):
-        k = int(resonant[0])
-        raise CamcadError(f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in "
-                          f"resonance with harmonic {k} of the law at {rpm:g} rpm: no periodic steady state",
-                          "dynamics", "give a damping ratio > 0 or another speed")
     forcing = big_omega**2 * spectrum.coefficients
     f_grid = _external_on_grid(external, spectrum.theta)
     if external is not None:
         forcing = forcing + np.fft.rfft(f_grid) / n
+    # the Nyquist term (the last) is dropped below, so its denominator does not matter
+    resonant = np.flatnonzero(np.abs(denominator[:-1]) <= RESONANCE_DETUNING * wn**2)
+    notes = []
+    for k in resonant:
+        k = int(k)
+        amplitude = 2.0 * abs(forcing[k]) / big_omega[k]**2
+        if amplitude > ZERO_HARMONIC * spectrum.lift:
+            raise ResonanceError(
+                f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in resonance "
+                f"with harmonic {k} of the law (amplitude {amplitude:.3g}, law units) at {rpm:g} rpm: no bounded periodic "
+                "steady state", rpm, k, float(amplitude))
+        denominator[k] = 1.0
+        forcing[k] = 0.0
+        notes.append(f"harmonic {k} is in exact resonance at {rpm:g} rpm but its amplitude is zero "
+                     f"({amplitude:.2g}): the steady state is the zeta -> 0 limit, without that harmonic")
     x_k = forcing / denominator
     # the Nyquist term k = N/2 is the aliased sum of all higher harmonics; multiplied by Ω² it would
     # add a sample-to-sample alternation to the acceleration, so it is left out
@@ -119,7 +178,7 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     accel_elastic = np.fft.irfft(-big_omega**2 * y_k * n, n)
     accel_rigid = omega**2 * spectrum.a
     return Response(float(rpm), spectrum.theta, spectrum.s, x, accel_rigid, accel_elastic,
-                    accel_elastic - f_grid, "frequency")
+                    accel_elastic - f_grid, "frequency", tuple(notes))
 
 
 def _breakpoints(law: MotionLaw, external, start: float, end: float) -> np.ndarray:
@@ -191,7 +250,7 @@ def _march(fun, z0: np.ndarray, theta_eval: np.ndarray, cuts: np.ndarray, method
         raise CamcadError(f"unknown solver {method!r}", "--solver", f"choose one of {', '.join(SOLVERS)}")
     out = np.empty((len(z0), len(theta_eval)))
     z = np.array(z0, dtype=float)
-    for lo, hi in zip(cuts[:-1], cuts[1:]):
+    for lo, hi in itertools.pairwise(cuts):
         mask = (theta_eval >= lo) & (theta_eval < hi)
         sol = solve_ivp(fun, (lo, hi), z, method=method, rtol=rtol, atol=atol,
                         t_eval=np.append(theta_eval[mask], hi))
@@ -226,9 +285,9 @@ def steady_state_time(law: MotionLaw, follower: ElasticFollower, rpm: float, *, 
     # I − Φ singular; cond(I − Φ) does not see it, because I − Φ is then small as a whole
     gap = float(np.min(np.abs(1.0 - np.linalg.eigvals(monodromy))))
     if gap <= RESONANCE_GAP_PER_RTOL * rtol:
-        raise CamcadError(f"the follower is in resonance at {rpm:g} rpm (a free vibration repeats itself each "
-                          f"cycle within {gap:.2g}): no periodic steady state", "dynamics",
-                          "give a damping ratio > 0, another speed, or a tighter --rtol")
+        raise ResonanceError(f"the follower is in resonance at {rpm:g} rpm (a free vibration repeats itself each "
+                             f"cycle within {gap:.2g}): no unique periodic steady state", rpm,
+                             fix="give a damping ratio > 0, another speed, or a tighter --rtol")
     start = np.linalg.solve(system, z_end[:2])
     x = states[0] + states[2] * start[0] + states[4] * start[1]
     xp = states[1] + states[3] * start[0] + states[5] * start[1]
@@ -290,8 +349,11 @@ def steady_state(law: MotionLaw, follower: ElasticFollower, rpm: float, *, metho
 class Sweep:
     """Figures of the steady state over a list of speeds (rpm).
 
-    peak_accel_ratio (elastic / rigid), dynamic_error_max (mm), peak_accel_rigid and
-    peak_accel_elastic (mm/s²), one per speed; ``responses`` keeps the full responses asked for.
+    peak_accel_ratio (elastic / rigid), dynamic_error_max (law units), peak_accel_rigid and
+    peak_accel_elastic (law units/s²), one per speed; ``responses`` keeps the full responses asked for.
+    ``unbounded`` maps each speed without a bounded steady state (``ResonanceError``) to the reason; its
+    ratio, error and elastic peak are +inf. ``notes`` maps speeds to the notes of their responses (e.g.
+    the ζ → 0 limit at an exact resonance with a zero harmonic).
     """
 
     speeds_rpm: np.ndarray
@@ -301,6 +363,8 @@ class Sweep:
     peak_accel_elastic: np.ndarray
     method: str
     responses: dict = field(default_factory=dict)
+    unbounded: dict = field(default_factory=dict)
+    notes: dict = field(default_factory=dict)
 
 
 def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str = "auto",
@@ -308,31 +372,38 @@ def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str 
           keep=(), progress: Callable[[int, int], None] | None = None) -> Sweep:
     """Steady state at every speed. ``external_at(rpm)`` gives the external load at that speed
     (or None); ``keep`` lists speeds whose full Response is kept; ``progress(done, total)`` is
-    called after each speed."""
+    called after each speed. A speed without a bounded steady state (exact resonance with a harmonic
+    that is not zero) does not stop the sweep: it is listed in ``Sweep.unbounded`` with +inf figures."""
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     if method == "auto":
         method = "frequency" if follower.constant_stiffness else "time"
     spectrum = law_spectrum(law, samples) if method == "frequency" else None
+    peak_analog = float(np.max(np.abs(spectrum.a))) if spectrum is not None else \
+        float(np.max(np.abs(law.kinematics(law.cycle * np.arange(samples) / samples).a)))
     keep = {float(k) for k in keep}
     ratio, error, rigid, elastic = (np.empty(len(speeds)) for _ in range(4))
-    responses = {}
+    responses, unbounded, notes = {}, {}, {}
     for i, rpm in enumerate(speeds):
         external = external_at(rpm) if external_at else None
-        if method == "frequency":
-            response = steady_state_frequency(spectrum, follower, rpm, external=external)
+        try:
+            if method == "frequency":
+                response = steady_state_frequency(spectrum, follower, rpm, external=external)
+            else:
+                response = steady_state(law, follower, rpm, method=method, samples=samples, solver=solver,
+                                        rtol=rtol, external=external)
+        except ResonanceError as err:
+            unbounded[float(rpm)] = err
+            ratio[i] = error[i] = elastic[i] = math.inf
+            rigid[i] = peak_analog * rpm_to_rad_s(rpm)**2
         else:
-            response = steady_state(law, follower, rpm, method=method, samples=samples, solver=solver,
-                                    rtol=rtol, external=external)
-        ratio[i] = response.peak_accel_ratio
-        error[i] = response.dynamic_error_max
-        rigid[i] = response.peak_accel_rigid
-        elastic[i] = response.peak_accel_elastic
-        if float(rpm) in keep:
-            responses[float(rpm)] = response
+            ratio[i] = response.peak_accel_ratio
+            error[i] = response.dynamic_error_max
+            rigid[i] = response.peak_accel_rigid
+            elastic[i] = response.peak_accel_elastic
+            if response.notes:
+                notes[float(rpm)] = response.notes
+            if float(rpm) in keep:
+                responses[float(rpm)] = response
         if progress:
             progress(i + 1, len(speeds))
-    return Sweep(speeds, ratio, error, rigid, elastic, method, responses)
-
-
-
-
+    return Sweep(speeds, ratio, error, rigid, elastic, method, responses, unbounded, notes)

@@ -3,18 +3,16 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.analysis import analyse
 from camcad.fourier.resonance import ResonanceBand
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, evaluate_series
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 
 def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
@@ -28,7 +26,7 @@ def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
 
 def dwell_grid(phases: tuple[Phase, ...], spacing: float) -> np.ndarray:
     """Points (rad) on every dwell, ends included, at most ``spacing`` apart."""
-    parts = [np.linspace(p.start, p.end, int(math.ceil(p.width / spacing)) + 1)
+    parts = [np.linspace(p.start, p.end, math.ceil(p.width / spacing) + 1)
              for p in phases if p.kind == "dwell"]
     return np.concatenate(parts) if parts else np.zeros(0)
 
@@ -187,7 +185,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     phases = tuple(law.phases)
     if samples is None:
         top = max(band.highest, compensation_harmonics or 0, 2 * band.highest + 8)
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (top + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (top + 1))))
     grid = _evaluation_grid(law, samples)
     base = law.kinematics(grid)
     lift = float(np.ptp(base.s))
@@ -198,10 +196,23 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     extremes = grid[[int(np.argmax(base.s)), int(np.argmin(base.s))]]
     keep_points = np.concatenate((dwells, extremes))
 
-    def deviation_on(points, correction: FourierLaw) -> float:
+    # the written law starts from rest at s = 0 (SPEC.md), so a filtered law still moving at θ = 0 is closed
+    # with a change whose lowest harmonic m lies below the band: it moves s by up to about 2|v(0)|/(m ω0)
+    # (measured: the sine of the closing change and the removed linear drift add)
+    closing = _closing_order(band.removed)
+    v_law0 = float(law.kinematics(np.zeros(1)).v[0])
+
+    def deviation_on(points, correction: FourierLaw, with_drift: bool = True) -> float:
+        # measured from θ = 0, where a law read back from a file starts at s = 0 (SPEC.md): what the
+        # written law's dwells and lift show against the original read the same way
         if len(points) == 0:
             return 0.0
-        return float(np.max(np.abs(evaluate_series(correction.mean, correction.coefficients, cycle, points))))
+        values = evaluate_series(correction.mean, correction.coefficients, cycle, np.append(points, 0.0))
+        deviation = float(np.max(np.abs(values[:-1] - values[-1])))
+        if with_drift:
+            v0 = v_law0 + float(evaluate_series(correction.mean, correction.coefficients, cycle, np.zeros(1), 1)[0])
+            deviation += 2.0 * abs(v0) / (closing * omega)
+        return deviation
 
     plain_dwell = deviation_on(keep_points, removal_law)
     correction = removal_law
@@ -213,7 +224,8 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
         highest = compensation_harmonics or (2 * max(band.gains) + 8)
         # fit on 16 points per period of the highest harmonic, check on the fine grid
         fit_points = np.concatenate((dwell_grid(phases, cycle / (16 * highest)), extremes))
-        compensation, lam, reached = _compensate(removal_law, fit_points, keep_points, band, tol, omega, highest)
+        compensation, lam, reached = _compensate(removal_law, fit_points, keep_points, band, tol, omega, highest,
+                                                 v_law0, closing)
         correction = FourierLaw(cycle, compensation.mean, _add_series(removal, compensation.coefficients))
         if not reached:
             notes.append("the dwells and the lift cannot be kept within the tolerance with the harmonics "
@@ -223,7 +235,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     a_filtered = base.a + delta.a
     a_removed = base.a + removal_law.kinematics(grid).a
     peak = float(np.max(np.abs(base.a)))
-    dwell_dev = deviation_on(dwells, correction) if len(dwells) else None
+    dwell_dev = deviation_on(dwells, correction, with_drift=False) if len(dwells) else None
     kept_dev = deviation_on(keep_points, correction)
     dwells_kept = kept_dev <= tol * (1 + 1e-9)
     if compensation is not None:
@@ -235,7 +247,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     starts_after = start_accelerations(filtered, window)
     return FilterResult(
         law=filtered, original=law, band=band, spectrum=spectrum, removal=removal_law, compensation=compensation,
-        max_deviation=float(np.max(np.abs(delta.s))), dwell_deviation=dwell_dev, removal_bound=bound,
+        max_deviation=float(np.max(np.abs(delta.s - delta.s[0]))), dwell_deviation=dwell_dev, removal_bound=bound,
         lift_original=lift, lift_filtered=float(np.ptp(base.s + delta.s)),
         peak_accel_original=peak, peak_accel_filtered=float(np.max(np.abs(a_filtered))),
         peak_accel_removed_only=float(np.max(np.abs(a_removed))),
@@ -251,43 +263,66 @@ def _add_series(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     return out
 
 
+def _closing_order(removed) -> int:
+    """The lowest harmonic of the closing change a from-rest export makes (camcad.fourier.export): the one
+    just below the removed band (the one just above it when the band starts at k = 1)."""
+    if not removed:
+        return 1
+    low = min(removed)
+    return low - 1 if low > 1 else max(removed) + 1
+
+
 def _compensate(removal: FourierLaw, points: np.ndarray, check_points: np.ndarray, band: ResonanceBand,
-                tol: float, omega: float, highest: int) -> tuple[FourierLaw, float, bool]:
+                tol: float, omega: float, highest: int, v_law0: float = 0.0,
+                closing: int = 1) -> tuple[FourierLaw, float, bool]:
     """δ = x0 + 2 Re Σ_{k∈C} x_k e^{ikω0θ}, C = {1..highest} \\ band, minimising
     mean_D (removal + δ)² + λ Σ_k 2|x_k|² (1 + (k/k_b)⁴), k_b the lowest touched harmonic: the mean
     square over the cycle of δ (the displacement change) plus δ''/(k_b ω0)² (the acceleration change,
-    weighted to equal the displacement at the band).
+    weighted to equal the displacement at the band). Two more rows, each weighted as the whole fit set,
+    pin the deviation at θ = 0 (where a written law is read back from s = 0) and the filtered law's
+    velocity there (``v_law0`` + removal' + δ' = 0, so the written law starts from rest without drift).
 
-    Solved for every λ from one SVD of the prewhitened design matrix on the fit points D; the
-    largest λ whose max deviation on ``check_points`` is ≤ tol is used (the least cost), else the
-    one with the smallest deviation.
+    Solved for every λ from one SVD of the prewhitened design matrix on the fit points D; the largest λ
+    whose deviation on ``check_points`` (from θ = 0, plus the from-rest drift 2|v(0)|/(closing·ω0)) is
+    ≤ tol is used (the least cost), else the one with the smallest deviation.
     """
     allowed = [k for k in range(1, highest + 1) if k not in band.gains]
     reference = float(min(band.gains))
 
-    def design_of(theta: np.ndarray) -> np.ndarray:
-        columns = [np.ones(len(theta))]
+    def design_of(theta: np.ndarray, order: int = 0) -> np.ndarray:
+        columns = [np.ones(len(theta)) if order == 0 else np.zeros(len(theta))]
         for k in allowed:
             arg = k * omega * theta
-            columns += [2.0 * np.cos(arg), -2.0 * np.sin(arg)]
+            if order == 0:
+                columns += [2.0 * np.cos(arg), -2.0 * np.sin(arg)]
+            else:
+                columns += [-2.0 * k * omega * np.sin(arg), -2.0 * k * omega * np.cos(arg)]
         return np.column_stack(columns)
 
     count = len(points)
-    target = -evaluate_series(removal.mean, removal.coefficients, removal.cycle, points)
-    check_target = -evaluate_series(removal.mean, removal.coefficients, removal.cycle, check_points)
-    design = design_of(points) / math.sqrt(count)
-    check_design = design_of(check_points)
+    anchor = np.zeros(1)
+    series = (removal.mean, removal.coefficients, removal.cycle)
+    v_target = -(v_law0 + float(evaluate_series(*series, anchor, 1)[0]))
+    scale_v = 2.0 / (closing * omega)      # a velocity residue at θ = 0 costs this drift per mm/rad
+    weights = np.append(np.full(count, 1.0 / math.sqrt(count)), [1.0, scale_v])
+    target = np.concatenate((-evaluate_series(*series, np.concatenate((points, anchor))), [v_target])) * weights
+    design = np.vstack((design_of(points), design_of(anchor), design_of(anchor, 1))) * weights[:, None]
+    anchor_target = -evaluate_series(*series, anchor)
+    check_target = -evaluate_series(*series, check_points) - anchor_target
+    check_design = design_of(check_points) - design_of(anchor)
+    velocity_row = design_of(anchor, 1)[0]
     penalty = np.concatenate(([0.0], np.repeat([2.0 * (1.0 + (k / reference) ** 4) for k in allowed], 2)))
     # the constant costs nothing; a tiny weight keeps the prewhitening invertible
     penalty[0] = 1e-6 * penalty[1:].min()
     whiten = 1.0 / np.sqrt(penalty)
     u, sigma, vt = np.linalg.svd(design * whiten, full_matrices=False)
-    projected = u.T @ (target / math.sqrt(count))
+    projected = u.T @ target
     best = None
     chosen = None
     for lam in sigma[0] ** 2 * np.logspace(2, -16, 109):
         x = whiten * (vt.T @ (sigma / (sigma**2 + lam) * projected))
-        deviation = float(np.max(np.abs(check_design @ x - check_target)))
+        deviation = float(np.max(np.abs(check_design @ x - check_target))) + \
+            abs(float(velocity_row @ x) - v_target) * scale_v
         if best is None or deviation < best[0]:
             best = (deviation, x, lam)
         if deviation <= tol:
@@ -298,7 +333,3 @@ def _compensate(removal: FourierLaw, points: np.ndarray, check_points: np.ndarra
     for index, k in enumerate(allowed):
         coefficients[k - 1] = x[1 + 2 * index] + 1j * x[2 + 2 * index]
     return FourierLaw(removal.cycle, float(x[0]), coefficients), float(lam), chosen is not None
-
-
-
-

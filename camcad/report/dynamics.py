@@ -1,39 +1,73 @@
-"""Plots of the elastic follower and the stop impact (PNG, Agg): rigid vs elastic acceleration over the
-cycle and against speed, rebound against speed, the response after an impact."""
+"""``camcad dynamics`` and ``camcad impact``: plots (Figures), files and text.
+
+Dynamics: rigid against elastic acceleration over the cycle and the dynamic error (in the law's thousandth:
+µm, or mrad for a law in rad — one unit per panel), and against speed the peak ratio and the residual
+vibration with their limits. Impact: the first rebound against speed with the allowed amplitude and the
+preload, the impact force against speed, the rebound against the approach phase angle with the least
+angle, and the lever's response after the impact.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from camcad.dynamics.model import OUTPUT_UNITS
-from camcad.io.atomic import write_atomic
-from camcad.report.figure import pyplot
-from camcad.dynamics.runs import DynamicsRun, ImpactRun
+from camcad.report.figure import COLOURS, new_figure, save_figure
 
-
-def _save(fig, path: Path) -> Path:
-    plt = pyplot()
-    written = write_atomic(path, lambda tmp: fig.savefig(tmp, format="png", dpi=120))
-    plt.close(fig)
-    return written
+_PHASE_COLOURS = {"rise": "#e8f0fb", "return": "#fbeee8"}
 
 
 def _shade_phases(ax, phases) -> None:
-    colours = {"rise": "#e8f0fb", "return": "#fbeee8"}
     for phase in phases:
-        if phase.kind in colours:
-            ax.axvspan(np.degrees(phase.start), np.degrees(phase.end), color=colours[phase.kind], zorder=0,
-                       label=None)
+        if phase.kind in _PHASE_COLOURS:
+            ax.axvspan(np.degrees(phase.start), np.degrees(phase.end), color=_PHASE_COLOURS[phase.kind], zorder=0)
 
 
-def plot_acceleration_cycle(responses, phases, path: Path, title: str = "", unit: str = "mm") -> Path:
-    """Rigid and elastic acceleration (m/s², or rad/s² for a rad output) over the cycle at each response's
-    speed; the dynamic error below (µm or mrad)."""
-    plt = pyplot()
+def _check(verdict, name: str):
+    for check in (verdict.checks if verdict is not None else ()):
+        if check.name == name:
+            return check
+    return None
+
+
+def _warnings_footer(fig, verdict) -> None:
+    """The verdict's warnings (at most three) in red under the plot: what a reader must not miss."""
+    warnings = list(verdict.warnings) if verdict is not None else []
+    if warnings:
+        text = "\n".join(f"WARNING: {w.what}" for w in warnings[:3])
+        fig.text(0.01, 0.005, text, fontsize=7.5, color=COLOURS["fail"], ha="left", va="bottom", wrap=True)
+        fig.get_layout_engine().set(rect=(0, 0.03 + 0.025 * min(len(warnings), 3), 1, 1 - 0.03 - 0.025 * min(len(warnings), 3)))
+
+
+def _limit_label(check, scale: float = 1.0, unit: str = "") -> str:
+    unit = f" {unit}" if unit else ""
+    return (f"limit {check.limit * scale:.4g}{unit}: worst {check.value * scale:.4g}{unit}, "
+            f"margin {check.margin * scale:.4g}{unit}")
+
+
+def plot_acceleration_cycle(responses, phases, *, title: str = "", unit: str = "mm", verdict=None):
+    """Rigid and elastic acceleration over the cycle at each response's speed (m/s², or rad/s² for a law in
+    rad), and the dynamic error below in the law's thousandth (µm or mrad), legend included.
+
+    Parameters
+    ----------
+    responses : list of camcad.dynamics.steady.Response
+    phases : tuple of Phase
+        Shaded (rises blue, returns red).
+    unit : str
+        The law's unit (mm or rad).
+    verdict : Verdict or None
+        Its "dynamic error" and "peak acceleration ratio elastic/rigid" limits are drawn.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     u = OUTPUT_UNITS[unit]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True, height_ratios=(2, 1))
+    fig, (top, bottom) = new_figure(9.5, 7, rows=2, sharex=True, gridspec_kw={"height_ratios": (2, 1)})
     for ax in (top, bottom):
         _shade_phases(ax, phases)
     first = responses[0]
@@ -41,127 +75,357 @@ def plot_acceleration_cycle(responses, phases, path: Path, title: str = "", unit
     top.plot(deg, first.accel_rigid * u.si_scale, color="black", lw=1.2, label=f"rigid, {first.rpm:g} rpm")
     for response in responses:
         line, = top.plot(np.degrees(response.theta), response.accel_elastic * u.si_scale, lw=1.0,
-                         label=f"elastic, {response.rpm:g} rpm (×{response.peak_accel_ratio:.2f})")
+                         label=f"elastic, {response.rpm:g} rpm (peak ×{response.peak_accel_ratio:.3g} of rigid)")
         if response is not first:
             top.plot(np.degrees(response.theta), response.accel_rigid * u.si_scale, color=line.get_color(), lw=0.6,
-                     ls=":")
+                     ls=":", label=f"rigid, {response.rpm:g} rpm")
         bottom.plot(np.degrees(response.theta), response.dynamic_error * 1e3, color=line.get_color(), lw=1.0,
-                    label=f"{response.rpm:g} rpm, max {response.dynamic_error_max:.4g} {u.name}")
+                    label=f"{response.rpm:g} rpm: max {response.dynamic_error_max * 1e3:.4g} {u.fine_label}")
+    ratio = _check(verdict, "peak acceleration ratio elastic/rigid")
+    if ratio is not None and ratio.limit is not None:
+        fastest = max(responses, key=lambda r: r.rpm)
+        allowed = ratio.limit * fastest.peak_accel_rigid * u.si_scale
+        for sign in (-1, 1):
+            top.axhline(sign * allowed, color=COLOURS["limit"], ls="--", lw=0.8,
+                        label=(f"{ratio.limit:g} × rigid peak at {fastest.rpm:g} rpm; worst ratio over the speeds "
+                               f"{ratio.value:.4g}, margin {ratio.margin:.3g}" if sign > 0 else None))
+    error = _check(verdict, "dynamic error")
+    if error is not None and error.limit is not None:
+        for sign in (-1, 1):
+            bottom.axhline(sign * error.limit * 1e3, color=COLOURS["limit"], ls="--", lw=0.8,
+                           label=f"dynamic error {_limit_label(error, 1e3, u.fine_label)}" if sign > 0 else None)
     top.set_ylabel(f"acceleration, {u.accel_label}")
-    top.set_title(title or "Rigid vs elastic follower acceleration (rises blue, returns red)")
-    top.legend(fontsize=8, loc="upper right")
+    top.set_title(title or "Rigid vs elastic follower acceleration", fontsize=10)
+    top.legend(fontsize=7.5, loc="upper right")
     top.grid(alpha=0.3)
-    bottom.set_xlabel("cam angle θ, deg")
+    bottom.set_xlabel("cam angle θ, deg (rises shaded blue, returns red)")
     bottom.set_ylabel(f"dynamic error y − s, {u.fine_label}")
-    bottom.legend(fontsize=8, loc="upper right")
+    bottom.legend(fontsize=7.5, loc="upper right")
     bottom.grid(alpha=0.3)
     bottom.set_xlim(0, np.degrees(first.theta[-1] + first.theta[1] - first.theta[0]))
-    fig.tight_layout()
-    return _save(fig, path)
+    _warnings_footer(fig, verdict)
+    return fig
 
 
-def plot_speed_sweep(sweep, path: Path, natural_frequency_hz: float | None = None, title: str = "",
-                     unit: str = "mm") -> Path:
-    """Peak rigid and elastic acceleration (m/s² or rad/s²) and their ratio against speed (rpm)."""
-    plt = pyplot()
-    u = OUTPUT_UNITS[unit]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+def plot_speed_sweep(run, *, title: str = "", verdict=None):
+    """Against speed (rpm): peak rigid and elastic acceleration, their ratio with its limit, and the residual
+    vibration after each motion with its limit; the speeds where a harmonic k meets fn (k·n/60 = fn, for the
+    cycle of 360 deg) are marked, and speeds without a bounded steady state are flagged.
+
+    Parameters
+    ----------
+    run : camcad.dynamics.runs.DynamicsRun
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    sweep, settings = run.sweep, run.settings
+    u = OUTPUT_UNITS[settings.output_unit]
+    fig, (top, middle, bottom) = new_figure(9, 9, rows=3, sharex=True)
     speeds = sweep.speeds_rpm
     marker = "o" if len(speeds) <= 30 else None
+    finite = np.isfinite(sweep.peak_accel_elastic)
     top.plot(speeds, sweep.peak_accel_rigid * u.si_scale, color="black", marker=marker, ms=3, label="rigid")
-    top.plot(speeds, sweep.peak_accel_elastic * u.si_scale, color="tab:red", marker=marker, ms=3, label="elastic")
+    top.plot(speeds[finite], sweep.peak_accel_elastic[finite] * u.si_scale, color="tab:red", marker=marker, ms=3,
+             label="elastic")
     top.set_ylabel(f"peak acceleration, {u.accel_label}")
-    top.legend()
-    top.grid(alpha=0.3)
-    top.set_title(title or f"Peak acceleration against speed ({sweep.method} path)")
-    bottom.plot(speeds, sweep.peak_accel_ratio, color="tab:blue", marker=marker, ms=3)
-    i = int(np.argmax(sweep.peak_accel_ratio))
-    bottom.annotate(f"×{sweep.peak_accel_ratio[i]:.2f} at {speeds[i]:g} rpm", (speeds[i], sweep.peak_accel_ratio[i]),
-                    textcoords="offset points", xytext=(5, -12), fontsize=8)
-    bottom.axhline(1.0, color="grey", lw=0.8)
-    bottom.set_xlabel("speed, rpm")
-    bottom.set_ylabel("elastic / rigid")
-    bottom.grid(alpha=0.3)
-    if natural_frequency_hz:
-        bottom.text(0.99, 0.04, f"fn = {natural_frequency_hz:g} Hz", transform=bottom.transAxes, ha="right",
-                    va="bottom", fontsize=8)
-    fig.tight_layout()
-    return _save(fig, path)
+    top.set_title(title or f"Peak acceleration against speed ({sweep.method} path)", fontsize=10)
+    middle.plot(speeds[finite], sweep.peak_accel_ratio[finite], color="tab:blue", marker=marker, ms=3,
+                label="elastic / rigid")
+    middle.axhline(1.0, color="grey", lw=0.8)
+    ratio = _check(verdict, "peak acceleration ratio elastic/rigid")
+    if ratio is not None and ratio.limit is not None:
+        middle.axhline(ratio.limit, color=COLOURS["limit"], ls="--", lw=0.9, label=f"ratio {_limit_label(ratio)}")
+    if finite.any():
+        i = int(np.argmax(np.where(finite, sweep.peak_accel_ratio, -np.inf)))
+        middle.annotate(f"×{sweep.peak_accel_ratio[i]:.3g} at {speeds[i]:g} rpm", (speeds[i], sweep.peak_accel_ratio[i]),
+                        textcoords="offset points", xytext=(5, -12), fontsize=8)
+    middle.set_ylabel("elastic / rigid")
+    for kind, colour, style in (("rise", "tab:blue", "-"), ("return", "tab:orange", "--")):
+        values = [max((r.amplitude for r in run.residuals[float(s)] if r.phase.kind == kind), default=np.nan)
+                  for s in speeds]
+        bottom.plot(speeds, np.array(values) * 1e3, color=colour, ls=style, marker=marker, ms=3,
+                    label=f"after the {kind} (from rest)")
+    residual = _check(verdict, "residual vibration")
+    if residual is not None and residual.limit is not None:
+        bottom.axhline(residual.limit * 1e3, color=COLOURS["limit"], ls="--", lw=0.9,
+                       label=f"residual {_limit_label(residual, 1e3, u.fine_label)}")
+    bottom.set_ylabel(f"residual vibration, {u.fine_label}")
+    bottom.set_xlabel("speed n, rpm")
+    fn = settings.follower.natural_frequency_hz
+    low, high = float(np.min(speeds)), float(np.max(speeds))
+    per_turn = 2.0 * np.pi / run.cycle        # harmonic orders per turn of the cam
+    ks = [k for k in range(1, 2000) if low <= 60.0 * fn / (k * per_turn) <= high]
+    for index, k in enumerate(ks[:40]):
+        n = 60.0 * fn / (k * per_turn)
+        for ax in (top, middle, bottom):
+            ax.axvline(n, color="0.6", lw=0.7, ls=":", zorder=0,
+                       label=("k·n/60 = fn: harmonic k in resonance" if (index == 0 and ax is middle) else None))
+        if len(ks) <= 20:
+            top.text(n, 1.0, f"k={k}", transform=top.get_xaxis_transform(), fontsize=7, color="0.4", ha="center",
+                     va="bottom")
+    for rpm in sweep.unbounded:
+        for ax in (top, middle, bottom):
+            ax.axvline(rpm, color=COLOURS["fail"], lw=1.2,
+                       label=("no bounded steady state" if ax is middle and rpm == min(sweep.unbounded) else None))
+    for ax in (top, middle, bottom):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7.5, loc="best")
+    bottom.text(0.99, 0.04, f"fn = {fn:g} Hz, damping ratio {settings.follower.damping_ratio:.3g}", ha="right",
+                va="bottom", fontsize=8, transform=bottom.transAxes)
+    _warnings_footer(fig, verdict)
+    return fig
 
 
-def plot_rebound(sweep, path: Path, allowed_mm: float | None = None, title: str = "") -> Path:
-    """First rebound amplitude (mm) and impact force (N) against speed; the rebound against the phase angle."""
-    plt = pyplot()
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+def dynamics_figures(report) -> list[tuple[str, object]]:
+    """(file name, Figure) of a dynamics report: the cycle at the first and fastest speeds (those with a
+    bounded steady state) and, with several speeds, the sweep."""
+    run = report.result
+    unit = run.settings.output_unit
+    name = report.source.get("name", "")
+    figures = []
+    responses = [run.sweep.responses[s] for s in run.keep if s in run.sweep.responses]
+    if responses:
+        figures.append(("dynamics_cycle.png", plot_acceleration_cycle(
+            responses, run.phases, unit=unit, title=f"{name}: rigid vs elastic acceleration", verdict=report.verdict)))
+    if len(run.sweep.speeds_rpm) > 1:
+        figures.append(("dynamics_speed.png", plot_speed_sweep(run, title=f"{name}: against speed",
+                                                               verdict=report.verdict)))
+    return figures
+
+
+def plot_rebound(sweep, model, *, title: str = "", verdict=None):
+    """Three panels: the first rebound against speed (mm) with the allowed amplitude and the preload, the
+    impact force against speed (N), and the rebound against the approach phase angle at the fastest speed
+    with the least admissible angle. Every curve has a legend; limits and margins are written on them.
+
+    Parameters
+    ----------
+    sweep : camcad.dynamics.impact.ImpactSweep
+    model : camcad.dynamics.impact.StopModel
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (left, middle, right) = new_figure(14, 4.6, cols=3)
     speeds = sweep.speeds_rpm
-    left.plot(speeds, sweep.rebound_mm, "o-", color="tab:red", ms=3, label="rebound")
-    left.set_xlabel("speed, rpm")
-    left.set_ylabel("first rebound amplitude, mm", color="tab:red")
-    if allowed_mm:
-        left.axhline(allowed_mm, color="tab:red", ls="--", lw=0.8, label=f"allowed {allowed_mm:g} mm")
-    left.grid(alpha=0.3)
-    twin = left.twinx()
-    twin.plot(speeds, sweep.force_n, "--", color="tab:blue", lw=1.0)
-    twin.set_ylabel("impact force F, N", color="tab:blue")
-    left.set_title(title or "Rebound and impact force against speed")
+    left.plot(speeds, sweep.rebound_mm, "o-", color="tab:red", ms=3, label="first rebound")
+    allowed = _check(verdict, "first rebound")
+    if allowed is not None and allowed.limit is not None:
+        left.axhline(allowed.limit, color=COLOURS["limit"], ls="--", lw=0.9,
+                     label=f"allowed: {_limit_label(allowed, 1.0, 'mm')}")
+    preload = _check(verdict, "rebound below the preload")
+    if preload is not None:
+        left.axhline(preload.limit, color="0.4", ls=":", lw=0.9,
+                     label=f"preload {preload.limit:g} mm (lever stays on its stop): margin {preload.margin:.3g} mm")
+    left.set_xlabel("speed n, rpm")
+    left.set_ylabel("first rebound amplitude, mm")
+    left.set_ylim(bottom=0)
+    left.set_title("rebound against speed", fontsize=10)
+    middle.plot(speeds, sweep.force_n, "s-", color="tab:blue", ms=3, label="impact force F = S/τ")
+    middle.set_xlabel("speed n, rpm")
+    middle.set_ylabel("impact force F, N")
+    middle.set_ylim(bottom=0)
+    middle.set_title(f"force against speed (τ = {model.pulse_s * 1e3:.3g} ms)", fontsize=10)
     relation = sweep.relation
     t0 = relation.phase_deg
     t = np.linspace(0.6 * t0, 1.6 * t0, 200)
     right.plot(t, relation(t), color="tab:red", label=f"A(t) = A0·t0/t at {relation.rpm:g} rpm")
     slope, intercept = relation.tangent
-    right.plot(t, slope * t + intercept, color="grey", ls="--", label=f"a = {slope:.4g}·t + {intercept:.4g}")
-    right.plot([t0], [relation.amplitude_mm], "ko", ms=4)
-    if allowed_mm:
-        right.axhline(allowed_mm, color="tab:red", ls=":", lw=0.8)
-        limit = relation.least_phase(allowed_mm)
-        right.axvline(limit, color="tab:green", lw=0.8, label=f"least phase angle {limit:.2f} deg")
-    right.set_xlabel("phase angle of the approach, deg")
+    right.plot(t, slope * t + intercept, color="grey", ls="--", label=f"tangent a = {slope:.4g}·t + {intercept:.4g}")
+    right.plot([t0], [relation.amplitude_mm], "ko", ms=4, label=f"this law: {t0:.4g} deg, {relation.amplitude_mm:.4g} mm")
+    angle = _check(verdict, f"approach phase angle ({sweep.contact.phase.kind})")
+    if model.allowed_amplitude_mm:
+        right.axhline(model.allowed_amplitude_mm, color=COLOURS["limit"], ls=":", lw=0.9,
+                      label=f"allowed {model.allowed_amplitude_mm:g} mm")
+        limit = relation.least_phase(model.allowed_amplitude_mm)
+        text = f"least phase angle {limit:.4g} deg"
+        if angle is not None:
+            text += f" (margin {angle.margin:.3g} deg)"
+        right.axvline(limit, color=COLOURS["ok"] if (angle is None or angle.passed) else COLOURS["fail"], lw=0.9,
+                      label=text)
+    right.set_xlabel(f"phase angle of the approach ({sweep.contact.phase.kind}), deg")
     right.set_ylabel("rebound amplitude, mm")
-    right.legend(fontsize=8)
-    right.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    right.set_title("rebound against the phase angle", fontsize=10)
+    for ax in (left, middle, right):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7.5, loc="best")
+    fig.suptitle(title or "Impact on the stop", fontsize=11)
+    return fig
 
 
-def plot_impact_response(impacts, stop, path: Path, title: str = "") -> Path:
-    """Displacement of the contact point after the impact (mm, positive towards the stop) at each speed."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+def plot_impact_response(impacts, stop, *, title: str = ""):
+    """Displacement of the contact point after the impact (mm, towards the stop > 0) at each kept speed, the
+    pulse 2τ shaded, the preload and the allowed rebound drawn."""
+    fig, ax = new_figure(8.5, 4.6)
     for impact in impacts:
         if len(impact.time) == 0:
             continue
         ax.plot(impact.time * 1e3, impact.q_mm, lw=1.0, label=f"{impact.rpm:g} rpm, rebound {impact.rebound_mm:.4g} mm")
         ax.plot(impact.rebound_at_s * 1e3, -impact.rebound_mm, "k.", ms=5)
     ax.axvspan(0.0, 2.0 * stop.pulse_s * 1e3, color="#eeeeee", zorder=0, label="impact pulse 2τ")
-    ax.axhline(-stop.preload_mm, color="tab:red", ls="--", lw=0.8, label=f"preload {stop.preload_mm:g} mm")
+    ax.axhline(-stop.preload_mm, color="0.4", ls=":", lw=0.8, label=f"− preload {stop.preload_mm:g} mm")
+    if stop.allowed_amplitude_mm:
+        ax.axhline(-stop.allowed_amplitude_mm, color=COLOURS["limit"], ls="--", lw=0.8,
+                   label=f"− allowed rebound {stop.allowed_amplitude_mm:g} mm")
     ax.axhline(0.0, color="grey", lw=0.6)
     ax.set_xlabel("time after contact, ms")
     ax.set_ylabel("q, mm (towards the stop > 0)")
-    ax.set_title(title or f"Response after the impact (on the stop, {stop.f_stop_hz:.0f} Hz)")
-    ax.legend(fontsize=8)
+    ax.set_title(title or f"Response after the impact (on the stop, {stop.f_stop_hz:.0f} Hz)", fontsize=10)
+    ax.legend(fontsize=7.5)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    return fig
 
 
-def dynamics_plots(run: DynamicsRun, law, out_dir: Path, name: str) -> list[Path]:
-    """Rigid vs elastic acceleration over the cycle, and the peak ratio against speed (several speeds)."""
-    from camcad.dynamics.model import OUTPUT_UNITS
-
-    unit = OUTPUT_UNITS[run.settings.output_unit]
-    responses = [run.sweep.responses[s] for s in run.keep]
-    outputs = [plot_acceleration_cycle(responses, law.phases, out_dir / "dynamics_cycle.png",
-                                       f"{name}: rigid vs elastic acceleration", unit.name)]
-    if len(run.sweep.speeds_rpm) > 1:
-        outputs.append(plot_speed_sweep(run.sweep, out_dir / "dynamics_speed.png",
-                                        run.settings.follower.natural_frequency_hz,
-                                        f"{name}: peak acceleration against speed", unit.name))
-    return outputs
+def impact_figures(report) -> list[tuple[str, object]]:
+    run = report.result
+    name = report.source.get("name", "")
+    return [("impact_rebound.png", plot_rebound(run.sweep, run.model, verdict=report.verdict,
+                                                title=f"{name}: impact on the {run.model.stop} stop")),
+            ("impact_response.png", plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
+                                                         title=f"{name}: response after the impact"))]
 
 
-def impact_plots(run: ImpactRun, out_dir: Path, name: str) -> list[Path]:
-    """Rebound and impact force against speed, and the lever's response after the impact."""
-    return [plot_rebound(run.sweep, out_dir / "impact_rebound.png", run.model.allowed_amplitude_mm,
-                         f"{name}: rebound and impact force against speed"),
-            plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
-                                 out_dir / "impact_response.png")]
+# --------------------------------------------------------------------------------------------
+# Files, text and the commands
+# --------------------------------------------------------------------------------------------
+
+def write_figures(figures, out, sub: tuple[str, ...] = ()) -> list[Path]:
+    return [save_figure(fig, out.path(*sub, name)) for name, fig in figures]
+
+
+def dynamics_lines(run) -> list[str]:
+    from camcad.report.text import (
+        common_applies,
+        fmt,
+        header_lines,
+        output_lines,
+        table,
+        verdict_lines,
+    )
+
+    report = run.report
+    d = report.body
+    u = OUTPUT_UNITS[d["unit"]]
+    unit = d["unit"]
+    from camcad.dynamics.model import unit_key
+
+    lines = header_lines(report)
+    lines.append(f"fn = {fmt(d['natural_frequency_hz'])} Hz, damping ratio {fmt(d['damping_ratio'])}"
+                 f"{' (variable stiffness)' if d['variable_stiffness'] else ''}, {d['method']} path")
+    speeds = d["speeds_rpm"]
+    step = max(1, len(speeds) // 15)
+    rows = []
+    for i in sorted(set(range(0, len(speeds), step)) | {len(speeds) - 1}):
+        rows.append([fmt(speeds[i]), fmt(d["peak_accel_rigid_" + u.accel_key][i]),
+                     fmt(d["peak_accel_elastic_" + u.accel_key][i]), fmt(d["peak_accel_ratio"][i]),
+                     fmt(d[unit_key("dynamic_error_max_mm", unit)][i])])
+    lines += table(["speed rpm", f"peak rigid {u.accel_label}", f"peak elastic {u.accel_label}", "elastic/rigid",
+                    f"dynamic error {unit}"], rows)
+    res = d[unit_key("residual_vibration_mm", unit)]
+    lines.append(f"residual vibration at {fmt(d['residual_vibration_rpm'])} rpm: after the rise {fmt(res['rise'])} "
+                 f"{unit}, after the return {fmt(res['return'])} {unit}")
+    for entry in d["unbounded"]:
+        lines.append(f"no bounded steady state at {fmt(entry['rpm'])} rpm: {entry['why']}")
+    for entry in d.get("start_load", {}).get("phases", []):
+        force = f", {fmt(entry[u.force_key])} {u.force_label}" if entry[u.force_key] is not None else ""
+        line = (f"start of the {entry['kind']} at {fmt(entry['start_deg'])} deg ({fmt(d['start_load']['rpm'])} rpm): "
+                f"link load {fmt(entry['peak_link_accel_' + u.accel_key])} {u.accel_label}{force} at "
+                f"{fmt(entry['at_deg'])} deg")
+        if "with_pulse" in entry:
+            line += f"; with the summary pulse ×{fmt(entry['with_pulse']['increase'])}"
+        lines.append(line)
+    if "compare" in d:
+        lines.append("start-of-motion load, this law / compared law: " + ", ".join(fmt(r) for r in d["compare"]["reduction"]))
+    if "lead_in" in d:
+        lead = d["lead_in"]
+        lines.append(f"lead-in {fmt(lead['angle_deg'])} deg at {fmt(lead['fraction'])} of the peak: start-of-motion "
+                     "load reduced " + ", ".join(f"{fmt(r)}x" for r in lead["reduction"]) + f" ({fmt(lead['rpm'])} rpm)")
+    if "multimass" in d:
+        mm = d["multimass"]
+        lines.append(f"multi-mass model at {fmt(mm['rpm'])} rpm: elastic/rigid {fmt(mm['peak_accel_ratio'])}, dynamic "
+                     f"error {fmt(mm[unit_key('dynamic_error_max_mm', unit)])} {unit}, cam speed "
+                     f"{fmt(mm['cam_speed_range_rpm'][0])}…{fmt(mm['cam_speed_range_rpm'][1])} rpm")
+    for note in d.get("notes", []):
+        lines.append(f"  note: {note}")
+    lines += verdict_lines(report.verdict, common_applies(report))
+    return lines + output_lines(run.outputs)
+
+
+def impact_lines(run) -> list[str]:
+    from camcad.report.text import (
+        common_applies,
+        fmt,
+        header_lines,
+        output_lines,
+        table,
+        verdict_lines,
+    )
+
+    report = run.report
+    d = report.body
+    sweep = report.result.sweep
+    lines = header_lines(report)
+    lines.append(f"c = {fmt(d['reduced_stiffness_N_per_m'], 5)} N/m, m = {fmt(d['mass_kg'])} kg, f free "
+                 f"{fmt(d['f_free_hz'])} Hz, on the stop {fmt(d['f_stop_hz'])} Hz, τ = {fmt(d['pulse_s'] * 1e3)} ms")
+    lines.append(f"contact at {fmt(d['contact_at_deg'], 6)} deg ({d['stop']} stop, preload {fmt(d['preload_mm'])} mm, "
+                 f"approach phase {fmt(d['approach_phase_deg'])} deg)")
+    step = max(1, len(sweep.impacts) // 15)
+    rows = []
+    for i in sorted(set(range(0, len(sweep.impacts), step)) | {len(sweep.impacts) - 1}):
+        item = sweep.impacts[i]
+        rows.append([fmt(item.rpm), fmt(item.approach_velocity_mm_s), fmt(item.impulse_ns), fmt(item.force_n),
+                     fmt(item.rebound_mm)])
+    lines += table(["speed rpm", "v0 mm/s", "impulse N·s", "force N", "rebound mm"], rows)
+    lin = d["linear"]
+    lines.append(f"linearised at {fmt(lin['at_deg'])} deg, {fmt(lin['at_rpm'])} rpm: a = {fmt(lin['slope_mm_per_deg'])}·t + "
+                 f"{fmt(lin['intercept_mm'])} (mm, t deg)")
+    if d["phase_limit_deg"] is not None:
+        lines.append(f"least phase angle for {fmt(d['allowed_amplitude_mm'])} mm: {fmt(d['phase_limit_deg'], 6)} deg "
+                     f"(linearised {fmt(d['phase_limit_linear_deg'], 6)} deg)")
+    lines += verdict_lines(report.verdict, common_applies(report))
+    return lines + output_lines(run.outputs)
+
+
+@dataclass(frozen=True)
+class DynamicsCommand:
+    """``camcad dynamics`` or ``camcad impact``: the request (camcad.scene.dynamics.DynamicsRequest or
+    camcad.scene.stops.ImpactRequest) and what to write."""
+
+    request: object
+    output: Path | None = None
+    plots: bool = True
+
+
+def dynamics_command(command: DynamicsCommand, progress=None):
+    """Run ``camcad dynamics``: resolve the law, compute (camcad.scene.dynamics.run_dynamics_report), write the
+    plots and dynamics.json (the inputs are never replaced). Returns a CommandRun."""
+    from camcad.report.command import finish, open_folder
+    from camcad.scene.analysis import resolve_source
+    from camcad.scene.dynamics import run_dynamics_report
+
+    require = () if command.request.fn is not None else (
+        ("dynamics", "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta"),)
+    src = resolve_source(command.request.law, command="dynamics", require=require)
+    inputs = list(src.inputs) + ([command.request.compare] if command.request.compare is not None else [])
+    with open_folder(command.output, src.name, inputs) as out:
+        report = run_dynamics_report(command.request, src, progress)
+        written = write_figures(dynamics_figures(report), out) if command.plots else []
+        return finish(report, out, written, "dynamics.json", dynamics_lines)
+
+
+def impact_command(command: DynamicsCommand, progress=None):
+    """Run ``camcad impact``: resolve the law, compute (camcad.scene.stops.run_impact_report), write the plots
+    and impact.json. Returns a CommandRun."""
+    from camcad.report.command import finish, open_folder
+    from camcad.scene.analysis import resolve_source
+    from camcad.scene.stops import run_impact_report
+
+    src = resolve_source(command.request.law, command="impact", require=(
+        ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))
+    with open_folder(command.output, src.name, src.inputs) as out:
+        report = run_impact_report(command.request, src, progress)
+        written = write_figures(impact_figures(report), out) if command.plots else []
+        return finish(report, out, written, "impact.json", impact_lines)

@@ -61,6 +61,12 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             target = result.report["mechanisms"][name] if result.group else result.report
             target["outputs"] = [str(p) for p in paths]
             outputs.extend(paths)
+        if options.plots and result.report.get("cyclogram"):
+            from camcad.report.cyclogram import scene_cyclogram_figures
+            from camcad.report.figure import save_figure
+
+            for name, fig in scene_cyclogram_figures(result.scene, result.report["cyclogram"]):
+                outputs.append(save_figure(fig, out.path(name)))
         report_path = out.path("report.json")
         outputs.append(report_path)
         result.report["outputs"] = [str(p) for p in outputs]
@@ -86,7 +92,10 @@ def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], opti
 
 
 def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], report: dict) -> list[Path]:
-    """Draw and save the plots of one mechanism named in ``plots`` into ``folder``."""
+    """Draw and save the plots of one mechanism named in ``plots`` into ``folder`` (the profile's through
+    ``camcad.report.profile``, the models' when named or with "all")."""
+    from camcad.report.figure import save_figure
+
     every = "all" in plots
     written: list[Path] = []
     if run.profile is not None:
@@ -94,22 +103,34 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
 
         wanted = tuple(name for name in PLOTS if every or name in plots)
         written.extend(save_profile_plots(run.profile, folder, wanted, report))
+    figures = []
     if run.dynamics is not None and (every or "dynamics" in plots):
-        from camcad.report.dynamics import dynamics_plots
+        from camcad.report.dynamics import plot_acceleration_cycle, plot_speed_sweep
 
-        written.extend(dynamics_plots(run.dynamics, run.law, folder, run.name))
+        responses = [run.dynamics.sweep.responses[s] for s in run.dynamics.keep if s in run.dynamics.sweep.responses]
+        if responses:
+            figures.append(("dynamics_cycle.png", plot_acceleration_cycle(
+                responses, run.dynamics.phases, unit=run.dynamics.settings.output_unit,
+                title=f"{run.name}: rigid vs elastic acceleration", verdict=run.dynamics.verdict)))
+        if len(run.dynamics.sweep.speeds_rpm) > 1:
+            figures.append(("dynamics_speed.png", plot_speed_sweep(run.dynamics, title=f"{run.name}: against speed",
+                                                                   verdict=run.dynamics.verdict)))
     if run.impact is not None and (every or "impact" in plots):
-        from camcad.report.dynamics import impact_plots
+        from camcad.report.dynamics import plot_impact_response, plot_rebound
 
-        written.extend(impact_plots(run.impact, folder, run.name))
+        figures.append(("impact_rebound.png", plot_rebound(run.impact.sweep, run.impact.model,
+                                                           verdict=run.impact.verdict,
+                                                           title=f"{run.name}: impact on the stop")))
+        figures.append(("impact_response.png", plot_impact_response(
+            [i for i in run.impact.sweep.impacts if len(i.time)], run.impact.model)))
     if run.contact is not None and (every or "contact" in plots):
-        from camcad.report.cyclogram import plot_contact_stress, plot_safety_versus_speed
+        from camcad.report.contact import plot_contact_stress, plot_safety_versus_speed
 
-        at_worst, sweep = run.contact
-        written.append(plot_contact_stress(at_worst, folder / "contact.png", title=run.name))
-        if len(sweep.rpm) > 1:
-            written.append(plot_safety_versus_speed(sweep, folder / "contact_speed.png",
-                                                    title=f"{run.name}: contact safety factor"))
+        figures.append(("contact.png", plot_contact_stress(run.contact, title=run.name)))
+        if len(run.contact.sweep.rpm) > 1:
+            figures.append(("contact_speed.png", plot_safety_versus_speed(
+                run.contact.sweep, title=f"{run.name}: contact stress against speed")))
+    written.extend(save_figure(fig, folder / name) for name, fig in figures)
     return written
 
 

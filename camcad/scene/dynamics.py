@@ -1,4 +1,5 @@
-"""The scene's [dynamics] section: the elastic follower, stiffness tables, solver settings.
+"""The scene's [dynamics] section (the elastic follower, stiffness tables, solver settings, limits) and
+``camcad dynamics`` as one library function (``run_dynamics_report``).
 """
 
 from __future__ import annotations
@@ -9,27 +10,14 @@ from typing import Any
 
 import numpy as np
 
-from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
+from camcad.dynamics.model import (
+    ElasticFollower,
+    StiffnessTable,
+    damping_ratio_from_psi,
+)
+from camcad.dynamics.steady import DEFAULT_SAMPLES, SOLVERS
 from camcad.errors import CamcadError
 from camcad.scene.fields import Field, read_table
-from camcad.dynamics.model import ElasticFollower, StiffnessTable, damping_ratio_from_psi
-
-#: a law whose displacement or velocity does not return to its start within this fraction of the
-#: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same
-#: tolerance as ``camcad check``, so every law that passes the check can be analysed.
-CLOSURE_TOLERANCE = BALANCE_TOLERANCE
-DEFAULT_SAMPLES = 16384
-SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
-#: frequency path: a harmonic whose |D_k| = |ωn² − Ω_k² + 2iζωnΩ_k| is at most this fraction of ωn² is in
-#: resonance. The exact response there is unbounded (ζ = 0) and the computed one is ruled by the round-off
-#: of Ω_k (relative error ≈ 4e-16/|D_k/ωn²|, 4e-6 at this bound), so it is refused instead.
-RESONANCE_DETUNING = 1e-10
-#: time path: an eigenvalue λ of the monodromy matrix with |1 − λ| ≤ this × rtol is resonance. The shooting
-#: solve divides by 1 − λ, and the marched monodromy carries an error of the order of rtol, so the response
-#: would be ruled by integration error (measured: relative error ≈ 0.02–0.1 rtol/|1 − λ|, ≤ 1e-3 here).
-RESONANCE_GAP_PER_RTOL = 100.0
-
-
 
 # --------------------------------------------------------------------------------------------
 # The scene's [dynamics] section
@@ -45,7 +33,7 @@ DYNAMICS_FIELDS = [
     Field("stiffness_variation", "list", "[deg, factor]",
           help="c2(θ)/c2 as [[theta_deg, factor], ...], periodic polyline"),
     Field("output_unit", "str", "", default="mm", choices=("mm", "rad"),
-          help="unit of the law's displacement: mm (translating) or rad (oscillating)"),
+          help="unit of the law's displacement: mm (translating) or rad (oscillating); --unit overrides it"),
     Field("start_pulse_ratio", "float", "", minimum=0.0,
           help="summary dynamic load at the start of motion, × the phase's peak rigid acceleration"),
     Field("flywheel_inertia_kg_m2", "float", "kg·m²", positive=True, help="J0 (multi-mass model)"),
@@ -144,4 +132,173 @@ def _stiffness_table(raw: list, where: str, cycle_deg: float) -> StiffnessTable:
         raise CamcadError("stiffness_variation repeats an angle", where, fix)
     return StiffnessTable.from_degrees(pairs, cycle_deg)
 
+
+# --------------------------------------------------------------------------------------------
+# camcad dynamics
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class DynamicsRequest:
+    """Everything ``camcad dynamics`` can be asked (None: the scene's [dynamics] value, else the default)."""
+
+    law: Any
+    fn: float | None = None
+    zeta: float | None = None
+    psi: float | None = None
+    mass: float | None = None
+    method: str | None = None
+    solver: str | None = None
+    rtol: float | None = None
+    samples: int | None = None
+    start_pulse: float | None = None
+    compare: Any = None
+    lead_in: str | None = None
+    max_ratio: float | None = None
+    max_error: float | None = None
+    max_residual: float | None = None
+
+
+#: command-line option → [dynamics] field (validated by the field's type and range)
+_DYNAMICS_OPTIONS = {"--fn": ("fn", "natural_frequency_hz"), "--zeta": ("zeta", "damping_ratio"),
+                     "--psi": ("psi", "psi"), "--mass": ("mass", "mass_kg"), "--method": ("method", "method"),
+                     "--solver": ("solver", "solver"), "--rtol": ("rtol", "rtol"), "--samples": ("samples", "samples"),
+                     "--start-pulse": ("start_pulse", "start_pulse_ratio"),
+                     "--max-ratio": ("max_ratio", "allowed_peak_accel_ratio"),
+                     "--max-error": ("max_error", "allowed_dynamic_error_mm"),
+                     "--max-residual": ("max_residual", "allowed_residual_mm")}
+
+
+def dynamics_settings(request: DynamicsRequest, src) -> DynamicsSettings:
+    """The scene's [dynamics] section with the command-line options on top (each option checked as the
+    [dynamics] key it overrides: one line naming the option)."""
+    from dataclasses import replace
+
+    by_name = {f.name: f for f in DYNAMICS_FIELDS}
+    given = {}
+    for option, (attribute, name) in _DYNAMICS_OPTIONS.items():
+        value = getattr(request, attribute)
+        if value is not None:
+            given[name] = read_table({name: value}, [by_name[name]], option)[name]
+    if src.section("dynamics") is not None:
+        settings = parse_dynamics(src.section("dynamics"), src.section_where("dynamics"), math.degrees(src.law.cycle))
+    elif src.scene is not None and "natural_frequency_hz" not in given:
+        raise CamcadError("the scene has no [dynamics] section", src.where,
+                          "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta")
+    else:
+        if "natural_frequency_hz" not in given:
+            raise CamcadError("no natural frequency given", "command line", "pass --fn HZ (and --zeta Z)")
+        if "damping_ratio" not in given and "psi" not in given:
+            raise CamcadError("no damping given", "command line",
+                              "pass --zeta Z (or --psi, the dissipation coefficient)")
+        settings = DynamicsSettings(ElasticFollower(given["natural_frequency_hz"], 0.0))
+    if "damping_ratio" in given and "psi" in given:
+        raise CamcadError("both --zeta and --psi given", "command line", "give one of them")
+    follower = settings.follower
+    if "damping_ratio" in given:
+        damping = given["damping_ratio"]
+    elif "psi" in given:
+        damping = damping_ratio_from_psi(given["psi"])
+        if damping >= 1.0:
+            raise CamcadError(f"--psi {given['psi']:g} gives a damping ratio {damping:.3g} >= 1", "--psi",
+                              "give psi < 4 pi")
+    else:
+        damping = follower.damping_ratio
+    follower = ElasticFollower(given.get("natural_frequency_hz", follower.natural_frequency_hz), damping,
+                               given.get("mass_kg", follower.mass_kg), follower.stiffness)
+    overrides: dict[str, Any] = {"follower": follower}
+    for name, attribute in (("method", "method"), ("solver", "solver"), ("rtol", "rtol"), ("samples", "samples"),
+                            ("start_pulse_ratio", "start_pulse_ratio"),
+                            ("allowed_peak_accel_ratio", "allowed_peak_accel_ratio"),
+                            ("allowed_dynamic_error_mm", "allowed_dynamic_error_mm"),
+                            ("allowed_residual_mm", "allowed_residual_mm")):
+        if name in given:
+            overrides[attribute] = given[name]
+    if src.unit in ("mm", "rad"):
+        overrides["output_unit"] = src.unit
+    else:
+        raise CamcadError(f"the dynamics works on a law in mm or rad, not {src.unit}", "--unit",
+                          "give the law in rad of swing (--unit rad with a law in rad)")
+    settings = replace(settings, **overrides)
+    if settings.samples % 2:
+        raise CamcadError(f"--samples {settings.samples} must be an even number >= 64", "--samples", "give e.g. 4096")
+    if settings.method == "frequency" and not follower.constant_stiffness:
+        raise CamcadError("the frequency-domain path needs a constant stiffness", src.where,
+                          "use --method time (or auto) with a stiffness_variation")
+    return settings
+
+
+def lead_in_request(option: str | None, src) -> tuple[float, float] | None:
+    """(angle deg, fraction) from --lead-in DEG[:FRACTION], else from the scene's [filter] lead-in, else None."""
+    if option is not None:
+        parts = option.split(":")
+        try:
+            if len(parts) not in (1, 2):
+                raise ValueError
+            angle = float(parts[0])
+            fraction = float(parts[1]) if len(parts) == 2 else 0.1
+        except ValueError:
+            raise CamcadError(f"--lead-in {option!r} is not DEG or DEG:FRACTION", "--lead-in",
+                              "write --lead-in 14 or --lead-in 14:0.1") from None
+        if not (math.isfinite(angle) and 0 < angle <= 180 and math.isfinite(fraction) and 0 < fraction <= 1):
+            raise CamcadError(f"--lead-in {option!r} needs 0 < DEG <= 180 and 0 < FRACTION <= 1", "--lead-in",
+                              "write --lead-in 14:0.1")
+        return angle, fraction
+    table = src.section("filter")
+    if isinstance(table, dict) and "lead_in_deg" in table:
+        from camcad.scene.filter import parse_filter
+
+        settings = parse_filter(table, src.section_where("filter"))
+        return settings.lead_in_deg, settings.lead_in_fraction
+    return None
+
+
+def analysis_law(src, speeds) -> tuple[Any, list[str], Any]:
+    """The law the pipeline's steps 5–7 analyse for a scene's mechanism: after its [filter] step (as
+    ``camcad profile`` does); a law file's own law. Returns (law, notes, FilterStep or None)."""
+    if src.scene is None or src.mechanism is None or not src.mechanism.has("filter"):
+        return src.law, [], None
+    from camcad.scene.filter import filter_step
+
+    step = filter_step(src.scene, src.mechanism, src.law, speeds, src.unit)
+    if step.report is None:
+        return src.law, [f"[filter] not applied: {step.skipped}"], step
+    return step.law, ["the scene's [filter] was applied first, as camcad profile does (its law is analysed)"], step
+
+
+def run_dynamics_report(request: DynamicsRequest, source=None, progress=None):
+    """``camcad dynamics``: the elastic follower over the speeds, as an AnalysisReport (key ``dynamics``)
+    whose ``result`` is the camcad.dynamics.runs.DynamicsRun.
+
+    Parameters
+    ----------
+    request : DynamicsRequest
+    source : AnalysisSource or None
+        The law already resolved (default: ``resolve_source(request.law)``).
+    progress : callable or None
+        ``progress(done, total)`` after each speed.
+
+    Returns
+    -------
+    camcad.scene.analysis.AnalysisReport
+    """
+    from camcad.dynamics.runs import run_dynamics
+    from camcad.scene.analysis import AnalysisReport, resolve_source
+
+    src = source if source is not None else resolve_source(request.law, command="dynamics")
+    speeds = src.require_speeds("dynamics")
+    settings = dynamics_settings(request, src)
+    law, notes, step = analysis_law(src, speeds)
+    other = None
+    if request.compare is not None:
+        from camcad.law.source import load_law
+        from camcad.scene.analysis import require_file
+
+        other = load_law(require_file(request.compare, "law file"), cycle_deg=math.degrees(src.law.cycle)).law
+    lead = lead_in_request(request.lead_in, src) if step is None or step.report is None else None
+    applies = src.angles.describe() if src.angles is not None else ""
+    run = run_dynamics(law, settings, speeds, progress=progress, lead_in=lead, compare=other,
+                       compare_name=str(request.compare) if request.compare is not None else "", applies=applies)
+    summary = src.summary()
+    summary["notes"] = list(src.notes) + notes
+    return AnalysisReport("dynamics", run.report, run.verdict, summary, run)
 

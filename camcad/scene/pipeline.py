@@ -218,29 +218,16 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
 
 
 def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
-    from camcad.scene import filter as scene_filter
+    from camcad.scene.analysis import law_unit, pipeline_angles
+    from camcad.scene.filter import filter_step
 
-    settings = scene_filter.parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
-    if not settings.enabled:
-        run.skipped["filter"] = "[filter] enabled = false"
+    unit, _ = law_unit(scene, mech, None, run.law)
+    step = filter_step(scene, mech, run.law, speeds, unit, pipeline_angles(scene, mech, run.law).describe())
+    if step.report is None:
+        run.skipped["filter"] = step.skipped
         return
-    fn = settings.fn_hz
-    if fn is None and mech.has("dynamics"):
-        from camcad.scene.dynamics import parse_dynamics
-
-        fn = parse_dynamics(mech.sections["dynamics"], mech.where(scene.path, "dynamics"),
-                            math.degrees(run.law.cycle)).follower.natural_frequency_hz
-    rpm = settings.rpm or ((min(speeds), max(speeds)) if speeds else None)
-    if fn is None and settings.lead_in_deg is None:
-        run.skipped["filter"] = "no natural frequency ([filter] fn_hz or [dynamics]) and no lead-in"
-        return
-    if fn is not None and rpm is None:
-        run.skipped["filter"] = "no speed range ([filter] rpm or [machine] rpm)"
-        return
-    outcome = scene_filter.apply_filter(run.law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
-    run.law = outcome.law
-    run.report["spectrum"] = {**outcome.report(), "natural_frequency_hz": fn,
-                              "passed": outcome.passed}
+    run.law = step.law
+    run.report["spectrum"] = step.report.analysis_dict()
     run.ran.append("filter")
 
 
@@ -259,9 +246,13 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
 def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.dynamics.runs import run_dynamics
+    from camcad.scene.analysis import law_unit, pipeline_angles, rounded_tree
     from camcad.scene.dynamics import parse_dynamics
 
     settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
+    unit, _ = law_unit(scene, mech, None, run.law)
+    if unit in ("mm", "rad"):
+        settings = replace(settings, output_unit=unit)
     lead = None
     if mech.has("filter"):
         from camcad.scene.filter import parse_filter
@@ -269,27 +260,30 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
         filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
         if filt.lead_in_deg is not None and "filter" not in run.ran:
             lead = (filt.lead_in_deg, filt.lead_in_fraction)
-    run.dynamics = run_dynamics(run.law, settings, speeds, lead_in=lead)
-    run.report["dynamics"] = run.dynamics.report
+    run.dynamics = run_dynamics(run.law, settings, speeds, lead_in=lead,
+                                applies=pipeline_angles(scene, mech, run.law).describe())
+    run.report["dynamics"] = rounded_tree(run.dynamics.to_dict())
 
 
 def _impact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.dynamics.runs import run_impact
+    from camcad.scene.analysis import pipeline_angles, rounded_tree
     from camcad.scene.stops import parse_stops
 
     model = parse_stops(mech.sections["stops"], where)
-    run.impact = run_impact(run.law, model, speeds)
-    run.report["impact"] = run.impact.report
+    run.impact = run_impact(run.law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe())
+    run.report["impact"] = rounded_tree(run.impact.to_dict())
 
 
 def _contact(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.scene.mechanism import mechanism_contact
+    from camcad.scene.analysis import pipeline_angles, rounded_tree
+    from camcad.scene.contact import contact_step, contact_verdict
 
-    report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
-                                                memo=run.memo,
-                                                with_limits=limits)
-    run.contact = (at_worst, sweep)
-    run.report["contact"] = report
+    # the retimed pass (limits False) keeps the first pass's least angles in report["phase_limits"]
+    found = contact_step(scene, mech, run.law, speeds, options.contact_samples, pipeline_angles(scene, mech, run.law),
+                         None if limits else {}, memo=run.memo)
+    run.contact = found
+    run.report["contact"] = rounded_tree({**found.report, **contact_verdict([found], speeds).to_dict()})
 
 
 # --------------------------------------------------------------------------------------------
@@ -298,38 +292,17 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
 
 def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
     """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
-    from camcad.cyclogram.limits import PhaseLimit
-    from camcad.cyclogram.retime import format_phases
-    from camcad.cyclogram.lp import optimise
-    from camcad.scene.cyclogram import parse_cyclogram
-    from camcad.scene.mechanism import cyclogram_limits, retimed_phases
+    from camcad.scene.analysis import rounded_tree
+    from camcad.scene.cyclogram import cyclogram_verdict
+    from camcad.scene.phase_angles import cyclogram_angles
 
-    network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
-                              [m.name for m in scene.mechanisms if m.prefix])
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
-    memo = next(iter(runs.values())).memo if runs else None
-    limits, skipped = cyclogram_limits(scene, network, speeds, options.contact_samples, memo=memo)
     # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
-    for op in network.operations:
-        run = runs.get(op.mechanism) if op.mechanism else None
-        if run is None or run.impact is None or op.phase is None:
-            continue
-        angle = run.report["impact"].get("phase_limit_deg")
-        stop_phase = "rise" if run.impact.model.stop == "upper" else "return"
-        if angle is not None and op.phase == stop_phase:
-            limits.setdefault(op.label, []).append(PhaseLimit(
-                angle_deg=float(angle), source="impact rebound", value=run.impact.model.allowed_amplitude_mm,
-                limit=run.impact.model.allowed_amplitude_mm, binding=True,
-                note=f"rebound at the stop of {op.mechanism} within {run.impact.model.allowed_amplitude_mm:g} mm"))
-    result = optimise(network, limits, strict=False, where=f"{scene.path} [cyclogram]")
-    report = result.report()
-    report["passed"] = bool(result.feasible)
-    report["skipped"] = skipped
-    retimed = {}
-    if result.feasible:
-        retimed = retimed_phases(scene, result)
-        report["phases"] = {name: format_phases(phases) for name, phases in retimed.items()}
-    return report, retimed
+    impacts = {name: run.impact for name, run in runs.items() if run.impact is not None}
+    memo = next(iter(runs.values())).memo if runs else None
+    found = cyclogram_angles(scene, speeds, options.contact_samples, impacts=impacts, memo=memo)
+    report = rounded_tree({**found.report(), **cyclogram_verdict(found).to_dict()})
+    return report, found.phases
 
 
 def _phases_text(phases) -> str:
