@@ -28,7 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
-    "cyclogram": ("camcad.cli.contact", "Optimise the group's cyclogram: least makespan under the phase limits."),
+    "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "linkage": ("camcad.cli.linkage", "Linkages after the cam (seed 002): the atlas of adjustable chains, function generators."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
