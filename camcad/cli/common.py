@@ -123,9 +123,12 @@ def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, 
 def _given(name: str) -> bool:
     """True when the option ``name`` of the running command was given on the command line (or
     when no command is running: a library call states what it passes)."""
-    import click
+    try:  # typer >= 0.16 runs its own copy of click
+        from typer._click.globals import get_current_context
+    except ImportError:  # pragma: no cover - older typer uses click itself
+        from click import get_current_context
 
-    ctx = click.get_current_context(silent=True)
+    ctx = get_current_context(silent=True)
     if ctx is None or name not in ctx.params:
         return True
     source = ctx.get_parameter_source(name)

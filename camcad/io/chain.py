@@ -679,8 +679,11 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
         _refuse_ambiguous(graph, base, path, excluded, single, chosen, where, layer)
     curve = make_curve(graph, path)
     left_out = sorted(excluded - set(path.pieces))
+    others = len([r for r in single if r is not chosen])
     how = "chosen by --handle" if handle is not None else \
         ("the widest chain; joined across layers" if across else "the widest chain that is a function of x")
+    if others and handle is None:
+        how += f" (of {others + 1} candidates on {len({r[2] for r in single})} layers)"
     notes.append(f"law: {curve.label}, {how}")
     if len(path.steps) > 1:
         notes.append(f"{len(path.steps)} pieces joined end to end (tolerance {graph.join_tol:.3g} drawing units)")

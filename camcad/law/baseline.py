@@ -48,6 +48,8 @@ NEAR_ZERO_FRACTION = 0.05
 NOISE_FRACTION = 1e-6
 #: a curve leaving the zero between dwell points by more than this fraction of its height is warned of
 OVERSHOOT_FRACTION = 1e-3
+#: ... unless it reaches this fraction of the law's peak: then it is a lobe drawn between them
+LOBE_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -266,36 +268,15 @@ def find_baseline(curve: Curve, pieces: tuple[Piece, ...], law_pieces: set[int],
         notes.append(f"warning: {dwell_how} lie{'' if 'stretches' in dwell_how else 's'} at y = {dwell:.6g}, "
                      f"{abs(dwell - value) / height:.0%} of the curve's height off the zero axis y = {value:.6g}; "
                      f"if that is a dwell, pass --y0 {dwell:.9g}")
-    notes.extend(_dwell_warnings(curve, pts, breakpoints, runs, value, height, span))
+    notes.extend(_dwell_warnings(curve, pts, runs, value, height, span))
     return Baseline(value, None if x0 is None else float(x0), source, tuple(notes), axis_pieces)
 
 
-def _mean_height(pts: np.ndarray) -> float:
-    """The curve's mean y over its x-range (trapezoids; vertical segments carry no weight)."""
-    dx = np.diff(pts[:, 0])
-    total = float(dx.sum())
-    if total <= 0:
-        return float(pts[:, 1].mean())
-    return float(np.sum(dx * (pts[1:, 1] + pts[:-1, 1]) / 2) / total)
-
-
-def _dwell_warnings(curve: Curve, pts: np.ndarray, breakpoints: np.ndarray, runs: list[_Run], y0: float,
-                    height: float, span: float) -> list[str]:
-    warnings: list[str] = []
-    # flat stretches drawn near, but not at, the zero
-    off = [(abs(r.level - y0), r) for r in runs
-           if NOISE_FRACTION * height < abs(r.level - y0) <= NEAR_ZERO_FRACTION * height]
-    if off:
-        deviation, worst = max(off, key=lambda t: t[0])
-        side = "above" if worst.level > y0 else "below"
-        warnings.append(f"warning: {len(off)} dwell{'s are' if len(off) > 1 else ' is'} not at zero: the largest "
-                        f"deviation is {deviation:.4g} {side} the zero axis ({deviation / height:.2%} of the curve's "
-                        f"height) at x {worst.x_start:.6g}..{worst.x_end:.6g}; move the dwell onto the axis "
-                        "(or set the zero with --y0)")
-    # a flattened curve leaving the zero between the author's dwell points
-    if curve.editable or all(p.exact for p in curve.pieces) and curve.pieces:
-        return warnings
-    level_tol = OVERSHOOT_FRACTION * height
+def _overshoot(points: np.ndarray, breakpoints: np.ndarray, y0: float, level_tol: float,
+               min_length: float) -> tuple[float, float, float, float] | None:
+    """The largest departure from y0 of a piece between consecutive author's points lying at y0
+    (a run of three or more such points, or two with the piece crossing y0 between them):
+    (departure, x where, run start x, run end x), or None."""
     at_zero = np.abs(breakpoints[:, 1] - y0) <= level_tol
     worst = None
     i, n = 0, len(breakpoints)
@@ -307,25 +288,59 @@ def _dwell_warnings(curve: Curve, pts: np.ndarray, breakpoints: np.ndarray, runs
         while j + 1 < n and at_zero[j + 1]:
             j += 1
         x_lo, x_hi = breakpoints[i, 0], breakpoints[j, 0]
-        if j > i and x_hi - x_lo >= DWELL_MIN_FRACTION * span:
-            inside = (pts[:, 0] > x_lo) & (pts[:, 0] < x_hi)
-            if inside.any():
-                dev = pts[inside, 1] - y0
-                crosses = dev.max() > level_tol and dev.min() < -level_tol
-                if j - i >= 2 or crosses:
-                    k = int(np.argmax(np.abs(dev)))
-                    size = float(abs(dev[k]))
-                    if size > level_tol and (worst is None or size > worst[0]):
-                        worst = (size, float(pts[inside][k, 0]), x_lo, x_hi)
+        inside = (points[:, 0] > x_lo) & (points[:, 0] < x_hi)
+        if j > i and x_hi - x_lo >= min_length and inside.any():
+            dev = points[inside, 1] - y0
+            crosses = dev.max() > level_tol and dev.min() < -level_tol
+            k = int(np.argmax(np.abs(dev)))
+            size = float(abs(dev[k]))
+            if (j - i >= 2 or crosses) and size > level_tol and (worst is None or size > worst[0]):
+                worst = (size, float(points[inside][k, 0]), float(x_lo), float(x_hi))
         i = j + 1
+    return worst
+
+
+def _mean_height(pts: np.ndarray) -> float:
+    """The curve's mean y over its x-range (trapezoids; vertical segments carry no weight)."""
+    dx = np.diff(pts[:, 0])
+    total = float(dx.sum())
+    if total <= 0:
+        return float(pts[:, 1].mean())
+    return float(np.sum(dx * (pts[1:, 1] + pts[:-1, 1]) / 2) / total)
+
+
+def _dwell_warnings(curve: Curve, pts: np.ndarray, runs: list[_Run], y0: float, height: float,
+                    span: float) -> list[str]:
+    """Warnings about dwells: flat stretches near but not at y0, and flattened pieces leaving y0
+    between the author's dwell points."""
+    warnings: list[str] = []
+    # flat stretches drawn near, but not at, the zero
+    off = [(abs(r.level - y0), r) for r in runs
+           if NOISE_FRACTION * height < abs(r.level - y0) <= NEAR_ZERO_FRACTION * height]
+    if off:
+        deviation, run = max(off, key=lambda t: t[0])
+        side = "above" if run.level > y0 else "below"
+        warnings.append(f"warning: {len(off)} dwell{'s are' if len(off) > 1 else ' is'} not at zero: the largest "
+                        f"deviation is {deviation:.4g} {side} the zero axis ({deviation / height:.2%} of the curve's "
+                        f"height) at x {run.x_start:.6g}..{run.x_end:.6g}; move the dwell onto the axis "
+                        "(or set the zero with --y0)")
+    # a flattened piece (spline, arc) leaving the zero between the author's dwell points on it
+    level_tol = OVERSHOOT_FRACTION * height
+    peak = float(np.max(np.abs(pts[:, 1] - y0))) or 1.0
+    worst = None
+    for piece in curve.pieces:
+        if piece.exact or piece.breakpoints is None:
+            continue
+        found = _overshoot(_x_order(piece.points), _x_order(piece.breakpoints), y0, level_tol, DWELL_MIN_FRACTION * span)
+        if found is not None and found[0] < LOBE_FRACTION * peak and (worst is None or found[0] > worst[0]):
+            worst = found + (piece,)
     if worst is not None:
-        size, at, x_lo, x_hi = worst
-        peak = float(np.max(np.abs(pts[:, 1] - y0))) or 1.0
-        kinds = {p.kind for p in curve.pieces if not p.exact}
-        what = "spline" if "SPLINE" in kinds else "curve"
-        warnings.append(f"warning: the {what} leaves the zero between the dwell points at x {x_lo:.6g}..{x_hi:.6g} "
-                        f"by up to {size:.4g} ({size / peak:.1%} of the peak) at x {at:.6g}: your {what} overshoots "
-                        "through the dwell points; draw the dwells as lines or use a polyline")
+        size, at, x_lo, x_hi, piece = worst
+        what = "spline" if piece.kind == "SPLINE" else "curve"
+        warnings.append(f"warning: {piece.kind} {piece.handle} leaves the zero between the dwell points "
+                        f"at x {x_lo:.6g}..{x_hi:.6g} by up to {size:.4g} ({size / peak:.1%} of the peak) at x "
+                        f"{at:.6g}: your {what} overshoots through the dwell points; draw the dwells as lines or use "
+                        "a polyline")
     return warnings
 
 
