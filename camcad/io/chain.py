@@ -68,6 +68,7 @@ class Graph:
     problems: tuple[str, ...]
     zero_length: np.ndarray
     duplicate_key: tuple
+    widths: np.ndarray
     join_tol: float
     x_tol: float
     size: float
@@ -95,6 +96,7 @@ class LawChain:
     left_out: tuple[int, ...]
     graph: Graph
     candidates: int
+    used: tuple[int, ...] = ()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -196,8 +198,7 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
     column_sorted = np.cumsum(new_column) - 1
     column = np.empty(len(node_xy), dtype=int)
     column[order] = column_sorted
-    column_x = np.array([xs[column_sorted == c].mean() for c in range(int(column_sorted[-1]) + 1)]) \
-        if len(xs) else np.zeros(0)
+    column_x = np.bincount(column_sorted, weights=xs) / np.bincount(column_sorted) if len(xs) else np.zeros(0)
     usable = np.zeros(count, dtype=bool)
     vertical = np.zeros(count, dtype=bool)
     left = np.zeros(count, dtype=int)
@@ -206,9 +207,39 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
     variation = np.zeros(count)
     straight = np.zeros(count, dtype=bool)
     zero_length = np.zeros(count, dtype=bool)
-    problems: list[str] = []
-    keys: list = []
-    for i, piece in enumerate(pieces):
+    problems: list[str] = [""] * count
+    keys: list = [None] * count
+    # two-point pieces (LINEs, mostly), all at once
+    two = np.array([len(p.points) == 2 and not p.closed for p in pieces], dtype=bool)
+    if two.any():
+        idx = np.flatnonzero(two)
+        a, b = ends[idx, 0], ends[idx, 1]
+        variation[idx] = np.abs(finals[idx, 1] - starts[idx, 1])
+        straight[idx] = True
+        same = a == b
+        zero_length[idx[same]] = True
+        for i in idx[same]:
+            problems[i] = "it has no length"
+        vert = ~same & (column[a] == column[b])
+        up = node_xy[b, 1] >= node_xy[a, 1]
+        rightward = node_xy[b, 0] > node_xy[a, 0]
+        own = np.where(vert, up, rightward)
+        ok = ~same
+        usable[idx[ok]] = True
+        vertical[idx[vert]] = True
+        forward[idx] = own
+        left[idx] = np.where(own, a, b)
+        right[idx] = np.where(own, b, a)
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        quantum = max(8 * join_tol, 1e-300)
+        flip = a > b
+        first = np.where(flip[:, None], finals[idx], starts[idx])
+        last = np.where(flip[:, None], starts[idx], finals[idx])
+        coords = np.round(np.hstack((first, last)) / quantum) + 0.0
+        for k, i in enumerate(idx):
+            keys[i] = (int(lo[k]), int(hi[k]), 2, hash(coords[k].tobytes()))
+    for i in np.flatnonzero(~two):
+        piece = pieces[i]
         a, b = int(ends[i, 0]), int(ends[i, 1])
         pts = piece.points
         variation[i] = float(np.abs(np.diff(pts[:, 1])).sum())
@@ -243,11 +274,13 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
                 left[i], right[i] = (a, b) if direction > 0 else (b, a)
                 forward[i] = direction > 0
         usable[i] = not problem
-        problems.append(problem)
-        keys.append(_duplicate_key(pts, a, b, join_tol))
+        problems[i] = problem
+        keys[i] = _duplicate_key(pts, a, b, join_tol)
+    widths = np.array([abs(p.points[-1, 0] - p.points[0, 0]) if len(p.points) == 2 else float(np.ptp(p.points[:, 0]))
+                       for p in pieces])
     return Graph(tuple(pieces), ends, node_xy, column, column_x, usable, vertical, left, right, forward,
-                 variation, straight, tuple(problems), zero_length, tuple(keys), float(join_tol), float(x_tol),
-                 size)
+                 variation, straight, tuple(problems), zero_length, tuple(keys), widths, float(join_tol),
+                 float(x_tol), size)
 
 
 def _extent(points: np.ndarray) -> float:
@@ -496,7 +529,7 @@ def widest_law_path(graph: Graph, mask: np.ndarray, through: int | None = None) 
     excluded: set[int] = set()
     allowed = mask.copy()
     straight_pieces = np.flatnonzero(mask & graph.straight & graph.usable)
-    widths = np.array([graph.pieces[i].x_range for i in straight_pieces])
+    widths = graph.widths[straight_pieces]
     for _ in range(MAX_ROUNDS):
         path = best_path(graph, allowed, through)
         if path is None:
@@ -692,7 +725,7 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                      f"(tolerance {curve.flatten_tol:.3g} drawing units)")
     dropped = _dropped_notes(graph, base)
     notes.extend(dropped)
-    return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1)
+    return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1, path.pieces)
 
 
 def _group_paths(graph: Graph, mask: np.ndarray, through_set: list[int], name: str):
@@ -719,13 +752,13 @@ def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set:
             explained.append((width, label, problem))
     for i in candidates:
         if graph.problems[i] and not graph.zero_length[i]:
-            explained.append((graph.pieces[i].x_range, graph.pieces[i].label, graph.problems[i]))
+            explained.append((float(graph.widths[i]), graph.pieces[i].label, graph.problems[i]))
     open_first = sorted(explained, key=lambda t: (t[2] != "it is closed", t[0]), reverse=True)
     if open_first:
         width, label, problem = open_first[0]
         scope = "the curve chosen by --handle" if through_set else "the largest"
         raise CamcadError(f"no curve here can be a law; {scope}, {label}: {problem}", where, _problem_fix(problem))
-    widest = max(candidates, key=lambda i: (graph.pieces[i].kind != "LINE", graph.pieces[i].x_range))
+    widest = max(candidates, key=lambda i: (graph.pieces[i].kind != "LINE", graph.widths[i]))
     piece = graph.pieces[widest]
     distinct = len(np.unique(piece.points, axis=0))
     if piece.kind in ("LWPOLYLINE", "POLYLINE", "SPLINE") and distinct < 3:
@@ -742,7 +775,7 @@ def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set:
 def _refuse_wider_backward_chain(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int], where: str) -> None:
     allowed = mask.copy()
     allowed[list(excluded)] = False
-    wide_straight = graph.straight & (np.array([p.x_range for p in graph.pieces]) >= path.span - 2 * graph.x_tol)
+    wide_straight = graph.straight & (graph.widths >= path.span - 2 * graph.x_tol)
     allowed &= ~wide_straight | np.isin(np.arange(len(graph.pieces)), path.pieces)
     for chain in open_chains(graph, allowed):
         width, label, problem = _chain_problem(graph, chain)

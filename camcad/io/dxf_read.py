@@ -461,9 +461,9 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
                     pieces.append(replace(piece, hidden=piece.layer.upper() in hidden))
                 continue
             counts[kind] += 1
-            piece = _entity_piece(entity, kind, handle, flatten_tol, notes, zero)
+            piece = _entity_piece(entity, kind, handle, flatten_tol, notes, zero, index, hidden)
             if piece is not None:
-                pieces.append(replace(piece, index=index, hidden=piece.layer.upper() in hidden))
+                pieces.append(piece)
     if zero[0]:
         notes.append(f"{zero[0]} entit{'y' if zero[0] == 1 else 'ies'} of no length (a point, an arc of radius 0) "
                      "ignored")
@@ -472,7 +472,7 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
 
 
 def _entity_piece(entity, kind: str, handle: str, flatten_tol: float | None, notes: list[str],
-                  zero: list[int]) -> Piece | None:
+                  zero: list[int], index: int = -1, hidden: set[str] | None = None) -> Piece | None:
     """The piece of one curve entity (None for other entities, and for a skipped one, noted)."""
     if kind not in CURVE_TYPES:
         return None
@@ -480,8 +480,9 @@ def _entity_piece(entity, kind: str, handle: str, flatten_tol: float | None, not
         layer = str(entity.dxf.get("layer", "0"))
     except Exception:  # noqa: BLE001 - very old entity types have no layer attribute
         layer = "0"
+    off = hidden is not None and layer.upper() in hidden
     try:
-        piece = _piece(entity, kind, handle, layer, flatten_tol)
+        piece = _piece(entity, kind, handle, layer, flatten_tol, index, off)
     except CamcadError:
         raise
     except Exception as err:  # noqa: BLE001 - a malformed entity is skipped and reported
@@ -598,11 +599,20 @@ def _scale(m: np.ndarray) -> float:
     return float(max(np.hypot(*m[0, :2]), np.hypot(*m[1, :2]), 1e-300))
 
 
-def _piece(entity, kind: str, handle: str, layer: str, flatten_tol: float | None) -> Piece | None:
+def _piece(entity, kind: str, handle: str, layer: str, flatten_tol: float | None, index: int = -1,
+           hidden: bool = False) -> Piece | None:
     if kind == "LINE":
         start, end = entity.dxf.start, entity.dxf.end
-        ends = _checked(np.array([[start.x, start.y], [end.x, end.y]], dtype=float))
-        return Piece(ends, "LINE", handle, layer, exact=True, breakpoints=ends)
+        values = (start.x, start.y, end.x, end.y)
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in values):
+            _checked(np.array(values, dtype=float).reshape(2, 2))  # raises, naming the vertex
+        ends = np.array(values, dtype=float).reshape(2, 2)
+        return Piece(ends, "LINE", handle, layer, index, exact=True, hidden=hidden, breakpoints=ends)
+    piece = _other_piece(entity, kind, handle, layer, flatten_tol)
+    return None if piece is None else replace(piece, index=index, hidden=hidden)
+
+
+def _other_piece(entity, kind: str, handle: str, layer: str, flatten_tol: float | None) -> Piece | None:
     if kind == "ARC":
         points = _checked(_arc_points(entity, flatten_tol))
         if len(points) < 2 or float(entity.dxf.radius) <= 0:

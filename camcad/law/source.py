@@ -144,7 +144,7 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     piece_set = collect_pieces(drawing, flatten_tol=flatten_tol)
     chain = find_law(piece_set, str(path), layer=layer, handle=handle, join_tol=join_tol)
     curve = chain.curve
-    used = {i for i, piece in enumerate(piece_set.pieces) if any(piece is p for p in curve.pieces)}
+    used = set(chain.used)
     baseline = find_baseline(curve, piece_set.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
     notes = list(drawing.notes) + list(piece_set.notes) + list(chain.notes)
     left_out = [piece_set.pieces[i] for i in chain.left_out]
