@@ -9,6 +9,7 @@ half-ellipse's πab/2, each with its centroid at the lobe's middle).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import ezdxf
@@ -79,7 +80,7 @@ def test_a_line_chain_law_touching_its_axis_at_both_ends_is_read(tmp_path):
 
     def build(msp, doc):
         pts = _placed(x0, y0)
-        for p, q in zip(pts[:-1], pts[1:]):
+        for p, q in itertools.pairwise(pts):
             msp.add_line(p, q)
         msp.add_line((x0, y0), (x0 + 360, y0))
     loaded = load_law(_save(tmp_path, build))
@@ -116,7 +117,7 @@ def test_grid_frame_and_axes_are_left_out_and_the_axis_agreeing_with_the_dwell_w
         msp.add_line((x0 - 20, y0), (x0 + 380, y0), dxfattribs={"layer": "AXES"})
         msp.add_line((x0, y0), (x0, y0 + 40), dxfattribs={"layer": "AXES"})       # y axis from the origin up
         frame = [(x0 - 30, y0 - 30), (x0 + 390, y0 - 30), (x0 + 390, y0 + 50), (x0 - 30, y0 + 50), (x0 - 30, y0 - 30)]
-        for p, q in zip(frame[:-1], frame[1:]):                      # a frame of LINEs
+        for p, q in itertools.pairwise(frame):                      # a frame of LINEs
             msp.add_line(p, q, dxfattribs={"layer": "FRAME"})
     loaded = load_law(_save(tmp_path, build))
     _assert_law(loaded)
@@ -293,7 +294,7 @@ def test_a_chain_that_goes_back_in_x_is_explained_with_where(tmp_path):
     pts[3] = (pts[2][0] - 5, pts[3][1])   # vertex 3 drawn left of vertex 2
 
     def build(msp, doc):
-        for p, q in zip(pts[:-1], pts[1:]):
+        for p, q in itertools.pairwise(pts):
             msp.add_line(p, q)
     with pytest.raises(CamcadError, match=r"goes back in x in LINE \w+ \(x 85 after 90\)"):
         load_law(_save(tmp_path, build))
@@ -302,7 +303,7 @@ def test_a_chain_that_goes_back_in_x_is_explained_with_where(tmp_path):
 def test_a_y_axis_touching_the_laws_start_is_left_out(tmp_path):
     def build(msp, doc):
         pts = _placed(10.0, 10.0)
-        for p, q in zip(pts[:-1], pts[1:]):
+        for p, q in itertools.pairwise(pts):
             msp.add_line(p, q)
         msp.add_line((10.0, 10.0), (10.0, 40.0))   # from the origin up past the curve's top
     loaded = load_law(_save(tmp_path, build))
@@ -343,7 +344,7 @@ def test_the_curve_says_how_to_write_back(tmp_path):
 
     def chain(msp, doc):
         pts = _placed()
-        for i, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
+        for i, (p, q) in enumerate(itertools.pairwise(pts)):
             msp.add_line(*((q, p) if i % 2 else (p, q)))
     loaded = load_law(_save(tmp_path, chain, "chain.dxf"))
     curve = loaded.curve
@@ -357,7 +358,7 @@ def test_the_curve_says_how_to_write_back(tmp_path):
     def mixed(msp, doc):
         pts = _placed()
         msp.add_lwpolyline(pts[:6])
-        for p, q in zip(pts[5:-1], pts[6:]):
+        for p, q in itertools.pairwise(pts):
             msp.add_line(p, q)
     loaded = load_law(_save(tmp_path, mixed, "mixed.dxf"))
     assert not loaded.curve.editable and loaded.curve.kind == "chain"
@@ -377,7 +378,7 @@ def test_entities_are_found_again_when_handles_are_not_unique(tmp_path):
     body = ["0", "SECTION", "2", "TABLES", "0", "TABLE", "2", "LAYER", "5", "2", "70", "1",
             "0", "LAYER", "5", "10", "2", "0", "70", "0", "62", "7", "6", "CONTINUOUS", "0", "ENDTAB",
             "0", "ENDSEC", "0", "SECTION", "2", "ENTITIES"]
-    for i, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
+    for i, (p, q) in enumerate(itertools.pairwise(pts)):
         body += ["0", "LINE", "5", f"{0x10 + i:X}" if i else "10", "8", "0", "10", f"{p[0]}", "20", f"{p[1]}",
                  "11", f"{q[0]}", "21", f"{q[1]}"]
     body += ["0", "ENDSEC", "0", "EOF"]

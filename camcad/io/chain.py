@@ -802,6 +802,8 @@ def _refuse_ambiguous(graph, base, path, excluded, single, chosen, where, layer)
             rivals.append(other[0])
     mask = base.copy()
     mask[list(set(path.pieces) | excluded)] = False
+    used_shapes = shape(path)
+    mask &= np.array([key not in used_shapes for key in graph.duplicate_key])   # copies of the law's pieces
     mask &= np.array([p.layer.upper() for p in graph.pieces]) == graph.pieces[path.steps[0][0]].layer.upper()
     if mask.any():
         second, _ = widest_law_path(graph, mask)
