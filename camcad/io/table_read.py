@@ -57,7 +57,7 @@ def read_table(path: str | Path) -> Table:
     --------
     >>> import tempfile, pathlib
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "law.csv"
-    >>> _ = f.write_text('"theta";"a"\n"0";"0,5"\n"90";"-1,25"\n')
+    >>> _ = f.write_text('"theta";"a"\\n"0";"0,5"\\n"90";"-1,25"\\n')
     >>> t = read_table(f)
     >>> t.theta_deg.tolist(), t.accel.tolist(), t.delimiter, t.decimal_comma
     ([0.0, 90.0], [0.5, -1.25], ';', True)

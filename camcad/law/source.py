@@ -8,9 +8,9 @@ Conventions (SPEC.md "Acceleration-law input", docs/reading.md):
 - y is the acceleration analog: a = (y − y0) × scale; ``lift`` scales it so the rise equals
   ``lift`` mm, otherwise the scale is 1 (mm/rad² per drawing unit). Drawing units are reported,
   never converted.
-- A curve that holds a rise without a return (or a return without a rise) is not a whole cycle;
-  unless the cycle is stated (``cycle_deg``, ``x_deg`` or ``phases``) it is refused with the
-  options that state it, never silently stretched to 360°.
+- A curve that holds a rise without a return (or a return without a rise), ending at rest, is a
+  drawing of part of a cycle; unless the cycle is stated (``cycle_deg``, ``x_deg`` or ``phases``)
+  it is refused with the options that state it, never silently stretched to 360°.
 - A vertical segment is a jump of acceleration; duplicated vertices are ignored; a curve drawn
   right-to-left is accepted. The law starts from rest at s = 0 at θ = 0.
 """
@@ -33,6 +33,8 @@ from camcad.law.phases import detect_phases, parse_phases
 
 #: relative tolerance (of the curve's x-range) below which x steps count as vertical or equal
 X_TOLERANCE = 1e-9
+#: a rise (or return) whose end velocity is within this fraction of its peak velocity ends at rest
+PART_CYCLE_REST_FRACTION = 0.05
 
 
 @dataclass(frozen=True)
@@ -290,9 +292,9 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
         phase_tuple = tuple(phases)
     else:
         phase_tuple = detect_phases(theta, yk, cycle, where)
-        if not cycle_stated and not x_deg:
-            _refuse_part_of_a_cycle(phase_tuple, x_start, x_end, origin, where)
     law = PiecewiseLinearLaw(theta, yk, cycle, phase_tuple)
+    if not phases and not cycle_stated and not x_deg:
+        _refuse_part_of_a_cycle(law, x_start, x_end, origin, where)
     y_scale = 1.0
     if lift is not None:
         rise = rise_displacement(law)
@@ -312,11 +314,17 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
                      candidates=candidates, y0=float(y0), baseline=baseline)
 
 
-def _refuse_part_of_a_cycle(phases: tuple[Phase, ...], x_start: float, x_end: float, origin: float,
+def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: float, origin: float,
                             where: str) -> None:
-    """A law with a rise and no return (or the reverse) is not a whole cycle: refuse to stretch it."""
-    kinds = {p.kind for p in phases}
+    """A motion from rest to rest with a rise and no return (or the reverse) is a drawing of part of a
+    cycle (a rise alone, x 0..120): refuse to stretch it over the cycle. A curve that does not end at
+    rest is left to the balance check, which reports its open velocity."""
+    kinds = {p.kind for p in law.phases}
     if ("rise" in kinds) == ("return" in kinds):
+        return
+    theta = np.linspace(0.0, law.cycle, 2049)
+    v = law.kinematics(np.unique(np.concatenate((theta, law.x)))).v
+    if abs(v[-1]) > PART_CYCLE_REST_FRACTION * float(np.max(np.abs(v))):
         return
     has, lacks = ("rise", "return") if "rise" in kinds else ("return", "rise")
     width = x_end - origin
