@@ -300,6 +300,17 @@ def test_a_chain_that_goes_back_in_x_is_explained_with_where(tmp_path):
         load_law(_save(tmp_path, build))
 
 
+def test_a_border_that_turns_round_does_not_hide_the_law(tmp_path):
+    # an open polyline round three sides of the sheet, wider than the law: it goes back in x by its whole
+    # width, so it is no mis-drawn law and the law inside it is read
+    def build(msp, doc):
+        msp.add_lwpolyline(_placed(0.0, 50.0))
+        msp.add_lwpolyline([(-20, 0), (-20, 100), (380, 100), (380, 0)], dxfattribs={"layer": "BORDER"})
+        msp.add_lwpolyline([(-30, -10), (390, -10), (390, 110), (-40, 110)], dxfattribs={"layer": "BORDER"})
+    loaded = load_law(_save(tmp_path, build))
+    _assert_law(loaded)
+
+
 def test_a_y_axis_touching_the_laws_start_is_left_out(tmp_path):
     def build(msp, doc):
         pts = _placed(10.0, 10.0)

@@ -42,6 +42,8 @@ X_FRACTION = 1e-9
 AMBIGUITY_FRACTION = 1e-6
 #: rounds of leaving out straight lines before giving up
 MAX_ROUNDS = 200
+#: a wider chain going back in x by at most this fraction of its width is a law drawn a little wrong
+MISDRAWN_BACK_FRACTION = 0.25
 
 
 @dataclass(frozen=True)
@@ -514,11 +516,20 @@ def _core(graph: Graph, path: Path) -> Path:
 
 
 def _not_a_law(graph: Graph, path: Path) -> bool:
-    core = _core(graph, path)
-    if not core.steps:
+    """The chain is straight, or flat, once the vertical stretches at its ends are taken off (an axis, a
+    grid line, a frame or a U-shaped border)."""
+    pts = path_points(graph, path)
+    x = pts[:, 0]
+    off_start = np.abs(x - x[0]) > graph.x_tol
+    off_end = np.abs(x - x[-1]) > graph.x_tol
+    if not off_start.any():
         return True
-    pts = path_points(graph, core)
-    return bool(np.ptp(pts[:, 1]) == 0 or is_straight(pts))
+    first = int(np.argmax(off_start))                       # the first point off the starting vertical
+    last = len(x) - 1 - int(np.argmax(off_end[::-1]))       # the last point off the ending vertical
+    inner = pts[first - 1: last + 2]
+    if len(inner) < 2 or np.ptp(inner[:, 0]) <= graph.x_tol:
+        return True
+    return bool(np.ptp(inner[:, 1]) == 0 or is_straight(inner))
 
 
 def widest_law_path(graph: Graph, mask: np.ndarray, through: int | None = None) -> tuple[Path | None, set[int]]:
@@ -537,9 +548,7 @@ def widest_law_path(graph: Graph, mask: np.ndarray, through: int | None = None) 
         if not _not_a_law(graph, path):
             return _trim_axis_ends(graph, path, excluded), excluded
         wide = straight_pieces[widths >= path.span - 2 * graph.x_tol]
-        drop = set(_core(graph, path).pieces) | set(wide.tolist())
-        if not _core(graph, path).steps:
-            drop |= set(path.pieces)
+        drop = set(_core(graph, path).pieces or path.pieces) | set(wide.tolist())
         excluded |= drop
         allowed[list(drop)] = False
         if through is not None and through in excluded:
@@ -782,9 +791,19 @@ def _refuse_wider_backward_chain(graph: Graph, mask: np.ndarray, path: Path, exc
         if problem and problem != "it is closed" and width > path.span * (1 + AMBIGUITY_FRACTION) + 2 * graph.x_tol:
             if all(graph.straight[i] for i, _ in chain) and len(chain) == 1:
                 continue
+            if _backward_travel(graph, chain) > MISDRAWN_BACK_FRACTION * width:
+                continue  # a frame, a border or a sketch that turns round: not a law drawn a little wrong
             first = graph.pieces[path.steps[0][0]]
             raise CamcadError(f"the widest curve, {label}, cannot be a law: {problem}", where,
                               f"{_problem_fix(problem)}, or pick another curve with --handle {first.handle}")
+
+
+def _backward_travel(graph: Graph, chain: list[tuple[int, bool]]) -> float:
+    """How far an open chain runs against its overall direction in x, in all (drawing units)."""
+    parts = [graph.pieces[i].points if own else graph.pieces[i].points[::-1] for i, own in chain]
+    x = np.concatenate([p[:, 0] for p in parts])
+    steps = np.diff(x) * (1.0 if x[-1] >= x[0] else -1.0)
+    return float(-steps[steps < 0].sum())
 
 
 def _refuse_ambiguous(graph, base, path, excluded, single, chosen, where, layer) -> None:
