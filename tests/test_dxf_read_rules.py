@@ -381,25 +381,26 @@ def test_the_curve_says_how_to_write_back(tmp_path):
 
 
 def test_entities_are_found_again_when_handles_are_not_unique(tmp_path):
-    # LINE handles that clash with the layer table's handles: ezdxf's handle lookup finds another entity,
-    # curve_entities finds the LINEs by model-space position
+    # a LINE of the law whose handle is also a BLOCK's (as in ../shared/dxf-real/ezdxf__duplicate_handles.dxf):
+    # ezdxf's handle lookup gives the BLOCK, curve_entities gives the LINE (found by model-space position)
+    import re
+
     from camcad.io.dxf_read import curve_entities, open_drawing
 
-    pts = _placed()
-    body = ["0", "SECTION", "2", "TABLES", "0", "TABLE", "2", "LAYER", "5", "2", "70", "1",
-            "0", "LAYER", "5", "10", "2", "0", "70", "0", "62", "7", "6", "CONTINUOUS", "0", "ENDTAB",
-            "0", "ENDSEC", "0", "SECTION", "2", "ENTITIES"]
-    for i, (p, q) in enumerate(itertools.pairwise(pts)):
-        body += ["0", "LINE", "5", f"{0x10 + i:X}" if i else "10", "8", "0", "10", f"{p[0]}", "20", f"{p[1]}",
-                 "11", f"{q[0]}", "21", f"{q[1]}"]
-    body += ["0", "ENDSEC", "0", "EOF"]
+    doc = ezdxf.new("R2000")
+    lines = [doc.modelspace().add_line(p, q) for p, q in itertools.pairwise(_placed())]
     path = tmp_path / "dup.dxf"
-    path.write_text("\n".join(["0", "SECTION", "2", "HEADER", "9", "$ACADVER", "1", "AC1009", "0", "ENDSEC"] + body)
-                    + "\n")
+    doc.saveas(path)
+    text = path.read_text()
+    block = re.search(r"\n  0\nBLOCK\n  5\n([0-9A-F]+)\n", text).group(1)
+    text = text.replace(f"\n  0\nLINE\n  5\n{lines[1].dxf.handle}\n", f"\n  0\nLINE\n  5\n{block}\n", 1)
+    path.write_text(text)
     loaded = load_law(path)
-    doc = open_drawing(path).doc
-    entities = curve_entities(doc, loaded.curve)
-    assert all(e is not None and e.dxftype() == "LINE" for e in entities)
+    assert loaded.curve.handles[1] == block
+    fresh = open_drawing(path).doc
+    assert fresh.entitydb.get(block).dxftype() == "BLOCK"
+    entities = curve_entities(fresh, loaded.curve)
+    assert [e.dxftype() for e in entities] == ["LINE"] * len(lines)
     for refs, point in zip(loaded.curve.vertex_refs, loaded.curve.points):
         for handle, end in refs:
             assert np.allclose(tuple(getattr(entities[loaded.curve.handles.index(handle)].dxf, end))[:2], point)
