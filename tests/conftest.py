@@ -45,6 +45,12 @@ def cli(capsys):
 
 @pytest.fixture
 def real_dxf():
+    """The corpus of real drawings beside the project; missing: a skip, or a failure in CI
+    (CAMCAD_REQUIRE_READERS=1)."""
+    import os
+
     if not REAL_DXF.is_dir():
+        if os.environ.get("CAMCAD_REQUIRE_READERS") == "1":
+            pytest.fail("../shared/dxf-real is not beside the project but CAMCAD_REQUIRE_READERS=1")
         pytest.skip("../shared/dxf-real is not beside the project")
     return REAL_DXF

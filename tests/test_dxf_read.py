@@ -129,7 +129,9 @@ def test_largest_x_range_is_chosen_and_reported(tmp_path):
         msp.add_line((0, 0), (400, 0), dxfattribs={"layer": "AXES"})  # wider, but straight
     loaded = load_law(_write(tmp_path, build))
     assert loaded.curve.layer == "LAW"
-    assert "largest x-range of 2 candidates" in loaded.notes[-1]
+    assert any(n.startswith("law: LWPOLYLINE") and "the widest chain" in n and "of 2 candidates" in n
+               for n in loaded.notes)
+    assert any(n.startswith("zero axis: y = 0, LINE") and "(x 0..400)" in n for n in loaded.notes)
 
 
 def test_layer_and_handle_pick_the_curve(tmp_path):
@@ -155,7 +157,10 @@ def test_insert_of_a_block_is_exploded(tmp_path):
         block.add_lwpolyline(list(zip(t, a)))
         msp.add_blockref("LAWBLOCK", (10, 5))
     loaded = load_law(_write(tmp_path, build))
-    assert loaded.law.a.max() == pytest.approx(a.max() + 5)  # the block's insertion point moves y too
+    # the block's insertion point moves the law to y = 5: its dwells say that is the zero
+    assert loaded.y0 == pytest.approx(5.0) and any("zero axis: y = 5" in n for n in loaded.notes)
+    assert loaded.law.a.max() == pytest.approx(a.max())
+    assert not loaded.curve.editable and loaded.curve.handles[0] == loaded.curve.handle  # the INSERT's handle
 
 
 def test_binary_dxf_is_read(tmp_path):
@@ -215,16 +220,19 @@ def test_real_drawings_without_a_law_say_why(real_dxf, cli, name, expected):
 
 
 def test_damaged_drawing_is_recovered_and_the_repair_reported(real_dxf):
-    loaded = load_law(real_dxf / "ezdxf__recover01.dxf")
+    # two chains of the same width in the repaired drawing: ambiguous without --handle
+    with pytest.raises(CamcadError, match="same x-range"):
+        load_law(real_dxf / "ezdxf__recover01.dxf")
+    loaded = load_law(real_dxf / "ezdxf__recover01.dxf", handle="42", cycle_deg=360)
     assert any("recover" in n for n in loaded.notes)
 
 
 def test_headerless_r2000_excerpt_keeps_its_closed_flag(real_dxf):
     # without the $ACADVER injection ezdxf would read it as R12 and drop the closed flag (129)
-    from camcad.io.dxf_read import collect_curves, open_drawing
+    from camcad.io.dxf_read import collect_pieces, open_drawing
 
-    curves = collect_curves(open_drawing(real_dxf / "gdal__closed_polyline_with_bulge.dxf")).curves
-    assert curves[0].closed
+    pieces = collect_pieces(open_drawing(real_dxf / "gdal__closed_polyline_with_bulge.dxf")).pieces
+    assert pieces[0].closed
 
 
 def test_no_traceback_in_a_real_process(tmp_path):

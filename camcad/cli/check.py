@@ -8,15 +8,16 @@ from typing import Annotated, Optional
 import typer
 
 from camcad.cli import app
-from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, PhasesOpt, XDegOpt, console,
-                     load_law_from_options, parse_pair, print_json)
+from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, OriginOpt, PhasesOpt, X0Opt,
+                               XDegOpt, Y0Opt, console, load_law_from_options, parse_pair, print_json)
 
 TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")]
 
 
 @app.command()
 def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
-          lift: LiftOpt = None, phases: PhasesOpt = None, x_deg: XDegOpt = False, tol: TolOpt = 1e-5,
+          lift: LiftOpt = None, phases: PhasesOpt = None, x_deg: XDegOpt = False, y0: Y0Opt = None, x0: X0Opt = None,
+          origin: OriginOpt = None, tol: TolOpt = 1e-5,
           plot: Annotated[Optional[Path], typer.Option("--plot", help="Write a PNG of a, v, s with the areas.")] = None,
           trapezoid: Annotated[bool, typer.Option("--trapezoid", help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
           step: Annotated[float, typer.Option("--step", help="Resampling step of --trapezoid (deg).")] = 0.1,
@@ -26,7 +27,7 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
     from camcad.balance.checking import check as balance_check
     from camcad.balance.checking import check_by_trapezoid
 
-    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
+    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin)
     report = balance_check(loaded.law, tol)
     payload = {"source": loaded.source, "notes": list(loaded.notes), **report.to_dict()}
     if trapezoid:
@@ -53,14 +54,15 @@ def fix(law_file: LawArg,
         move: Annotated[Optional[str], typer.Option("--move", help="X:Y, set the point at X deg to a = Y (input units) and rebalance the rest.")] = None,
         max_stretch: Annotated[float, typer.Option("--max-stretch", help="Largest phase stretch of phase-keypoints (fraction).")] = 0.05,
         layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0, lift: LiftOpt = None,
-        phases: PhasesOpt = None, x_deg: XDegOpt = False, tol: TolOpt = 1e-5,
+        phases: PhasesOpt = None, x_deg: XDegOpt = False, y0: Y0Opt = None, x0: X0Opt = None,
+        origin: OriginOpt = None, tol: TolOpt = 1e-5,
         no_plots: Annotated[bool, typer.Option("--no-plots", help="Do not write the PNG beside the output.")] = False,
         as_json: JsonOpt = False) -> None:
     """Correct an unbalanced law with the smallest change and write a corrected copy of the drawing."""
     from camcad.balance.correction import correct
     from camcad.errors import CamcadError
 
-    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg)
+    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin)
     segment_deg = parse_pair(segment, "--segment", "60:180") if segment else None
     move_pair = parse_pair(move, "--move", "75:12.5") if move else None
     if move_pair is not None:

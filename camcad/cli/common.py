@@ -118,6 +118,9 @@ LawArg = Annotated[Path, typer.Argument(help="Acceleration law: a DXF drawing or
                                         show_default=False)]
 LayerOpt = Annotated[Optional[str], typer.Option("--layer", help="Layer holding the law's curve.")]
 HandleOpt = Annotated[Optional[str], typer.Option("--handle", help="Handle of the law's curve.")]
+Y0Opt = Annotated[Optional[float], typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
+X0Opt = Annotated[Optional[float], typer.Option("--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
+OriginOpt = Annotated[Optional[str], typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
 CycleOpt = Annotated[float, typer.Option("--cycle", help="Working angle the curve spans (deg).")]
 LiftOpt = Annotated[Optional[float], typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
 PhasesOpt = Annotated[Optional[str], typer.Option(
@@ -127,11 +130,50 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object on 
 
 
 def load_law_from_options(path: Path, layer: str | None, handle: str | None, cycle: float, lift: float | None,
-                          phases: str | None, x_deg: bool = False):
-    """Read the law as the common options say (see camcad.law.source.load_law)."""
+                          phases: str | None, x_deg: bool = False, y0: float | None = None, x0: float | None = None,
+                          origin: str | None = None):
+    """Read the law as the common options say (see camcad.law.source.load_law).
+
+    --cycle counts as stated only when it was given on the command line (its default, 360, is an
+    assumption: a curve that is not a whole cycle is then refused, not stretched); --origin X,Y
+    sets --x0 and --y0 at once.
+    """
     from camcad.law.source import load_law
 
-    return load_law(path, layer=layer, handle=handle, cycle_deg=cycle, lift=lift, phases=phases, x_deg=x_deg)
+    if origin is not None:
+        x0, y0 = parse_origin(origin, x0, y0)
+    stated = cycle != 360.0 or _given("cycle")
+    return load_law(path, layer=layer, handle=handle, cycle_deg=cycle if stated else None, lift=lift,
+                    phases=phases, x_deg=x_deg, y0=y0, x0=x0)
+
+
+def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, float]:
+    """'X,Y' → (x0, y0); refused when --x0 or --y0 is given too."""
+    if x0 is not None or y0 is not None:
+        raise CamcadError("--origin and --x0/--y0 both given", "--origin", "give --origin X,Y or --x0/--y0")
+    parts = text.replace(";", ",").split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return float(parts[0]), float(parts[1])
+    except ValueError:
+        raise CamcadError(f"{text[:40]!r} is not two numbers", "--origin", "write --origin X,Y, e.g. --origin 10,104.5") \
+            from None
+
+
+def _given(name: str) -> bool:
+    """True when the option ``name`` of the running command was given on the command line (or
+    when no command is running: a library call states what it passes)."""
+    try:  # typer >= 0.16 runs its own copy of click
+        from typer._click.globals import get_current_context
+    except ImportError:  # pragma: no cover - older typer uses click itself
+        from click import get_current_context
+
+    ctx = get_current_context(silent=True)
+    if ctx is None or name not in ctx.params:
+        return True
+    source = ctx.get_parameter_source(name)
+    return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
 
 
 def parse_pair(text: str, option: str, example: str = "A:B") -> tuple[float, float]:
@@ -207,7 +249,8 @@ class LawSource:
 
 def resolve_source(source: Path | None, standard: str | None, return_standard: str | None, phases: str | None,
                    lift: float | None, layer: str | None, handle: str | None, cycle: float, x_deg: bool,
-                   mechanism: str | None) -> LawSource:
+                   mechanism: str | None, y0: float | None = None, x0: float | None = None,
+                   origin: str | None = None) -> LawSource:
     """The law of a scene (.toml, one mechanism picked with --mechanism), a drawn law file, or a standard shape."""
     if source is not None and standard is not None:
         raise CamcadError("both a file and --standard given", "command line", "give one law source")
@@ -242,7 +285,7 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
         return LawSource(built.law, standard, "--standard", built.notes)
     if source is None:
         raise CamcadError("no law given", "command line", "give a scene, a law file, or --standard NAME")
-    loaded = load_law_from_options(source, layer, handle, cycle, lift, phases, x_deg)
+    loaded = load_law_from_options(source, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin)
     return LawSource(loaded.law, source.stem, str(source), [loaded.source, *loaded.notes], loaded=loaded)
 
 

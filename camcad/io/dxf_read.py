@@ -1,9 +1,12 @@
-"""Reading a drawing: open any DXF (ASCII, binary, damaged) through ezdxf and list its candidate curves.
+"""Reading a drawing: open any DXF (ASCII, binary, damaged, UTF-8 or UTF-16) and list its drawn pieces.
 
-What a designer's drawing may hold (see ../shared/dxf-interop.md for the traps): the law as an
-LWPOLYLINE, a 2D POLYLINE (bulges are arcs, flattened exactly), a chain of LINEs (and ARCs)
-joined end to end, or a SPLINE (flattened to a stated tolerance); and around it axes, a grid,
-text and dimensions. Block references are exploded. All coordinates are WCS, drawing units.
+What a designer's drawing may hold (see ../shared/dxf-interop.md for the traps): the law as one
+entity (LWPOLYLINE, POLYLINE with bulges, SPLINE with fit or control points) or as a chain of
+pieces of any kind joined end to end (LINE, ARC, ELLIPSE arcs, polylines, splines), and around it
+axes, a grid, a frame, text and dimensions. Every curve entity of the model space becomes a
+:class:`Piece`; block references are exploded within a budget. Which pieces form the law is
+decided by :mod:`camcad.io.chain`; the result is a :class:`Curve`. All coordinates are WCS, in
+drawing units.
 """
 
 from __future__ import annotations
@@ -20,35 +23,69 @@ from pathlib import Path
 import numpy as np
 
 from camcad.errors import CamcadError
+from camcad.io.input_file import decode_text, read_input, utf16_without_bom
 
-CURVE_TYPES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC")
+#: entity types that can hold (a piece of) the law
+CURVE_TYPES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC", "ELLIPSE")
+#: block references nest at most this deep
 MAX_BLOCK_DEPTH = 16
+#: block references expand to at most this many curve pieces in all
+MAX_BLOCK_ENTITIES = 10_000
 #: default flattening tolerance of splines and arcs, as a fraction of the entity's size
 DEFAULT_FLATTEN_FRACTION = 1e-5
-#: default end-to-end join tolerance of LINE/ARC chains, as a fraction of the drawing's size
-DEFAULT_JOIN_FRACTION = 1e-6
+#: coordinates beyond this magnitude are damage, not drawing (and overflow any distance computation)
+MAX_COORDINATE = 1e100
+#: names of $INSUNITS values (the DXF reference's table, the common ones)
+UNIT_NAMES = {0: "unitless", 1: "inches", 2: "feet", 3: "miles", 4: "millimetres", 5: "centimetres",
+              6: "metres", 7: "kilometres", 8: "microinches", 9: "mils", 10: "yards", 11: "angstroms",
+              12: "nanometres", 13: "microns", 14: "decimetres", 15: "decametres", 16: "hectometres",
+              17: "gigametres", 18: "astronomical units", 19: "light years", 20: "parsecs"}
 
 
 @dataclass(frozen=True)
-class Curve:
-    """One candidate curve of a drawing, as a polyline in drawing order (WCS, drawing units).
+class Piece:
+    """One drawn curve entity as a polyline, in the entity's own direction (WCS, drawing units).
 
-    ``editable`` means each point is one of the entity's own vertices (LWPOLYLINE or POLYLINE
-    without bulges, LINE chain), so a corrected law can be written back vertex for vertex;
-    otherwise the points come from flattening (bulges, SPLINE, ARCs) within ``flatten_tol``.
-    ``vertex_refs`` (LINE chains only): for each point, the (handle, "start"|"end") LINE ends at it.
+    Attributes
+    ----------
+    points : ndarray, shape (n, 2)
+        The entity's vertices (``exact``) or its flattening within ``flatten_tol``.
+    kind : str
+        DXF type: LINE, ARC, ELLIPSE, LWPOLYLINE, POLYLINE or SPLINE.
+    handle : str
+        The entity's handle; for an entity inside a block, the handle of the model-space INSERT.
+    layer : str
+        Its layer.
+    index : int
+        Position of the entity (or of its INSERT) in model-space order: finds the entity again
+        in a file whose handles are not unique.
+    exact : bool
+        ``points`` are the entity's own vertices, point i = vertex i (LINE: 0 start, 1 end;
+        LWPOLYLINE and POLYLINE without bulges), so a new position can be written back into them.
+    closed : bool
+        The entity is closed (closed polyline or spline, full ellipse or circle-like arc).
+    flatten_tol : float
+        Largest distance between the entity and ``points`` (0 when exact), drawing units.
+    in_block : bool
+        The entity comes from a block reference (it cannot be edited in place).
+    hidden : bool
+        On a layer that is off or frozen.
+    breakpoints : ndarray, shape (m, 2)
+        The points the author placed: polyline vertices, LINE and arc ends, a spline's fit points
+        (or, without them, the spline's points at its distinct knots).
     """
 
     points: np.ndarray
     kind: str
     handle: str
     layer: str
-    editable: bool
+    index: int = -1
+    exact: bool = False
     closed: bool = False
     flatten_tol: float = 0.0
-    handles: tuple[str, ...] = ()
-    vertex_refs: tuple[tuple[tuple[str, str], ...], ...] = ()
-    hidden: bool = False  # on a layer that is off or frozen (as camcad's kept originals are)
+    in_block: bool = False
+    hidden: bool = False
+    breakpoints: np.ndarray | None = None
 
     @property
     def label(self) -> str:
@@ -60,21 +97,102 @@ class Curve:
 
 
 @dataclass(frozen=True)
+class Curve:
+    """The law's curve as read: a polyline in drawing order, and how it maps to the drawn entities.
+
+    This is the contract with the writers (``io.law_write.write_corrected_drawing``):
+
+    - ``points`` (n, 2): the curve in WCS drawing units, point i in drawing order. A curve of one
+      entity keeps the entity's own vertex order (it may run right to left); a chain of several
+      pieces runs left to right.
+    - ``editable`` is True in exactly two cases, and then each point is a vertex of its entity:
+      (a) one LWPOLYLINE or POLYLINE without bulges, not from a block: point i is vertex i of the
+      entity ``handles[0]`` (``entity_indices[0]`` in model-space order), ``len(points)`` equals
+      its vertex count; ``vertex_refs`` is empty. (b) a chain of LINEs only, not from blocks:
+      ``vertex_refs[i]`` lists the (handle, "start" | "end") LINE ends that sit at point i (two for
+      an inner point, one at the chain's ends). Otherwise the points come from flattening (bulges,
+      arcs, splines, ellipses), from a block, or from a chain mixing entity kinds; ``editable`` is
+      False and the writer draws a new polyline.
+    - ``vertex_refs`` is also filled, with ``editable`` False, for a chain of exact pieces of mixed
+      kinds (LINEs and bulge-free polylines): a polyline vertex is referred to as (handle, k), k the
+      vertex index (int). A writer that supports it may move those vertices in place.
+    - ``handles``: every entity the curve uses, in chain order (duplicates possible for a block);
+      ``entity_indices``: their positions in model-space order, which identify them even when the
+      file's handles are not unique (use :func:`curve_entities`).
+    - ``pieces`` and ``reversed_pieces``: the pieces in chain order and whether each is run against
+      its own direction.
+    - ``breakpoints``: the points the author placed along the curve, in curve order (see
+      :class:`Piece`); ``layers``: the layers the curve's pieces are on.
+    """
+
+    points: np.ndarray
+    kind: str
+    handle: str
+    layer: str
+    editable: bool
+    closed: bool = False
+    flatten_tol: float = 0.0
+    handles: tuple[str, ...] = ()
+    vertex_refs: tuple[tuple[tuple[str, str | int], ...], ...] = ()
+    hidden: bool = False
+    pieces: tuple[Piece, ...] = ()
+    reversed_pieces: tuple[bool, ...] = ()
+    entity_indices: tuple[int, ...] = ()
+    breakpoints: np.ndarray | None = None
+    layers: tuple[str, ...] = ()
+
+    @property
+    def label(self) -> str:
+        if len(self.pieces) <= 1:
+            return f"{self.kind} {self.handle} on layer {self.layer}"
+        return f"{self.kind} ({handles_text(self.handles)}) on layer{'s' if len(self.layers) > 1 else ''} " \
+               f"{', '.join(self.layers)}"
+
+    @property
+    def x_range(self) -> float:
+        return float(np.ptp(self.points[:, 0])) if len(self.points) else 0.0
+
+
+@dataclass(frozen=True)
 class Drawing:
-    """An opened drawing: the ezdxf document, how it was loaded, and what ezdxf had to repair."""
+    """An opened drawing: the ezdxf document, how it was loaded, and what ezdxf had to repair.
+
+    ``insunits`` is the file's own $INSUNITS (None when the file does not state it; ezdxf reports
+    its template's value for such files, dxf-interop.md trap 2).
+    """
 
     path: Path
     doc: object
     binary: bool
     recovered: bool
     notes: tuple[str, ...] = ()
+    insunits: int | None = None
+    encoding: str = ""
 
 
 @dataclass(frozen=True)
-class CurveSet:
-    curves: tuple[Curve, ...]
+class PieceSet:
+    """Every curve piece of a drawing, what else it holds, and what reading it noted."""
+
+    pieces: tuple[Piece, ...]
     entity_counts: Counter = field(default_factory=Counter)
     notes: tuple[str, ...] = ()
+
+
+def handles_text(handles, limit: int = 6) -> str:
+    """A short list of handles: 'LINE 2A, 2B, 2C ... (40 entities)' style, without kinds.
+
+    Examples
+    --------
+    >>> handles_text(["2A", "2B"])
+    '2A, 2B'
+    >>> handles_text([str(i) for i in range(10)], limit=3)
+    '0, 1, 2 ... 9 (10 entities)'
+    """
+    unique = list(dict.fromkeys(handles))
+    if len(unique) <= limit:
+        return ", ".join(unique)
+    return f"{', '.join(unique[:limit])} ... {unique[-1]} ({len(unique)} entities)"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -91,7 +209,7 @@ def ezdxf_messages():
 
     class _Collect(logging.Handler):
         def emit(self, record: logging.LogRecord) -> None:
-            messages.append(" ".join(record.getMessage().split()))
+            messages.append(" ".join(record.getMessage().split())[:200])
 
     logger = logging.getLogger("ezdxf")
     handler = _Collect(level=logging.WARNING)
@@ -112,17 +230,36 @@ def summarise_messages(messages: list[str], limit: int = 3) -> list[str]:
         notes.append(f"ezdxf: ... and {len(messages) - limit} more repair messages")
     return notes
 
+
 _ACADVER = re.compile(rb"\$ACADVER")
 _SUBCLASS = re.compile(rb"(?m)^\s*100\s*\r?\n\s*AcDb")
+_BINARY_SENTINEL = b"AutoCAD Binary DXF"
 
 
 def open_drawing(path: str | Path) -> Drawing:
-    """Load a DXF file with ezdxf: ASCII or binary; a damaged file goes through ezdxf's recover.
+    """Load a DXF file: ASCII or binary, UTF-8 (with or without BOM) or UTF-16; damaged files
+    go through ezdxf's recover.
 
-    Files with R2000 entities but no $ACADVER (ENTITIES-only excerpts) get $ACADVER = AC1015
-    injected before loading, because ezdxf would otherwise read them as R12 and silently drop
-    their subclass data (closed flags, widths, spline degree) — dxf-interop.md, trap 1.
-    What ezdxf logs about repairs becomes the drawing's notes.
+    Only regular files are read, at most ``input_file.MAX_INPUT_BYTES`` (FIFOs, devices and
+    directories are refused at once). Files with R2000 entities but no $ACADVER (ENTITIES-only
+    excerpts) get $ACADVER = AC1015 injected before loading, because ezdxf would otherwise read
+    them as R12 and silently drop their subclass data (closed flags, widths, spline degree) —
+    dxf-interop.md, trap 1. What ezdxf logs about repairs becomes the drawing's notes.
+
+    Parameters
+    ----------
+    path : str or Path
+        The drawing.
+
+    Returns
+    -------
+    Drawing
+        The ezdxf document and how it was read.
+
+    Raises
+    ------
+    CamcadError
+        Not a readable DXF file (one line: what, where, how to fix).
     """
     with ezdxf_messages() as messages:
         drawing = _open_drawing(path)
@@ -133,38 +270,58 @@ def open_drawing(path: str | Path) -> Drawing:
 
 def _open_drawing(path: str | Path) -> Drawing:
     import ezdxf
-    from ezdxf.lldxf.validator import dwg_version, is_binary_dxf_file
 
     path = Path(path)
     where = str(path)
-    if not path.exists():
-        raise CamcadError("file not found", where, "check the path")
-    if path.is_dir():
-        raise CamcadError("is a directory, not a DXF file", where, "give the drawing's file name")
-    raw = path.read_bytes()
+    raw = read_input(path, "a DXF drawing")
     if not raw.strip():
         raise CamcadError("the file is empty", where, "save the drawing again from your CAD program")
-    if is_binary_dxf_file(str(path)):
+    if raw.startswith(_BINARY_SENTINEL):
         try:
-            doc = ezdxf.readfile(str(path))
+            doc = ezdxf.readfile(str(path))  # a regular file, checked above; ezdxf reads binary by name
         except Exception as err:  # noqa: BLE001 - ezdxf raises several types for damaged files
             raise CamcadError(f"damaged binary DXF ({_short(err)})", where,
                               "save the drawing again as ASCII DXF") from None
-        return Drawing(path, doc, binary=True, recovered=False)
-    if dwg_version(str(path)) is not None:
-        raise CamcadError("this is a DWG file, not DXF", where,
-                          "save it as DXF (ASCII) from your CAD program")
+        return Drawing(path, doc, binary=True, recovered=False, insunits=_stated_units(doc, True))
+    if re.match(rb"AC10[0-3][0-9]", raw[:6]) or raw[:6] in (b"AC1.50", b"AC1.40", b"AC2.10", b"AC2.21", b"AC2.22"):
+        raise CamcadError("this is a DWG file, not DXF", where, "save it as DXF (ASCII) from your CAD program")
+    notes: list[str] = []
+    encoding = ""
+    if raw.startswith(b"\xef\xbb\xbf") or raw[:2] in (b"\xff\xfe", b"\xfe\xff") or utf16_without_bom(raw):
+        text, encoding = decode_text(raw)
+        notes.append({"utf-8-sig": "the file starts with a UTF-8 byte-order mark (ignored)"}.get(
+            encoding, f"the file is {encoding.upper()} text; read as such"))
+        raw = text.encode("utf-8", errors="surrogateescape")
     if not _looks_like_dxf(raw):
         raise CamcadError("not a DXF file (no '0 / SECTION' group found)", where,
                           "give a DXF drawing, or a .csv/.txt table of angle and acceleration")
     if not _ACADVER.search(raw) and _SUBCLASS.search(raw):
-        return _recover(_inject_acadver(raw), where,
-                        first_note="no $ACADVER in the file but R2000 entities: read as AC1015")
+        drawing = _recover(_inject_acadver(raw), where,
+                           first_note="no $ACADVER in the file but R2000 entities: read as AC1015")
+        return replace(drawing, notes=tuple(notes) + drawing.notes, insunits=_raw_units(raw, drawing.doc),
+                       encoding=encoding)
     try:
         doc = ezdxf.read(io.StringIO(_decode(raw), newline=None))
     except Exception:  # noqa: BLE001 - fall back to recover for any structural damage
-        return _recover(raw, where, first_note="the file is damaged; ezdxf's recover repaired it")
-    return Drawing(path, doc, binary=False, recovered=False)
+        drawing = _recover(raw, where, first_note="the file is damaged; ezdxf's recover repaired it")
+        return replace(drawing, notes=tuple(notes) + drawing.notes, insunits=_raw_units(raw, drawing.doc),
+                       encoding=encoding)
+    return Drawing(path, doc, binary=False, recovered=False, notes=tuple(notes), insunits=_raw_units(raw, doc),
+                   encoding=encoding)
+
+
+def _stated_units(doc, stated: bool) -> int | None:
+    if not stated:
+        return None
+    try:
+        value = doc.header.get("$INSUNITS", None)
+        return None if value is None else int(value)
+    except Exception:  # noqa: BLE001 - a damaged header states nothing
+        return None
+
+
+def _raw_units(raw: bytes, doc) -> int | None:
+    return _stated_units(doc, b"$INSUNITS" in raw)
 
 
 def _recover(raw: bytes, where: str, first_note: str) -> Drawing:
@@ -182,13 +339,12 @@ def _recover(raw: bytes, where: str, first_note: str) -> Drawing:
         notes.append(f"auditor: {len(fixes)} fixes, {len(errors)} unfixed errors")
         for entry in list(fixes)[:5] + list(errors)[:5]:
             message = getattr(entry, "message", str(entry))
-            notes.append(f"auditor: {' '.join(str(message).split())}")
+            notes.append(f"auditor: {' '.join(str(message).split())[:200]}")
     return Drawing(Path(where), doc, binary=False, recovered=True, notes=tuple(notes))
 
 
 def _decode(raw: bytes) -> str:
-    # ezdxf detects the code page from the header when reading a file; the law's coordinates
-    # are ASCII in any code page, so a lossless byte-preserving decode is enough here.
+    # the law's coordinates are ASCII in any code page, so a lossless byte-preserving decode is enough
     return raw.decode("utf-8", errors="surrogateescape")
 
 
@@ -214,112 +370,293 @@ def _inject_acadver(raw: bytes) -> bytes:
     return raw[:at] + header + raw[at:]
 
 
-def _short(err: Exception) -> str:
+def _short(err: Exception, limit: int = 120) -> str:
     text = " ".join(str(err).split()) or type(err).__name__
-    return text[:160]
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def units_note(drawing: Drawing, scaled: bool) -> str:
+    """What the drawing's units are and what camcad does with them (one note).
+
+    camcad never converts a law's coordinates by the drawing units: x is mapped to the cycle (or
+    is degrees with ``--x-deg``), and y is the acceleration analog at the drawing's own scale
+    (1 drawing unit = 1 mm/rad²) unless ``--lift`` scales it.
+
+    Parameters
+    ----------
+    drawing : Drawing
+        The opened drawing.
+    scaled : bool
+        y is scaled by ``--lift`` (the units then do not matter at all).
+
+    Returns
+    -------
+    str
+        The note.
+    """
+    code = drawing.insunits
+    if code is None:
+        stated = "the drawing states no units ($INSUNITS absent)"
+    else:
+        stated = f"drawing units: {UNIT_NAMES.get(code, 'unknown')} ($INSUNITS {code})"
+    if scaled:
+        return f"{stated}; not used: x is mapped to the cycle and y is scaled by --lift"
+    if code in (None, 0, 4):
+        return f"{stated}; y is read as mm/rad² per drawing unit (--lift H scales it to a rise of H mm)"
+    return (f"{stated}; camcad does not convert them: y is read as mm/rad² per drawing unit "
+            "(--lift H scales it to a rise of H mm)")
 
 
 # ---------------------------------------------------------------------------------------------
-# Curves
+# Pieces
 # ---------------------------------------------------------------------------------------------
 
-def collect_curves(drawing: Drawing, *, flatten_tol: float | None = None,
-                   join_tol: float | None = None) -> CurveSet:
-    """Every open or closed curve of the model space (blocks exploded), as polylines.
+def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> PieceSet:
+    """Every curve entity of the model space as a :class:`Piece` (block references exploded).
 
-    flatten_tol: largest distance (drawing units) between a SPLINE/arc and its flattening;
+    A block's pieces are computed once per block definition and placed by each reference's
+    transformation (nested references compose their matrices; an entity on layer 0 inside a
+    block takes the reference's layer, as CAD programs draw it).
+
+    Parameters
+    ----------
+    drawing : Drawing
+        The opened drawing.
+    flatten_tol : float, optional
+        Largest distance (drawing units) between a SPLINE, ELLIPSE or arc and its flattening;
         default 1e-5 × the entity's size.
-    join_tol: distance (drawing units) within which LINE/ARC ends are joined into a chain;
-        default 1e-6 × the size of all LINE/ARC geometry.
+
+    Returns
+    -------
+    PieceSet
+        The pieces in model-space order, the count of every entity type, and notes (entities
+        skipped and why, ezdxf's messages).
+
+    Raises
+    ------
+    CamcadError
+        Block references nested deeper than :data:`MAX_BLOCK_DEPTH`, a block that inserts itself,
+        or references expanding to more than :data:`MAX_BLOCK_ENTITIES` curve pieces in all.
     """
     counts: Counter = Counter()
     notes: list[str] = []
-    curves: list[Curve] = []
-    pieces: list[tuple[str, str, str, np.ndarray]] = []  # (kind, handle, layer, points) of LINE/ARC
-    with ezdxf_messages() as messages:
-        _gather(drawing, counts, notes, curves, pieces, flatten_tol)
-    notes.extend(summarise_messages(messages))
-    with ezdxf_messages() as messages:
-        curves.extend(_chains(pieces, join_tol))
-    notes.extend(summarise_messages(messages))
+    pieces: list[Piece] = []
     hidden = _hidden_layers(drawing.doc)
-    curves = [replace(c, hidden=c.layer.upper() in hidden) for c in curves]
-    return CurveSet(tuple(curves), counts, tuple(notes))
+    zero = [0]
+    blocks = _BlockCache(drawing, flatten_tol, notes, zero)
+    expanded = 0
+    with ezdxf_messages() as messages:
+        for index, entity in enumerate(drawing.doc.modelspace()):
+            kind = entity.dxftype()
+            handle = str(entity.dxf.get("handle", "") or "?")
+            if kind == "INSERT":
+                counts[kind] += 1
+                expanded += blocks.expansion(entity, handle)
+                if expanded > MAX_BLOCK_ENTITIES:
+                    raise CamcadError(f"block references expand to more than {MAX_BLOCK_ENTITIES} curves "
+                                      f"(INSERT {handle} of block {str(entity.dxf.get('name', ''))[:40]})",
+                                      str(drawing.path), "explode the blocks in your CAD program, or copy the law "
+                                      "out of them")
+                for piece in blocks.place(entity, handle, index, counts):
+                    pieces.append(replace(piece, hidden=piece.layer.upper() in hidden))
+                continue
+            counts[kind] += 1
+            piece = _entity_piece(entity, kind, handle, flatten_tol, notes, zero, index, hidden)
+            if piece is not None:
+                pieces.append(piece)
+    if zero[0]:
+        notes.append(f"{zero[0]} entit{'y' if zero[0] == 1 else 'ies'} of no length (a point, an arc of radius 0) "
+                     "ignored")
+    notes.extend(summarise_messages(messages))
+    return PieceSet(tuple(pieces), counts, tuple(notes))
+
+
+def _entity_piece(entity, kind: str, handle: str, flatten_tol: float | None, notes: list[str],
+                  zero: list[int], index: int = -1, hidden: set[str] | None = None) -> Piece | None:
+    """The piece of one curve entity (None for other entities, and for a skipped one, noted)."""
+    if kind not in CURVE_TYPES:
+        return None
+    try:
+        layer = str(entity.dxf.get("layer", "0"))
+    except Exception:  # noqa: BLE001 - very old entity types have no layer attribute
+        layer = "0"
+    off = hidden is not None and layer.upper() in hidden
+    try:
+        piece = _piece(entity, kind, handle, layer, flatten_tol, index, off)
+    except CamcadError:
+        raise
+    except Exception as err:  # noqa: BLE001 - a malformed entity is skipped and reported
+        notes.append(f"{kind} {handle} on layer {layer} skipped: {_short(err)}")
+        return None
+    if piece is None:
+        return None
+    if len(piece.points) < 2:
+        if kind in ("LWPOLYLINE", "POLYLINE", "SPLINE"):
+            notes.append(f"{kind} {handle} on layer {layer} skipped: it has {len(piece.points)} vertices; "
+                         "a law needs at least 3")
+        else:
+            zero[0] += 1
+        return None
+    return piece
+
+
+class _BlockCache:
+    """Block definitions as pieces in block coordinates (each computed once), placed by matrices."""
+
+    def __init__(self, drawing: Drawing, flatten_tol: float | None, notes: list[str], zero: list[int]) -> None:
+        self.doc = drawing.doc
+        self.where = str(drawing.path)
+        self.flatten_tol = flatten_tol
+        self.notes = notes
+        self.zero = zero
+        self.content: dict[str, tuple[list[Piece], list, Counter]] = {}
+        self.sizes: dict[str, int] = {}
+
+    def _content(self, name: str):
+        """(pieces, [(child block name, [local 4×4 matrices], child layer, handle)], entity counts) of a block."""
+        key = name.upper()
+        if key not in self.content:
+            block = self.doc.blocks.get(name)
+            pieces: list[Piece] = []
+            children = []
+            counts: Counter = Counter()
+            for entity in block if block is not None else ():
+                kind = entity.dxftype()
+                counts[kind] += 1
+                if kind == "INSERT":
+                    children.append((str(entity.dxf.get("name", "")), _matrices(entity),
+                                     str(entity.dxf.get("layer", "0")), str(entity.dxf.get("handle", "") or "?")))
+                    continue
+                piece = _entity_piece(entity, kind, name, self.flatten_tol, self.notes, self.zero)
+                if piece is not None:
+                    pieces.append(piece)
+            self.content[key] = (pieces, children, counts)
+        return self.content[key]
+
+    def expansion(self, insert, handle: str) -> int:
+        """How many curve pieces a model-space reference expands to, checking depth and cycles."""
+        return len(_matrices(insert)) * self._size(str(insert.dxf.get("name", "")), handle, 1, ())
+
+    def _size(self, name: str, handle: str, depth: int, chain: tuple[str, ...]) -> int:
+        key = name.upper()
+        if key in chain:
+            raise CamcadError(f"block {name[:40]} inserts itself (INSERT {handle})", self.where,
+                              "explode or repair the block in your CAD program")
+        if depth > MAX_BLOCK_DEPTH:
+            raise CamcadError(f"block references nest more than {MAX_BLOCK_DEPTH} deep (INSERT {handle}, block "
+                              f"{name[:40]})", self.where,
+                              "explode the nested blocks in your CAD program, or copy the law out of them")
+        if key not in self.sizes:
+            pieces, children, _ = self._content(name)
+            total = len(pieces)
+            for child, matrices, _, _ in children:
+                total += len(matrices) * self._size(child, handle, depth + 1, chain + (key,))
+                if total > MAX_BLOCK_ENTITIES:
+                    break
+            self.sizes[key] = total
+        return self.sizes[key]
+
+    def place(self, insert, handle: str, index: int, counts: Counter):
+        """The pieces of a model-space reference in WCS (handle and index of the INSERT)."""
+        out: list[Piece] = []
+        layer = str(insert.dxf.get("layer", "0"))
+        stack = [(str(insert.dxf.get("name", "")), m, layer) for m in _matrices(insert)]
+        while stack:
+            name, m, layer = stack.pop()
+            pieces, children, block_counts = self._content(name)
+            counts.update(block_counts)
+            scale = _scale(m)
+            for piece in pieces:
+                out.append(replace(piece, points=_transform(piece.points, m), handle=handle, index=index,
+                                   exact=False, in_block=True, flatten_tol=piece.flatten_tol * scale,
+                                   layer=layer if piece.layer == "0" else piece.layer,
+                                   breakpoints=None if piece.breakpoints is None else
+                                   _transform(piece.breakpoints, m)))
+            for child, matrices, child_layer, _ in children:
+                inherited = layer if child_layer == "0" else child_layer
+                stack.extend((child, local @ m, inherited) for local in matrices)
+        return out
+
+
+def _matrices(insert) -> list[np.ndarray]:
+    """The 4×4 row-vector matrices placing a block reference (one per cell of a MINSERT)."""
+    try:
+        singles = list(insert.multi_insert()) if _repeat(insert) > 1 else [insert]
+        return [np.array([list(s.matrix44().get_row(k)) for k in range(4)], dtype=float) for s in singles]
+    except Exception:  # noqa: BLE001 - a reference that cannot be placed draws nothing
+        return []
+
+
+def _transform(points: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """2-D points (z = 0) through a 4×4 row-vector matrix, back to 2-D."""
+    out = points @ m[:2, :2] + m[3, :2]
+    if not (np.isfinite(out).all() and np.abs(out).max() <= MAX_COORDINATE):
+        return _checked(out)  # raises, naming the vertex
+    return out
+
+
+def _scale(m: np.ndarray) -> float:
+    return float(max(np.hypot(*m[0, :2]), np.hypot(*m[1, :2]), 1e-300))
+
+
+def _piece(entity, kind: str, handle: str, layer: str, flatten_tol: float | None, index: int = -1,
+           hidden: bool = False) -> Piece | None:
+    if kind == "LINE":
+        start, end = entity.dxf.start, entity.dxf.end
+        values = (start.x, start.y, end.x, end.y)
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in values):
+            _checked(np.array(values, dtype=float).reshape(2, 2))  # raises, naming the vertex
+        ends = np.array(values, dtype=float).reshape(2, 2)
+        return Piece(ends, "LINE", handle, layer, index, exact=True, hidden=hidden, breakpoints=ends)
+    piece = _other_piece(entity, kind, handle, layer, flatten_tol)
+    return None if piece is None else replace(piece, index=index, hidden=hidden)
+
+
+def _other_piece(entity, kind: str, handle: str, layer: str, flatten_tol: float | None) -> Piece | None:
+    if kind == "ARC":
+        points = _checked(_arc_points(entity, flatten_tol))
+        if len(points) < 2 or float(entity.dxf.radius) <= 0:
+            return Piece(points[:1], "ARC", handle, layer)
+        span = (float(entity.dxf.end_angle) - float(entity.dxf.start_angle)) % 360.0
+        return Piece(points, "ARC", handle, layer, closed=span == 0.0,
+                     flatten_tol=_tolerance(points, flatten_tol), breakpoints=points[[0, -1]])
+    if kind == "ELLIPSE":
+        return _ellipse_piece(entity, handle, layer, flatten_tol)
+    if kind == "LWPOLYLINE":
+        return _lwpolyline_piece(entity, handle, layer, flatten_tol)
+    if kind == "POLYLINE":
+        return _polyline_piece(entity, handle, layer, flatten_tol)
+    return _spline_piece(entity, handle, layer, flatten_tol)
 
 
 def _hidden_layers(doc) -> set[str]:
     names = set()
     for layer in doc.layers:
         try:
-            if not layer.is_on() or layer.is_frozen():
-                names.add(layer.dxf.name.upper())
+            off = not layer.is_on() or layer.is_frozen()
+            name = layer.dxf.name.upper()
         except Exception:  # noqa: BLE001 - a damaged layer table entry hides nothing
-            continue
+            off = False
+        if off:
+            names.add(name)
     return names
 
 
-def _gather(drawing, counts, notes, curves, pieces, flatten_tol) -> None:
-    for entity, handle in _model_entities(drawing.doc):
-        kind = entity.dxftype()
-        counts[kind] += 1
-        if kind not in CURVE_TYPES:
-            continue
-        try:
-            layer = str(entity.dxf.get("layer", "0"))
-        except Exception:  # noqa: BLE001 - very old entity types have no layer attribute
-            layer = "0"
-        try:
-            if kind == "LWPOLYLINE":
-                curves.append(_lwpolyline_curve(entity, handle, layer, flatten_tol))
-            elif kind == "POLYLINE":
-                curve = _polyline_curve(entity, handle, layer, flatten_tol)
-                if curve is not None:
-                    curves.append(curve)
-            elif kind == "SPLINE":
-                curves.append(_spline_curve(entity, handle, layer, flatten_tol))
-            elif kind == "LINE":
-                start, end = entity.dxf.start, entity.dxf.end
-                ends = _checked(np.array([[start.x, start.y], [end.x, end.y]]))
-                pieces.append(("LINE", handle, layer, ends))
-            elif kind == "ARC":
-                pieces.append(("ARC", handle, layer, _checked(_arc_points(entity, flatten_tol))))
-        except CamcadError:
-            raise
-        except Exception as err:  # noqa: BLE001 - a malformed entity is skipped and reported
-            notes.append(f"{kind} {handle} on layer {layer} skipped: {_short(err)}")
-
-
-def _model_entities(doc):
-    """(entity, handle) for every model-space entity; INSERTs are exploded (handle of the INSERT)."""
-    def walk(entity, handle, depth):
-        if entity.dxftype() == "INSERT":
-            if depth >= MAX_BLOCK_DEPTH:
-                return
-            try:
-                children = list(entity.virtual_entities())
-            except Exception:  # noqa: BLE001 - a broken block reference holds no usable curve
-                return
-            for child in children:
-                yield from walk(child, handle, depth + 1)
-        else:
-            yield entity, handle
-
-    for entity in doc.modelspace():
-        handle = str(entity.dxf.get("handle", "") or "?")
-        yield from walk(entity, handle, 0)
-
-
-#: coordinates beyond this magnitude are damage, not drawing (and overflow any distance computation)
-MAX_COORDINATE = 1e100
+def _repeat(insert) -> int:
+    try:
+        return max(1, int(insert.dxf.get("row_count", 1))) * max(1, int(insert.dxf.get("column_count", 1)))
+    except Exception:  # noqa: BLE001
+        return 1
 
 
 def _checked(points: np.ndarray) -> np.ndarray:
     """The points, or ValueError naming the first vertex with a NaN, infinite or absurdly large coordinate."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
     finite = np.isfinite(points).all(axis=1)
     if not finite.all():
         index = int(np.flatnonzero(~finite)[0])
-        raise ValueError(f"vertex {index} has a non-finite coordinate ({points[index, 0]}, {points[index, 1]}); "
-                         "fix or delete that vertex in your CAD program")
+        raise ValueError(f"vertex {index} has a non-finite coordinate ({points[index, 0]:.6g}, "
+                         f"{points[index, 1]:.6g}); fix or delete that vertex in your CAD program")
     huge = (np.abs(points) > MAX_COORDINATE).any(axis=1)
     if huge.any():
         index = int(np.flatnonzero(huge)[0])
@@ -341,19 +678,18 @@ def _tolerance(points: np.ndarray, flatten_tol: float | None) -> float:
     return max(_size(points) * DEFAULT_FLATTEN_FRACTION, 1e-12)
 
 
-def _lwpolyline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve:
-    points = np.array([[p.x, p.y] for p in entity.vertices_in_wcs()], dtype=float).reshape(-1, 2)
-    points = _checked(points)
+def _lwpolyline_piece(entity, handle: str, layer: str, flatten_tol: float | None) -> Piece:
+    points = _checked(np.array([[p.x, p.y] for p in entity.vertices_in_wcs()], dtype=float))
     bulges = [b for *_, b in entity.get_points("xyb")]
     closed = bool(entity.closed)
-    if any(b for b in bulges):
+    if any(b for b in bulges[: len(bulges) if closed else len(bulges) - 1]):
         tol = _tolerance(points, flatten_tol)
-        return Curve(_flatten_virtual(entity, tol, points), "LWPOLYLINE", handle, layer,
-                     editable=False, closed=closed, flatten_tol=tol, handles=(handle,))
-    return Curve(points, "LWPOLYLINE", handle, layer, editable=True, closed=closed, handles=(handle,))
+        return Piece(_flatten_virtual(entity, tol, points), "LWPOLYLINE", handle, layer, closed=closed,
+                     flatten_tol=tol, breakpoints=points)
+    return Piece(points, "LWPOLYLINE", handle, layer, exact=True, closed=closed, breakpoints=points)
 
 
-def _polyline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve | None:
+def _polyline_piece(entity, handle: str, layer: str, flatten_tol: float | None) -> Piece | None:
     if not (entity.is_2d_polyline or entity.is_3d_polyline):
         return None  # polyface and polygon meshes are surfaces, not curves
     if entity.is_2d_polyline:
@@ -366,11 +702,11 @@ def _polyline_curve(entity, handle: str, layer: str, flatten_tol: float | None) 
     points = _checked(points)
     closed = bool(entity.is_closed)
     bulges = [v.dxf.get("bulge", 0.0) for v in entity.vertices]
-    if any(b for b in bulges):
+    if any(b for b in bulges[: len(bulges) if closed else len(bulges) - 1]):
         tol = _tolerance(points, flatten_tol)
-        return Curve(_flatten_virtual(entity, tol, points), "POLYLINE", handle, layer,
-                     editable=False, closed=closed, flatten_tol=tol, handles=(handle,))
-    return Curve(points, "POLYLINE", handle, layer, editable=True, closed=closed, handles=(handle,))
+        return Piece(_flatten_virtual(entity, tol, points), "POLYLINE", handle, layer, closed=closed,
+                     flatten_tol=tol, breakpoints=points)
+    return Piece(points, "POLYLINE", handle, layer, exact=True, closed=closed, breakpoints=points)
 
 
 def _flatten_virtual(entity, tol: float, vertices: np.ndarray) -> np.ndarray:
@@ -381,106 +717,111 @@ def _flatten_virtual(entity, tol: float, vertices: np.ndarray) -> np.ndarray:
             seg = np.array([[part.dxf.start.x, part.dxf.start.y], [part.dxf.end.x, part.dxf.end.y]])
         else:
             seg = _arc_points(part, tol)
+            if len(seg) < 2:
+                continue
         if np.hypot(*(seg[-1] - out[-1][-1])) < np.hypot(*(seg[0] - out[-1][-1])):
             seg = seg[::-1]  # virtual ARCs always run counter-clockwise; follow the polyline instead
         out.append(seg[1:])
-    return np.concatenate(out)
+    return _checked(np.concatenate(out))
 
 
 def _arc_points(arc, tol: float | None) -> np.ndarray:
     radius = float(arc.dxf.radius)
+    if not radius > 0:
+        center = arc.dxf.center
+        return np.array([[center.x, center.y]], dtype=float)
     if tol is None:
         tol = max(radius * DEFAULT_FLATTEN_FRACTION, 1e-12)
-    sagitta = min(tol, radius) if radius > 0 else tol
+    sagitta = min(tol, radius)
     points = np.array([[p.x, p.y] for p in arc.flattening(sagitta)], dtype=float)
     return points.reshape(-1, 2)
 
 
-def _spline_curve(entity, handle: str, layer: str, flatten_tol: float | None) -> Curve:
-    frame = [tuple(p)[:2] for p in entity.control_points] or [tuple(p)[:2] for p in entity.fit_points]
-    frame_points = np.array(frame, dtype=float).reshape(-1, 2)
-    _checked(frame_points)
+def _ellipse_piece(entity, handle: str, layer: str, flatten_tol: float | None) -> Piece:
+    major = entity.dxf.major_axis
+    size = 2.0 * math.hypot(major.x, major.y)
+    tol = flatten_tol if flatten_tol is not None else max(size * DEFAULT_FLATTEN_FRACTION, 1e-12)
+    points = _checked(np.array([[p.x, p.y] for p in entity.flattening(tol)], dtype=float))
+    start, end = float(entity.dxf.start_param), float(entity.dxf.end_param)
+    closed = math.isclose((end - start) % (2 * math.pi), 0.0, abs_tol=1e-12) or \
+        math.isclose(abs(end - start), 2 * math.pi, abs_tol=1e-12)
+    return Piece(points, "ELLIPSE", handle, layer, closed=closed, flatten_tol=tol,
+                 breakpoints=points[[0, -1]] if len(points) else points)
+
+
+def _spline_piece(entity, handle: str, layer: str, flatten_tol: float | None) -> Piece:
+    control = [tuple(p)[:2] for p in entity.control_points]
+    fit = [tuple(p)[:2] for p in entity.fit_points]
+    frame_points = _checked(np.array(control or fit, dtype=float))
     tol = _tolerance(frame_points, flatten_tol)
-    points = np.array([[p.x, p.y] for p in entity.flattening(tol)], dtype=float).reshape(-1, 2)
-    return Curve(_checked(points), "SPLINE", handle, layer, editable=False,
-                 closed=bool(entity.closed), flatten_tol=tol, handles=(handle,))
+    points = _checked(np.array([[p.x, p.y] for p in entity.flattening(tol)], dtype=float))
+    if len(fit) >= 2:
+        breakpoints = _checked(np.array(fit, dtype=float))
+    else:
+        breakpoints = _knot_points(entity, points)
+    return Piece(points, "SPLINE", handle, layer, closed=bool(entity.closed), flatten_tol=tol,
+                 breakpoints=breakpoints)
 
 
-def _chains(pieces: list[tuple[str, str, str, np.ndarray]], join_tol: float | None) -> list[Curve]:
-    """Join LINE/ARC pieces of the same layer end to end into chains (a node of degree > 2 ends a chain)."""
-    from scipy.cluster.hierarchy import DisjointSet
-    from scipy.spatial import cKDTree
+def _knot_points(entity, points: np.ndarray) -> np.ndarray:
+    """The spline's points at its distinct knots inside the parameter range (where the pieces of
+    the spline meet: the points an interpolating spline was drawn through)."""
+    try:
+        tool = entity.construction_tool()
+        knots = np.asarray(tool.knots(), dtype=float)
+        order = int(tool.order)
+        inner = np.unique(knots[order - 1: len(knots) - order + 1])
+        return _checked(np.array([[p.x, p.y] for p in (tool.point(float(t)) for t in inner)], dtype=float))
+    except Exception:  # noqa: BLE001 - the flattening's ends then stand for the spline's points
+        return points[[0, -1]]
 
-    if not pieces:
-        return []
-    ends = np.array([[p[3][0], p[3][-1]] for p in pieces]).reshape(-1, 2)  # 2 ends per piece
-    if join_tol is None:
-        join_tol = max(_size(ends) * DEFAULT_JOIN_FRACTION, 1e-12)
-    layers = [p[2] for p in pieces]
-    nodes = DisjointSet(range(len(ends)))
-    for i, j in cKDTree(ends).query_pairs(join_tol):
-        if layers[i // 2] == layers[j // 2]:
-            nodes.merge(i, j)
-    node_of = np.array([nodes.__getitem__(i) for i in range(len(ends))])
-    incident: dict[int, list[int]] = {}
-    for end_index, node in enumerate(node_of):
-        incident.setdefault(int(node), []).append(end_index)
-    used = np.zeros(len(pieces), dtype=bool)
-    curves: list[Curve] = []
 
-    def follow(start_end: int) -> list[int]:
-        """End indices (piece*2 + side) of the chain leaving through start_end's piece."""
-        sequence = []
-        end_index = start_end
-        while True:
-            piece = end_index // 2
-            if used[piece]:
-                break
-            used[piece] = True
-            sequence.append(end_index)
-            other = end_index ^ 1
-            node = int(node_of[other])
-            nxt = [e for e in incident[node] if e != other]
-            if len(incident[node]) != 2 or not nxt or used[nxt[0] // 2]:
-                break
-            end_index = nxt[0]
-        return sequence
+def curve_entities(doc, curve: Curve) -> list:
+    """The entities of ``curve`` in ``doc`` (a fresh load of the same file), in ``curve.handles``
+    order; None where an entity cannot be found.
 
-    starts = [e for e in range(len(ends)) if len(incident[int(node_of[e])]) != 2]
-    for start in starts + list(range(len(ends))):
-        if used[start // 2]:
-            continue
-        sequence = follow(start)
-        closed = len(sequence) > 1 and node_of[sequence[0]] == node_of[sequence[-1] ^ 1]
-        points: list[np.ndarray] = []
-        refs: list[list[tuple[str, str]]] = []
-        editable = True
-        handles = []
-        for end_index in sequence:
-            kind, handle, layer, pts = pieces[end_index // 2]
-            handles.append(handle)
-            forward = end_index % 2 == 0
-            pts = pts if forward else pts[::-1]
-            if kind == "LINE":
-                first, last = ("start", "end") if forward else ("end", "start")
-                if not points:
-                    points.append(pts[:1])
-                    refs.append([(handle, first)])
-                else:
-                    refs[-1].append((handle, first))
-                points.append(pts[1:])
-                refs.append([(handle, last)])
-            else:
-                editable = False
-                if not points:
-                    points.append(pts[:1])
-                    refs.append([])
-                points.append(pts[1:])
-                refs.extend([] for _ in range(len(pts) - 1))
-        layer = pieces[sequence[0] // 2][2]
-        kind = "LINE chain" if editable else "LINE/ARC chain"
-        curves.append(Curve(np.concatenate(points), kind, handles[0], layer, editable=editable,
-                            closed=bool(closed), flatten_tol=0.0 if editable else (join_tol or 0.0),
-                            handles=tuple(handles),
-                            vertex_refs=tuple(tuple(r) for r in refs) if editable else ()))
-    return curves
+    Found by model-space position (``curve.entity_indices``) and checked against the handle and
+    type, so a file whose handles are not unique (ezdxf reassigns duplicates when loading) still
+    gives the right entities; a block's pieces give the INSERT.
+
+    Parameters
+    ----------
+    doc : ezdxf Drawing
+        The document, loaded again with :func:`open_drawing`.
+    curve : Curve
+        The curve read from the same file.
+
+    Returns
+    -------
+    list
+        One entity (or None) per handle of the curve.
+    """
+    msp = list(doc.modelspace())
+    found = []
+    for position, (handle, index) in enumerate(zip(curve.handles, curve.entity_indices)):
+        entity = msp[index] if 0 <= index < len(msp) else None
+        if entity is not None and str(entity.dxf.get("handle", "")).upper() != handle.upper():
+            entity = None
+        if entity is None:
+            entity = doc.entitydb.get(handle)
+        found.append(entity)
+    return found
+
+
+__all__ = [
+    "CURVE_TYPES",
+    "MAX_BLOCK_DEPTH",
+    "MAX_BLOCK_ENTITIES",
+    "UNIT_NAMES",
+    "Curve",
+    "Drawing",
+    "Piece",
+    "PieceSet",
+    "collect_pieces",
+    "curve_entities",
+    "ezdxf_messages",
+    "handles_text",
+    "open_drawing",
+    "summarise_messages",
+    "units_note",
+]

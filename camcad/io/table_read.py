@@ -1,12 +1,17 @@
 """Reading a law from a text table: two columns, cam angle θ (deg) and acceleration analog a.
 
-Accepted: comma, semicolon, tab or whitespace separators; a decimal comma when the separator is a
-semicolon or a tab; '#' comments; a header line of column names. Rows out of angle order are
-sorted (stably, so the two rows of a jump keep their order) and the report says so.
+Accepted: comma, semicolon, tab or whitespace separators; values in double quotes (as spreadsheets
+write them); a decimal comma when the separator is a semicolon or a tab, or inside quoted values of
+a comma-separated file; '#' comments; a header line of column names; UTF-8 (with or without a
+byte-order mark) or UTF-16 text. Rows out of angle order are sorted (stably, so the two rows of a
+jump keep their order) and the report says so. A comma-separated file whose rows have more fields
+than its header (unquoted decimal commas: "90,1,5") is ambiguous and refused with a line saying how
+to save it. Only regular files are read, at most ``input_file.MAX_INPUT_BYTES``.
 """
 
 from __future__ import annotations
 
+import csv
 import math
 import re
 from dataclasses import dataclass
@@ -15,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.errors import CamcadError
+from camcad.io.input_file import decode_text, read_input
 
 TABLE_SUFFIXES = (".csv", ".txt", ".tsv", ".dat", ".tab")
 
@@ -30,15 +36,39 @@ class Table:
 
 
 def read_table(path: str | Path) -> Table:
+    """Read a two-column law table (see the module docstring for the dialects).
+
+    Parameters
+    ----------
+    path : str or Path
+        The table file.
+
+    Returns
+    -------
+    Table
+        θ (deg) and a per row, in angle order, with the dialect found and notes.
+
+    Raises
+    ------
+    CamcadError
+        Not a readable table: one line naming the file and, where it applies, the line.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "law.csv"
+    >>> _ = f.write_text('"theta";"a"\\n"0";"0,5"\\n"90";"-1,25"\\n')
+    >>> t = read_table(f)
+    >>> t.theta_deg.tolist(), t.accel.tolist(), t.delimiter, t.decimal_comma
+    ([0.0, 90.0], [0.5, -1.25], ';', True)
+    """
     path = Path(path)
     where = str(path)
-    if not path.exists():
-        raise CamcadError("file not found", where, "check the path")
-    raw = path.read_bytes()
-    if b"\x00" in raw[:4096]:
+    raw = read_input(path, "a .csv/.txt table of angle (deg) and acceleration")
+    text, encoding = decode_text(raw)
+    if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
-    text = raw.decode("utf-8-sig", errors="replace")
     rows: list[tuple[int, str]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         content = line.split("#", 1)[0].strip()
@@ -47,10 +77,14 @@ def read_table(path: str | Path) -> Table:
     if not rows:
         raise CamcadError("the table is empty", where, "add rows 'angle_deg, acceleration'")
     delimiter = _delimiter([content for _, content in rows[:50]])
-    decimal_comma = delimiter in (";", "\t") and any(re.search(r"\d,\d", c) for _, c in rows)
+    split = [(number, _split(content, delimiter)) for number, content in rows]
+    quoted = any('"' in content for _, content in rows)
+    decimal_comma = any(re.search(r"\d,\d", f) for _, fields in split for f in fields[:2]) and \
+        (delimiter in (";", "\t") or quoted)
+    if delimiter == "," and not quoted:
+        _refuse_ambiguous_commas(split, where)
     theta, accel, lines = [], [], []
-    for index, (number, content) in enumerate(rows):
-        fields = _split(content, delimiter)
+    for index, (number, fields) in enumerate(split):
         if decimal_comma:
             fields = [f.replace(",", ".") for f in fields]
         values = [_number(f) for f in fields]
@@ -61,9 +95,9 @@ def read_table(path: str | Path) -> Table:
                               where, "write one angle and one acceleration per line")
         if values[0] is None or values[1] is None:
             bad = fields[0] if values[0] is None else fields[1]
-            raise CamcadError(f"line {number}: {bad!r} is not a number", where, "fix or delete that line")
+            raise CamcadError(f"line {number}: {_excerpt(bad)} is not a number", where, "fix or delete that line")
         if not (math.isfinite(values[0]) and math.isfinite(values[1])):
-            raise CamcadError(f"line {number}: non-finite value ({fields[0]}, {fields[1]})", where,
+            raise CamcadError(f"line {number}: non-finite value ({_excerpt(fields[0])}, {_excerpt(fields[1])})", where,
                               "give finite numbers")
         theta.append(values[0])
         accel.append(values[1])
@@ -72,11 +106,41 @@ def read_table(path: str | Path) -> Table:
     accel_arr = np.array(accel, dtype=float)
     line_arr = np.array(lines, dtype=int)
     notes: list[str] = []
+    if encoding not in ("utf-8", "latin-1"):
+        notes.append(f"the table is {encoding.upper()} text" if encoding != "utf-8-sig"
+                     else "the table starts with a UTF-8 byte-order mark (ignored)")
+    if decimal_comma:
+        notes.append("decimal commas read as decimal points")
     if np.any(np.diff(theta_arr) < 0):
         order = np.argsort(theta_arr, kind="stable")
         theta_arr, accel_arr, line_arr = theta_arr[order], accel_arr[order], line_arr[order]
         notes.append("rows were not in angle order; sorted by angle (rows of equal angle keep their order)")
     return Table(theta_arr, accel_arr, delimiter, decimal_comma, line_arr, tuple(notes))
+
+
+def _refuse_ambiguous_commas(split: list[tuple[int, list[str]]], where: str) -> None:
+    """Unquoted comma-separated rows with more fields than the header, or (without a header) with
+    varying numbers of fields: decimal commas that cannot be told from separators ("90,1,5" is 90
+    and 1.5, or 90.1 and 5)."""
+    numeric = [(n, f) for n, f in split if all(_number(v) is not None for v in f)]
+    if not numeric:
+        return
+    header = split[0][1] if len(numeric) < len(split) else None
+    widths = {len(f) for _, f in numeric}
+    width = len(header) if header else min(widths)
+    if header is None and len(widths) == 1:
+        return
+    for number, fields in numeric:
+        if len(fields) > width:
+            raise CamcadError(f"line {number} has {len(fields)} comma-separated fields "
+                              f"({_excerpt(','.join(fields))}): decimal commas and comma separators cannot be told apart",
+                              where, "save the table with ';' as separator, or with decimal points, or quote the values")
+
+
+def _excerpt(text: str, limit: int = 24) -> str:
+    """A short, quoted excerpt of a value for an error message."""
+    text = " ".join(str(text).split())
+    return repr(text if len(text) <= limit else text[: limit - 3] + "...")
 
 
 def _delimiter(samples: list[str]) -> str:
@@ -89,7 +153,8 @@ def _delimiter(samples: list[str]) -> str:
 def _split(content: str, delimiter: str) -> list[str]:
     if delimiter == " ":
         return content.split()
-    return [f.strip() for f in content.split(delimiter) if f.strip() != ""]
+    fields = next(csv.reader([content], delimiter=delimiter, quotechar='"', skipinitialspace=True), [])
+    return [f.strip() for f in fields if f.strip() != ""]
 
 
 def _number(text: str) -> float | None:

@@ -1,10 +1,16 @@
-"""From a file to a law: pick the curve, map it to the cycle, scale it, find its phases.
+"""From a file to a law: pick the curve, find its zero axis, map it to the cycle, scale it, find its phases.
 
-Conventions (SPEC.md "Acceleration-law input"):
-- x is cam angle. A drawing's x-extent maps to one cycle [0, cycle_deg] unless ``x_deg`` says x is
-  already degrees; a table's first column is always degrees.
-- y is the acceleration analog; ``lift`` scales it so the rise equals ``lift`` mm, otherwise it is
-  taken literally in mm/rad².
+Conventions (SPEC.md "Acceleration-law input", docs/reading.md):
+- The law's curve is the widest chain of drawn pieces that is a function of x (``io.chain``);
+  its zero axis and origin are found in the drawing (``law.baseline``) unless ``y0``/``x0`` say.
+- x is cam angle. The curve's x-extent maps to one cycle [0, cycle_deg] (from ``x0`` when given)
+  unless ``x_deg`` says x is already degrees (θ = x − x0); a table's first column is always degrees.
+- y is the acceleration analog: a = (y − y0) × scale; ``lift`` scales it so the rise equals
+  ``lift`` mm, otherwise the scale is 1 (mm/rad² per drawing unit). Drawing units are reported,
+  never converted.
+- A curve that holds a rise without a return (or a return without a rise), ending at rest, is a
+  drawing of part of a cycle; unless the cycle is stated (``cycle_deg``, ``x_deg`` or ``phases``)
+  it is refused with the options that state it, never silently stretched to 360°.
 - A vertical segment is a jump of acceleration; duplicated vertices are ignored; a curve drawn
   right-to-left is accepted. The law starts from rest at s = 0 at θ = 0.
 """
@@ -17,15 +23,18 @@ from pathlib import Path
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.io.dxf_read import Curve, CurveSet, Drawing, collect_curves, open_drawing
+from camcad.io.chain import find_law
+from camcad.io.dxf_read import Curve, Drawing, collect_pieces, open_drawing, units_note
+from camcad.io.input_file import is_regular_file, read_input
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
+from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import detect_phases, parse_phases
 
 #: relative tolerance (of the curve's x-range) below which x steps count as vertical or equal
 X_TOLERANCE = 1e-9
-#: two candidate curves whose x-ranges agree within this fraction are ambiguous
-AMBIGUITY_FRACTION = 1e-6
+#: a rise (or return) whose end velocity is within this fraction of its peak velocity ends at rest
+PART_CYCLE_REST_FRACTION = 0.05
 
 
 @dataclass(frozen=True)
@@ -48,7 +57,9 @@ class VertexMap:
 class LoadedLaw:
     """A law read from a file, with everything needed to report on it and write it back.
 
-    a_law = y_input × ``y_scale``;  θ = (x − x_min)/(x_max − x_min) × cycle  (x in drawing units).
+    a_law = (y_input − ``y0``) × ``y_scale``;  θ = (x − x_min)/(x_max − x_min) × cycle  (x in drawing
+    units; ``x_min`` is the drawing x of θ = 0, ``x_max`` that of θ = cycle). ``theta_to_x`` and
+    ``a_to_y`` map back to drawing coordinates exactly (the writers use them).
     """
 
     law: PiecewiseLinearLaw
@@ -65,60 +76,123 @@ class LoadedLaw:
     table: Table | None = None
     candidates: int = 1
     extra: dict = field(default_factory=dict)
+    y0: float = 0.0
+    baseline: Baseline | None = None
+
+    @property
+    def x0(self) -> float:
+        """Drawing x of θ = 0 (the origin's x)."""
+        return self.x_min
 
     def theta_to_x(self, theta: np.ndarray) -> np.ndarray:
+        """Drawing x of cam angles θ (rad)."""
         return self.x_min + np.asarray(theta) / self.law.cycle * (self.x_max - self.x_min)
 
     def a_to_y(self, a: np.ndarray) -> np.ndarray:
-        return np.asarray(a) / self.y_scale
+        """Drawing y of accelerations a (mm/rad²): a / y_scale + y0."""
+        return np.asarray(a) / self.y_scale + self.y0
 
 
 def load_law(path: str | Path, *, layer: str | None = None, handle: str | None = None,
-             cycle_deg: float = 360.0, lift: float | None = None, phases: str | tuple[Phase, ...] | None = None,
-             x_deg: bool = False, flatten_tol: float | None = None, join_tol: float | None = None) -> LoadedLaw:
+             cycle_deg: float | None = None, lift: float | None = None,
+             phases: str | tuple[Phase, ...] | None = None, x_deg: bool = False,
+             flatten_tol: float | None = None, join_tol: float | None = None,
+             y0: float | None = None, x0: float | None = None) -> LoadedLaw:
     """Read the acceleration law of a DXF drawing or a table file (see the module docstring).
 
     Parameters
     ----------
-    layer, handle : pick the curve (DXF); otherwise the curve spanning the largest x-range.
-    cycle_deg : the working angle the curve spans (deg).
-    lift : scale the law so its rise equals ``lift`` mm; None keeps y literally (mm/rad²).
-    phases : "0:90:rise,90:180:dwell,..." (deg) or Phase tuple; None detects them.
-    x_deg : the drawing's x is already the cam angle in degrees (it must span [0, cycle_deg]).
-    flatten_tol, join_tol : SPLINE/arc flattening and LINE-chain joining tolerances (drawing units).
+    path : str or Path
+        A DXF drawing, or a .csv/.txt table of θ (deg) and a.
+    layer, handle : str, optional
+        Pick the curve (DXF): only pieces on ``layer``; the chain through the entity ``handle``.
+    cycle_deg : float, optional
+        The working angle the curve spans (deg); None: 360, and a curve that is not a whole
+        cycle (a rise without a return) is refused rather than stretched.
+    lift : float, optional
+        Scale the law so its rise equals ``lift`` mm; None keeps y (mm/rad² per drawing unit).
+    phases : str or tuple of Phase, optional
+        "0:90:rise,90:180:dwell,..." (deg) or Phase tuple; None detects them.
+    x_deg : bool
+        The drawing's x is the cam angle in degrees from the origin (θ = x − x0).
+    flatten_tol, join_tol : float, optional
+        SPLINE/arc flattening and end-to-end joining tolerances (drawing units).
+    y0, x0 : float, optional
+        The zero axis (drawing y of a = 0) and the origin's x (θ = 0); found in the drawing when None.
+
+    Returns
+    -------
+    LoadedLaw
+        The law and how it maps to the file; ``notes`` say every decision taken.
+
+    Raises
+    ------
+    CamcadError
+        Bad input: one line saying what, where and how to fix.
     """
     path = Path(path)
+    cycle_stated = cycle_deg is not None
+    cycle_deg = 360.0 if cycle_deg is None else float(cycle_deg)
     if not np.isfinite(cycle_deg) or not 0 < cycle_deg <= 360.0:
         raise CamcadError(f"cycle {cycle_deg:g} deg is not in (0, 360]", "--cycle", "give the working angle in degrees")
     if lift is not None and not (np.isfinite(lift) and lift > 0):
         raise CamcadError(f"lift {lift:g} mm must be positive", "--lift", "give the rise in mm")
+    for name, value in (("--y0", y0), ("--x0", x0)):
+        if value is not None and not (np.isfinite(value) and abs(value) < 1e100):
+            raise CamcadError(f"{name} {value:g} is not a finite coordinate", name, "give the drawing coordinate")
     if _is_table(path):
-        return _from_table(path, cycle_deg, lift, phases)
+        return _from_table(path, cycle_deg, lift, phases, y0, x0)
     drawing = open_drawing(path)
-    curve_set = collect_curves(drawing, flatten_tol=flatten_tol, join_tol=join_tol)
-    curve, choice_note, candidates = select_curve(curve_set, str(path), layer=layer, handle=handle)
-    notes = list(drawing.notes) + list(curve_set.notes) + [choice_note]
-    if not curve.editable:
-        notes.append(f"{curve.kind} {curve.handle} flattened to {len(curve.points)} points "
-                     f"(tolerance {curve.flatten_tol:.3g} drawing units)")
-    return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes,
-                  where=f"{path}, {curve.label}", curve=curve, drawing=drawing, candidates=candidates)
+    piece_set = collect_pieces(drawing, flatten_tol=flatten_tol)
+    chain = find_law(piece_set, str(path), layer=layer, handle=handle, join_tol=join_tol)
+    curve = chain.curve
+    used = set(chain.used)
+    baseline = find_baseline(curve, piece_set.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
+    notes = list(drawing.notes) + list(piece_set.notes) + list(chain.notes)
+    left_out = [piece_set.pieces[i] for i in chain.left_out]
+    if left_out:
+        notes.append(f"left out as axis or grid lines: {len(left_out)} straight piece"
+                     f"{'s' if len(left_out) > 1 else ''} ({_pieces_text(left_out)})")
+    notes.extend(baseline.notes)
+    notes.append(units_note(drawing, scaled=lift is not None))
+    x_tol = chain.graph.join_tol if len(curve.pieces) > 1 else 0.0
+    return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes, where=f"{path}, {curve.label}",
+                  curve=curve, drawing=drawing, candidates=chain.candidates, y0=baseline.y0, x0=baseline.x0,
+                  x_tol=x_tol, cycle_stated=cycle_stated, baseline=baseline)
+
+
+def _pieces_text(pieces) -> str:
+    from camcad.io.dxf_read import handles_text
+
+    kinds = sorted({p.kind for p in pieces})
+    return f"{'/'.join(kinds)} {handles_text([p.handle for p in pieces], 4)}"
 
 
 def _is_table(path: Path) -> bool:
+    """A table by its suffix; a file of another suffix by its content (no DXF section marker).
+    Only a regular file is looked into (a FIFO would block); anything else goes to the DXF
+    reader, which refuses it with one clear line."""
     if path.suffix.lower() in TABLE_SUFFIXES:
         return True
-    if path.suffix.lower() == ".dxf" or not path.exists() or path.is_dir():
+    if path.suffix.lower() == ".dxf" or not is_regular_file(path):
         return False
-    head = path.read_bytes()[:2048]
+    head = read_input(path)[:4096]
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in head[:64]:
+        head = head.replace(b"\x00", b"")
     return b"SECTION" not in head and b"AutoCAD Binary DXF" not in head
 
 
-def _from_table(path: Path, cycle_deg: float, lift: float | None, phases) -> LoadedLaw:
+def _from_table(path: Path, cycle_deg: float, lift: float | None, phases, y0: float | None = None,
+                x0: float | None = None) -> LoadedLaw:
     table = read_table(path)
     theta, accel = table.theta_deg, table.accel
     notes = list(table.notes)
     where = str(path)
+    if x0 is not None:
+        notes.append("--x0 applies to drawings; a table's angles are degrees from 0, taken as they are")
+    if y0 is not None:
+        accel = accel - y0
+        notes.append(f"accelerations taken relative to {y0:g} (--y0)")
     if len(theta) < 3:
         raise CamcadError(f"the table has {len(theta)} rows; a law needs at least 3", where,
                           "give the acceleration over the whole cycle")
@@ -140,144 +214,18 @@ def _from_table(path: Path, cycle_deg: float, lift: float | None, phases) -> Loa
         else:
             raise CamcadError(f"the table covers 0..{theta[-1]:g} deg, not the cycle 0..{cycle_deg:g}", where,
                               f"add rows up to {cycle_deg:g} deg, or pass --cycle {theta[-1]:g}")
-    loaded = _build(path, points, cycle_deg, lift, phases, True, notes, where=where)
+    if y0 is not None:
+        points[:, 1] += y0  # _build takes the zero off again, so a_to_y gives the table's own values back
+    loaded = _build(path, points, cycle_deg, lift, phases, True, notes, where=where, x0=0.0, cycle_stated=True,
+                    y0=float(y0 or 0.0))
     return replace(loaded, table=table, source=f"table {path.name}, {len(theta)} rows")
-
-
-def select_curve(curve_set: CurveSet, where: str, layer: str | None = None,
-                 handle: str | None = None) -> tuple[Curve, str, int]:
-    """The curve holding the law: by handle, else the largest x-range among law-like curves (of a layer)."""
-    curves = list(curve_set.curves)
-    if handle is not None:
-        wanted = handle.strip().upper()
-        match = [c for c in curves if wanted in (h.upper() for h in c.handles)]
-        if not match:
-            raise CamcadError(f"no curve with handle {handle}", where,
-                              f"curve handles here: {_handles_text(curves)}")
-        curve = match[0]
-        problem = law_problem(curve)
-        if problem:
-            raise CamcadError(problem, f"{where}, {curve.label}", _problem_fix(problem))
-        return curve, f"law: {curve.label}, chosen by --handle", 1
-    if layer is not None:
-        on_layer = [c for c in curves if c.layer.upper() == layer.upper()]
-        if not on_layer:
-            layers = sorted({c.layer for c in curves})
-            raise CamcadError(f"no curve on layer {layer}", where,
-                              f"layers with curves: {', '.join(layers) or 'none'}")
-        curves = on_layer
-    else:
-        # curves on layers that are off or frozen (camcad's kept originals among them) are not
-        # candidates unless asked for by --layer or --handle
-        visible = [c for c in curves if not c.hidden]
-        if visible:
-            curves = visible
-    if not curves:
-        skipped = [n for n in curve_set.notes if " skipped: " in n]
-        why = f" ({skipped[0]})" if skipped else ""
-        raise CamcadError(f"no curve found{why}", where,
-                          f"the drawing holds {_counts_text(curve_set)}; draw the law as a polyline, "
-                          "a chain of lines or a spline")
-    lawlike = [c for c in curves if not law_problem(c)]
-    open_curves = sorted((c for c in curves if not c.closed and not _straight(c.points)),
-                         key=lambda c: c.x_range, reverse=True)
-    if not lawlike:
-        best = open_curves[0] if open_curves else max(curves, key=lambda c: c.x_range)
-        problem = law_problem(best)
-        raise CamcadError(f"no curve here can be a law; the largest, {best.label}: {problem}", where,
-                          _problem_fix(problem))
-    lawlike.sort(key=lambda c: (c.x_range, len(c.points)), reverse=True)
-    chosen = lawlike[0]
-    # a larger open curve that is not a function of x is more likely the intended, mis-drawn law
-    if open_curves and open_curves[0].x_range > chosen.x_range * (1 + AMBIGUITY_FRACTION) \
-            and open_curves[0] is not chosen:
-        bigger = open_curves[0]
-        problem = law_problem(bigger)
-        raise CamcadError(f"the widest curve, {bigger.label}, cannot be a law: {problem}", where,
-                          f"{_problem_fix(problem)}, or pick another curve with --handle {chosen.handle}")
-    rivals = [c for c in lawlike[1:] if abs(c.x_range - chosen.x_range) <= AMBIGUITY_FRACTION * chosen.x_range]
-    if rivals:
-        names = ", ".join(c.handle for c in [chosen] + rivals)
-        scope = f"layer {layer}" if layer else "the drawing"
-        raise CamcadError(f"{scope} holds {len(rivals) + 1} curves spanning the same x-range (handles {names})",
-                          where, "pick one with --handle" + ("" if layer else " or --layer"))
-    how = "the only law-like curve" if len(lawlike) == 1 else \
-        f"the curve spanning the largest x-range of {len(lawlike)} candidates"
-    return chosen, f"law: {chosen.label}, {how}", len(lawlike)
-
-
-def law_problem(curve: Curve) -> str:
-    """Why a curve cannot be a law (empty string when it can)."""
-    points = curve.points
-    if curve.closed:
-        return "it is closed"
-    if len(points) < 3:
-        return f"it has {len(points)} vertices; a law needs at least 3"
-    distinct = _dedupe_mask(points)
-    if int(distinct.sum()) < 3:
-        return f"it has {int(distinct.sum())} distinct vertices; a law needs at least 3"
-    x = points[:, 0]
-    span = np.ptp(x)
-    if span <= 0:
-        return "it has no extent in x (it is vertical)"
-    direction = 1.0 if x[-1] >= x[0] else -1.0
-    steps = np.diff(x) * direction
-    back = np.flatnonzero(steps < -X_TOLERANCE * span)
-    if len(back):
-        i = int(back[0]) + 1
-        if direction < 0:
-            return f"it goes back in x at vertex {i} (x {x[i]:.6g} after {x[i - 1]:.6g}, drawn right to left)"
-        return f"it goes back in x at vertex {i} (x {x[i]:.6g} after {x[i - 1]:.6g})"
-    if _straight(points):
-        return "it is a straight line (an axis or a grid line, not a law)"
-    return ""
-
-
-def _problem_fix(problem: str) -> str:
-    if "goes back" in problem:
-        return "move that vertex so x never decreases along the curve (a vertical segment is a jump)"
-    if "vertices" in problem:
-        return "draw the law with at least 3 vertices"
-    if "closed" in problem:
-        return "draw the law as an open curve from the start to the end of the cycle"
-    return "pick the law with --handle or --layer"
-
-
-def _straight(points: np.ndarray) -> bool:
-    if len(points) < 3:
-        return True
-    d = points - points[0]
-    chord = points[-1] - points[0]
-    norm = np.hypot(*chord)
-    if norm == 0:
-        return False
-    deviation = np.abs(d[:, 0] * chord[1] - d[:, 1] * chord[0]) / norm
-    return bool(deviation.max() <= 1e-9 * max(norm, np.ptp(points[:, 1])))
-
-
-def _dedupe_mask(points: np.ndarray) -> np.ndarray:
-    span = max(np.ptp(points[:, 0]), 1e-300)
-    yspan = max(np.ptp(points[:, 1]), 1e-300)
-    keep = np.ones(len(points), dtype=bool)
-    keep[1:] = (np.abs(np.diff(points[:, 0])) > X_TOLERANCE * span) | \
-               (np.abs(np.diff(points[:, 1])) > 1e-12 * yspan)
-    return keep
-
-
-def _handles_text(curves: list[Curve]) -> str:
-    text = ", ".join(f"{c.handle} ({c.kind}, layer {c.layer})" for c in curves[:8])
-    return text + (" ..." if len(curves) > 8 else "") if text else "none"
-
-
-def _counts_text(curve_set: CurveSet) -> str:
-    if not curve_set.entity_counts:
-        return "no entities"
-    return ", ".join(f"{n} {kind}" for kind, n in sorted(curve_set.entity_counts.items()))
 
 
 def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None, phases, x_deg: bool,
            notes: list[str], where: str, curve: Curve | None = None, drawing: Drawing | None = None,
-           candidates: int = 1) -> LoadedLaw:
+           candidates: int = 1, y0: float = 0.0, x0: float | None = None, x_tol: float = 0.0,
+           cycle_stated: bool = True, baseline: Baseline | None = None) -> LoadedLaw:
+    """The law of a curve's points (drawing order): a = (y − y0)·scale, θ from x (see the module docstring)."""
     points = np.asarray(points, dtype=float)
     if not np.isfinite(points).all():
         index = int(np.flatnonzero(~np.isfinite(points).all(axis=1))[0])
@@ -287,18 +235,19 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
         order = order[::-1]
         notes.append("the curve is drawn right to left; read left to right")
     pts = points[order]
-    x, y = pts[:, 0].copy(), pts[:, 1].copy()
+    x, y = pts[:, 0].copy(), pts[:, 1] - y0
     span = float(np.ptp(x))
     if span <= 0:
         raise CamcadError("the curve has no extent in x", where, "draw the law along the angle axis")
-    back = np.flatnonzero(np.diff(x) < -X_TOLERANCE * span)
+    tol = max(X_TOLERANCE * span, x_tol)
+    back = np.flatnonzero(np.diff(x) < -tol)
     if len(back):
         i = int(order[back[0] + 1])
         raise CamcadError(f"vertex {i} goes back in x (x {points[i, 0]:.6g})", where,
                           "move that vertex so x never decreases along the curve (a vertical segment is a jump)")
     # snap x steps below the tolerance: they are vertical segments drawn a hair off
     x = np.maximum.accumulate(x)
-    small = np.diff(x) <= X_TOLERANCE * span
+    small = np.diff(x) <= tol
     x[1:][small] = x[:-1][small]
     keep, lo, hi, weight = _vertex_structure(x, y)
     dropped = len(x) - int(keep.sum())
@@ -317,14 +266,24 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     hi_law[order] = new_index[hi]
     w_law[order] = weight
     xk, yk = x[kept], y[kept]
-    x_min, x_max = float(xk[0]), float(xk[-1])
+    x_start, x_end = float(xk[0]), float(xk[-1])
     cycle = float(np.radians(cycle_deg))
+    origin = x_start if x0 is None else float(x0)
+    edge = max(1e-6 * cycle_deg, tol) if x_deg else max(X_TOLERANCE * span, tol)
+    if x0 is not None and abs(x_start - origin) > edge:
+        side = "right" if x_start > origin else "left"
+        raise CamcadError(f"the curve starts at x {x_start:.6g}, {side} of the origin x0 = {origin:.6g}", where,
+                          f"draw the law from the origin, or pass --x0 {x_start:.9g}")
     if x_deg:
-        tol = 1e-6 * cycle_deg
-        if abs(x_min) > tol or abs(x_max - cycle_deg) > tol:
-            raise CamcadError(f"the curve covers x {x_min:g}..{x_max:g} deg, not the cycle 0..{cycle_deg:g}", where,
-                              f"extend the curve to the whole cycle, or pass --cycle {x_max - x_min:g}")
-        x_min, x_max = 0.0, float(cycle_deg)
+        if abs(x_end - origin - cycle_deg) > edge:
+            raise CamcadError(f"the curve covers {x_start - origin:g}..{x_end - origin:g} deg from the origin "
+                              f"x = {origin:g}, not the cycle 0..{cycle_deg:g}", where,
+                              f"extend the curve to the whole cycle, or pass --cycle {x_end - origin:g}")
+        x_min, x_max = origin, origin + float(cycle_deg)
+        if origin != 0.0:
+            notes.append(f"x is degrees from the origin x = {origin:.9g} (theta = x - {origin:.9g})")
+    else:
+        x_min, x_max = origin, x_end
     theta = (xk - x_min) / (x_max - x_min) * cycle
     theta[0], theta[-1] = 0.0, cycle
     if isinstance(phases, str):
@@ -334,6 +293,8 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     else:
         phase_tuple = detect_phases(theta, yk, cycle, where)
     law = PiecewiseLinearLaw(theta, yk, cycle, phase_tuple)
+    if not phases and not cycle_stated and not x_deg:
+        _refuse_part_of_a_cycle(law, x_start, x_end, origin, where)
     y_scale = 1.0
     if lift is not None:
         rise = rise_displacement(law)
@@ -343,11 +304,33 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
         y_scale = lift / rise
         law = law.with_ordinates(yk * y_scale)
         notes.append(f"y scaled by {y_scale:.6g} so the rise is {lift:g} mm")
+    if not x_deg and curve is not None:
+        stated = "" if cycle_stated else " (the default: pass --cycle DEG if the curve spans another working angle)"
+        notes.append(f"x {x_min:.6g}..{x_max:.6g} is taken as one cycle of {cycle_deg:g} deg{stated}")
     source = f"{where}, {len(kept)} vertices, x {x_min:g}..{x_max:g} -> 0..{cycle_deg:g} deg"
     return LoadedLaw(law=law, path=path, source=source, notes=tuple(notes), y_scale=y_scale,
                      x_min=x_min, x_max=x_max, phases_given=bool(phases),
                      vertex_map=VertexMap(lo_law, hi_law, w_law), curve=curve, drawing=drawing,
-                     candidates=candidates)
+                     candidates=candidates, y0=float(y0), baseline=baseline)
+
+
+def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: float, origin: float,
+                            where: str) -> None:
+    """A motion from rest to rest with a rise and no return (or the reverse) is a drawing of part of a
+    cycle (a rise alone, x 0..120): refuse to stretch it over the cycle. A curve that does not end at
+    rest is left to the balance check, which reports its open velocity."""
+    kinds = {p.kind for p in law.phases}
+    if ("rise" in kinds) == ("return" in kinds):
+        return
+    theta = np.linspace(0.0, law.cycle, 2049)
+    v = law.kinematics(np.unique(np.concatenate((theta, law.x)))).v
+    if abs(v[-1]) > PART_CYCLE_REST_FRACTION * float(np.max(np.abs(v))):
+        return
+    has, lacks = ("rise", "return") if "rise" in kinds else ("return", "rise")
+    width = x_end - origin
+    raise CamcadError(f"the curve covers x {x_start:.6g}..{x_end:.6g} and holds a {has} but no {lacks}, "
+                      "so it is not a whole cycle", where,
+                      f"if x is degrees pass --x-deg --cycle {width:.6g}; if it is the whole cycle pass --cycle 360")
 
 
 def _vertex_structure(x: np.ndarray, y: np.ndarray):
@@ -403,4 +386,4 @@ def rise_displacement(law: PiecewiseLinearLaw) -> float:
     return total
 
 
-__all__ = ["LoadedLaw", "VertexMap", "load_law", "select_curve", "law_problem", "rise_displacement"]
+__all__ = ["LoadedLaw", "VertexMap", "load_law", "rise_displacement"]

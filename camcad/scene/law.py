@@ -7,6 +7,8 @@ Keys (angles deg, lengths mm):
     lift             rise in mm (deg of swing for an oscillating follower); scales a drawn law when given
     file             a DXF drawing or a .csv/.txt table, relative to the scene file
     layer, handle, cycle, x_deg   choose and map the drawn curve (as the CLI options)
+    y0, x0           the drawing's zero axis (y of zero acceleration) and the x of the cycle's start,
+                     overriding what camcad finds (as --y0, --x0)
     fix              balance a drawn law first with this mode (min-change, ...); "none" only checks it
     tol              balance tolerance (fraction of the rise)
 """
@@ -38,6 +40,8 @@ def law_fields() -> list[Field]:
         Field("file", "str", help="(a DXF drawing or a .csv table of the acceleration)"),
         Field("layer", "str"),
         Field("handle", "str"),
+        Field("y0", "float", "drawing units", help="(drawing y of zero acceleration; found when absent)"),
+        Field("x0", "float", "drawing units", help="(drawing x of the cycle's start; the curve's start when absent)"),
         Field("cycle", "float", "deg", default=360.0, positive=True, maximum=360.0),
         Field("x_deg", "bool", default=False),
         Field("fix", "str", choices=MODES + ("none",), default="none"),
@@ -57,7 +61,10 @@ class LawSpec:
     file: Path | None = None
     layer: str | None = None
     handle: str | None = None
+    y0: float | None = None
+    x0: float | None = None
     cycle: float = 360.0
+    cycle_stated: bool = True
     x_deg: bool = False
     fix: str = "none"
     tol: float = 1e-5
@@ -104,8 +111,8 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                               "give the path relative to the scene file")
     return LawSpec(where=where, standard=values["standard"], return_standard=values["return_standard"],
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
-                   handle=values["handle"], cycle=values["cycle"], x_deg=values["x_deg"], fix=values["fix"],
-                   tol=values["tol"])
+                   handle=values["handle"], y0=values["y0"], x0=values["x0"], cycle=values["cycle"],
+                   cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"])
 
 
 def build_law(spec: LawSpec) -> BuiltLaw:
@@ -126,8 +133,9 @@ def build_law(spec: LawSpec) -> BuiltLaw:
     from camcad.balance.correction import correct
     from camcad.law.source import load_law
 
-    loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle, cycle_deg=spec.cycle, lift=spec.lift,
-                      phases=spec.phases, x_deg=spec.x_deg)
+    loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle,
+                      cycle_deg=spec.cycle if spec.cycle_stated else None, lift=spec.lift,
+                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
     report = check(loaded.law, spec.tol)
     notes = [loaded.source, *loaded.notes]
     if spec.fix == "none":
