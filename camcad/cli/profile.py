@@ -17,7 +17,8 @@ from typing import Optional
 import typer
 
 from camcad.cli import app
-from camcad.cli.common import JsonOpt, NoPlotsOpt, echo, print_json, progress_line
+from camcad.cli.common import (JsonOpt, NoPlotsOpt, OriginOpt, X0Opt, XDegOpt, Y0Opt, _given, echo, parse_origin,
+                               print_json, progress_line)
 from camcad.errors import CamcadError
 from camcad.profile import defaults
 
@@ -45,6 +46,10 @@ def profile(
     phases: Optional[str] = typer.Option(None, "--phases", help='Phases, e.g. "0:120:rise,120:180:dwell,...".'),
     layer: Optional[str] = typer.Option(None, "--layer", help="DXF layer holding the law."),
     handle: Optional[str] = typer.Option(None, "--handle", help="DXF handle of the law's curve."),
+    y0: Y0Opt = None,
+    x0: X0Opt = None,
+    origin: OriginOpt = None,
+    x_deg: XDegOpt = False,
     rise_law: Optional[str] = typer.Option(
         None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, "
                                  "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d)."),
@@ -89,7 +94,8 @@ def profile(
     else:
         name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
                                      pivot=pivot, arm=arm, swing=swing, lift=lift, cycle=cycle, phases=phases,
-                                     layer=layer, handle=handle, rise_law=rise_law, return_law=return_law, cw=cw,
+                                     layer=layer, handle=handle, y0=y0, x0=x0, origin=origin, x_deg=x_deg,
+                                     rise_law=rise_law, return_law=return_law, cw=cw,
                                      reversible=reversible, pa_rise=pa_rise, pa_return=pa_return, rho_min=rho_min,
                                      groove=groove, pair_distance=pair_distance, pair_angle=pair_angle)
         source = scene_from_dict(tables, Path("command line"), from_file=False)
@@ -126,13 +132,18 @@ def _plot_names(plots: str | None, no_plots: bool) -> tuple[str, ...]:
 
 
 def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, arm, swing, lift, cycle, phases,
-                  layer, handle, rise_law, return_law, cw, reversible, pa_rise, pa_return, rho_min, groove,
-                  pair_distance, pair_angle) -> tuple[str, dict]:
+                  layer, handle, y0, x0, origin, x_deg, rise_law, return_law, cw, reversible, pa_rise, pa_return,
+                  rho_min, groove, pair_distance, pair_angle) -> tuple[str, dict]:
     """The scene (TOML tables) the options describe: its name and {name, law, follower}."""
     kind = kind.strip().lower()
     if kind not in FOLLOWER_KINDS:
         raise CamcadError(f"follower type {kind!r} is unknown", "--follower", "use roller, knife, flat or oscillating")
     if target is None:
+        for option, value in (("--y0", y0), ("--x0", x0), ("--origin", origin), ("--layer", layer),
+                              ("--handle", handle)):
+            if value is not None:
+                raise CamcadError(f"{option} locates a law in a drawing; the built-in law has none", option,
+                                  "give a law file, or drop the option")
         name = defaults.DEFAULT_NAME
         if abs(cycle - 360.0) > 1e-9 and phases is None:
             raise CamcadError("--cycle needs --phases for the built-in law", "--cycle", "give --phases too")
@@ -158,9 +169,15 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
             raise CamcadError("--rise-law/--return-law choose the built-in law", str(target),
                               "drop them when you give a law file")
         name = target.stem
-        law = {"file": str(target.resolve()), "cycle": cycle}
-        law.update({k: v for k, v in (("lift", lift), ("phases", phases), ("layer", layer), ("handle", handle))
-                    if v is not None})
+        if origin is not None:
+            x0, y0 = parse_origin(origin, x0, y0)
+        law = {"file": str(target.resolve())}
+        if cycle != 360.0 or _given("cycle"):   # a cycle not stated is found from the drawing
+            law["cycle"] = cycle
+        law.update({k: v for k, v in (("lift", lift), ("phases", phases), ("layer", layer), ("handle", handle),
+                                      ("y0", y0), ("x0", x0)) if v is not None})
+        if x_deg:
+            law["x_deg"] = True
         missing = []
         if rb is None and not auto_rb:
             missing.append("--rb (base radius, mm; or --auto-rb)")
