@@ -17,7 +17,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))          # the camcad of this checkout, installed or not
 sys.path.insert(0, str(HERE / "_ext"))
 
-import camcad  # noqa: E402
+import camcad
 
 project = "camcad"
 author = "the camcad authors"
@@ -55,4 +55,4 @@ html_theme = "alabaster"
 html_title = f"camcad {release}"
 html_static_path: list[str] = []
 html_theme_options = {"description": "cam mechanisms from drawn acceleration laws", "fixed_sidebar": True,
-                      "page_width": "1180px", "sidebar_width": "240px"}
+                      "page_width": "1340px", "sidebar_width": "240px"}

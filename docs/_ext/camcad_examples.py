@@ -72,7 +72,7 @@ def optional_pages(app, docname: str, source: list[str]) -> None:
     present = [page for page in app.config.optional_pages
                if (src / f"{page}.md").exists() or (src / f"{page}.rst").exists()]
     lines = "\n".join(f"   {page}" for page in present)
-    source[0] = re.sub(r"^[ \t]*%OPTIONAL_PAGES%[ \t]*$", lines, source[0], flags=re.M)
+    source[0] = re.sub(r"^[ \t]*%OPTIONAL_PAGES%[ \t]*$", lines, source[0], flags=re.MULTILINE)
 
 
 def root_relative_links(app, docname: str, source: list[str]) -> None:
