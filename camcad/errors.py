@@ -8,11 +8,25 @@ import difflib
 class CamcadError(Exception):
     """A problem with the user's input or request; the CLI prints it on one line and exits 2.
 
+    Every function of the public API raises this (and only this) for bad input; anything else that
+    escapes is a bug (exit 3 at the command line). The message is one line: where, what, how to fix.
+
     Parameters
     ----------
-    what:  what is wrong ("vertex 17 goes back in x").
-    where: the file, entity and vertex it concerns ("accel.dxf, LWPOLYLINE 2F").
-    fix:   how to fix it ("redraw the vertex or pick another curve with --handle").
+    what : str
+        What is wrong, e.g. "vertex 17 goes back in x" (no unit: text).
+    where : str, optional
+        The file, entity, vertex or option it concerns, e.g. "accel.dxf, LWPOLYLINE 2F".
+    fix : str, optional
+        How to fix it, e.g. "redraw the vertex or pick another curve with --handle".
+
+    Examples
+    --------
+    >>> err = CamcadError("vertex 17 goes back in x", "accel.dxf, LWPOLYLINE 2F", "redraw the vertex")
+    >>> str(err)
+    'accel.dxf, LWPOLYLINE 2F: vertex 17 goes back in x; redraw the vertex'
+    >>> err.what, err.where, err.fix
+    ('vertex 17 goes back in x', 'accel.dxf, LWPOLYLINE 2F', 'redraw the vertex')
     """
 
     def __init__(self, what: str, where: str = "", fix: str = "") -> None:

@@ -94,19 +94,70 @@ def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
 def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
              strict: bool = True, tight_tol_deg: float = 1e-6, lp_tol: float = 1e-10,
              where: str = "[cyclogram]") -> CyclogramResult:
-    """Least makespan p(end) − p(start) by linear programming (scipy linprog, HiGHS).
+    """The cyclogram of least makespan p(end) − p(start), by linear programming (scipy linprog, HiGHS).
 
-    Stage 1 minimises p(end) with p(start) = start_deg under all difference constraints; stage 2
-    minimises Σ p with the makespan held, which picks the earliest schedule (the least element of
-    the feasible set, unique) so that the event times do not depend on the solver's path.
-    A constraint is tight when its slack ≤ ``tight_tol_deg``; the active bounds are the tight ones
-    on a start→end path of tight constraints (a longest path). ``lp_tol`` is HiGHS's primal and
-    dual feasibility tolerance (its accuracy knob; deg): the times are exact to about that times
-    the number of operations on a path (HiGHS's own default, 1e-7, would round away bounds that small).
+    Stage 1 minimises p(end) with p(start) = start_deg under all difference constraints
+    p(head) − p(tail) ≥ min, ≤ max; stage 2 minimises Σ p with the makespan held, which picks the
+    earliest schedule (the least element of the feasible set, unique) so that the event times do not
+    depend on the solver's path. A constraint is tight when its slack ≤ ``tight_tol_deg``; the active
+    bounds are the tight ones on a start→end path of tight constraints (a longest path).
 
-    ``limits`` adds phase limits ({label: [PhaseLimit, ...]}) to the operations' lower bounds.
-    Infeasible: ``strict`` raises CamcadError naming a smallest conflicting set; otherwise the
-    result has ``feasible`` False, ``conflict`` and ``explanation``.
+    Parameters
+    ----------
+    network : Network
+        The network (``make_network``), bounds in deg.
+    limits : mapping of str to iterable of PhaseLimit, optional
+        Phase limits ({"x->y": [PhaseLimit, ...]}, angles in deg) added to the operations' lower
+        bounds (from contact stress, vibration, impact).
+    strict : bool
+        Raise CamcadError when infeasible; otherwise return a result with ``feasible`` False.
+    tight_tol_deg : float
+        Slack below which a constraint counts as tight, deg.
+    lp_tol : float
+        HiGHS's primal and dual feasibility tolerance, deg (the accuracy knob: the times are exact to
+        about that times the number of operations on a path; HiGHS's own default, 1e-7, would round
+        away bounds that small).
+    where : str
+        What to name in an error message.
+
+    Returns
+    -------
+    CyclogramResult
+        ``makespan_deg``, ``event_times_deg`` ({event: deg}), ``phase_angles_deg`` ({"x->y": deg}),
+        ``critical_path``, ``active_bounds``, ``feasible``; when infeasible, ``conflict`` (a smallest
+        set of constraints that cannot hold together) and ``explanation``; ``report()`` gives the
+        SPEC.md ``cyclogram`` keys.
+
+    Raises
+    ------
+    CamcadError
+        Infeasible with ``strict``: names a smallest conflicting set and by how much it overruns.
+
+    References
+    ----------
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): minimise p(N) − p(1) subject to
+    p(x) ≤ p(y) − t(x, y), t(x, y) ≥ [φ(x, y)].
+    Q. Huangfu, J. A. J. Hall, "Parallelizing the dual revised simplex method", Mathematical
+    Programming Computation 10 (2018) 119–142 (HiGHS).
+
+    Examples
+    --------
+    a→b takes 30–90°, b→c 45–60°, and a→c at least 100°: by hand the makespan is max(30 + 45, 100) =
+    100°, set by a→c alone, and the earliest b is 100 − 60 = 40°:
+
+    >>> import camcad
+    >>> network = camcad.make_network([camcad.Operation("a", "b", 30.0, 90.0), camcad.Operation("b", "c", 45.0, 60.0),
+    ...                                camcad.Operation("a", "c", 100.0)])
+    >>> result = camcad.optimise(network)
+    >>> result.makespan_deg, result.event_times_deg, result.active_bounds
+    (100.0, {'a': 0.0, 'b': 40.0, 'c': 100.0}, ['a->c'])
+
+    Bounds that cannot hold together:
+
+    >>> tight = camcad.make_network([camcad.Operation("a", "b", 30.0, 40.0), camcad.Operation("b", "c", 45.0, 50.0),
+    ...                              camcad.Operation("a", "c", 0.0, 60.0)])
+    >>> camcad.optimise(tight, strict=False).explanation
+    'the cyclogram is infeasible: t(a->b) >= 30 deg (bounds_deg); t(b->c) >= 45 deg (bounds_deg); t(a->c) <= 60 deg (bounds_deg) cannot all hold (together they overrun by 15 deg)'
     """
     from scipy.optimize import linprog
     from scipy.sparse import csr_matrix

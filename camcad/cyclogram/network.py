@@ -21,12 +21,45 @@ from camcad.errors import nearest_name
 
 @dataclass(frozen=True)
 class Operation:
-    """One operation (arc) of the cyclogram, from event ``tail`` to event ``head``.
+    """One operation (an arc) of the cyclogram's network, from event ``tail`` to event ``head``.
 
-    ``min_deg``/``max_deg``: the designer's bounds on its phase angle (deg; max may be inf).
-    ``mechanism``: the mechanism doing it (a Gantt row), ``phase``/``occurrence``: which phase of
-    that mechanism's law it is (e.g. the first "rise"), for feeding the optimal angle back.
-    ``amplitude``/``amplitude_limit_mm``: a vibration relation amplitude(t) (mm, t deg) and its limit.
+    Its phase angle t = p(head) − p(tail) (deg) is what the cyclogram optimises, within its bounds.
+
+    Parameters
+    ----------
+    tail : str
+        The event that starts it.
+    head : str
+        The event that ends it.
+    min_deg : float
+        The least admissible phase angle [φ], deg (≥ 0).
+    max_deg : float
+        The largest phase angle, deg (``math.inf``: unbounded).
+    mechanism : str, optional
+        The mechanism doing it (a row of the Gantt chart).
+    name : str
+        A label for reports (no unit).
+    phase : str, optional
+        Which phase of that mechanism's law it is ("rise", "return", "dwell"), for feeding the
+        optimal angle back into the law.
+    occurrence : int
+        Which occurrence of that phase kind (1: the first; a count).
+    amplitude : callable, optional
+        A vibration relation amplitude(t): mm against the phase angle t in deg.
+    amplitude_limit_mm : float, optional
+        The limit of ``amplitude``, mm; it becomes a lower bound on t.
+
+    References
+    ----------
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): the cyclogram as a network of
+    events and operations with least admissible phase angles.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> feed = camcad.Operation("start", "fed", min_deg=30.0, max_deg=90.0, mechanism="feeder")
+    >>> feed.label, feed.min_deg, feed.max_deg
+    ('start->fed', 30.0, 90.0)
     """
 
     tail: str
@@ -67,10 +100,53 @@ class Network:
 def make_network(operations: Iterable[Operation], events: Iterable[str] | None = None,
                  start: str | None = None, end: str | None = None, cycle_deg: float = 360.0,
                  start_deg: float = 0.0, where: str = "[cyclogram]") -> Network:
-    """A validated Network. Raises CamcadError for: an operation naming an unknown event, an
-    operation from an event to itself, two operations between the same events, bounds with
-    min > max, a cycle of operations (named: "a -> b -> c -> a"), no unique first/last event,
-    and an event on no path from the first to the last."""
+    """A validated cyclogram network: its events, its operations, the first and last event.
+
+    Raises CamcadError for an operation naming an unknown event, an operation from an event to itself,
+    two operations between the same events, bounds with min > max, a cycle of operations (named:
+    "a -> b -> c -> a"), no unique first or last event, and an event on no path from the first to the
+    last.
+
+    Parameters
+    ----------
+    operations : iterable of Operation
+        The operations (arcs), with their bounds in deg.
+    events : iterable of str, optional
+        The events in order; by default those the operations name, in order of appearance.
+    start, end : str, optional
+        The first and last events; found as the only event without a predecessor (successor) when None.
+    cycle_deg : float
+        The machine's cycle, deg.
+    start_deg : float
+        Where the first event sits on the machine's cycle, deg.
+    where : str
+        What to name in an error message (the scene section).
+
+    Returns
+    -------
+    Network
+        ``events``, ``operations``, ``start``, ``end``, ``cycle_deg`` and ``start_deg`` (deg).
+
+    Raises
+    ------
+    CamcadError
+        The network is not a usable cyclogram (see above).
+
+    References
+    ----------
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000).
+
+    Examples
+    --------
+    >>> import camcad
+    >>> network = camcad.make_network([camcad.Operation("a", "b", 30.0), camcad.Operation("b", "c", 45.0)])
+    >>> network.events, network.start, network.end, network.cycle_deg
+    (('a', 'b', 'c'), 'a', 'c', 360.0)
+    >>> camcad.make_network([camcad.Operation("a", "b"), camcad.Operation("b", "a")])
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: [cyclogram]: the operations form a cycle: a -> b -> a; an event cannot come before itself; remove or reverse one of these operations
+    """
     ops = tuple(operations)
     if not ops:
         raise CamcadError("the cyclogram has no operations", where, "add [[cyclogram.operations]] tables")

@@ -187,10 +187,40 @@ class StiffnessTable:
 
 @dataclass(frozen=True)
 class ElasticFollower:
-    """Reduced mass on a spring: natural frequency (Hz), damping ratio, optional mass and stiffness variation.
+    """The elastic follower: a reduced mass on a spring, driven by the cam through the law.
 
-    ``mass_kg`` (kg, or kg·m² for an oscillating follower) is needed only for forces.
-    ``stiffness`` is φ(θ) = c(θ)/c0; None means constant stiffness.
+    m ÿ + b (ẏ − ṡ) + c(θ) (y − s) = F(t): s(θ) is the law (the rigid motion), y the actual motion of the
+    reduced mass m, c the reduced stiffness of the driven chain (constant, or c0·φ(θ)), ωn = √(c0/m),
+    ζ = b/(2√(c0 m)). The source's dissipation coefficient ψ (energy lost per cycle over the peak elastic
+    energy) is ζ = ψ/(4π) (``camcad.dynamics.model.damping_ratio_from_psi``).
+
+    Parameters
+    ----------
+    natural_frequency_hz : float
+        fn = ωn/(2π) of the follower system at the nominal stiffness c0, Hz.
+    damping_ratio : float
+        ζ, dimensionless, 0 ≤ ζ < 1.
+    mass_kg : float, optional
+        The reduced mass m, kg (kg·m² for an oscillating follower); needed only for forces.
+    stiffness : StiffnessTable, optional
+        The relative stiffness φ(θ) = c(θ)/c0 (dimensionless, θ in rad) of a chain whose stiffness
+        varies with the cam angle; None: constant stiffness.
+
+    References
+    ----------
+    I. I. Vulfson, Dynamics of Cyclic Machines, Springer (2015), ch. 2–3 (the elastic follower, ψ).
+    R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 8–9 (the single-DOF model).
+
+    Examples
+    --------
+    ωn = 2π fn and ωd = ωn √(1 − ζ²): for 50 Hz and ζ = 0.1, 314.159 and 312.585 rad/s:
+
+    >>> import camcad
+    >>> follower = camcad.ElasticFollower(50.0, damping_ratio=0.1)
+    >>> round(follower.omega_n, 3), round(follower.omega_d, 3)
+    (314.159, 312.585)
+    >>> round(camcad.ElasticFollower(50.0, mass_kg=2.0).stiffness_n_per_m)    # c0 = m ωn², N/m
+    197392
     """
 
     natural_frequency_hz: float

@@ -33,19 +33,73 @@ def exact_available(law) -> bool:
 
 def analyse(law: MotionLaw, harmonics: int = 64, *, tol: float = 1e-9, method: str = "auto",
             max_samples: int = 1 << 22, tail_harmonics: int | None = None) -> Spectrum:
-    """Amplitudes and initial phases of s (mm) and a (mm/rad²) of a full-cycle law, k = 1..harmonics.
+    """Amplitudes and initial phases of the harmonics of a law's displacement and acceleration.
+
+    The series is written in the source's form s(θ) = mean + Σ A_k sin(k ω0 θ + φ_k), ω0 = 2π/cycle,
+    with A_k = 2|c_k| and φ_k = arg c_k + π/2 from c_k = (1/T) ∫ s e^{−ikω0θ} dθ; the acceleration analog
+    a = d²s/dθ² is analysed the same way. Exact where the law allows it: a drawn (piecewise-linear)
+    acceleration integrated by parts over its knots, a composite standard law integrated piece by
+    piece; any other law by FFT of a sampling doubled until it converges. At n rpm the k-th harmonic
+    has the frequency k·n/60 Hz.
 
     Parameters
     ----------
-    law : any MotionLaw over one cycle (rad).
-    harmonics : N, the number of harmonics returned.
-    tol : FFT path only — the sampling is doubled until two successive samplings agree on every A_k,
+    law : MotionLaw
+        A law over one cycle: θ in rad, s in mm (or rad of swing), a in mm/rad².
+    harmonics : int
+        N, the number of harmonics returned (k = 1..N).
+    tol : float
+        FFT path only: the sampling is doubled until two successive samplings agree on every A_k,
         k ≤ N, within ``tol`` mm (the accuracy knob); ignored by the exact methods.
-    method : "auto" (exact when available, else FFT), "exact" or "fft".
-    max_samples : the largest FFT sampling tried; ``converged`` is False when it was not enough.
-    tail_harmonics : exact methods — coefficients up to this k (default 4N) are computed and summed
-        exactly into the remainder Σ_{k>N} A_k²/2; only the part beyond is the asymptotic estimate.
-        The knob of the truncation-error accuracy near N.
+    method : str
+        "auto" (exact when available, else FFT), "exact" or "fft".
+    max_samples : int
+        The largest FFT sampling tried (a count); ``converged`` is False when it was not enough.
+    tail_harmonics : int, optional
+        Exact methods: coefficients up to this k (default 4N) are computed and summed exactly into the
+        remainder Σ_{k>N} A_k²/2; only the part beyond is the asymptotic estimate. The knob of the
+        truncation-error accuracy near N.
+
+    Returns
+    -------
+    Spectrum
+        ``mean`` (mm), ``amplitudes`` A_k (mm), ``phases`` φ_k (rad), ``accel_amplitudes`` (mm/rad²),
+        ``accel_phases`` (rad), ``rms_error(n)`` the RMS error of the series truncated after n
+        harmonics (mm, by Parseval), ``coefficient_error`` (mm), ``method``, ``converged``.
+
+    Raises
+    ------
+    ValueError
+        ``harmonics`` < 1, an unknown method, or "exact" for a law that has no exact analysis.
+
+    References
+    ----------
+    Harmonic analysis of cam motion laws, RMS error against the number of harmonics kept, resonance
+    filtering: PhD abstract on the batten mechanism of the STB loom, Novosibirsk (seed 001; see
+    ``docs/analyses.md``).
+
+    Examples
+    --------
+    The full-cycle harmonic law s = h(1 − cos θ)/2 is one sine: mean h/2, A_1 = h/2, φ_1 = −90°, nothing
+    else; the RMS error of the mean alone is A_1/√2:
+
+    >>> import math
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")
+    >>> spectrum = camcad.analyse(law, 8)
+    >>> spectrum.method, round(spectrum.mean, 12), round(float(spectrum.amplitudes[0]), 12)
+    ('exact', 10.0, 10.0)
+    >>> round(math.degrees(spectrum.phases[0]), 9), float(spectrum.amplitudes[1:].max()) < 1e-12
+    (-90.0, True)
+    >>> round(spectrum.rms_error(0) * math.sqrt(2.0), 12), spectrum.rms_error(1) < 1e-12
+    (10.0, True)
+
+    The exact and the FFT paths agree on a cycloidal cycle:
+
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> exact, fft = camcad.analyse(law, 32), camcad.analyse(law, 32, method="fft")
+    >>> exact.method, fft.method, float(abs(exact.amplitudes - fft.amplitudes).max()) < 1e-9
+    ('exact', 'fft', True)
     """
     if harmonics < 1:
         raise ValueError("harmonics must be at least 1")

@@ -58,7 +58,56 @@ def speed_range(rpm, where: str = "rpm") -> tuple[float, float]:
 
 def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 1, taper: int = 0,
                        where: str = "filter") -> ResonanceBand:
-    """The resonant harmonics (see ``ResonanceBand``) for natural frequency fn (Hz) over rpm = (n1, n2)."""
+    """The harmonics of a law that meet a natural frequency fn over a speed range (the resonance band).
+
+    Harmonic k is *resonant* when |k n/60 − fn| ≤ band·fn for some speed n ∈ [n1, n2] rpm, i.e.
+    60 fn (1 − band)/n2 ≤ k ≤ 60 fn (1 + band)/n1 (both ends included, to 1e-9 relative). ``removed``
+    adds ``neighbours`` harmonics on each side; ``gains`` multiply the harmonics: 0 for the removed ones
+    and, with ``taper`` > 0, a raised-cosine ramp g = sin²(π d / (2(taper + 1))) over the next ``taper``
+    harmonics at distance d from the removed set.
+
+    Parameters
+    ----------
+    fn_hz : float
+        Natural frequency of the follower system, Hz.
+    rpm : float or sequence of float
+        One speed or the speeds (n1 … n2) of the machine, rpm.
+    band : float
+        Half-width of the band as a fraction of fn (0.05: ±5 %), dimensionless.
+    neighbours : int
+        Harmonics removed on each side of the resonant ones (a count).
+    taper : int
+        Harmonics over which the gain ramps back to 1 (a count; 0: a hard cut).
+    where : str
+        What to name in an error message.
+
+    Returns
+    -------
+    ResonanceBand
+        ``k_low``, ``k_high`` (the band in harmonic numbers, dimensionless), ``core`` (the resonant k),
+        ``removed``, ``gains`` ({k: gain}, dimensionless), ``fn_hz`` (Hz), ``rpm`` (n1, n2 in rpm).
+
+    Raises
+    ------
+    CamcadError
+        A speed or frequency that is not positive, a band outside [0, 1), negative counts.
+
+    References
+    ----------
+    Resonance filtering of a motion law (removing the resonating harmonic and its neighbours): PhD
+    abstract on the batten mechanism of the STB loom, Novosibirsk (seed 001).
+
+    Examples
+    --------
+    fn = 100 Hz, 300–400 rpm, ±5 %: by hand k ≥ 60·100·0.95/400 = 14.25 and k ≤ 60·100·1.05/300 = 21:
+
+    >>> import camcad
+    >>> band = camcad.resonant_harmonics(100.0, (300.0, 400.0), band=0.05, neighbours=1)
+    >>> round(band.k_low, 9), round(band.k_high, 9), band.core
+    (14.25, 21.0, (15, 16, 17, 18, 19, 20, 21))
+    >>> band.removed
+    (14, 15, 16, 17, 18, 19, 20, 21, 22)
+    """
     low, high = speed_range(rpm, where)
     if not (np.isfinite(fn_hz) and fn_hz > 0):
         raise CamcadError(f"natural frequency {fn_hz!r} Hz must be positive", where, "give fn in Hz, e.g. --fn 160")

@@ -179,7 +179,44 @@ def _left_value(x: np.ndarray, a: np.ndarray, t: float) -> float:
 
 
 def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[Phase, ...]:
-    """Phases from "0:90:rise,90:180:dwell,..." (deg); they must cover [0, cycle] without gaps."""
+    """Phases from a text such as "0:90:rise,90:180:dwell,..." (deg), covering [0, cycle] without gaps.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated ``start:end:kind`` items, start and end in deg, kind "rise", "return" or
+        "dwell"; each phase starts where the previous ends, the first at 0, the last ends at the cycle.
+    cycle_deg : float
+        The cycle the phases must cover, deg.
+    where : str
+        What to name in an error message: the option or scene key the text came from.
+
+    Returns
+    -------
+    tuple of Phase
+        The phases, with ``start`` and ``end`` in **rad** (the library's inside unit;
+        ``Phase.as_deg()`` gives deg).
+
+    Raises
+    ------
+    CamcadError
+        A malformed item, an unknown kind, a phase that ends before it starts, a gap or an overlap,
+        or phases that do not cover the cycle.
+
+    Examples
+    --------
+    >>> import math
+    >>> import camcad
+    >>> phases = camcad.parse_phases("0:90:rise,90:180:dwell,180:270:return,270:360:dwell", 360.0)
+    >>> [(p.kind, math.degrees(p.start), math.degrees(p.end)) for p in phases][:2]
+    [('rise', 0.0, 90.0), ('dwell', 90.0, 180.0)]
+    >>> phases[0].as_deg()
+    {'kind': 'rise', 'start_deg': 0.0, 'end_deg': 90.0}
+    >>> camcad.parse_phases("0:90:rise,100:360:return", 360.0)
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: --phases: gap or overlap between phases at 90 and 100 deg; make each phase start where the previous ends
+    """
     phases = []
     items = [item.strip() for item in text.split(",") if item.strip()]
     if not items:

@@ -59,7 +59,42 @@ class LoadedLaw:
 
     a_law = (y_input − ``y0``) × ``y_scale``;  θ = (x − x_min)/(x_max − x_min) × cycle  (x in drawing
     units; ``x_min`` is the drawing x of θ = 0, ``x_max`` that of θ = cycle). ``theta_to_x`` and
-    ``a_to_y`` map back to drawing coordinates exactly (the writers use them).
+    ``a_to_y`` map back to drawing coordinates exactly (the writers use them). Returned by
+    ``load_law``; users read it rather than build it.
+
+    Attributes
+    ----------
+    law : PiecewiseLinearLaw
+        The law: knots ``law.x`` in rad of cam angle, ordinates ``law.a`` in mm/rad² (with ``lift``
+        given; otherwise drawing units of y per rad²), its ``phases`` (rad) and ``cycle`` (rad).
+    path : Path
+        The file it was read from.
+    source : str
+        One line saying which curve (or table) it is, its vertex count and x range.
+    notes : tuple of str
+        Every decision taken while reading (curve chosen, axis found, scaling), in words.
+    y_scale : float
+        The factor from drawing y to the law's a: mm/rad² per drawing unit (1.0 without ``lift``).
+    x_min, x_max : float
+        Drawing x (drawing units) of θ = 0 and of θ = cycle.
+    phases_given : bool
+        The phases were given (``phases``) rather than detected.
+    vertex_map : VertexMap
+        How each drawn point maps onto the law's vertices (duplicates and vertical runs folded).
+    curve : Curve or None
+        The drawn curve (DXF input), None for a table.
+    drawing : Drawing or None
+        The opened drawing (DXF input), None for a table.
+    table : Table or None
+        The table read (table input), None for a drawing.
+    candidates : int
+        How many curves could have been the law (the widest one is taken unless picked).
+    extra : dict
+        Further facts for the report (free-form keys, no unit).
+    y0 : float
+        Drawing y of a = 0 (drawing units), found in the drawing unless given.
+    baseline : Baseline or None
+        The zero axis and origin found in the drawing, with how they were found.
     """
 
     law: PiecewiseLinearLaw
@@ -123,12 +158,42 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     Returns
     -------
     LoadedLaw
-        The law and how it maps to the file; ``notes`` say every decision taken.
+        The law (θ in rad, a in mm/rad² — or drawing units of y per rad² without ``lift``) and how
+        it maps to the file; ``notes`` say every decision taken.
 
     Raises
     ------
     CamcadError
         Bad input: one line saying what, where and how to fix.
+
+    See Also
+    --------
+    camcad.check : the area balance of the law read.
+
+    References
+    ----------
+    O. M. Dupliak, R. I. Kotsiyba, "Methods for optimization of the cam mechanisms modeling",
+    Khmelnytsky National University (2018) (seed 003): the acceleration analog drawn in CAD and
+    read from DXF. camcad's reading rules are in ``docs/reading.md``.
+
+    Examples
+    --------
+    A table of θ (deg) and a: a triangular lobe up and one down for the rise (0–180°), the mirror
+    image for the return. By hand, a lobe of height A and base π/2 rad followed by its negative gives
+    the rise s = Aπ²/8, so the scale to a 10 mm lift is 80/π² mm/rad² per unit of the table's a:
+
+    >>> import math, tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> rows = [(0, 0), (45, 1), (90, 0), (135, -1), (180, 0), (225, -1), (270, 0), (315, 1), (360, 0)]
+    >>> _ = (folder / "law.csv").write_text("".join(f"{t},{a}\\n" for t, a in rows))
+    >>> loaded = camcad.load_law(folder / "law.csv", lift=10.0)
+    >>> round(loaded.y_scale * math.pi**2, 9)
+    80.0
+    >>> [(p.kind, math.degrees(p.start), math.degrees(p.end)) for p in loaded.law.phases]
+    [('rise', 0.0, 180.0), ('return', 180.0, 360.0)]
+    >>> loaded.notes
+    ('y scaled by 8.10569 so the rise is 10 mm',)
     """
     path = Path(path)
     cycle_stated = cycle_deg is not None

@@ -205,10 +205,60 @@ def _solve(margin_of_rb, lo: float, hi: float, xtol: float, what: str, size: flo
 
 def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = None, grid: int = 2048
                     ) -> BaseRadiusDesign:
-    """The smallest base radius (mm) meeting ``follower``'s pressure-angle limits and curvature limit.
+    """The smallest base radius (mm) meeting the follower's pressure-angle limits and curvature limit.
 
-    ``law`` is in follower units (mm, or rad for the oscillating follower); the follower's own
-    base radius is ignored. See the module docstring for the method and the guarantees.
+    The follower's own base radius is ignored. Translating roller or knife: the pressure-angle bound is
+    in closed form per θ, d ≥ |v − σe|/tan(limit) − s with d = √(Rp² − e²); oscillating follower and
+    the curvature limit: the root of the margin function by Brent's method. Flat face:
+    ρ = Rb + s + a ≥ ρ_min gives Rb ≥ ρ_min − min(s + a). The result is rounded up by the solver's
+    tolerance, so a cam of that base radius meets its limits (module docstring).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law in follower units: s in mm (or rad of swing for the oscillating follower), θ in rad.
+    follower : Follower
+        The follower: its kind, Rr, offset (mm), pivot and arm (mm), limits (deg) and ``rho_min`` (mm).
+    xtol : float, optional
+        Tolerance on Rb, mm; by default 1e-11 × the mechanism's size (stroke + Rr + |e|, or the pivot's
+        reach), so a cam drawn at 1e-6 or 1e6 scale gets the same relative accuracy.
+    grid : int
+        Points per cycle of the inner search over θ before its refinement (a count, no unit).
+
+    Returns
+    -------
+    BaseRadiusDesign
+        ``rb_pressure_angle``, ``rb_curvature`` and ``rb_min`` (the larger) in mm, None where a limit is
+        not given or cannot be met; ``limited_by`` names the limit that sets ``rb_min``.
+
+    References
+    ----------
+    R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 7 (sizing the cam by its
+    pressure angle and radius of curvature).
+    R. P. Brent, Algorithms for Minimization without Derivatives (1973), ch. 4–5.
+
+    Examples
+    --------
+    A flat-faced follower on the full-cycle harmonic law s = h(1 − cos θ)/2: s + a = h/2 at every θ,
+    so with h = 20 mm and ρ_min = 25 mm the bound is Rb = 25 − 10 = 15 mm:
+
+    >>> import numpy as np
+    >>> import camcad
+    >>> harmonic = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")
+    >>> design = camcad.min_base_radius(harmonic, camcad.Follower("flat", base_radius=1.0, rho_min=25.0))
+    >>> round(design.rb_min, 9), design.limited_by
+    (15.0, 'curvature')
+
+    A translating roller (Rr 10 mm, limits 30° rise and 45° return): the per-θ bound evaluated by hand on
+    a fine grid of the law gives the same radius:
+
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> design = camcad.min_base_radius(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0))
+    >>> k = camcad.kinematics_deg(law, np.linspace(0.0, 360.0, 360001))
+    >>> limit = np.radians(np.where(k.v >= 0.0, 30.0, 45.0))
+    >>> by_hand = float((np.abs(k.v) / np.tan(limit) - k.s).max()) - 10.0
+    >>> round(by_hand, 6), round(design.rb_pressure_angle, 6)
+    (25.018891, 25.018891)
     """
     from camcad.profile.scaled_law import law_breakpoints
 

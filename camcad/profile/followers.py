@@ -30,25 +30,60 @@ FOLLOWER_KINDS = ("roller", "flat", "oscillating", "knife")
 class Follower:
     """A follower and its design limits (lengths in mm, angles in deg).
 
-    kind            "roller" (translating roller), "knife" (roller with Rr = 0), "flat"
-                    (translating flat face perpendicular to its axis) or "oscillating"
-                    (oscillating roller).
-    base_radius     Rb, base-circle radius of the cam profile (mm).
-    roller_radius   Rr (mm); 0 for a knife edge; not used by "flat".
-    offset          e, translating followers: axis at x = e (mm).
-    pivot, arm      C and L of the oscillating follower (mm).
-    cw              the cam turns clockwise.
-    pressure_angle_limit_rise_deg, pressure_angle_limit_return_deg
-                    limits of |pressure angle| while the roller moves away from (rise) or
-                    toward (return) the cam centre; None means not checked. Dwells use the
-                    rise limit.
-    reversible      the cam runs both ways, so each moving phase is a working stroke in one
-                    direction: the rise limit then applies to returns too.
-    groove          also build the outer flank of a groove cam (roller followers).
-    pair_distance   translating conjugate pair: distance between the two roller centres (mm).
-    pair_angle_deg  oscillating conjugate pair: angle between the two arms (deg).
-    rho_min         smallest allowed radius of curvature of convex parts of the profile (mm);
-                    None means only "no undercut".
+    Frames and signs: the cam centre is the origin and the cam turns counter-clockwise unless ``cw``.
+    A translating follower moves along +y on the line x = e (``offset``); an oscillating follower
+    pivots at (C, 0) and its arm of length L carries the roller (see ``camcad.profile.followers``).
+
+    Parameters
+    ----------
+    kind : str
+        "roller" (translating roller), "knife" (a roller with Rr = 0), "flat" (translating flat face
+        perpendicular to its axis) or "oscillating" (oscillating roller).
+    base_radius : float
+        Rb, base-circle radius of the cam profile, mm.
+    roller_radius : float
+        Rr, mm; 0 for a knife edge; not used by "flat".
+    offset : float
+        e, translating followers: the follower's axis is the line x = e, mm.
+    pivot : float, optional
+        C, distance from the cam centre to the pivot of an oscillating follower, mm.
+    arm : float, optional
+        L, arm length of an oscillating follower (pivot to roller centre), mm.
+    cw : bool
+        The cam turns clockwise.
+    pressure_angle_limit_rise_deg : float, optional
+        Limit of |pressure angle| while the follower moves away from the cam centre (rise), deg;
+        None: not checked. Dwells use the rise limit.
+    pressure_angle_limit_return_deg : float, optional
+        Limit of |pressure angle| while the follower moves toward the cam centre (return), deg;
+        None: not checked.
+    reversible : bool
+        The cam runs both ways, so each moving phase is a working stroke in one direction: the rise
+        limit then applies to returns too.
+    groove : bool
+        Also build the outer flank of a groove cam (roller followers).
+    pair_distance : float, optional
+        Translating conjugate pair: distance between the two roller centres, mm.
+    pair_angle_deg : float, optional
+        Oscillating conjugate pair: angle between the two arms, deg.
+    rho_min : float, optional
+        Smallest allowed radius of curvature of the convex parts of the profile, mm; None: only
+        "no undercut" is checked.
+
+    Examples
+    --------
+    The pitch curve of a roller follower starts on the circle of radius Rp = Rb + Rr:
+
+    >>> import camcad
+    >>> follower = camcad.Follower("roller", base_radius=40.0, roller_radius=10.0)
+    >>> follower.prime_radius
+    50.0
+    >>> follower.describe()
+    'translating roller, Rb 40 mm, Rr 10 mm, e 0 mm, CCW'
+    >>> camcad.Follower("roller", base_radius=40.0, roller_radius=10.0, offset=60.0).validate()
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: follower: offset |e| = 60 mm is not less than Rb + Rr = 50 mm; reduce the offset or enlarge the base circle
     """
 
     kind: str

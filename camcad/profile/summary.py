@@ -65,12 +65,46 @@ def stroke(result: ProfileResult) -> float:
 
 
 def report(result: ProfileResult, phases: str = "the law's own phase angles") -> dict:
-    """The SPEC.md ``profile`` keys, and more (angles in deg, lengths in mm).
+    """The report of a synthesised cam: the SPEC.md ``profile`` keys with every check's margin.
 
     ``checks`` holds every check as ``{"value", "limit", "margin", "passed", "why", ...}``
     (``camcad.profile.verdict``), ``tightest`` their names with the least relative margin first,
     ``warnings`` what an engineer would flag, ``passed`` the verdict; ``phase_angles`` says whose
     phase angles the law has.
+
+    Note: ``camcad.report`` is this function until the subpackage ``camcad.report`` (plots and files) is
+    imported, which replaces the attribute; ``from camcad.profile.summary import report`` always works.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``synthesize``).
+    phases : str
+        Whose phase angles the law has, in words (no unit), repeated in each check's ``why``.
+
+    Returns
+    -------
+    dict
+        JSON-ready: angles in deg (keys ``..._deg``), lengths in mm (``..._mm``): e.g.
+        ``pressure_angle_max_deg`` and its ``..._at_deg``, ``rho_pitch_min_mm``, ``rho_profile_min_mm``,
+        ``undercut``, ``closed``, ``closure_gap_mm``, ``lift_mm`` (``swing_deg`` for an oscillating
+        follower), ``design`` (base radii, mm), ``checks``, ``tightest``, ``warnings``, ``passed``.
+
+    Examples
+    --------
+    The rise's pressure-angle check of a 20 mm cycloidal cycle: its margin is the limit less the value:
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> from camcad.profile.summary import report    # camcad.report; see the note above
+    >>> figures = report(result)
+    >>> figures["lift_mm"], figures["passed"]
+    (20.0, True)
+    >>> rise = figures["checks"]["pressure angle, rise"]
+    >>> rise["limit"], round(rise["value"], 3), abs(rise["limit"] - rise["value"] - rise["margin"]) < 1e-6
+    (30.0, 23.233, True)
     """
     f = result.follower
     pa = result.pressure_angle

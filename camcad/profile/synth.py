@@ -28,17 +28,39 @@ from camcad.profile.sampling import ArcPath, Polyline, SplineData, biarc_fit, ch
 
 @dataclass(frozen=True)
 class ProfileSettings:
-    """How to synthesise and what to write.
+    """How to synthesise a cam profile and what to write.
 
-    tol_mm            chord tolerance: largest distance between written and exact curve (mm).
-    arcs              write the profile as lines and tangent arcs (bulges) instead of chords.
-    spline            also write a closed control-point SPLINE of the profile.
-    r12               write DXF R12 instead of R2000.
-    plots             write PNG plots.
-    csv_step_deg      step of the law.csv table (deg).
-    analysis_step_deg grid step for the extremum search before refinement (deg).
-    design            also compute the smallest base radius meeting the limits.
-    name              the design's name (output folder, drawing title).
+    Parameters
+    ----------
+    tol_mm : float
+        Chord tolerance: the largest distance between the written and the exact curve, mm (at most 1).
+    arcs : bool
+        Write the profile as lines and tangent arcs (bulges) instead of chords.
+    spline : bool
+        Also write a closed control-point SPLINE of the profile (not with ``r12``).
+    r12 : bool
+        Write DXF R12 instead of R2000.
+    plots : bool
+        Write the summary plot (PNG) with the files.
+    csv_step_deg : float
+        Step of the law.csv table, deg (0 < step ≤ 10).
+    analysis_step_deg : float
+        Grid step of the extremum search before its refinement by Brent's method, deg.
+    design : bool
+        Also compute the smallest base radius meeting the limits (``min_base_radius``).
+    name : str
+        The design's name (output folder, drawing title).
+
+    Examples
+    --------
+    >>> import camcad
+    >>> settings = camcad.ProfileSettings(tol_mm=0.01, arcs=True, plots=False)
+    >>> settings.validate().tol_mm
+    0.01
+    >>> camcad.ProfileSettings(r12=True, spline=True).validate()
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: --r12 --spline: DXF R12 has no SPLINE entity; drop --spline, or drop --r12 to write R2000
     """
 
     tol_mm: float = defaults.CHORD_TOLERANCE_MM
@@ -135,7 +157,61 @@ class PressureAngleCheck:
 
 @dataclass(frozen=True)
 class ProfileResult:
-    """Everything ``synthesize`` found; arrays in mm and rad."""
+    """Everything ``synthesize`` found: the curves, the checks and the law table (mm and rad).
+
+    Returned by ``synthesize``; ``camcad.report`` turns it into the SPEC.md keys (deg and mm),
+    ``write_outputs`` into files and the ``plot_*`` functions into figures.
+
+    Attributes
+    ----------
+    name : str
+        The design's name.
+    law : MotionLaw
+        The law the cam was made for (θ in rad; s in mm, or rad of swing for an oscillating follower).
+    follower : Follower
+        The follower (validated).
+    settings : ProfileSettings
+        The settings used.
+    geometry : CamGeometry
+        The exact geometry: pitch curve, profile, pressure angle as functions of θ (rad).
+    profile : CurveResult
+        The cam profile as written: chord polyline (mm) within ``settings.tol_mm``, optional arcs and
+        spline, its smallest convex and concave radii of curvature (mm), closure gap (mm).
+    pitch : CurveResult
+        The pitch curve (path of the roller centre), mm.
+    outer : CurveResult or None
+        The outer flank of a groove cam (``follower.groove``), mm.
+    counter : CurveResult or None
+        The counter-cam profile of a conjugate pair, mm.
+    counter_pitch : CurveResult or None
+        The counter-cam's pitch curve, mm.
+    table : LawTable
+        The law and the checks on a uniform grid: θ (rad), s, v, a, j (follower units per rad of cam
+        angle), pressure angle and its limit (rad), radii of curvature (mm).
+    pressure_angle : PressureAngleCheck
+        Extremes of the pressure angle (rad) with where they occur (θ in rad), the worst margin to the
+        limits (rad) and the verdict.
+    counter_pressure_angle : PressureAngleCheck or None
+        The same for the counter-cam's roller.
+    rho_pitch_min : Extremum or None
+        Smallest convex radius of curvature of the pitch curve (mm) and its θ (rad).
+    rho_pitch_concave_min : Extremum or None
+        Smallest |radius| of the concave parts of the pitch curve (mm) and its θ (rad).
+    undercut : bool
+        The profile undercuts (loop or cusp); ``undercut_reasons`` says why.
+    undercut_reasons : tuple of str
+        Each reason, in words with its figures (mm, deg).
+    curvature_passed : bool
+        Every convex radius of curvature is at least ``follower.rho_min``.
+    closure_kink : float
+        Angle between the profile's tangents where the cycle closes, rad (0 for a balanced law).
+    design : BaseRadiusDesign or None
+        The smallest base radii (mm) meeting the limits, when ``settings.design``.
+    face_extent : (float, float) or None
+        Flat-faced follower: the extent of the contact point on the face, mm.
+    notes : tuple of str
+        What the synthesis noticed, in words.
+    """
 
     name: str
     law: MotionLaw
@@ -359,12 +435,64 @@ def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:
 
 def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | None = None,
                name: str | None = None) -> ProfileResult:
-    """Synthesise the cam for ``law`` (follower units: mm, or rad of swing for an oscillating
-    follower; see ``followers.swing_law``) and ``follower``; raise CamcadError for bad input.
+    """Synthesise the cam profile for a law and a follower, and check it.
 
-    Checks: pressure angle within its limits per phase; no undercut (convex pitch radius ≤ Rr,
-    flat-face radius ≤ 0, or a profile polygon that shapely finds not valid and simple);
-    convex profile radius ≥ follower.rho_min when given; the profile closes within tol_mm.
+    Builds the exact geometry, places the written points by the chord tolerance, finds the extrema of
+    the pressure angle and of the radii of curvature (grid search refined by a bounded Brent search)
+    and runs the checks: pressure angle within its limits per phase; no undercut (convex pitch
+    radius ≤ Rr, flat-face radius ≤ 0, or a profile polygon that shapely finds not valid and simple);
+    convex profile radius ≥ ``follower.rho_min`` when given; the profile closes within ``tol_mm``.
+    For a translating roller follower the pressure angle is φ = atan((v − e)/(d + s)),
+    d = √(Rp² − e²), Rp = Rb + Rr (SPEC.md).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The follower's motion: s in mm (translating follower) or in rad of swing (oscillating
+        follower; see ``camcad.profile.followers.swing_law``) against θ in rad; e.g. ``compose`` or
+        ``load_law(...).law``.
+    follower : Follower
+        The follower and its limits (mm, deg).
+    settings : ProfileSettings, optional
+        Chord tolerance (mm), representation, analysis step (deg); defaults when None.
+    name : str, optional
+        The design's name; ``settings.name`` when None.
+
+    Returns
+    -------
+    ProfileResult
+        Curves in mm, angles in rad, and the checks; ``camcad.report(result)`` gives them in deg
+        and mm with every margin.
+
+    Raises
+    ------
+    CamcadError
+        A follower that cannot work (``Follower.validate``) or settings out of range.
+
+    References
+    ----------
+    R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 7–8 (pressure angle and
+    radius of curvature of roller and flat followers).
+    J. Angeles, C. S. López-Cajún, Optimization of Cam Mechanisms (1991), ch. 2.
+    R. P. Brent, Algorithms for Minimization without Derivatives (1973) (the refinement of extrema).
+
+    Examples
+    --------
+    A cycloidal dwell–rise–dwell–return cycle of 20 mm and a translating roller follower, Rb 40 mm,
+    Rr 10 mm, no offset. The largest pressure angle, by hand from SPEC.md's formula on a fine grid of
+    the law, is the one ``synthesize`` found by its own search:
+
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> follower = camcad.Follower("roller", base_radius=40.0, roller_radius=10.0)
+    >>> result = camcad.synthesize(law, follower, camcad.ProfileSettings(plots=False))
+    >>> k = camcad.kinematics_deg(law, np.linspace(0.0, 90.0, 90001))
+    >>> by_hand = np.degrees(np.arctan(k.v / (40.0 + 10.0 + k.s))).max()
+    >>> round(float(by_hand), 6), round(float(np.degrees(result.pressure_angle.maximum.value)), 6)
+    (23.233017, 23.233017)
+    >>> result.passed, result.undercut, result.profile.closed
+    (True, False, True)
     """
     settings = (settings or ProfileSettings()).validate()
     geometry = CamGeometry(law, follower)

@@ -49,7 +49,31 @@ def _theta_axis(ax, step: int = 30) -> None:
 
 
 def plot_kinematics(result):
-    """s, v, a and j against the cam angle, phases shaded, extrema labelled. Returns a Figure."""
+    """The law's s, v, a and j against the cam angle, phases shaded, extrema labelled.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``camcad.synthesize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four axes sharing the cam angle θ (deg): s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³); for an oscillating follower rad of swing instead of mm.
+        Saving it (``fig.savefig``) is the caller's choice.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> figure = camcad.plot_kinematics(result)
+    >>> [axes.get_ylabel() for axes in figure.axes]
+    ['s (mm)', 'v = ds/dθ (mm/rad)', 'a = d²s/dθ² (mm/rad²)', 'j = d³s/dθ³ (mm/rad³)']
+    >>> figure.axes[-1].get_xlabel()
+    'cam angle θ (deg)'
+    """
     fig, axes = new_figure(10, 10, rows=4, sharex=True)
     draw_kinematics(list(axes), result)
     fig.suptitle(f"{result.name}: motion law — green rise, orange return, white dwell", fontsize=11)
@@ -80,7 +104,29 @@ def draw_kinematics(axes, result, rows: tuple[str, ...] = ("s", "v", "a", "j"), 
 
 
 def plot_pressure_angle(result):
-    """The pressure angle against the cam angle with its limits shaded. Returns a Figure."""
+    """The pressure angle against the cam angle, with its limits shaded and the extremes labelled.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``camcad.synthesize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the pressure angle (deg) against the cam angle θ (deg).
+        Saving it (``fig.savefig``) is the caller's choice.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> axes = camcad.plot_pressure_angle(result).axes[0]
+    >>> axes.get_xlabel(), axes.get_ylabel()
+    ('cam angle θ (deg)', 'pressure angle (deg)')
+    """
     fig, ax = new_figure(10, 5)
     draw_pressure_angle(ax, result)
     return fig
@@ -124,7 +170,28 @@ def draw_pressure_angle(ax, result) -> None:
 
 
 def plot_curvature(result):
-    """The radius of curvature of the profile (and pitch curve) with the undercut zone. Returns a Figure."""
+    """The radius of curvature of the profile and of the pitch curve, with the undercut zone shaded.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``camcad.synthesize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the radius of curvature (mm, + convex) against the cam angle θ (deg).
+        Saving it (``fig.savefig``) is the caller's choice.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> camcad.plot_curvature(result).axes[0].get_ylabel()
+    'radius of curvature ρ (mm), + convex, − concave'
+    """
     fig, ax = new_figure(10, 5)
     draw_curvature(ax, result)
     return fig
@@ -167,7 +234,29 @@ def draw_curvature(ax, result) -> None:
 
 
 def plot_profile(result):
-    """The cam as drawn: profile, pitch curve, base circle, the follower at θ = 0. Returns a Figure."""
+    """The cam as drawn: profile, pitch curve, base circle and the follower at θ = 0.
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``camcad.synthesize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes in the cam's frame, x and y in mm, equal scales.
+        Saving it (``fig.savefig``) is the caller's choice.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> axes = camcad.plot_profile(result).axes[0]
+    >>> axes.get_xlabel(), axes.get_ylabel(), axes.get_aspect()
+    ('x (mm)', 'y (mm)', 1.0)
+    """
     fig, ax = new_figure(8, 8)
     draw_profile(ax, result)
     return fig
@@ -231,12 +320,38 @@ def draw_profile(ax, result, legend: bool = True, title: str | None = None) -> N
 
 
 def plot_hodograph(result):
-    """The velocity hodograph: s against v = ds/dθ (the follower's phase portrait).
+    """The velocity hodograph: s against v = ds/dθ, the follower's phase portrait.
 
     For a translating follower it doubles as the classical construction of the base radius:
     the pressure angle at each point is the angle from the vertical of the line from the cam
     centre O = (σe, −d) to the point (v, s), so O must lie below both lines drawn at the rise
-    and return limits tangent to the curve (the shaded wedge). Returns a Figure."""
+    and return limits tangent to the curve (the shaded wedge).
+
+    Parameters
+    ----------
+    result : ProfileResult
+        The synthesised cam (``camcad.synthesize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: s (mm) against v = ds/dθ (mm/rad).
+        Saving it (``fig.savefig``) is the caller's choice.
+
+    References
+    ----------
+    O. M. Dupliak, R. I. Kotsiyba (2018), seed 003: the velocity hodograph among the outputs.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> axes = camcad.plot_hodograph(result).axes[0]
+    >>> axes.get_xlabel(), axes.get_ylabel()
+    ('v = ds/dθ (mm/rad)', 's (mm)')
+    """
     fig, ax = new_figure(8, 7)
     t = result.table
     f = result.follower
@@ -286,20 +401,34 @@ def plot_hodograph(result):
 
 
 def plot_summary(result, report: dict | None = None):
-    """One page per cam: the profile, the law (s and a), the pressure angle and the curvature with their
-    limits, and the verdict — every check with its margin, tightest first, and the warnings.
+    """One page per cam: the profile, the law, the pressure angle, the curvature and the verdict.
+
+    The pressure angle and the curvature are drawn with their limits; the verdict lists every check with
+    its margin, tightest first, and the warnings.
 
     Parameters
     ----------
     result : ProfileResult
         The synthesised cam.
     report : dict, optional
-        Its report (``camcad.profile.report``, or the scene's mechanism report, which adds the models'
-        checks); computed from ``result`` when not given.
+        Its report (``camcad.report``, or the scene's mechanism report, which adds the models'
+        checks; angles in deg, lengths in mm); computed from ``result`` when not given.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The page: the profile (mm), s and a against θ (mm, mm/rad², deg), the pressure angle (deg) and the
+        radius of curvature (mm) with their limits, and the verdict's lines.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> figure = camcad.plot_summary(result)
+    >>> figure.axes[0].get_xlabel(), figure.axes[1].get_ylabel()
+    ('x (mm)', 's (mm)')
     """
     import textwrap
 

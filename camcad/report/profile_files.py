@@ -115,7 +115,12 @@ def law_csv_text(result: ProfileResult) -> str:
 def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, settings: ProfileSettings | None = None,
                   extra: dict | None = None, *, sub: tuple[str, ...] = (), report_json: bool = True,
                   inputs: tuple[Path, ...] = (), plots: tuple[str, ...] | None = None) -> list[Path]:
-    """Write profile.dxf, law.csv, the plots and report.json.
+    """Write a synthesised cam's files: profile.dxf, law.csv, the plots and report.json.
+
+    profile.dxf has the layers PROFILE, PITCH, BASE_CIRCLE, CENTER, ROLLER and TEXT (mm, DXF R2000 or
+    R12); law.csv has one row per ``csv_step_deg`` with θ (deg), s, v, a, j (mm or rad of swing, per
+    rad of cam angle), the pressure angle and its limit (deg) and the radii of curvature (mm). Every
+    file is written atomically into an ``OutputFolder``, which never replaces an input.
 
     Parameters
     ----------
@@ -131,6 +136,8 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
         A subfolder of ``out`` (a mechanism of a group scene).
     report_json : bool
         Write report.json (a scene writes one report for all its mechanisms instead).
+    inputs : tuple of Path
+        Files the run read: an output that would replace one of them is refused (when ``out`` is a path).
     plots : tuple of str, optional
         Names of ``camcad.report.profile.PLOTS`` to draw ("all" for every one); by default the summary
         page when ``settings.plots`` is true, none otherwise.
@@ -138,7 +145,21 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
     Returns
     -------
     list of Path
-        The written files.
+        The written files (no unit; their contents are in mm and deg as above).
+
+    Examples
+    --------
+    >>> import csv, tempfile, pathlib
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False, csv_step_deg=1.0))
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> [path.name for path in camcad.write_outputs(result, folder)]
+    ['profile.dxf', 'law.csv', 'report.json']
+    >>> rows = list(csv.DictReader(open(folder / "law.csv")))
+    >>> len(rows), rows[45]["theta_deg"], rows[45]["s_mm"]     # half the rise at half the rise angle
+    (361, '45', '10')
     """
     if not isinstance(out, OutputFolder):
         with OutputFolder(out, inputs) as folder:

@@ -76,8 +76,54 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
 
 def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
               progress: Callable[[str], None] | None = None) -> SceneResult:
-    """The whole pipeline on a scene (a file, or a ``Scene`` built from a command's options):
-    ``analyse_scene`` then ``write_scene``."""
+    """Run the whole scene pipeline and write its outputs: ``analyse_scene`` then ``write_scene``.
+
+    The outputs go into one ``OutputFolder`` (``options.output``, default ``camcad-out/<scene name>/``):
+    per mechanism profile.dxf (mm), law.csv (deg, mm) and the plots asked for; one report.json. No
+    output replaces a file the scene reads.
+
+    Parameters
+    ----------
+    source : str, Path or Scene
+        The scene file, or a ``Scene`` built from a command's options.
+    options : PipelineOptions
+        Where to write (``output``), the chord tolerance ``tol_mm`` (mm), arcs, spline, R12, the plots
+        to draw (``plots``: names, "all", or () for none) and ``contact_samples`` (a count).
+    progress : callable, optional
+        Called with a short text (no unit) as each step starts.
+
+    Returns
+    -------
+    SceneResult
+        As ``analyse_scene`` (SPEC.md keys: deg, mm, rpm, N, MPa); ``report["outputs"]`` lists the
+        files written.
+
+    Raises
+    ------
+    CamcadError
+        Bad input anywhere in the scene, or an output that would replace an input.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... [follower]
+    ... type = "roller"
+    ... base_radius = 40.0
+    ... roller_radius = 10.0
+    ... ''')
+    >>> from camcad.scene.pipeline import PipelineOptions
+    >>> result = camcad.run_scene(folder / "cam.toml", PipelineOptions(output=folder / "out", plots=()))
+    >>> sorted(path.name for path in (folder / "out").iterdir())
+    ['law.csv', 'profile.dxf', 'report.json']
+    """
     return write_scene(analyse_scene(source, options, progress), options, progress)
 
 

@@ -85,7 +85,49 @@ def read_toml(path: Path) -> dict:
 
 
 def read_scene(path: str | Path) -> Scene:
-    """Read and check the scene's structure (each section's content is checked by its parser)."""
+    """Read a scene file (TOML) and check its structure: sections, names, the machine's speeds.
+
+    Each section's content (keys, types, units) is checked by its own parser when the pipeline uses
+    it (``docs/SCENE.md`` lists every key with its unit: angles deg, lengths mm, speeds rpm, forces N,
+    stresses MPa, masses kg, frequencies Hz).
+
+    Parameters
+    ----------
+    path : str or Path
+        The scene file (.toml); relative law files in it are found beside it.
+
+    Returns
+    -------
+    Scene
+        ``name``, ``description``, ``speeds_rpm`` (rpm, None when the scene gives no speed),
+        ``mechanisms`` (each with its raw sections), ``cyclogram`` (the raw section or None).
+
+    Raises
+    ------
+    CamcadError
+        A file that cannot be read or is not TOML, an unknown section or key (with the nearest valid
+        one), a value of the wrong type.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... [follower]
+    ... type = "roller"
+    ... base_radius = 40.0
+    ... roller_radius = 10.0
+    ... ''')
+    >>> scene = camcad.read_scene(folder / "cam.toml")
+    >>> scene.name, [mechanism.name for mechanism in scene.mechanisms], scene.speeds_rpm
+    ('cam', ['cam'], None)
+    """
     path = Path(path)
     return scene_from_dict(read_toml(path), path)
 

@@ -73,8 +73,66 @@ Progress = Callable[[str], None]
 
 def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
                   progress: Progress | None = None) -> SceneResult:
-    """Run steps 1–9 of the pipeline on a scene file and return what it found (see the module docstring);
-    ``camcad.report.scene`` writes the outputs (step 10)."""
+    """Run the scene pipeline's analyses (steps 1–9) and return what they found, writing nothing.
+
+    For every mechanism: read the law, check (and fix) its balance, resonance filtering, profile
+    synthesis, elastic dynamics, stop impact, contact stress and the least phase angles they allow; then
+    the cyclogram, whose phase angles go back into the laws (module docstring; SPEC.md "The scene
+    pipeline"). Only the steps the scene asks for run; ``report["skipped"]`` says why the others did
+    not. ``run_scene`` also writes the outputs (step 10).
+
+    Parameters
+    ----------
+    path : str, Path or Scene
+        The scene file, or a ``Scene`` (``read_scene``, or built by a command from its options).
+    options : PipelineOptions
+        How the outputs would be written (chord tolerance ``tol_mm`` in mm, arcs, spline, R12, plots)
+        and the contact-stress sampling (``contact_samples``, a count per phase).
+    progress : callable, optional
+        Called with a short text (no unit) as each step starts.
+
+    Returns
+    -------
+    SceneResult
+        ``report``: the SPEC.md keys (angles deg, lengths mm, speeds rpm, forces N, stresses MPa),
+        with ``models_run`` and ``skipped``; ``runs``: each mechanism's law, profile and models;
+        ``passed``: the verdict.
+
+    Raises
+    ------
+    CamcadError
+        Bad input anywhere in the scene: one line naming the file and section.
+
+    Examples
+    --------
+    A scene with a cycloidal law and a roller follower runs the law and the profile only; its pressure
+    angle is the one ``synthesize`` finds for the same law and follower:
+
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... [follower]
+    ... type = "roller"
+    ... base_radius = 40.0
+    ... roller_radius = 10.0
+    ... ''')
+    >>> result = camcad.analyse_scene(folder / "cam.toml")
+    >>> result.report["models_run"], result.passed
+    (['law', 'profile'], True)
+    >>> result.report["skipped"]["dynamics"]
+    'no [dynamics] in scene'
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> alone = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0))
+    >>> import math
+    >>> round(result.report["pressure_angle_max_deg"], 9) == round(math.degrees(alone.pressure_angle.maximum.value), 9)
+    True
+    """
     scene = path if isinstance(path, Scene) else read_scene(path)
     say = progress or (lambda _text: None)
     if not scene.mechanisms:
