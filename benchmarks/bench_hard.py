@@ -44,7 +44,7 @@ from camcad.errors import CamcadError  # noqa: E402
 from camcad.law.source import load_law  # noqa: E402
 from camcad.law.standard import compose  # noqa: E402
 from camcad.profile.followers import Follower
-from camcad.profile.summary import report
+from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 
 LIFT = 25.0

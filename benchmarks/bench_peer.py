@@ -388,7 +388,7 @@ def _row(kernel: str, method: str, setting: str, time_s, error, error_unit: str,
 def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, ...], extremes: dict) -> list[dict]:
     """camcad alone: synthesize at each chord tolerance (profile points, peak pressure angles) and
     min_base_radius at each grid for the exact peak pressure angle."""
-    from camcad.profile.summary import report
+    from camcad.profile.summary import profile_report as report
     from camcad.profile.synth import ProfileSettings, synthesize
     from camcad.profile.design import min_base_radius
 

@@ -13,11 +13,11 @@ a name that takes radians says so)::
     camcad.write_outputs(result, "out/")                          # profile.dxf, law.csv, report.json
 
 Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
-``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``report``,
+``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
-Scenes: ``read_scene``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure): ``plot_summary``,
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure): ``plot_summary``,
 ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``, ``plot_hodograph``.
 
 Every name loads on first use, so ``import camcad`` costs almost nothing (the command line's start-up
@@ -52,7 +52,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.standard import compose
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
-    from camcad.profile.summary import report
+    from camcad.profile.summary import profile_report
+    from camcad.scene.pipeline import PipelineOptions
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.report.profile import (plot_curvature, plot_hodograph, plot_kinematics, plot_pressure_angle,
                                        plot_profile, plot_summary)
@@ -72,7 +73,8 @@ _EXPORTS: dict[str, str] = {
     "write_corrected": "camcad.io.law_write",
     "Follower": "camcad.profile.followers", "ProfileSettings": "camcad.profile.synth",
     "ProfileResult": "camcad.profile.synth", "synthesize": "camcad.profile.synth",
-    "report": "camcad.profile.summary", "min_base_radius": "camcad.profile.design",
+    "profile_report": "camcad.profile.summary",
+    "PipelineOptions": "camcad.scene.pipeline", "min_base_radius": "camcad.profile.design",
     "write_outputs": "camcad.report.profile_files",
     "analyse": "camcad.fourier.analysis", "resonant_harmonics": "camcad.fourier.resonance",
     "filter_law": "camcad.fourier.filter",
@@ -112,6 +114,7 @@ __all__ = [
     "Follower",
     "LoadedLaw",
     "Operation",
+    "PipelineOptions",
     "ProfileResult",
     "ProfileSettings",
     "StopModel",
@@ -135,8 +138,8 @@ __all__ = [
     "plot_pressure_angle",
     "plot_profile",
     "plot_summary",
+    "profile_report",
     "read_scene",
-    "report",
     "residual_vibration",
     "resonant_harmonics",
     "run_scene",

@@ -31,7 +31,7 @@ from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
 from camcad.law.standard import compose
 from camcad.profile.followers import Follower
-from camcad.profile.summary import report
+from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 from camcad.scene import stops as scene_stops

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camcad.profile.summary import report
+from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.profile.geometry import CamGeometry
 

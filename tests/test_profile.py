@@ -15,7 +15,7 @@ from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.standard import compose
 from camcad.scene.follower import FOLLOWER_FIELDS, parse_follower
 from camcad.profile.followers import Follower
-from camcad.profile.summary import report
+from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.profile.design import min_base_radius
 from camcad.profile.scaled_law import swing_law

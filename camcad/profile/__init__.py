@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.followers import FOLLOWER_KINDS, Follower
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.profile.scaled_law import ScaledLaw, swing_law
-    from camcad.profile.summary import report
+    from camcad.profile.summary import profile_report
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
 _EXPORTS: dict[str, str] = {
@@ -38,7 +38,7 @@ _EXPORTS: dict[str, str] = {
     "ProfileSettings": "camcad.profile.synth",
     "ScaledLaw": "camcad.profile.scaled_law",
     "min_base_radius": "camcad.profile.design",
-    "report": "camcad.profile.summary",
+    "profile_report": "camcad.profile.summary",
     "swing_law": "camcad.profile.scaled_law",
     "synthesize": "camcad.profile.synth",
 }
@@ -86,7 +86,7 @@ __all__ = [
     "ScaledLaw",
     "default_design",
     "min_base_radius",
-    "report",
+    "profile_report",
     "swing_law",
     "synthesize",
 ]

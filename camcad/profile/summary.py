@@ -64,16 +64,13 @@ def stroke(result: ProfileResult) -> float:
     return float(np.ptp(result.table.s))
 
 
-def report(result: ProfileResult, phases: str = "the law's own phase angles") -> dict:
+def profile_report(result: ProfileResult, phases: str = "the law's own phase angles") -> dict:
     """The report of a synthesised cam: the SPEC.md ``profile`` keys with every check's margin.
 
     ``checks`` holds every check as ``{"value", "limit", "margin", "passed", "why", ...}``
     (``camcad.profile.verdict``), ``tightest`` their names with the least relative margin first,
     ``warnings`` what an engineer would flag, ``passed`` the verdict; ``phase_angles`` says whose
     phase angles the law has.
-
-    Note: ``camcad.report`` is this function until the subpackage ``camcad.report`` (plots and files) is
-    imported, which replaces the attribute; ``from camcad.profile.summary import report`` always works.
 
     Parameters
     ----------
@@ -98,8 +95,7 @@ def report(result: ProfileResult, phases: str = "the law's own phase angles") ->
     >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
     >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
     ...                            camcad.ProfileSettings(plots=False, design=False))
-    >>> from camcad.profile.summary import report    # camcad.report; see the note above
-    >>> figures = report(result)
+    >>> figures = profile_report(result)
     >>> figures["lift_mm"], figures["passed"]
     (20.0, True)
     >>> rise = figures["checks"]["pressure angle, rise"]

@@ -461,7 +461,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     Returns
     -------
     ProfileResult
-        Curves in mm, angles in rad, and the checks; ``camcad.report(result)`` gives them in deg
+        Curves in mm, angles in rad, and the checks; ``camcad.profile_report(result)`` gives them in deg
         and mm with every margin.
 
     Raises

@@ -432,7 +432,7 @@ def plot_summary(result, report: dict | None = None):
     """
     import textwrap
 
-    from camcad.profile.summary import report as profile_report
+    from camcad.profile.summary import profile_report
 
     report = report if report is not None else profile_report(result)
     fig = new_figure(15, 9, rows=1, cols=1, layout=None)[0]

@@ -13,7 +13,8 @@ from camcad.io.output_folder import OutputFolder
 from camcad.io.atomic import write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
 from camcad.profile.scaled_law import describe_law, describe_phases
-from camcad.profile.summary import report, stroke
+from camcad.profile.summary import profile_report as report
+from camcad.profile.summary import stroke
 from camcad.profile.synth import CurveResult, ProfileResult, ProfileSettings
 
 LAYERS = ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER", "TEXT")

@@ -27,7 +27,32 @@ CONTACT_SAMPLES = 2000
 
 @dataclass(frozen=True)
 class PipelineOptions:
-    """How to write (profile chord tolerance in mm, DXF flavour, plots) and where (``output``)."""
+    """How a scene run writes its outputs, and where.
+
+    Parameters
+    ----------
+    output : Path or None
+        The output folder; None: ``./camcad-out/<scene name>/``.
+    tol_mm : float
+        Chord tolerance of the written profile, mm: the largest distance between the written curve and the
+        exact profile.
+    arcs : bool
+        Write the profile as lines and tangent arcs (bulges) instead of chords (no unit).
+    spline : bool
+        Also write a closed control-point SPLINE of the profile (no unit).
+    r12 : bool
+        Write DXF R12 instead of R2000 (no unit).
+    plots : tuple of str
+        Names of the plots to draw (``camcad.report.profile.PLOTS`` and the models' "dynamics", "impact",
+        "contact"); ("all",) every one; () none (no unit).
+    contact_samples : int
+        Cam-angle samples per phase for the contact-stress maxima and their phase limits (dimensionless).
+
+    Examples
+    --------
+    >>> PipelineOptions(plots=()).tol_mm
+    0.001
+    """
 
     output: Path | None = None
     tol_mm: float = 0.001
@@ -227,7 +252,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     elif mech.has("follower"):
         say(f"{mech.name}: profile")
         run.profile = _profile(scene, mech, run.law, options)
-        from camcad.profile.summary import report as profile_report
+        from camcad.profile.summary import profile_report
 
         run.report["profile"] = profile_report(run.profile, phase_source)
         run.ran.append("profile")

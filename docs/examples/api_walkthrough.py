@@ -48,9 +48,8 @@ kk = camcad.kinematics_deg(law, np.linspace(0.0, 360.0, 360001))
 by_hand = np.degrees(np.arctan(kk.v / (40.0 + 10.0 + kk.s))).max()    # SPEC.md: tan φ = v/(Rb + Rr + s), e = 0
 print(f"pressure angle max {np.degrees(result.pressure_angle.maximum.value):.6f} deg "
       f"(by hand on a 0.001 deg grid: {by_hand:.6f})")
-from camcad.profile.summary import report  # camcad.report (see docs/api/profile.rst)
 
-figures = report(result)
+figures = camcad.profile_report(result)
 print(f"lift {figures['lift_mm']:g} mm, passed {figures['passed']}, tightest check: {figures['tightest'][0]}")
 flat = camcad.min_base_radius(camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic"),
                               camcad.Follower("flat", base_radius=1.0, rho_min=25.0))

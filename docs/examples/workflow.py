@@ -28,7 +28,7 @@ print("balanced after:", fixed.after.balanced, "- RMS change", f"{fixed.rms_chan
 # 4. the cam: a translating roller follower, Rb 40 mm, Rr 10 mm
 follower = camcad.Follower("roller", base_radius=40.0, roller_radius=10.0)
 result = camcad.synthesize(fixed.law, follower, camcad.ProfileSettings(plots=False), name="workflow")
-figures = camcad.report(result)
+figures = camcad.profile_report(result)
 print(f"pressure angle max {figures['pressure_angle_max_deg']:.2f} deg; verdict:",
       "passed" if figures["passed"] else "FAILED")
 for name in figures["tightest"]:
