@@ -17,7 +17,8 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
 
     Knob of the velocity condition of a phase: the movable points of that phase's closing part
     (its last lobe), scaled — "raise the maxima and lower the minima, or the reverse". Knob of
-    the displacement condition: every movable point of the last return, scaled. Each knob is
+    the displacement condition: every movable point of the last return, scaled. Knob of a lift
+    condition (the rise kept): every movable point of that rise, scaled. Each knob is
     searched with expanding trial steps until the residual changes sign, then by halving, and the
     conditions are swept in turn until all agree within the tolerance.
     """
@@ -93,6 +94,9 @@ def _knob(law, cond: Condition, allowed: np.ndarray, where: str, mode: str) -> n
         mask = allowed & (x >= closing_start) & (x <= phase.end)
         if not mask.any():
             mask = allowed & (x >= phase.start) & (x <= phase.end)
+    elif cond.quantity == "rise":  # the whole rise scales: its closing velocity stays zero
+        phase = law.phases[cond.phase_index]
+        mask = allowed & (x >= phase.start) & (x <= phase.end)
     else:
         returns = [p for p in law.phases if p.kind == "return"]
         phase = returns[-1] if returns else law.phases[-1]
