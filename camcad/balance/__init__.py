@@ -32,31 +32,35 @@ within the tolerance.
 
 from __future__ import annotations
 
+from camcad.balance.checking import (
+    BalanceReport,
+    check,
+    check_by_trapezoid,
+    trapezoid_residuals,
+)
 from camcad.balance.conditions import (
-    MODES,
-    METHODS,
-    DEFAULT_TOL,
-    DEFAULT_STEP_DEG,
     DEFAULT_MAX_STRETCH,
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    METHODS,
+    MODES,
     Condition,
     conditions,
     functional_rows,
     mass_matrix,
 )
-from camcad.balance.checking import BalanceReport, check, trapezoid_residuals, check_by_trapezoid
 from camcad.balance.correction import Correction, correct, difference_norms
-from camcad.balance.modes import lobes, lobe_groups, extremum_groups
-
+from camcad.balance.modes import extremum_groups, lobe_groups, lobes
 
 __all__ = [
-    "BalanceReport",
-    "Condition",
-    "Correction",
     "DEFAULT_MAX_STRETCH",
     "DEFAULT_STEP_DEG",
     "DEFAULT_TOL",
     "METHODS",
     "MODES",
+    "BalanceReport",
+    "Condition",
+    "Correction",
     "check",
     "check_by_trapezoid",
     "conditions",

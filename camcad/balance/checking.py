@@ -7,11 +7,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camcad.balance.conditions import (
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    Condition,
+    conditions,
+    functional_rows,
+)
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import phase_integrals
-from camcad.balance.conditions import Condition, DEFAULT_STEP_DEG, DEFAULT_TOL, conditions, functional_rows
-
 
 # ---------------------------------------------------------------------------------------------
 # Check

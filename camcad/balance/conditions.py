@@ -14,7 +14,6 @@ import numpy as np
 
 from camcad.law.law import PiecewiseLinearLaw
 
-
 MODES = ("min-change", "extrema", "extrema-resample", "keypoints", "segment", "phase", "phase-keypoints")
 METHODS = ("exact", "iterate")
 DEFAULT_TOL = 1e-5       # of the rise displacement

@@ -36,15 +36,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from camcad.balance.checking import BalanceReport, check
+from camcad.balance.conditions import (
+    DEFAULT_MAX_STRETCH,
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    METHODS,
+    MODES,
+    conditions,
+    lift_conditions,
+)
+from camcad.balance.modes import _resample, _vertex_mode
+from camcad.balance.phase import _phase_mode
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear
 from camcad.law.phases import zero_threshold
-from camcad.balance.checking import BalanceReport, check
-from camcad.balance.conditions import (DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL, METHODS, MODES,
-                                       conditions, lift_conditions)
-from camcad.balance.modes import _resample, _vertex_mode
-from camcad.balance.phase import _phase_mode
-
 
 # ---------------------------------------------------------------------------------------------
 # Correction

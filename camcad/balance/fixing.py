@@ -22,7 +22,6 @@ from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL
 from camcad.balance.correction import Correction, correct
 
-
 # ---------------------------------------------------------------------------------------------
 # check
 # ---------------------------------------------------------------------------------------------

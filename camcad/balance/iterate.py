@@ -3,13 +3,12 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 
-from camcad.errors import CamcadError
-from camcad.law.phases import sign_runs
 from camcad.balance.checking import _scale, trapezoid_residuals
 from camcad.balance.conditions import Condition
+from camcad.errors import CamcadError
+from camcad.law.phases import sign_runs
 
 
 def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where):
@@ -42,7 +41,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
         if np.all(np.abs(r) <= limit):
             return law.with_ordinates(a), evaluations
         for i, knob in enumerate(knobs):
-            def f(t: float, i=i, knob=knob) -> float:
+            def f(t: float, i=i, knob=knob, a=a) -> float:
                 return residuals(a * (1.0 + t * knob))[i]
             r0 = f(0.0)
             evaluations += 1

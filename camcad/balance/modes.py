@@ -14,15 +14,21 @@ the change (the function norm ∫δa² dθ, or the sum of squared vertex changes
 
 from __future__ import annotations
 
-
 import numpy as np
 
+from camcad.balance.checking import _scale
+from camcad.balance.conditions import (
+    Condition,
+    conditions,
+    functional_rows,
+    lift_conditions,
+    mass_matrix,
+    targets,
+)
+from camcad.balance.iterate import _iterate
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear, uniform_grid
 from camcad.law.phases import zero_threshold
-from camcad.balance.checking import _scale
-from camcad.balance.conditions import Condition, conditions, functional_rows, lift_conditions, mass_matrix, targets
-from camcad.balance.iterate import _iterate
 
 #: a condition is met by a solve when its residual is below this fraction of the rise
 SOLVE_TOLERANCE = 1e-8

@@ -3,16 +3,14 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 
-from camcad.errors import CamcadError
-from camcad.law.law import Phase, PiecewiseLinearLaw
-from camcad.law.phases import phase_integrals, sign_runs
 from camcad.balance.checking import check
 from camcad.balance.conditions import DEFAULT_STEP_DEG, functional_rows
 from camcad.balance.modes import _vertex_mode
-
+from camcad.errors import CamcadError
+from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.phases import phase_integrals, sign_runs
 
 # --- phase modes ----------------------------------------------------------------------------------
 

@@ -27,7 +27,7 @@ import re
 import unicodedata
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
@@ -214,7 +214,7 @@ def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000") -> Pat
 #: the environment variable of reproducible builds: seconds since 1970-01-01 UTC
 STAMP_VARIABLE = "SOURCE_DATE_EPOCH"
 #: the creation stamp of camcad's own drawings when SOURCE_DATE_EPOCH is not set
-FIXED_STAMP = datetime(2000, 1, 1, tzinfo=timezone.utc)
+FIXED_STAMP = datetime(2000, 1, 1, tzinfo=UTC)
 #: header variables a saved copy recomputes instead of keeping the input's value
 RECOMPUTED = ("$ACADVER", "$EXTMIN", "$EXTMAX", "$HANDSEED", "$DWGCODEPAGE")
 #: header variables that hold a time or an identity of the save (ezdxf sets them anew every time)
@@ -240,7 +240,7 @@ def creation_stamp() -> datetime:
     text = os.environ.get(STAMP_VARIABLE, "").strip()
     if text.isdigit():
         try:
-            return datetime.fromtimestamp(int(text), tz=timezone.utc)
+            return datetime.fromtimestamp(int(text), tz=UTC)
         except (OverflowError, OSError, ValueError):
             pass
     return FIXED_STAMP
@@ -435,10 +435,8 @@ def _set_extents(doc) -> None:
     if box.has_data and all(np.isfinite(v) for v in (*box.extmin, *box.extmax)):
         doc.header["$EXTMIN"] = tuple(box.extmin)
         doc.header["$EXTMAX"] = tuple(box.extmax)
-        try:
+        if doc.dxfversion > "AC1009":  # R12 layouts have no such attributes
             msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax
-        except Exception:  # noqa: BLE001 - R12 layouts have no such attributes
-            pass
 
 
 def _export_header(header, tagwriter, extra: tuple[str, ...]) -> None:

@@ -22,8 +22,13 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
-from camcad.io.dxf_write import (header_snapshot, lwpolyline_from_array, new_document, save_document,
-                                 set_lwpolyline_rows)
+from camcad.io.dxf_write import (
+    header_snapshot,
+    lwpolyline_from_array,
+    new_document,
+    save_document,
+    set_lwpolyline_rows,
+)
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
@@ -304,8 +309,9 @@ def _writable(doc) -> list[str]:
             swapped.append(str(entity.dxf.get("handle", "?")))
     if not swapped:
         return []
-    return [f"{len(swapped)} ELLIPSEs (handles {', '.join(swapped[:4])}{' ...' if len(swapped) > 4 else ''}) have an "
-            "axis ratio above 1, which ezdxf does not write: written with their axes swapped (the same ellipses)"]
+    listed = ", ".join(swapped[:4]) + (" ..." if len(swapped) > 4 else "")
+    return [f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not write: "
+            "written with their axes swapped (the same ellipses)"]
 
 
 def _audit(doc) -> list[str]:
