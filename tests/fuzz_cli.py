@@ -515,7 +515,7 @@ def _watch_writes(folder: str, sink: int) -> None:
             elif event in ("os.remove", "os.rmdir", "os.mkdir", "os.truncate", "os.chmod", "shutil.rmtree") \
                     and args and not inside(args[0]):
                 os.write(sink, f"{event} {os.fsdecode(args[0])!r}\n".encode("utf-8", "replace"))
-        except Exception:  # noqa: BLE001, S110 - a hook must never raise into the code it watches
+        except Exception:  # noqa: BLE001 - a hook must never raise into the code it watches
             return
 
     sys.addaudithook(hook)

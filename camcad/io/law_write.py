@@ -310,8 +310,8 @@ def _writable(doc) -> list[str]:
     if not swapped:
         return []
     listed = ", ".join(swapped[:4]) + (" ..." if len(swapped) > 4 else "")
-    return [f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not write: "
-            "written with their axes swapped (the same ellipses)"]
+    return [(f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not write: "
+             "written with their axes swapped (the same ellipses)")]
 
 
 def _audit(doc) -> list[str]:
