@@ -11,15 +11,18 @@ values, on inputs that are either intact samples or mutated:
 
 Each case runs in a child forked from a parent that has imported camcad and its libraries once (far
 faster than a new Python per case), two children at a time (both cores). The child runs in the case's
-own folder with a 10 s alarm whose default action kills it (even inside C code), an address-space
-limit (``RLIMIT_AS``), stdin from /dev/null, stdout and stderr to files, and an audit hook that
-records every file the command opens for writing, renames, creates or deletes outside the case folder.
+own folder with a limit of 10 s of CPU time (``RLIMIT_CPU``: on a shared machine wall time would count
+other people's work) and 60 s of wall time (an alarm) whose default actions kill it even inside C code,
+an address-space limit (``RLIMIT_AS``), stdin from /dev/null, stdout and stderr to files, and an audit
+hook that records every file the command opens for writing, renames, creates or deletes outside the
+case folder.
 The parent classifies the outcome:
 - ok:       exit 0 or 1, with --json one JSON object on stdout, and nothing on stderr;
 - error:    exit 2, one line "camcad: error: ..." under 300 characters, not an internal error;
 - memory:   the address-space limit was reached and said so in one line (counted, not a finding);
 - FINDING:  anything else — a traceback, an internal error (exit 3), several lines, library noise on
-            stderr, a hang past 10 s, a crash, an input file changed, a file written outside the case.
+            stderr, more than 10 s of CPU (or 60 s blocked), a crash, an input file changed, a file
+            written outside the case.
 
 Long run:   python tests/fuzz_cli.py --cases 100000 --seed 1 --workers 2
 One case:   python tests/fuzz_cli.py --seed 1 --replay 4711      (prints its command and outcome)
@@ -49,7 +52,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
 REAL_DXF = ROOT.parent / "shared" / "dxf-real"
-TIME_LIMIT_S = 10
+TIME_LIMIT_S = 10                  # CPU seconds a case may use (the machine may be shared: CPU, not wall time)
+WALL_LIMIT_S = 60                  # a case blocked this long (not computing) is ended too
 MEMORY_HEADROOM = 2 << 30          # bytes of address space a case may add to what the parent holds
 COMMANDS = ("check", "fix", "profile-law", "profile-scene", "spectrum", "dynamics", "impact", "contact",
             "cyclogram")
@@ -418,7 +422,8 @@ class Outcome:
     argv: list[str]
     status: str         # "ok", "error", "memory" or "FINDING"
     detail: str
-    seconds: float
+    seconds: float      # wall time
+    cpu: float = 0.0    # CPU seconds of the child
 
 
 @dataclass
@@ -463,8 +468,14 @@ def _child(case: Case, folder: Path, limit: int) -> None:
         import resource
 
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-        signal.signal(signal.SIGALRM, signal.SIG_DFL)   # the kernel ends the child, even inside C code
-        signal.alarm(TIME_LIMIT_S)
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # no core dump when a limit ends the child
+        # the kernel ends the child (SIGXCPU after 10 s of CPU, SIGALRM after 60 s of wall time), even in C code
+        spent = resource.getrusage(resource.RUSAGE_SELF)
+        cpu = int(spent.ru_utime + spent.ru_stime) + TIME_LIMIT_S
+        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
+        signal.signal(signal.SIGXCPU, signal.SIG_DFL)
+        signal.signal(signal.SIGALRM, signal.SIG_DFL)
+        signal.alarm(WALL_LIMIT_S)
         _watch_writes(str(folder.resolve()), violations)
         from camcad.cli import main
 
@@ -528,8 +539,12 @@ def classify(case: Case, code: int | None, signalled: int | None, stdout: str, s
         return "FINDING", f"input changed: {', '.join(changed)}"
     if violations.strip():
         return "FINDING", f"wrote outside the case folder: {violations.strip().splitlines()[0][:200]}"
-    if signalled == signal.SIGALRM or code is None:
-        return "FINDING", f"ran past {TIME_LIMIT_S} s"
+    if signalled == signal.SIGXCPU or code is None:
+        return "FINDING", f"ran past {TIME_LIMIT_S} s of CPU time"
+    if signalled == signal.SIGALRM:
+        return "FINDING", f"blocked past {WALL_LIMIT_S} s"
+    if signalled == signal.SIGKILL:
+        return "FINDING", "killed at the CPU or wall-time limit"
     if signalled is not None:
         return "FINDING", f"killed by signal {signalled}"
     lines = stderr.strip().splitlines()
@@ -557,7 +572,7 @@ def classify(case: Case, code: int | None, signalled: int | None, stdout: str, s
     return "FINDING", f"exit {code}: {stderr.strip()[:300]}"
 
 
-def finish(running: Running, status_code: int, canary: Path, expected: set[str]) -> Outcome:
+def finish(running: Running, status_code: int, canary: Path, expected: set[str], cpu: float = 0.0) -> Outcome:
     case, folder = running.case, running.folder
     seconds = time.perf_counter() - running.started
     code = os.waitstatus_to_exitcode(status_code)
@@ -582,7 +597,7 @@ def finish(running: Running, status_code: int, canary: Path, expected: set[str])
             else:
                 target.unlink(missing_ok=True)
     status, detail = classify(case, code, signalled, read(".stdout"), read(".stderr"), changed, violations)
-    return Outcome(case.number, case.command, case.mutation, case.argv, status, detail, seconds)
+    return Outcome(case.number, case.command, case.mutation, case.argv, status, detail, seconds, cpu)
 
 
 def _preload() -> None:
@@ -641,9 +656,9 @@ def run(cases: int, seed: int, workers: int = 2, start: int = 0, progress: bool 
                     _child(case, job.folder, limit)
                 job.pid = pid
                 running[pid] = job
-            pid, status = _wait(running)
+            pid, status, cpu = _wait(running)
             job = running.pop(pid)
-            outcome = finish(job, status, canary, expected)
+            outcome = finish(job, status, canary, expected, cpu)
             outcomes.append(outcome)
             if outcome.status == "FINDING" and keep is not None:
                 _keep(job, outcome, keep)
@@ -659,15 +674,15 @@ def run(cases: int, seed: int, workers: int = 2, start: int = 0, progress: bool 
     return outcomes
 
 
-def _wait(running: dict[int, Running]) -> tuple[int, int]:
-    """The next finished child; a child past its limit (alarm blocked) is killed."""
+def _wait(running: dict[int, Running]) -> tuple[int, int, float]:
+    """The next finished child (pid, wait status, CPU seconds); a child past every limit is killed."""
     while True:
-        pid, status = os.waitpid(-1, os.WNOHANG)
+        pid, status, usage = os.wait4(-1, os.WNOHANG)
         if pid:
-            return pid, status
+            return pid, status, usage.ru_utime + usage.ru_stime
         now = time.perf_counter()
         for job in running.values():
-            if now - job.started > TIME_LIMIT_S + 5:
+            if now - job.started > WALL_LIMIT_S + 10:
                 os.kill(job.pid, signal.SIGKILL)
         time.sleep(0.002)
 
@@ -687,12 +702,12 @@ def _keep(job: Running, outcome: Outcome, keep: Path) -> None:
 def summary(outcomes: list[Outcome], seed: int, seconds: float) -> str:
     counts = Counter(o.status for o in outcomes)
     per_command = Counter(o.command for o in outcomes)
-    slowest = max(outcomes, key=lambda o: o.seconds) if outcomes else None
+    slowest = max(outcomes, key=lambda o: o.cpu) if outcomes else None
     text = (f"{len(outcomes)} cases (seed {seed}) in {seconds:.0f} s ({len(outcomes) / max(seconds, 1e-9):.1f}/s): "
             f"{counts['ok']} results, {counts['error']} clear errors, {counts['memory']} over the memory limit, "
             f"{counts['FINDING']} findings")
     if slowest is not None:
-        text += f"; slowest case {slowest.seconds:.2f} s ({slowest.command}, {slowest.mutation})"
+        text += f"; slowest case {slowest.cpu:.2f} s of CPU ({slowest.command}, {slowest.mutation})"
     text += "\nper command: " + ", ".join(f"{k} {v}" for k, v in sorted(per_command.items()))
     findings = Counter(_signature(o) for o in outcomes if o.status == "FINDING")
     if findings:
@@ -702,8 +717,8 @@ def summary(outcomes: list[Outcome], seed: int, seconds: float) -> str:
         text += f"\ncase seconds: median {times[len(times) // 2]:.3f}, 90 % {times[int(0.9 * (len(times) - 1))]:.3f}, 99 % {times[int(0.99 * (len(times) - 1))]:.3f}"
         by_command = {}
         for o in outcomes:
-            by_command.setdefault(o.command, []).append(o.seconds)
-        text += "\nmean seconds per command: " + ", ".join(
+            by_command.setdefault(o.command, []).append(o.cpu)
+        text += "\nmean CPU seconds per command: " + ", ".join(
             f"{k} {sum(v) / len(v):.2f}" for k, v in sorted(by_command.items()))
     return text
 

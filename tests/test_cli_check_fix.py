@@ -8,7 +8,6 @@ from pathlib import Path
 import ezdxf
 import numpy as np
 import pytest
-
 from conftest import SAMPLES, file_digest
 
 UNBALANCED_DXF = ["fig2_rise_area_too_large.dxf", "drrd_return_short.dxf", "constant_accel_jumps.dxf",

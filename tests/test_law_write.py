@@ -16,13 +16,13 @@ from pathlib import Path
 import ezdxf
 import numpy as np
 import pytest
+from conftest import REAL_DXF, SAMPLES
 from ezdxf import bbox
 
 from camcad.errors import CamcadError
 from camcad.io.dxf_read import Curve, collect_curves, open_drawing
 from camcad.io.law_write import ORIGINAL_BLOCK, _move_vertices, write_corrected_drawing
 from camcad.law.source import law_problem, load_law
-from conftest import REAL_DXF, SAMPLES
 
 _HEADER = re.compile(rb"(?s)SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
 

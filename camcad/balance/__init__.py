@@ -53,7 +53,13 @@ from camcad.balance.conditions import (
     mass_matrix,
 )
 from camcad.balance.correction import Correction, Move, correct, difference_norms
-from camcad.balance.modes import extremum_groups, jump_nodes, least_change, lobe_groups, lobes
+from camcad.balance.modes import (
+    extremum_groups,
+    jump_nodes,
+    least_change,
+    lobe_groups,
+    lobes,
+)
 
 __all__ = [
     "DEFAULT_MAX_STRETCH",

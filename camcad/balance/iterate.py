@@ -7,6 +7,9 @@ import numpy as np
 
 from camcad.balance.checking import _scale, trapezoid_residuals
 from camcad.balance.conditions import Condition
+
+#: grid points the loop may integrate in all (integrations × points per integration): a few seconds
+WORK_BUDGET = 20_000_000
 from camcad.errors import CamcadError
 from camcad.law.phases import sign_runs
 
@@ -22,6 +25,8 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
     conditions are swept in turn until all agree within the tolerance.
     """
     limit = tol * _scale(law)
+    points = law.cycle / np.radians(step_deg) + len(law.x)
+    max_iterations = int(min(max_iterations, max(100, WORK_BUDGET // points)))
     moved = np.zeros(len(law.x), dtype=bool)
     moved[touched] = True
     if mode in ("min-change", "keypoints", "segment"):
