@@ -713,8 +713,12 @@ def summary(outcomes: list[Outcome], seed: int, seconds: float) -> str:
     if findings:
         text += "\nfindings by kind:\n" + "\n".join(f"  {n:6d}  {k}" for k, n in findings.most_common())
     if outcomes:
-        times = sorted(o.seconds for o in outcomes)
-        text += f"\ncase seconds: median {times[len(times) // 2]:.3f}, 90 % {times[int(0.9 * (len(times) - 1))]:.3f}, 99 % {times[int(0.99 * (len(times) - 1))]:.3f}"
+        times = sorted(o.cpu for o in outcomes)
+
+        def at(q: float) -> float:
+            return times[int(q * (len(times) - 1))]
+
+        text += f"\ncase CPU seconds: median {at(0.5):.3f}, 90 % {at(0.9):.3f}, 99 % {at(0.99):.3f}"
         by_command = {}
         for o in outcomes:
             by_command.setdefault(o.command, []).append(o.cpu)
