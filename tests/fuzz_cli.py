@@ -453,8 +453,9 @@ def prepare(case: Case, root: Path, canary: Path) -> Running:
     return Running(case, 0, folder, 0.0, digests)
 
 
-def _child(case: Case, folder: Path, limit: int) -> None:
-    """In the forked child: confine, limit, run the command, exit with its code (never returns)."""
+def _child(case: Case, folder: Path, limit: int, target=None) -> None:
+    """In the forked child: confine, limit, run the command (``target(argv)``, default camcad's main), exit
+    with its code (never returns)."""
     code = 70
     try:
         os.chdir(folder)
@@ -465,6 +466,9 @@ def _child(case: Case, folder: Path, limit: int) -> None:
         violations = os.open(folder / ".violations", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
         os.dup2(out, 1)
         os.dup2(err, 2)
+        # the streams Python writes to may not be fds 1 and 2 (pytest replaces them): bind them anew
+        sys.stdout = open(1, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+        sys.stderr = open(2, "w", encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
         import resource
 
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
@@ -477,10 +481,10 @@ def _child(case: Case, folder: Path, limit: int) -> None:
         signal.signal(signal.SIGALRM, signal.SIG_DFL)
         signal.alarm(WALL_LIMIT_S)
         _watch_writes(str(folder.resolve()), violations)
-        from camcad.cli import main
-
+        if target is None:
+            from camcad.cli import main as target
         try:
-            main(case.argv)
+            target(case.argv)
             code = 0
         except SystemExit as stop:
             code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
@@ -600,8 +604,9 @@ def finish(running: Running, status_code: int, canary: Path, expected: set[str],
     return Outcome(case.number, case.command, case.mutation, case.argv, status, detail, seconds, cpu)
 
 
-def _preload() -> None:
-    """Import everything the commands use, once, in the parent (the children inherit it)."""
+def _preload():
+    """Import everything the commands use, once, in the parent (the children inherit it); returns the
+    function that undoes the one change it makes (the cached click command)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -622,15 +627,32 @@ def _preload() -> None:
     original = typer.main.get_command
     typer.main.get_command = lambda typer_app: built if typer_app is app else original(typer_app)
 
+    def undo() -> None:
+        typer.main.get_command = original
+
+    return undo
+
 
 def run(cases: int, seed: int, workers: int = 2, start: int = 0, progress: bool = False,
-        keep: Path | None = None, commands: tuple[str, ...] = COMMANDS, log: Path | None = None) -> list[Outcome]:
-    """Run cases ``start`` … ``start + cases − 1`` of campaign ``seed``, ``workers`` children at a time."""
+        keep: Path | None = None, commands: tuple[str, ...] = COMMANDS, log: Path | None = None, *,
+        factory=None, target=None) -> list[Outcome]:
+    """Run cases ``start`` … ``start + cases − 1`` of campaign ``seed``, ``workers`` children at a time.
+
+    ``factory(number) -> Case`` and ``target(argv)`` replace the case generator and camcad's main (tests
+    of the harness itself use them).
+    """
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-    sys.path.insert(0, str(ROOT))
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    laws, scenes = law_corpus(), scene_corpus()
+    for path in (str(ROOT), str(Path(__file__).resolve().parent)):
+        if path not in sys.path:
+            sys.path.insert(0, path)
+    if factory is None:
+        laws, scenes = law_corpus(), scene_corpus()
+
+        def factory(number: int) -> Case:
+            return make_case(seed, number, laws, scenes, commands)
+
     outcomes: list[Outcome] = []
+    previous_mpl = os.environ.get("MPLCONFIGDIR")
     with tempfile.TemporaryDirectory(prefix="camcad-fuzz-") as tmp:
         root = Path(tmp) / "cases"
         root.mkdir()
@@ -638,40 +660,54 @@ def run(cases: int, seed: int, workers: int = 2, start: int = 0, progress: bool 
         canary.mkdir()
         expected = {"cases", "canary", "mpl"}
         os.environ["MPLCONFIGDIR"] = str(Path(tmp) / "mpl")
-        _preload()
+        undo = _preload()
         limit = _address_space() + MEMORY_HEADROOM
         gc.collect()
         gc.freeze()  # the children inherit the heap; a frozen heap is not copied page by page by their GC
-        running: dict[int, Running] = {}
-        next_case = start
-        began = time.perf_counter()
-        while next_case < start + cases or running:
-            while len(running) < workers and next_case < start + cases:
-                case = make_case(seed, next_case, laws, scenes, commands)
-                next_case += 1
-                job = prepare(case, root, canary)
-                job.started = time.perf_counter()
-                pid = os.fork()
-                if pid == 0:
-                    _child(case, job.folder, limit)
-                job.pid = pid
-                running[pid] = job
-            pid, status, cpu = _wait(running)
-            job = running.pop(pid)
-            outcome = finish(job, status, canary, expected, cpu)
-            outcomes.append(outcome)
-            if outcome.status == "FINDING" and keep is not None:
-                _keep(job, outcome, keep)
-            if outcome.status == "FINDING" and log is not None:
-                with open(log, "a", encoding="utf-8") as stream:
-                    stream.write(json.dumps(outcome.__dict__) + "\n")
-            shutil.rmtree(job.folder, ignore_errors=True)
-            if progress and len(outcomes) % 500 == 0:
-                rate = len(outcomes) / (time.perf_counter() - began)
-                findings = sum(o.status == "FINDING" for o in outcomes)
-                print(f"  {len(outcomes)} cases (up to case {next_case - 1}), {rate:.2f}/s, {findings} findings",
-                      file=sys.stderr, flush=True)
+        try:
+            _loop(factory, cases, start, workers, root, canary, expected, limit, target, outcomes, keep, log,
+                  progress)
+        finally:
+            gc.unfreeze()
+            undo()
+            if previous_mpl is None:
+                os.environ.pop("MPLCONFIGDIR", None)
+            else:
+                os.environ["MPLCONFIGDIR"] = previous_mpl
     return outcomes
+
+
+def _loop(factory, cases, start, workers, root, canary, expected, limit, target, outcomes, keep, log,
+          progress) -> None:
+    running: dict[int, Running] = {}
+    next_case = start
+    began = time.perf_counter()
+    while next_case < start + cases or running:
+        while len(running) < workers and next_case < start + cases:
+            case = factory(next_case)
+            next_case += 1
+            job = prepare(case, root, canary)
+            job.started = time.perf_counter()
+            pid = os.fork()
+            if pid == 0:
+                _child(case, job.folder, limit, target)
+            job.pid = pid
+            running[pid] = job
+        pid, status, cpu = _wait(running)
+        job = running.pop(pid)
+        outcome = finish(job, status, canary, expected, cpu)
+        outcomes.append(outcome)
+        if outcome.status == "FINDING" and keep is not None:
+            _keep(job, outcome, keep)
+        if outcome.status == "FINDING" and log is not None:
+            with open(log, "a", encoding="utf-8") as stream:
+                stream.write(json.dumps(outcome.__dict__) + "\n")
+        shutil.rmtree(job.folder, ignore_errors=True)
+        if progress and len(outcomes) % 500 == 0:
+            rate = len(outcomes) / (time.perf_counter() - began)
+            findings = sum(o.status == "FINDING" for o in outcomes)
+            print(f"  {len(outcomes)} cases (up to case {next_case - 1}), {rate:.2f}/s, {findings} findings",
+                  file=sys.stderr, flush=True)
 
 
 def _wait(running: dict[int, Running]) -> tuple[int, int, float]:
