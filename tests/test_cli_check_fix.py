@@ -302,3 +302,46 @@ def test_usage_errors_are_one_line_too(cli):
         assert result.code == 2, args
         assert len(result.err.strip().splitlines()) == 1, result.err
         assert result.err.startswith("camcad: error: ")
+
+
+# --- issue 19 item 5: every legal drawing gives a result or a clear, specific line -------------------
+
+def _jump_table(path):
+    # a jump at every vertex: a staircase of constant lobes
+    rows = [(0, 2), (0, 9), (60, 9), (60, -8), (120, -8), (120, 0), (180, 0), (180, -9), (240, -9), (240, 8.5),
+            (300, 8.5), (300, 0), (360, 0), (360, 3)]
+    path.write_text("".join(f"{t},{a}\n" for t, a in rows))
+
+
+REPRODUCERS = [("libredwg__sample_2018.dxf", []), ("libredwg__sample_r14.dxf", []),
+               ("libredwg__sample_r14.dxf", ["--free-lift"]), ("ezdxf__duplicate_handles.dxf", []),
+               ("ezdxf__duplicate_handles.dxf", ["--handle", "10"]), ("jumps.csv", [])]
+
+
+@pytest.mark.parametrize("name,options", REPRODUCERS, ids=[f"{n}{''.join(o)}" for n, o in REPRODUCERS])
+def test_real_drawings_and_singular_laws_give_a_result_or_one_clear_line(cli, tmp_path, real_dxf, name, options,
+                                                                      monkeypatch):
+    import time
+
+    monkeypatch.chdir(tmp_path)   # the file by its name: the 300 characters are the message's, not the path's
+    source = Path(name)
+    if name == "jumps.csv":
+        _jump_table(source)
+    else:
+        shutil.copy(real_dxf / name, source)
+    digest = file_digest(source)
+    for command in ("check", "fix"):
+        began = time.perf_counter()
+        extra = ["-o", f"out{source.suffix}", "--no-plots"] if command == "fix" else []
+        result = cli(command, source, *options, *extra)
+        assert time.perf_counter() - began < 10
+        lines = result.err.strip().splitlines()
+        if result.code in (0, 1):
+            assert result.err == "", result.err
+        else:
+            assert result.code == 2 and len(lines) == 1 and len(lines[0]) < 300, result.err
+            assert lines[0].startswith("camcad: error: ") and "internal error" not in lines[0]
+            assert "singular" not in lines[0].lower()
+        assert file_digest(source) == digest
+    if name == "jumps.csv":
+        assert result.code == 0 and (tmp_path / "out.csv").exists()

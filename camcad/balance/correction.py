@@ -194,10 +194,9 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if not np.all(np.isfinite(corrected.a)) or not np.any(np.abs(corrected.a[_drawn(corrected.x)])
                                                           > zero_threshold(law.a)):
         # too few points may move for the conditions: the only law they can balance is a = 0
-        raise CamcadError(f"mode {mode} can balance this law only by removing all its motion (every acceleration "
-                          f"goes to zero): the {len(law.x)}-vertex law has too few points it may move for its "
-                          f"{len(conditions(law))} balance conditions", where,
-                          "draw the law with more vertices on each lobe")
+        raise CamcadError(f"mode {mode} can balance this law only by making every acceleration zero: the "
+                          f"{len(law.x)}-vertex law has too few points to move for its {len(conditions(law))} "
+                          "balance conditions", where, "draw each lobe with more vertices")
     after = check(corrected, tol)
     max_change, rms_change = difference_norms(law, corrected)
     if not resampled and len(corrected.x) == len(law.x):
