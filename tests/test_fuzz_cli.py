@@ -63,7 +63,9 @@ def test_classify_catches_what_it_must():
     assert classify(case, 2, None, "", "camcad: error: " + "x" * 300, [], "")[0] == "FINDING"
     assert classify(case, 2, None, "", "camcad: error: a\ncamcad: error: b", [], "")[0] == "FINDING"
     assert classify(case, 3, None, "", "camcad: error: internal error", [], "")[0] == "FINDING"
-    assert classify(case, None, 24, "", "", [], "")[0] == "FINDING"                              # SIGXCPU
+    assert "CPU" in classify(case, None, 24, "", "", [], "")[1]                                    # SIGXCPU
+    assert "wall" in classify(case, None, 14, "", "", [], "")[1]                                   # SIGALRM
+    assert classify(case, None, 11, "", "", [], "")[0] == "FINDING"                              # SIGSEGV
     assert classify(case, 0, None, "{}", "", ["law.dxf"], "")[0] == "FINDING"                     # input changed
     assert classify(case, 0, None, "{}", "", [], "open '/etc/x' 'w'")[0] == "FINDING"             # wrote outside
 
