@@ -175,6 +175,14 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if keep_lift and lift_targets and not any(p.kind == "return" for p in law.phases):
         rises = ", ".join(f"{np.degrees(p.start):.4g}..{np.degrees(p.end):.4g}" for p in law.phases
                           if p.kind == "rise")
+        try:  # with too few vertices even a free lift leaves no motion: that is the first thing to say
+            free, _ = _vertex_mode(start, "min-change", "exact", tol, step_deg, None, hold, 0, where)
+            no_motion = not np.any(np.abs(free.a[_drawn(free.x)]) > zero_threshold(law.a))
+        except CamcadError:
+            no_motion = False
+        if no_motion:
+            raise CamcadError(zero_law_message(mode, len(law.x), len(conditions(law))), where,
+                              "draw each lobe with more vertices")
         raise CamcadError(f"the law has a rise ({rises} deg) but no return, so it cannot come back to its start "
                           "while keeping the rise", where,
                           "give its phases with --phases (a rise and a return), or add --free-lift")
@@ -194,9 +202,8 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if not np.all(np.isfinite(corrected.a)) or not np.any(np.abs(corrected.a[_drawn(corrected.x)])
                                                           > zero_threshold(law.a)):
         # too few points may move for the conditions: the only law they can balance is a = 0
-        raise CamcadError(f"mode {mode} can balance this law only by making every acceleration zero: the "
-                          f"{len(law.x)}-vertex law has too few points to move for its {len(conditions(law))} "
-                          "balance conditions", where, "draw each lobe with more vertices")
+        raise CamcadError(zero_law_message(mode, len(law.x), len(conditions(law))), where,
+                          "draw each lobe with more vertices")
     after = check(corrected, tol)
     max_change, rms_change = difference_norms(law, corrected)
     if not resampled and len(corrected.x) == len(law.x):
@@ -211,6 +218,12 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
                       resampled=resampled, notes=tuple(notes), moves=tuple(outcomes), lift_targets=lift_targets,
                       keep_lift=keep_lift, max_vertex_change=max_vertex, max_shift_deg=max_shift,
                       vertices_changed=count, peak=peak)
+
+
+def zero_law_message(mode: str, vertices: int, count: int) -> str:
+    """What to say when the only balanced law a mode can reach has no motion left."""
+    return (f"mode {mode} can balance this law only by removing all its motion (every acceleration zero): the "
+            f"{vertices}-vertex law has too few points to move for its {count} balance conditions")
 
 
 def _drawn(x: np.ndarray) -> np.ndarray:

@@ -335,12 +335,14 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
     remaining = rows @ (law.a + delta) - goal
     limit = SOLVE_TOLERANCE * _scale(law)
     if not np.all(np.isfinite(delta)) or np.any(np.abs(remaining) > limit):
-        _explain_unreachable(A, residual, conds, mode, where, limit)
+        _explain_unreachable(A, residual, conds, mode, where, limit, law, basis)
     return delta
 
 
-def _explain_unreachable(A, residual, conds, mode, where, limit):
+def _explain_unreachable(A, residual, conds, mode, where, limit, law, basis):
     """Raise the CamcadError that says which condition cannot be met, and what can meet it."""
+    from camcad.balance.correction import zero_law_message
+
     norms = np.abs(A).max(axis=1)
     biggest = max(float(norms.max()), 1e-300) if len(norms) else 1e-300
     other_modes = "use --mode min-change or keypoints (they move every point off the axis)"
@@ -360,11 +362,16 @@ def _explain_unreachable(A, residual, conds, mode, where, limit):
         sub, r = A[keep], residual[keep]
         solution = np.linalg.lstsq(sub, r, rcond=1e-12)[0]
         if np.all(np.abs(sub @ solution - r) <= limit):
-            others = ", ".join(conds[j].name for j in keep if not conds[j].is_lift) or "the balance"
             if conds[i].is_lift:
-                raise CamcadError(f"mode {mode} cannot keep the {conds[i].name} and also meet the {others}",
-                                  where, "add --free-lift to let the rise change, or use --mode min-change"
-                                  if mode != "min-change" else "add --free-lift to let the rise change")
+                balance_only = [j for j in keep if not conds[j].is_lift]
+                p = np.linalg.lstsq(A[balance_only], residual[balance_only], rcond=1e-12)[0]
+                moved = law.a + np.asarray(basis @ p).ravel()
+                if np.all(np.abs(moved) <= 1e-9 * np.max(np.abs(law.a))):   # no motion left without the lift
+                    raise CamcadError(zero_law_message(mode, len(law.x), len(balance_only)), where,
+                                      "draw each lobe with more vertices")
+                raise CamcadError(f"mode {mode} cannot keep the {conds[i].name} and balance the law with the points "
+                                  "it may move", where, "add --free-lift to let the rise change, or use --mode "
+                                  "min-change" if mode != "min-change" else "add --free-lift to let the rise change")
             raise CamcadError(f"mode {mode} cannot meet the {conds[i].name} together with the other conditions",
                               where, other_modes)
     raise CamcadError(f"mode {mode} has {np.linalg.matrix_rank(A)} independent ways to change the law "
