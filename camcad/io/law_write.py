@@ -156,7 +156,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     source = open_drawing(loaded.path)  # a fresh copy: the loaded document stays as read
     doc = source.doc
     keep = header_snapshot(doc, None if source.binary else raw)
-    notes = _fidelity_notes(raw, source, doc)
+    notes = _fidelity_notes(raw, source, doc, bool(keep.names))
     block = _original_block(doc)
     curve = loaded.curve
     entities, unique = _curve_entities(doc, curve)
@@ -275,7 +275,7 @@ def input_version(raw: bytes) -> str | None:
     return match.group(1).decode("ascii") if match else None
 
 
-def _fidelity_notes(raw: bytes, source, doc) -> list[str]:
+def _fidelity_notes(raw: bytes, source, doc, has_header: bool) -> list[str]:
     """What the copy cannot keep of the input, and why."""
     notes = []
     if source.binary:
@@ -291,8 +291,9 @@ def _fidelity_notes(raw: bytes, source, doc) -> list[str]:
     if source.recovered and declared is not None:
         notes.append("the input was damaged and repaired on reading (see the notes above); the copy holds the "
                      "repaired drawing")
-    notes.append("header variables kept from the input, except $EXTMIN/$EXTMAX (recomputed from the drawing) and "
-                 "$HANDSEED (the next free handle)")
+    if has_header:
+        notes.append("header variables kept from the input, except $EXTMIN/$EXTMAX (recomputed from the drawing) "
+                     "and $HANDSEED (the next free handle)")
     return notes
 
 
