@@ -7,11 +7,11 @@ import numpy as np
 
 from camcad.balance.checking import _scale, trapezoid_residuals
 from camcad.balance.conditions import Condition
+from camcad.errors import CamcadError
+from camcad.law.phases import sign_runs
 
 #: grid points the loop may integrate in all (integrations × points per integration): a few seconds
 WORK_BUDGET = 20_000_000
-from camcad.errors import CamcadError
-from camcad.law.phases import sign_runs
 
 
 def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where):
