@@ -24,7 +24,9 @@ Correction modes (SPEC.md; the source's list (a)–(g)):
   angle with the ordinates kept (closed form: a stretch f scales an area by f and a displacement
   by f²); a neighbouring dwell takes up the change (f).
 - ``phase-keypoints``: a phase stretch limited to ``max_stretch``, then key points for the rest (g).
-- ``move``: the user's point is set where they put it and held; the mode rebalances the rest (a).
+- ``move``: the user's points are set where they put them and held; the mode rebalances the rest (a).
+Every mode keeps the drawn rise (the displacement over each rise, a linear condition too) unless
+``keep_lift=False``, and moves the two vertices of a jump together (docs/fix.md).
 Each vertex mode can also run the source's own loop, ``method="iterate"``: resample with ``step_deg``,
 integrate with the trapezoidal rule, raise or lower the points by trial steps until the areas agree
 within the tolerance.
@@ -32,31 +34,43 @@ within the tolerance.
 
 from __future__ import annotations
 
+from camcad.balance.checking import (
+    BalanceReport,
+    check,
+    check_by_trapezoid,
+    trapezoid_residuals,
+)
 from camcad.balance.conditions import (
-    MODES,
-    METHODS,
-    DEFAULT_TOL,
-    DEFAULT_STEP_DEG,
     DEFAULT_MAX_STRETCH,
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    METHODS,
+    MODES,
     Condition,
     conditions,
     functional_rows,
+    lift_conditions,
     mass_matrix,
 )
-from camcad.balance.checking import BalanceReport, check, trapezoid_residuals, check_by_trapezoid
-from camcad.balance.correction import Correction, correct, difference_norms
-from camcad.balance.modes import lobes, lobe_groups, extremum_groups
-
+from camcad.balance.correction import Correction, Move, correct, difference_norms
+from camcad.balance.modes import (
+    extremum_groups,
+    jump_nodes,
+    least_change,
+    lobe_groups,
+    lobes,
+)
 
 __all__ = [
-    "BalanceReport",
-    "Condition",
-    "Correction",
     "DEFAULT_MAX_STRETCH",
     "DEFAULT_STEP_DEG",
     "DEFAULT_TOL",
     "METHODS",
     "MODES",
+    "BalanceReport",
+    "Condition",
+    "Correction",
+    "Move",
     "check",
     "check_by_trapezoid",
     "conditions",
@@ -64,6 +78,9 @@ __all__ = [
     "difference_norms",
     "extremum_groups",
     "functional_rows",
+    "jump_nodes",
+    "least_change",
+    "lift_conditions",
     "lobe_groups",
     "lobes",
     "mass_matrix",

@@ -7,11 +7,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camcad.balance.conditions import (
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    Condition,
+    conditions,
+    functional_rows,
+)
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import phase_integrals
-from camcad.balance.conditions import Condition, DEFAULT_STEP_DEG, DEFAULT_TOL, conditions, functional_rows
-
 
 # ---------------------------------------------------------------------------------------------
 # Check
@@ -82,12 +87,32 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
 
 def trapezoid_residuals(law: PiecewiseLinearLaw, step_deg: float = DEFAULT_STEP_DEG,
                         conds: tuple[Condition, ...] | None = None) -> np.ndarray:
-    """The balance conditions' residuals by the source's method: resample a with ``step_deg``, integrate
-    twice with the trapezoidal rule (``integrate_trapezoid``), read v and s at each condition's angle
-    (linear between grid points). Its error against ``check`` (exact) is O(step²); see the benchmark."""
+    """The conditions' residuals by the source's method: resample a with ``step_deg``, integrate twice with
+    the trapezoidal rule (``integrate_trapezoid``), read v and s at each condition's angle (linear between
+    grid points), minus each condition's target. Its error against ``check`` (exact) is O(step²).
+
+    Parameters
+    ----------
+    law : PiecewiseLinearLaw
+    step_deg : float
+        Resampling step (deg).
+    conds : tuple of Condition, optional
+        Default: the balance conditions of ``law``.
+
+    Returns
+    -------
+    ndarray
+        One residual per condition (mm/rad for velocities, mm for displacements).
+    """
     conds = conditions(law) if conds is None else conds
     grid, _, v, s = integrate_trapezoid(law.x, law.a, np.radians(step_deg))
-    return np.array([np.interp(cond.theta, grid, v if cond.quantity == "v" else s) for cond in conds])
+    values = []
+    for cond in conds:
+        value = float(np.interp(cond.theta, grid, v if cond.quantity == "v" else s))
+        if cond.quantity == "rise":
+            value -= float(np.interp(cond.start, grid, s))
+        values.append(value - cond.target)
+    return np.array(values)
 
 
 def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,

@@ -2,6 +2,8 @@
 
 v = 0 at the end of every rise and return, s(cycle) = s(0); each is a row of C with C a = residuals,
 computed exactly from the piecewise-linear shape functions; M is the polyline's mass matrix.
+A correction may add the *lift conditions*: the displacement over each rise, s(end) − s(start),
+keeps the value it had as drawn — linear in the ordinates too, with a non-zero target.
 """
 
 from __future__ import annotations
@@ -12,12 +14,12 @@ import numpy as np
 
 from camcad.law.law import PiecewiseLinearLaw
 
-
 MODES = ("min-change", "extrema", "extrema-resample", "keypoints", "segment", "phase", "phase-keypoints")
 METHODS = ("exact", "iterate")
 DEFAULT_TOL = 1e-5       # of the rise displacement
 DEFAULT_STEP_DEG = 0.1   # the source's resampling step
 DEFAULT_MAX_STRETCH = 0.05
+QUANTITIES = ("v", "s", "rise")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -26,16 +28,38 @@ DEFAULT_MAX_STRETCH = 0.05
 
 @dataclass(frozen=True)
 class Condition:
-    """One balance condition: ``quantity`` ("v" or "s") must be zero at ``theta`` (rad)."""
+    """One linear condition on the law's ordinates: ``quantity`` at ``theta`` (rad) equals ``target``.
+
+    ``quantity`` is "v" (velocity, mm/rad), "s" (displacement, mm, from s(0) = 0) or "rise"
+    (s(theta) − s(start), mm: the displacement over a phase). The balance conditions have target 0;
+    a lift condition has the drawn rise as its target.
+    """
 
     name: str
     quantity: str
     theta: float
     phase_index: int | None = None
+    start: float = 0.0
+    target: float = 0.0
+
+    @property
+    def is_lift(self) -> bool:
+        return self.quantity == "rise"
 
 
 def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
-    """v = 0 at the end of every rise and return; s(cycle) = s(0) at the end of the cycle."""
+    """The balance conditions: v = 0 at the end of every rise and return; s(cycle) = s(0).
+
+    Parameters
+    ----------
+    law : PiecewiseLinearLaw
+        The law with its phases (rad).
+
+    Returns
+    -------
+    tuple of Condition
+        One velocity condition per motion phase, in order, then the displacement closure.
+    """
     found = []
     for index, phase in enumerate(law.phases):
         if phase.kind in ("rise", "return"):
@@ -45,44 +69,120 @@ def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
     return tuple(found)
 
 
+def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None = None) -> tuple[Condition, ...]:
+    """The lift conditions: the displacement over each rise phase equals its drawn value.
+
+    Parameters
+    ----------
+    law : PiecewiseLinearLaw
+        The law whose rise phases (rad) give the rows.
+    targets : tuple of float, optional
+        The displacement (mm) each rise must keep, one per rise phase in order; by default the
+        law's own (exact), so the conditions hold for ``law`` itself.
+
+    Returns
+    -------
+    tuple of Condition
+        One "rise" condition per rise phase.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.law.law import Phase, PiecewiseLinearLaw
+    >>> x = np.radians([0.0, 90.0, 180.0, 270.0, 360.0])
+    >>> law = PiecewiseLinearLaw(x, np.array([0.0, 1.0, -1.0, 1.0, 0.0]), 2 * np.pi,
+    ...                          (Phase("rise", 0.0, np.pi), Phase("return", np.pi, 2 * np.pi)))
+    >>> [round(c.target, 6) for c in lift_conditions(law)]   # s(pi) = pi^2 / 6 for this triangle-pair
+    [1.644934]
+    """
+    rises = [(index, phase) for index, phase in enumerate(law.phases) if phase.kind == "rise"]
+    if targets is None:
+        ends = law.kinematics(np.array([[p.start, p.end] for _, p in rises]).reshape(-1)).s.reshape(-1, 2) \
+            if rises else np.zeros((0, 2))
+        targets = tuple(float(e - s) for s, e in ends)
+    if len(targets) != len(rises):
+        raise ValueError(f"{len(targets)} lift targets for {len(rises)} rise phases")
+    return tuple(Condition(f"rise {np.degrees(p.start):.6g}..{np.degrees(p.end):.6g} deg of {h:.6g} mm",
+                           "rise", p.end, index, start=p.start, target=float(h))
+                 for (index, p), h in zip(rises, targets))
+
+
+def targets(conds: tuple[Condition, ...]) -> np.ndarray:
+    """The right-hand sides of ``conds`` (C a = targets), as an array."""
+    return np.array([c.target for c in conds], dtype=float)
+
+
 def functional_rows(x: np.ndarray, conds: tuple[Condition, ...]) -> np.ndarray:
-    """Matrix C: row i gives v(θ_i) or s(θ_i) as Σ_k C_ik a_k for the polyline on knots x, exactly.
+    """Matrix C: row i gives v(θ_i), s(θ_i) or s(θ_i) − s(start_i) as Σ_k C_ik a_k, exactly.
 
     On a segment of length L starting at x_k with D = θc − x_k (for the part before θc):
         ∫ a dθ            → a_k L/2,            a_{k+1} L/2
         ∫ (θc − τ) a dτ   → a_k L(D/2 − L/6),   a_{k+1} L(D/2 − L/3)
     A segment cut by θc is treated as a shorter segment whose end value interpolates a_k, a_{k+1}.
+
+    Parameters
+    ----------
+    x : ndarray
+        Knots (rad), non-decreasing (a repeated knot is a jump).
+    conds : tuple of Condition
+
+    Returns
+    -------
+    ndarray, shape (len(conds), len(x))
     """
-    n = len(x)
-    rows = np.zeros((len(conds), n))
-    lengths = np.diff(x)
+    x = np.asarray(x, dtype=float)
+    rows = np.zeros((len(conds), len(x)))
     for row, cond in zip(rows, conds):
-        tc = cond.theta
-        full = np.flatnonzero(x[1:] <= tc)  # segments entirely before tc
-        length = lengths[full]
-        if cond.quantity == "v":
-            np.add.at(row, full, length / 2.0)
-            np.add.at(row, full + 1, length / 2.0)
+        if cond.quantity not in QUANTITIES:
+            raise ValueError(f"unknown quantity {cond.quantity!r}")
+        if cond.quantity == "rise":
+            row += _row(x, "s", cond.theta) - _row(x, "s", cond.start)
         else:
-            d = tc - x[full]
-            np.add.at(row, full, length * (d / 2.0 - length / 6.0))
-            np.add.at(row, full + 1, length * (d / 2.0 - length / 3.0))
-        k = int(np.searchsorted(x, tc, side="right")) - 1
-        if 0 <= k < n - 1 and x[k] < tc < x[k + 1]:
-            seg = x[k + 1] - x[k]
-            part = tc - x[k]
-            t = part / seg
-            if cond.quantity == "v":
-                w_start, w_end = part / 2.0, part / 2.0
-            else:
-                w_start, w_end = part * (part / 2.0 - part / 6.0), part * (part / 2.0 - part / 3.0)
-            row[k] += w_start + w_end * (1.0 - t)
-            row[k + 1] += w_end * t
+            row += _row(x, cond.quantity, cond.theta)
     return rows
 
 
+def _row(x: np.ndarray, quantity: str, tc: float) -> np.ndarray:
+    n = len(x)
+    row = np.zeros(n)
+    lengths = np.diff(x)
+    full = np.flatnonzero(x[1:] <= tc)  # segments entirely before tc
+    length = lengths[full]
+    if quantity == "v":
+        np.add.at(row, full, length / 2.0)
+        np.add.at(row, full + 1, length / 2.0)
+    else:
+        d = tc - x[full]
+        np.add.at(row, full, length * (d / 2.0 - length / 6.0))
+        np.add.at(row, full + 1, length * (d / 2.0 - length / 3.0))
+    k = int(np.searchsorted(x, tc, side="right")) - 1
+    if 0 <= k < n - 1 and x[k] < tc < x[k + 1]:
+        seg = x[k + 1] - x[k]
+        part = tc - x[k]
+        t = part / seg
+        if quantity == "v":
+            w_start, w_end = part / 2.0, part / 2.0
+        else:
+            w_start, w_end = part * (part / 2.0 - part / 6.0), part * (part / 2.0 - part / 3.0)
+        row[k] += w_start + w_end * (1.0 - t)
+        row[k + 1] += w_end * t
+    return row
+
+
 def mass_matrix(x: np.ndarray):
-    """Sparse M with ∫ (Σ δ_k φ_k)² dθ = δᵀ M δ for the hat functions φ_k of the knots x (rad)."""
+    """Sparse M with ∫ (Σ δ_k φ_k)² dθ = δᵀ M δ for the hat functions φ_k of the knots x (rad).
+
+    Parameters
+    ----------
+    x : ndarray
+        Knots (rad), non-decreasing.
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix
+        Tridiagonal, (len(x), len(x)); a vertex both of whose segments have zero length has a
+        zero row (its ordinate does not change the function).
+    """
     from scipy import sparse
 
     length = np.diff(x)
@@ -92,7 +192,3 @@ def mass_matrix(x: np.ndarray):
     diag[1:] += length / 3.0
     off = length / 6.0
     return sparse.diags([off, diag, off], [-1, 0, 1], format="csc")
-
-
-
-

@@ -36,22 +36,57 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from camcad.balance.checking import BalanceReport, check
+from camcad.balance.conditions import (
+    DEFAULT_MAX_STRETCH,
+    DEFAULT_STEP_DEG,
+    DEFAULT_TOL,
+    METHODS,
+    MODES,
+    conditions,
+    lift_conditions,
+)
+from camcad.balance.modes import _resample, _vertex_mode
+from camcad.balance.phase import _phase_mode
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear
 from camcad.law.phases import zero_threshold
-from camcad.balance.checking import BalanceReport, check
-from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL, METHODS, MODES, conditions
-from camcad.balance.modes import _resample, _vertex_mode
-from camcad.balance.phase import _phase_mode
-
 
 # ---------------------------------------------------------------------------------------------
 # Correction
 # ---------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
+class Move:
+    """One ``--move`` edit and what became of it; angles in deg, values in the law's units (mm/rad²).
+
+    ``status`` is "honoured" (vertex ``vertex`` was set from ``old_value`` to ``value`` and held while
+    the rest was rebalanced) or "refused" (``reason`` says why; nothing was changed for it).
+    """
+
+    theta_deg: float
+    value: float
+    status: str
+    reason: str = ""
+    vertex: int | None = None
+    vertex_deg: float | None = None
+    old_value: float | None = None
+
+    @property
+    def honoured(self) -> bool:
+        return self.status == "honoured"
+
+
+@dataclass(frozen=True)
 class Correction:
-    """A corrected law and what it cost. Changes are in the law's units (mm/rad²)."""
+    """A corrected law and what it cost. Changes are in the law's units (mm/rad²).
+
+    ``max_change``/``rms_change`` compare the two laws as functions of θ (exact); ``max_vertex_change``
+    is the largest change of one vertex's ordinate (the phase modes move vertices in angle only, by up
+    to ``max_shift_deg``); ``peak`` is max |a| of the law before. ``changed`` is False when the law
+    was already balanced and nothing was done. ``lift_targets`` are the rises (mm) the correction
+    kept, empty when the lift was free.
+    """
 
     law: PiecewiseLinearLaw
     mode: str
@@ -63,25 +98,59 @@ class Correction:
     iterations: int
     resampled: bool = False
     notes: tuple[str, ...] = field(default_factory=tuple)
+    changed: bool = True
+    moves: tuple[Move, ...] = ()
+    lift_targets: tuple[float, ...] = ()
+    keep_lift: bool = True
+    max_vertex_change: float = 0.0
+    max_shift_deg: float = 0.0
+    vertices_changed: int = 0
+    peak: float = 0.0
 
 
 def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = DEFAULT_TOL,
             method: str = "exact", step_deg: float = DEFAULT_STEP_DEG, segment_deg: tuple[float, float] | None = None,
-            move: tuple[float, float] | None = None, fixed: np.ndarray | None = None,
-            max_stretch: float = DEFAULT_MAX_STRETCH, max_iterations: int = 20000,
-            where: str = "") -> Correction:
+            move: tuple[float, float] | None = None, moves=(), fixed: np.ndarray | None = None,
+            max_stretch: float = DEFAULT_MAX_STRETCH, max_iterations: int = 2000,
+            where: str = "", keep_lift: bool = True) -> Correction:
     """Balance ``law`` with the chosen mode (see the module docstring).
 
     Parameters
     ----------
-    mode : one of MODES.
-    tol : closure tolerance, fraction of the rise (also the stopping rule of ``method="iterate"``).
-    method : "exact" (solve the linear conditions) or "iterate" (the source's trial-step loop with
+    law : PiecewiseLinearLaw
+        The law (θ in rad, a in mm/rad²) with its phases.
+    mode : str
+        One of MODES.
+    tol : float
+        Closure tolerance, fraction of the rise (also the stopping rule of ``method="iterate"``).
+    method : str
+        "exact" (solve the linear conditions) or "iterate" (the source's trial-step loop with
         trapezoidal integration at ``step_deg``).
-    segment_deg : (A, B) in deg for mode "segment".
-    move : (θ_deg, a) — set the vertex nearest θ to a (law units, mm/rad²) and hold it.
-    fixed : boolean mask of vertices that must not move (in addition to those on the axis).
-    max_stretch : largest relative phase stretch of "phase-keypoints".
+    step_deg : float
+        Resampling step (deg) of "iterate" and "extrema-resample".
+    segment_deg : (float, float), optional
+        (A, B) in deg for mode "segment".
+    move : (float, float), optional
+        One edit (θ_deg, a); the same as ``moves=[move]``.
+    moves : sequence of (float, float)
+        Edits (θ_deg, a in mm/rad²): each sets the vertex nearest θ (of a jump, the one nearer the
+        new value) to a and holds it; an edit that cannot be made is refused with its reason
+        (``Correction.moves``) and the others still apply.
+    fixed : ndarray of bool, optional
+        Vertices that must not move (in addition to those on the axis).
+    max_stretch : float
+        Largest relative phase stretch of "phase-keypoints".
+    max_iterations : int
+        Integration budget of "iterate" (the samples converge in under 150; a law the loop cannot balance
+        stops there, and earlier when the integrations would exceed 2·10⁷ grid points in all).
+    where : str
+        The input, for messages.
+    keep_lift : bool
+        Hold the displacement over every rise at its drawn value (default); False lets it change.
+
+    Returns
+    -------
+    Correction
     """
     if mode not in MODES:
         raise CamcadError(f"unknown mode {mode!r}", where or "--mode", f"use one of {', '.join(MODES)}")
@@ -92,52 +161,130 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if not (np.isfinite(tol) and tol > 0):
         raise CamcadError(f"tolerance {tol!r} must be a positive number", "--tol", "give e.g. --tol 1e-5")
     before = check(law, tol)
+    peak = float(np.max(np.abs(law.a)))
     notes: list[str] = []
     hold = np.zeros(len(law.x), dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool).copy()
-    start = law
-    if move is not None:
-        start, index = _apply_move(law, move, where)
-        hold[index] = True
-        notes.append(f"vertex {index} moved to a = {move[1]:g} at {np.degrees(law.x[index]):.6g} deg and held")
+    requested = ([move] if move is not None else []) + list(moves)
+    start, outcomes = _apply_moves(law, requested, hold)
+    lift_targets = tuple(c.target for c in lift_conditions(law)) if keep_lift else ()
     start = _zero_dwells(start, notes)
-    if move is None and before.balanced and start is law:
-        return Correction(law, mode, method, before, before, 0.0, 0.0, 0,
-                          notes=("already balanced within the tolerance; nothing changed",))
+    if not any(m.honoured for m in outcomes) and before.balanced and start is law:
+        return Correction(law, mode, method, before, before, 0.0, 0.0, 0, notes=(
+            "already balanced within the tolerance; nothing changed",), changed=False, moves=tuple(outcomes),
+            lift_targets=lift_targets, keep_lift=keep_lift, peak=peak)
+    if keep_lift and lift_targets and not any(p.kind == "return" for p in law.phases):
+        rises = ", ".join(f"{np.degrees(p.start):.4g}..{np.degrees(p.end):.4g}" for p in law.phases
+                          if p.kind == "rise")
+        try:  # with too few vertices even a free lift leaves no motion: that is the first thing to say
+            free, _ = _vertex_mode(start, "min-change", "exact", tol, step_deg, None, hold, 0, where)
+            no_motion = not np.any(np.abs(free.a[_drawn(free.x)]) > zero_threshold(law.a))
+        except CamcadError:
+            no_motion = False
+        if no_motion:
+            raise CamcadError(zero_law_message(mode, len(law.x), len(conditions(law))), where,
+                              "draw each lobe with more vertices")
+        raise CamcadError(f"the law has a rise ({rises} deg) but no return, so it cannot come back to its start "
+                          "while keeping the rise", where,
+                          "give its phases with --phases (a rise and a return), or add --free-lift")
+    targets_or_none = lift_targets if keep_lift else None
     if mode in ("phase", "phase-keypoints"):
         if method == "iterate":
             notes.append("phase modes are solved in closed form; --method iterate does not apply")
-        corrected, iterations = _phase_mode(start, mode, max_stretch, hold, tol, where, notes)
+        corrected, iterations = _phase_mode(start, mode, max_stretch, hold, tol, where, notes,
+                                            lift_targets=targets_or_none)
         resampled = False
     else:
         resampled = mode == "extrema-resample"
         if resampled:
             start, hold = _resample(start, step_deg, hold)
         corrected, iterations = _vertex_mode(start, mode, method, tol, step_deg, segment_deg, hold,
-                                             max_iterations, where)
-    if not np.any(np.abs(corrected.a) > zero_threshold(law.a)):
+                                             max_iterations, where, lift_targets=targets_or_none)
+    if not np.all(np.isfinite(corrected.a)) or not np.any(np.abs(corrected.a[_drawn(corrected.x)])
+                                                          > zero_threshold(law.a)):
         # too few points may move for the conditions: the only law they can balance is a = 0
-        raise CamcadError(f"mode {mode} can balance this law only by removing all its motion (every acceleration "
-                          f"goes to zero): the {len(law.x)}-vertex law has too few points it may move for its "
-                          f"{len(conditions(law))} balance conditions", where,
-                          "draw the law with more vertices on each lobe")
+        raise CamcadError(zero_law_message(mode, len(law.x), len(conditions(law))), where,
+                          "draw each lobe with more vertices")
     after = check(corrected, tol)
     max_change, rms_change = difference_norms(law, corrected)
+    if not resampled and len(corrected.x) == len(law.x):
+        vertex_change = np.abs(corrected.a - law.a)
+        shift = np.abs(corrected.x - law.x)
+        max_vertex = float(vertex_change.max())
+        max_shift = float(np.degrees(shift.max()))
+        count = int(np.count_nonzero((vertex_change > 0) | (shift > 0)))
+    else:
+        max_vertex, max_shift, count = max_change, 0.0, len(corrected.x)
     return Correction(corrected, mode, method, before, after, max_change, rms_change, iterations,
-                      resampled=resampled, notes=tuple(notes))
+                      resampled=resampled, notes=tuple(notes), moves=tuple(outcomes), lift_targets=lift_targets,
+                      keep_lift=keep_lift, max_vertex_change=max_vertex, max_shift_deg=max_shift,
+                      vertices_changed=count, peak=peak)
 
 
-def _apply_move(law: PiecewiseLinearLaw, move: tuple[float, float], where: str):
-    theta_deg, value = move
-    if not (np.isfinite(theta_deg) and np.isfinite(value)):
-        raise CamcadError("--move needs finite numbers", where or "--move", "write --move ANGLE_DEG:ACCEL")
-    theta = np.radians(theta_deg)
-    if not 0 <= theta <= law.cycle:
-        raise CamcadError(f"--move angle {theta_deg:g} deg is outside the cycle", where or "--move",
-                          f"give an angle in 0..{np.degrees(law.cycle):g}")
-    index = int(np.argmin(np.abs(law.x - theta)))
+def zero_law_message(mode: str, vertices: int, count: int) -> str:
+    """What to say when the only balanced law a mode can reach has no motion left."""
+    return (f"mode {mode} can balance this law only by removing all its motion (every acceleration zero): the "
+            f"{vertices}-vertex law has too few points to move for its {count} balance conditions")
+
+
+def _drawn(x: np.ndarray) -> np.ndarray:
+    """Vertices that shape the function: at least one of their segments has a length."""
+    length = np.diff(x) > 0
+    return np.concatenate(([False], length)) | np.concatenate((length, [False]))
+
+
+def _apply_moves(law: PiecewiseLinearLaw, requested, hold: np.ndarray) -> tuple[PiecewiseLinearLaw, list[Move]]:
+    """Set each requested vertex and hold it (``hold`` is updated); refuse what cannot be set, saying why."""
     a = law.a.copy()
-    a[index] = value
-    return law.with_ordinates(a), index
+    outcomes: list[Move] = []
+    cycle_deg = float(np.degrees(law.cycle))
+    dwells = [p for p in law.phases if p.kind == "dwell"]
+    taken: dict[int, int] = {}
+    for number, (theta_deg, value) in enumerate(requested, start=1):
+        theta_deg, value = float(theta_deg), float(value)
+
+        def refuse(reason: str, theta_deg=theta_deg, value=value) -> None:
+            outcomes.append(Move(theta_deg, value, "refused", reason))
+
+        if not (np.isfinite(theta_deg) and np.isfinite(value)):
+            refuse("the angle and the value must be finite numbers")
+            continue
+        if not 0.0 <= theta_deg <= cycle_deg:
+            refuse(f"{theta_deg:g} deg is outside the cycle 0..{cycle_deg:g} deg")
+            continue
+        theta = np.radians(theta_deg)
+        nearest = int(np.argmin(np.abs(law.x - theta)))
+        candidates = np.flatnonzero(law.x == law.x[nearest])
+        at_deg = float(np.degrees(law.x[nearest]))
+        inside = [p for p in dwells if p.start < law.x[nearest] < p.end]
+        if inside:
+            refuse(f"the nearest vertex ({at_deg:.6g} deg) is inside the dwell {np.degrees(inside[0].start):.6g}.."
+                   f"{np.degrees(inside[0].end):.6g} deg, which stays at zero acceleration")
+            continue
+        usable = [int(i) for i in candidates if value == 0.0 or not _on_dwell_side(law, int(i), dwells)]
+        if not usable:
+            refuse(f"the vertex at {at_deg:.6g} deg is the end of a dwell, which stays at zero acceleration")
+            continue
+        free = [i for i in usable if i not in taken]
+        if not free:
+            refuse(f"the vertex at {at_deg:.6g} deg is already set by --move #{taken[usable[0]]}")
+            continue
+        index = min(free, key=lambda i: (abs(law.a[i] - value), i))
+        outcomes.append(Move(theta_deg, value, "honoured", vertex=index, vertex_deg=at_deg,
+                             old_value=float(law.a[index])))
+        a[index] = value
+        hold[index] = True
+        taken[index] = number
+    if not any(m.honoured for m in outcomes):
+        return law, outcomes
+    return law.with_ordinates(a), outcomes
+
+
+def _on_dwell_side(law: PiecewiseLinearLaw, index: int, dwells) -> bool:
+    """True when vertex ``index`` ends a segment that lies in a dwell (it must stay at zero); the far
+    vertex of a jump at a dwell's edge belongs to the motion."""
+    x, n = law.x[index], len(law.x)
+    return any((x == p.end and index > 0 and law.x[index - 1] < x)
+               or (x == p.start and index + 1 < n and law.x[index + 1] > x) for p in dwells)
 
 
 def _zero_dwells(law: PiecewiseLinearLaw, notes: list[str]) -> PiecewiseLinearLaw:
@@ -154,8 +301,6 @@ def _zero_dwells(law: PiecewiseLinearLaw, notes: list[str]) -> PiecewiseLinearLa
     a[wrong] = 0.0
     notes.append(f"{int(wrong.sum())} vertices inside dwells set to zero acceleration")
     return law.with_ordinates(a)
-
-
 
 
 # ---------------------------------------------------------------------------------------------

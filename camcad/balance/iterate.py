@@ -3,13 +3,15 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 
-from camcad.errors import CamcadError
-from camcad.law.phases import sign_runs
 from camcad.balance.checking import _scale, trapezoid_residuals
 from camcad.balance.conditions import Condition
+from camcad.errors import CamcadError
+from camcad.law.phases import sign_runs
+
+#: grid points the loop may integrate in all (integrations × points per integration): a few seconds
+WORK_BUDGET = 20_000_000
 
 
 def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where):
@@ -17,11 +19,14 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
 
     Knob of the velocity condition of a phase: the movable points of that phase's closing part
     (its last lobe), scaled — "raise the maxima and lower the minima, or the reverse". Knob of
-    the displacement condition: every movable point of the last return, scaled. Each knob is
+    the displacement condition: every movable point of the last return, scaled. Knob of a lift
+    condition (the rise kept): every movable point of that rise, scaled. Each knob is
     searched with expanding trial steps until the residual changes sign, then by halving, and the
     conditions are swept in turn until all agree within the tolerance.
     """
     limit = tol * _scale(law)
+    points = law.cycle / np.radians(step_deg) + len(law.x)
+    max_iterations = int(min(max_iterations, max(100, WORK_BUDGET // points)))
     moved = np.zeros(len(law.x), dtype=bool)
     moved[touched] = True
     if mode in ("min-change", "keypoints", "segment"):
@@ -41,7 +46,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
         if np.all(np.abs(r) <= limit):
             return law.with_ordinates(a), evaluations
         for i, knob in enumerate(knobs):
-            def f(t: float, i=i, knob=knob) -> float:
+            def f(t: float, i=i, knob=knob, a=a) -> float:
                 return residuals(a * (1.0 + t * knob))[i]
             r0 = f(0.0)
             evaluations += 1
@@ -93,6 +98,9 @@ def _knob(law, cond: Condition, allowed: np.ndarray, where: str, mode: str) -> n
         mask = allowed & (x >= closing_start) & (x <= phase.end)
         if not mask.any():
             mask = allowed & (x >= phase.start) & (x <= phase.end)
+    elif cond.quantity == "rise":  # the whole rise scales: its closing velocity stays zero
+        phase = law.phases[cond.phase_index]
+        mask = allowed & (x >= phase.start) & (x <= phase.end)
     else:
         returns = [p for p in law.phases if p.kind == "return"]
         phase = returns[-1] if returns else law.phases[-1]

@@ -1,18 +1,37 @@
 """The vertex modes of the correction: which vertices may move and how (min-change, extrema, lobes,
 key points, a segment), solved exactly as the least change that meets the conditions.
+
+Every mode is a basis B of allowed changes δ = B p (one column per unknown p_j) and a measure of
+the change (the function norm ∫δa² dθ, or the sum of squared vertex changes). Rules shared by all:
+
+- vertices on the axis and inside dwells stay (a dwell stays a dwell), and so do held vertices;
+- the two vertices of a jump (same angle) are one unknown: they move together, so a jump is never
+  torn into a spike; a held vertex (``--move``, or on the axis) leaves its partner free alone;
+- ``extrema``: each local extremum (with its plateau) moves, and the change tapers linearly to the
+  neighbouring extrema and to the lobe's ends, so the lobe keeps its shape (no single-vertex spike);
+- ``extrema-resample``: each lobe scales as a whole.
 """
 
 from __future__ import annotations
 
-
 import numpy as np
 
+from camcad.balance.checking import _scale
+from camcad.balance.conditions import (
+    Condition,
+    conditions,
+    functional_rows,
+    lift_conditions,
+    mass_matrix,
+    targets,
+)
+from camcad.balance.iterate import _iterate
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear, uniform_grid
 from camcad.law.phases import zero_threshold
-from camcad.balance.checking import _scale
-from camcad.balance.conditions import conditions, functional_rows, mass_matrix
-from camcad.balance.iterate import _iterate
+
+#: a condition is met by a solve when its residual is below this fraction of the rise
+SOLVE_TOLERANCE = 1e-8
 
 
 def _free_vertices(law: PiecewiseLinearLaw, hold: np.ndarray) -> np.ndarray:
@@ -25,10 +44,37 @@ def _free_vertices(law: PiecewiseLinearLaw, hold: np.ndarray) -> np.ndarray:
     return free
 
 
+def jump_nodes(x: np.ndarray) -> np.ndarray:
+    """Node number of each vertex: vertices at the same angle (a jump) share one node.
+
+    Parameters
+    ----------
+    x : ndarray
+        Knots (rad), non-decreasing.
+
+    Returns
+    -------
+    ndarray of int
+        Non-decreasing node numbers from 0.
+
+    Examples
+    --------
+    >>> jump_nodes(np.array([0.0, 1.0, 1.0, 2.0])).tolist()
+    [0, 1, 1, 2]
+    """
+    x = np.asarray(x, dtype=float)
+    if len(x) == 0:
+        return np.zeros(0, dtype=int)
+    return np.concatenate(([0], np.cumsum(x[1:] != x[:-1]))).astype(int)
+
+
 def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
     """The law resampled at a uniform step; jumps keep both their vertices so they stay vertical."""
     if not (np.isfinite(step_deg) and step_deg > 0):
         raise CamcadError(f"step {step_deg!r} deg must be positive", "--step", "give e.g. --step 0.1")
+    if law.cycle / np.radians(step_deg) > 5e6:
+        raise CamcadError(f"step {step_deg:g} deg makes more than 5 million points", "--step",
+                          "give a coarser step, e.g. --step 0.1")
     grid = uniform_grid(0.0, law.cycle, np.radians(step_deg))
     jumps = law.x[:-1][np.diff(law.x) == 0]
     boundaries = np.array([p.start for p in law.phases] + [p.end for p in law.phases])
@@ -48,37 +94,107 @@ def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
     return PiecewiseLinearLaw(x_new, np.array(a_parts), law.cycle, law.phases), new_hold
 
 
-# --- vertex modes -------------------------------------------------------------------------------
+# --- bases ----------------------------------------------------------------------------------------
+
+def _node_columns(x: np.ndarray, movable: np.ndarray):
+    """One column per jump node among the ``movable`` vertices (coefficient 1 on each of them)."""
+    from scipy import sparse
+
+    idx = np.flatnonzero(movable)
+    nodes = jump_nodes(x)[idx]
+    _, col = np.unique(nodes, return_inverse=True)
+    k = int(col.max()) + 1 if len(col) else 0
+    return sparse.csc_matrix((np.ones(len(idx)), (idx, col)), shape=(len(x), k)), idx
+
+
+def _extrema_columns(law: PiecewiseLinearLaw, free: np.ndarray):
+    """One column per extremum group: 1 on the group, tapering linearly in θ to 0 at the lobe's ends
+    (the vertices just outside the lobe) and across to the neighbouring extrema of the same lobe."""
+    from scipy import sparse
+
+    x, n = law.x, len(law.x)
+    rows: list[int] = []
+    cols: list[int] = []
+    vals: list[float] = []
+    col = 0
+    for lobe in lobes(law.a, free):
+        groups = _lobe_extrema(law.a, lobe)
+        spans = [(x[g[0]], x[g[-1]]) for g in groups]
+        left = x[lobe[0] - 1] if lobe[0] > 0 else None
+        right = x[lobe[-1] + 1] if lobe[-1] < n - 1 else None
+        for i in lobe:
+            xi = x[i]
+            for k, (lo, hi) in enumerate(spans):
+                if lo <= xi <= hi:
+                    rows.append(i), cols.append(col + k), vals.append(1.0)
+                    break
+            else:
+                k = int(np.searchsorted([lo for lo, _ in spans], xi))  # first group to the right
+                if k == 0:
+                    t = 1.0 if left is None else (xi - left) / (spans[0][0] - left)
+                    rows.append(i), cols.append(col), vals.append(t)
+                elif k == len(spans):
+                    t = 1.0 if right is None else (right - xi) / (right - spans[-1][1])
+                    rows.append(i), cols.append(col + k - 1), vals.append(t)
+                else:
+                    t = (xi - spans[k - 1][1]) / (spans[k][0] - spans[k - 1][1])
+                    rows.extend((i, i)), cols.extend((col + k - 1, col + k)), vals.extend((1.0 - t, t))
+        col += len(groups)
+    keep = np.asarray(vals) != 0.0
+    basis = sparse.csc_matrix((np.asarray(vals)[keep], (np.asarray(rows, dtype=int)[keep],
+                                                        np.asarray(cols, dtype=int)[keep])), shape=(n, col))
+    return basis, np.unique(np.asarray(rows, dtype=int)[keep])
+
 
 def _basis(law: PiecewiseLinearLaw, mode: str, free: np.ndarray, segment_deg, where: str):
-    """Columns B of allowed changes δ = B p, and whether to measure p with the mass matrix."""
+    """Columns B of allowed changes δ = B p, whether to measure p with the mass matrix, the touched vertices."""
     from scipy import sparse
 
     n = len(law.x)
     if mode in ("min-change", "keypoints"):
-        idx = np.flatnonzero(free)
-        return sparse.csc_matrix((np.ones(len(idx)), (idx, np.arange(len(idx)))), shape=(n, len(idx))), \
-            mode == "min-change", idx
+        basis, idx = _node_columns(law.x, free)
+        return basis, mode == "min-change", idx
     if mode == "segment":
         lo, hi = np.radians(min(segment_deg)), np.radians(max(segment_deg))
-        idx = np.flatnonzero(free & (law.x >= lo) & (law.x <= hi))
-        if len(idx) == 0:
+        movable = free & (law.x >= lo) & (law.x <= hi)
+        if not movable.any():
             raise CamcadError(f"the segment {segment_deg[0]:g}:{segment_deg[1]:g} deg holds no vertex off the axis",
                               where or "--segment", "widen the segment or use --mode min-change")
-        return sparse.csc_matrix((np.ones(len(idx)), (idx, np.arange(len(idx)))), shape=(n, len(idx))), True, idx
-    groups = extremum_groups(law.a, free) if mode == "extrema" else lobe_groups(law.a, free)
+        basis, idx = _node_columns(law.x, movable)
+        return basis, True, idx
+    if mode == "extrema":
+        basis, idx = _extrema_columns(law, free)
+        return basis, True, idx
+    groups = lobe_groups(law.a, free)
     rows, cols, vals = [], [], []
     for col, group in enumerate(groups):
         rows.extend(group)
         cols.extend([col] * len(group))
-        # extrema move by a common amount; a lobe scales, so every point moves in proportion
-        vals.extend([1.0] * len(group) if mode == "extrema" else list(law.a[group]))
+        vals.extend(list(law.a[group]))  # a lobe scales: every point moves in proportion
     return sparse.csc_matrix((vals, (rows, cols)), shape=(n, len(groups))), True, \
         np.unique(np.concatenate(groups)) if groups else np.array([], dtype=int)
 
 
 def lobes(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
-    """Runs of consecutive free vertices with the same sign of a."""
+    """Runs of consecutive free vertices with the same sign of a.
+
+    Parameters
+    ----------
+    a : ndarray
+        Ordinates.
+    free : ndarray of bool
+        Vertices that may move.
+
+    Returns
+    -------
+    list of ndarray of int
+        Vertex indices of each run, in order.
+
+    Examples
+    --------
+    >>> [r.tolist() for r in lobes(np.array([0.0, 1.0, 2.0, -1.0, 0.0]), np.array([0, 1, 1, 1, 0], bool))]
+    [[1, 2], [3]]
+    """
     result = []
     current: list[int] = []
     sign = 0
@@ -97,81 +213,166 @@ def lobes(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
 
 
 def lobe_groups(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
+    """The groups of mode extrema-resample: one per lobe (see ``lobes``)."""
     return lobes(a, free)
 
 
 def extremum_groups(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
-    """The local maxima of positive lobes and minima of negative lobes; equal neighbours form one group."""
+    """The local maxima of positive lobes and minima of negative lobes; equal neighbours form one group.
+
+    Parameters
+    ----------
+    a : ndarray
+        Ordinates.
+    free : ndarray of bool
+        Vertices that may move.
+
+    Returns
+    -------
+    list of ndarray of int
+        Vertex indices of each extremum (a plateau of equal values is one group).
+    """
     groups = []
     for lobe in lobes(a, free):
-        values = np.abs(a[lobe])
-        scale = values.max()
-        # plateaus of equal values (within round-off) are one point for this purpose
-        runs = []
-        start = 0
-        for i in range(1, len(lobe) + 1):
-            if i == len(lobe) or abs(values[i] - values[start]) > 1e-9 * scale:
-                runs.append((start, i))
-                start = i
-        for r, (r0, r1) in enumerate(runs):
-            here = values[r0]
-            left = values[runs[r - 1][0]] if r > 0 else -np.inf
-            right = values[runs[r + 1][0]] if r + 1 < len(runs) else -np.inf
-            if here >= left and here >= right:
-                groups.append(lobe[r0:r1])
+        groups.extend(_lobe_extrema(a, lobe))
     return groups
 
 
-def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterations, where):
+def _lobe_extrema(a: np.ndarray, lobe: np.ndarray) -> list[np.ndarray]:
+    values = np.abs(a[lobe])
+    scale = values.max()
+    # plateaus of equal values (within round-off) are one point for this purpose
+    runs = []
+    start = 0
+    for i in range(1, len(lobe) + 1):
+        if i == len(lobe) or abs(values[i] - values[start]) > 1e-9 * scale:
+            runs.append((start, i))
+            start = i
+    groups = []
+    for r, (r0, r1) in enumerate(runs):
+        here = values[r0]
+        left = values[runs[r - 1][0]] if r > 0 else -np.inf
+        right = values[runs[r + 1][0]] if r + 1 < len(runs) else -np.inf
+        if here >= left and here >= right:
+            groups.append(lobe[r0:r1])
+    return groups
+
+
+# --- solving ---------------------------------------------------------------------------------------
+
+def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterations, where,
+                 lift_targets=None):
+    """Balance ``law`` by moving the vertices ``mode`` allows; with ``lift_targets`` (mm, one per rise)
+    the displacement over each rise is held at that value too."""
     free = _free_vertices(law, hold)
     basis, use_mass, touched = _basis(law, mode, free, segment_deg, where)
     conds = conditions(law)
-    rows = functional_rows(law.x, conds)
+    if lift_targets is not None:
+        conds = conds + lift_conditions(law, lift_targets)
     if basis.shape[1] == 0:
         raise CamcadError(f"mode {mode} finds no point it may move", where,
                           "use --mode min-change")
     if method == "exact":
-        delta = _least_change(law, rows, basis, use_mass, conds, mode, where)
+        delta = least_change(law, conds, basis, use_mass, mode, where)
         return law.with_ordinates(law.a + delta), 1
     return _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where)
 
 
-def _least_change(law, rows, basis, use_mass, conds, mode, where) -> np.ndarray:
-    """δ = B p with the least pᵀGp such that C(a + δ) = 0; G = BᵀMB (function norm) or I."""
+def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, use_mass: bool,
+                 mode: str = "min-change", where: str = "") -> np.ndarray:
+    """The change δ = B p of least pᵀGp that meets every condition: C(a + δ) = targets.
+
+    G = BᵀMB (the function norm ∫δa² dθ, M the polyline's mass matrix) or BᵀB (the sum of squared
+    vertex changes). Solved through the Schur complement: p = G⁻¹Aᵀy with (A G⁻¹ Aᵀ) y = r, A = C B,
+    r = targets − C a. Singular cases are solved, not refused: a column that does not change the
+    function (a vertex whose segments both have zero length) stays put, and dependent conditions
+    are met in the least-squares sense (the pseudo-inverse of the small Schur matrix). Conditions
+    that cannot all be met raise a CamcadError that names the one that cannot be met.
+
+    Parameters
+    ----------
+    law : PiecewiseLinearLaw
+    conds : tuple of Condition
+    basis : scipy.sparse matrix (n_vertices, k)
+    use_mass : bool
+        Measure the change as a function (True) or vertex by vertex (False).
+    mode, where : str
+        For messages.
+
+    Returns
+    -------
+    ndarray
+        δ, one value per vertex (mm/rad²).
+    """
     from scipy.sparse.linalg import splu
 
-    residual = rows @ law.a
+    rows = functional_rows(law.x, conds)
+    goal = targets(conds)
+    residual = goal - rows @ law.a
     A = np.asarray((basis.T @ rows.T).T)  # C B, m × k
-    if use_mass:
-        gram = (basis.T @ mass_matrix(law.x) @ basis).tocsc()
-        solve = splu(gram).solve
-        g_inv_at = solve(np.ascontiguousarray(A.T))
-    else:
-        g_inv_at = A.T.copy()
-    schur = A @ g_inv_at
-    scale = _scale(law)
-    p = -g_inv_at @ np.linalg.lstsq(schur, residual, rcond=1e-12)[0]
+    gram = (basis.T @ mass_matrix(law.x) @ basis).tocsc() if use_mass else (basis.T @ basis).tocsc()
+    diag = gram.diagonal()
+    live = diag > 1e-13 * diag.max() if len(diag) and diag.max() > 0 else np.zeros(len(diag), dtype=bool)
+    p = np.zeros(basis.shape[1])
+    if live.any():
+        A_live = A[:, live]
+        norms = np.abs(A_live).max(axis=1)
+        scale_rows = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 0.0)
+        A_eq = A_live * scale_rows[:, None]
+        g_live = gram[live][:, live].tocsc()
+        try:
+            g_inv_at = splu(g_live).solve(np.ascontiguousarray(A_eq.T))
+        except RuntimeError:  # numerically singular: the least change along a tiny ridge
+            from scipy import sparse
+
+            ridge = 1e-12 * float(g_live.diagonal().mean())
+            g_inv_at = splu((g_live + ridge * sparse.identity(g_live.shape[0], format="csc")).tocsc()) \
+                .solve(np.ascontiguousarray(A_eq.T))
+        schur = A_eq @ g_inv_at
+        y = np.linalg.lstsq(schur, residual * scale_rows, rcond=1e-12)[0]
+        p[live] = g_inv_at @ y
     delta = np.asarray(basis @ p).ravel()
-    remaining = rows @ (law.a + delta)
-    if np.any(np.abs(remaining) > 1e-8 * scale):
-        _explain_unreachable(A, residual, conds, mode, where)
+    remaining = rows @ (law.a + delta) - goal
+    limit = SOLVE_TOLERANCE * _scale(law)
+    if not np.all(np.isfinite(delta)) or np.any(np.abs(remaining) > limit):
+        _explain_unreachable(A, residual, conds, mode, where, limit, law, basis)
     return delta
 
 
-def _explain_unreachable(A, residual, conds, mode, where):
-    scale_rows = np.abs(A).max(axis=1)
-    dead = [c.name for c, s, r in zip(conds, scale_rows, residual) if s <= 1e-12 * max(scale_rows.max(), 1e-300)
-            and abs(r) > 0]
-    if dead:
-        what = f"mode {mode} cannot change the {dead[0]}: none of the points it may move acts on it"
-    else:
-        what = (f"mode {mode} has {np.linalg.matrix_rank(A)} independent ways to change the law "
-                f"for {len(conds)} balance conditions")
-    fix = "use --mode min-change or keypoints (they move every point off the axis)"
+def _explain_unreachable(A, residual, conds, mode, where, limit, law, basis):
+    """Raise the CamcadError that says which condition cannot be met, and what can meet it."""
+    from camcad.balance.correction import zero_law_message
+
+    norms = np.abs(A).max(axis=1)
+    biggest = max(float(norms.max()), 1e-300) if len(norms) else 1e-300
+    other_modes = "use --mode min-change or keypoints (they move every point off the axis)"
     if mode == "segment":
-        fix = "widen --segment to cover every phase that is out of balance, or use --mode min-change"
-    raise CamcadError(what, where, fix)
-
-
-
-
+        other_modes = "widen --segment to cover every phase that is out of balance, or use --mode min-change"
+    elif mode == "min-change":
+        other_modes = "check the phases (--phases) and the vertices the law may move"
+    dead = [c for c, s, r in zip(conds, norms, residual) if s <= 1e-12 * biggest and abs(r) > limit]
+    if dead:
+        fix = "add --free-lift to let the rise change" if dead[0].is_lift else other_modes
+        raise CamcadError(f"mode {mode} cannot change the {dead[0].name}: none of the points it may move acts on it",
+                          where, fix)
+    # which condition contradicts the others? try without each one, the lift conditions first
+    order = [i for i, c in enumerate(conds) if c.is_lift] + [i for i, c in enumerate(conds) if not c.is_lift]
+    for i in order:
+        keep = [j for j in range(len(conds)) if j != i]
+        sub, r = A[keep], residual[keep]
+        solution = np.linalg.lstsq(sub, r, rcond=1e-12)[0]
+        if np.all(np.abs(sub @ solution - r) <= limit):
+            if conds[i].is_lift:
+                balance_only = [j for j in keep if not conds[j].is_lift]
+                p = np.linalg.lstsq(A[balance_only], residual[balance_only], rcond=1e-12)[0]
+                moved = law.a + np.asarray(basis @ p).ravel()
+                if np.all(np.abs(moved) <= 1e-9 * np.max(np.abs(law.a))):   # no motion left without the lift
+                    raise CamcadError(zero_law_message(mode, len(law.x), len(balance_only)), where,
+                                      "draw each lobe with more vertices")
+                raise CamcadError(f"mode {mode} cannot keep the {conds[i].name} and balance the law with the points "
+                                  "it may move", where, "add --free-lift to let the rise change, or use --mode "
+                                  "min-change" if mode != "min-change" else "add --free-lift to let the rise change")
+            raise CamcadError(f"mode {mode} cannot meet the {conds[i].name} together with the other conditions",
+                              where, other_modes)
+    raise CamcadError(f"mode {mode} has {np.linalg.matrix_rank(A)} independent ways to change the law "
+                      f"for {len(conds)} conditions", where, other_modes)

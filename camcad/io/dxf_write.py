@@ -12,14 +12,22 @@ follows, each learned from real readers:
 - SPLINEs with control points and knots, never fit points only (GDAL, Inkscape, LibreCAD and
   LibreOffice lose or misdraw those);
 - text reduced to ASCII (no reader decodes non-ASCII right in every DXF version);
-- the file is written atomically.
+- the file is written atomically, and byte for byte the same for the same content: ezdxf stamps
+  every save with the time and a random GUID ($TDCREATE, $TDUPDATE, $VERSIONGUID, $FINGERPRINTGUID
+  and its own metadata); ``save_document`` writes a fixed creation stamp instead (the time given by
+  ``SOURCE_DATE_EPOCH``, else 2000-01-01 00:00 UTC) or, for a copy of a user's drawing, the
+  input's own values (``HeaderKeep``).
 """
 
 from __future__ import annotations
 
 import logging
+import os
+import re
 import unicodedata
+from contextlib import contextmanager
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
@@ -138,17 +146,7 @@ def build_document(drawing: Drawing, version: str = "R2000"):
     r12 = version == "R12"
     if r12 and drawing.splines:
         raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline", "drop --spline or --r12")
-    if r12:
-        # ezdxf.new() always assigns $INSUNITS and logs that R12 cannot store it; nothing to report
-        quiet = logging.getLogger("ezdxf")
-        level = quiet.level
-        quiet.setLevel(logging.ERROR)
-        try:
-            doc = ezdxf.new(DXF_VERSIONS[version], setup=True, units=4)
-        finally:
-            quiet.setLevel(level)
-    else:
-        doc = ezdxf.new(DXF_VERSIONS[version], setup=True, units=4)  # $INSUNITS 4 = mm, $MEASUREMENT metric
+    doc = new_document(DXF_VERSIONS[version], setup=True, units=4)  # $INSUNITS 4 = mm, $MEASUREMENT metric
     used = list(drawing.layers)
     for item in (*drawing.paths, *drawing.splines, *drawing.circles, *drawing.lines, *drawing.texts):
         if item.layer not in used:
@@ -189,6 +187,292 @@ def build_document(drawing: Drawing, version: str = "R2000"):
 
 
 def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000") -> Path:
-    """Write ``drawing`` as an ASCII DXF file (atomically); return the path."""
+    """Write ``drawing`` as an ASCII DXF file (atomically, byte-deterministic); return the path.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write.
+    drawing : Drawing
+        The geometry (mm).
+    version : str
+        "R2000" (default) or "R12".
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     doc = build_document(drawing, version)
-    return write_atomic(path, lambda tmp: doc.saveas(tmp, fmt="asc"))
+    return save_document(doc, path)
+
+
+# ---------------------------------------------------------------------------------------------
+# Deterministic, faithful saving
+# ---------------------------------------------------------------------------------------------
+
+#: the environment variable of reproducible builds: seconds since 1970-01-01 UTC
+STAMP_VARIABLE = "SOURCE_DATE_EPOCH"
+#: the creation stamp of camcad's own drawings when SOURCE_DATE_EPOCH is not set
+FIXED_STAMP = datetime(2000, 1, 1, tzinfo=UTC)
+#: header variables a saved copy recomputes instead of keeping the input's value
+RECOMPUTED = ("$ACADVER", "$EXTMIN", "$EXTMAX", "$HANDSEED", "$DWGCODEPAGE")
+#: header variables that hold a time or an identity of the save (ezdxf sets them anew every time)
+STAMPED = ("$TDCREATE", "$TDUCREATE", "$TDUPDATE", "$TDUUPDATE", "$VERSIONGUID", "$FINGERPRINTGUID")
+NULL_GUID = "{00000000-0000-0000-0000-000000000000}"
+
+
+def creation_stamp() -> datetime:
+    """The time stamped into camcad's own drawings: ``SOURCE_DATE_EPOCH`` if set (and valid), else 2000-01-01.
+
+    Returns
+    -------
+    datetime
+        A time in UTC.
+
+    Examples
+    --------
+    >>> import os
+    >>> os.environ.pop("SOURCE_DATE_EPOCH", None) and None
+    >>> creation_stamp().isoformat()
+    '2000-01-01T00:00:00+00:00'
+    """
+    text = os.environ.get(STAMP_VARIABLE, "").strip()
+    if text.isdigit():
+        try:
+            return datetime.fromtimestamp(int(text), tz=UTC)
+        except (OverflowError, OSError, ValueError):
+            pass
+    return FIXED_STAMP
+
+
+@contextmanager
+def _fixed_ezdxf_stamps():
+    """ezdxf writes constant metadata (no time, no random GUID) inside this block; logging kept quiet."""
+    import ezdxf
+
+    options = ezdxf.options
+    previous = options.write_fixed_meta_data_for_testing
+    quiet = logging.getLogger("ezdxf")
+    level = quiet.level
+    options.write_fixed_meta_data_for_testing = True
+    quiet.setLevel(logging.ERROR)  # e.g. "$INSUNITS are not exported for DXF R12": nothing to report
+    try:
+        yield
+    finally:
+        options.write_fixed_meta_data_for_testing = previous
+        quiet.setLevel(level)
+
+
+def new_document(version: str = "R2000", **kwargs):
+    """``ezdxf.new`` without its random GUIDs and time stamps (see ``save_document``).
+
+    Parameters
+    ----------
+    version : str
+        DXF version as ezdxf names it ("R12", "R2000", "AC1015", ...).
+    **kwargs
+        Passed to ``ezdxf.new`` (``setup``, ``units``).
+
+    Returns
+    -------
+    ezdxf.document.Drawing
+    """
+    import ezdxf
+
+    with _fixed_ezdxf_stamps():
+        return ezdxf.new(version, **kwargs)
+
+
+@dataclass(frozen=True)
+class HeaderKeep:
+    """The header variables of an input drawing, to be written back into a copy of it.
+
+    ``names`` are the variables the input file holds (in its order); ``values`` their values as
+    ezdxf read them (ezdxf ``HeaderVar`` objects). A copy keeps every one of them, also those ezdxf
+    would drop because they do not belong to the DXF version it writes, except ``RECOMPUTED``.
+    """
+
+    names: tuple[str, ...]
+    values: dict
+
+
+_HEADER_SECTION = re.compile(rb"(?s)0\s*\r?\n\s*SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER\s*\r?\n(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
+
+
+def header_snapshot(doc, raw: bytes | None) -> HeaderKeep:
+    """The header variables of the DXF file ``raw`` as it holds them, for ``save_document`` to keep.
+
+    The values are read from the file's bytes, not from the loaded document: ezdxf stamps a loaded
+    document with the current time ($TDCREATE) and new GUIDs before anyone sees it.
+
+    Parameters
+    ----------
+    doc : ezdxf.document.Drawing
+        The document ezdxf loaded from ``raw`` (for its encoding; binary files: its header).
+    raw : bytes or None
+        The file's bytes (ASCII DXF); None for a binary file (then ezdxf's values are taken).
+
+    Returns
+    -------
+    HeaderKeep
+    """
+    if raw is None:
+        hdrvars = doc.header.hdrvars
+        names = tuple(name for name in hdrvars if name not in STAMPED)
+        return HeaderKeep(names, {name: hdrvars[name] for name in names})
+    match = _HEADER_SECTION.search(raw)
+    if match is None:
+        return HeaderKeep((), {})
+    import io
+
+    from ezdxf.lldxf.tagger import ascii_tags_loader, tag_compiler
+    from ezdxf.lldxf.tags import Tags
+    from ezdxf.sections.header import HeaderSection
+
+    text = match.group(1).decode(doc.encoding if doc.dxfversion < "AC1021" else "utf-8", errors="replace")
+    try:
+        tags = Tags([*tag_compiler(iter([*_section_start(), *ascii_tags_loader(io.StringIO(text, newline=None))]))])
+        hdrvars = HeaderSection.load(tags).hdrvars
+    except Exception:  # noqa: BLE001 - a header ezdxf cannot parse again: keep what the document holds
+        hdrvars = {name: var for name, var in doc.header.hdrvars.items() if name not in STAMPED}
+    return HeaderKeep(tuple(hdrvars), dict(hdrvars))
+
+
+def _section_start():
+    from ezdxf.lldxf.types import DXFTag
+
+    return DXFTag(0, "SECTION"), DXFTag(2, "HEADER")
+
+
+def dxf_text(doc, keep: HeaderKeep | None = None) -> str:
+    """The ASCII DXF of ``doc``, the same text every time for the same document.
+
+    - ``keep`` given (a copy of a user's drawing): every header variable of the input is written
+      with the input's value — its creation and update times and GUIDs included — except
+      $ACADVER (the version ezdxf writes), $HANDSEED (the next free handle), $DWGCODEPAGE (the
+      encoding written) and $EXTMIN/$EXTMAX, recomputed from the model space;
+    - otherwise (camcad's own drawing): times from ``creation_stamp()``, null GUIDs, extents
+      recomputed.
+
+    Parameters
+    ----------
+    doc : ezdxf.document.Drawing
+    keep : HeaderKeep, optional
+
+    Returns
+    -------
+    str
+        The DXF text with ``\n`` line ends.
+    """
+    import io
+
+    from ezdxf.lldxf.const import DXF12
+    from ezdxf.lldxf.tagwriter import TagWriter
+    from ezdxf.tools.juliandate import juliandate
+
+    with _fixed_ezdxf_stamps():
+        doc.commit_pending_changes()
+        doc.update_all()
+    header = doc.header
+    if keep is not None:
+        for name in keep.names:
+            if name not in RECOMPUTED:
+                header.hdrvars[name] = keep.values[name]
+    missing = [name for name in STAMPED if keep is None or name not in keep.names]
+    stamp = juliandate(creation_stamp().replace(tzinfo=None))
+    for name in missing:
+        if name in header.hdrvars or name in ("$TDCREATE", "$TDUPDATE", "$VERSIONGUID", "$FINGERPRINTGUID"):
+            header[name] = NULL_GUID if name.endswith("GUID") else stamp
+    _set_extents(doc)
+    version = doc.dxfversion
+    handles = bool(header.get("$HANDLING", 0)) if version == DXF12 else True
+    stream = io.StringIO()
+    writer = TagWriter(stream, write_handles=handles, dxfversion=version)
+    extra = () if keep is None else keep.names
+    # the header goes out through _export_header; every other section as ezdxf writes it
+    header.export_dxf = lambda tagwriter: _export_header(header, tagwriter, extra)
+    try:
+        doc.export_sections(writer)
+    finally:
+        del header.export_dxf  # back to the class's method
+    return stream.getvalue()
+
+
+def save_document(doc, path: str | Path, *, keep: HeaderKeep | None = None, crlf: bool = False) -> Path:
+    """Write ``doc`` as ASCII DXF to ``path``: atomically, in its own encoding, byte-deterministic.
+
+    Parameters
+    ----------
+    doc : ezdxf.document.Drawing
+    path : str or Path
+    keep : HeaderKeep, optional
+        The input's header to keep (a copy of a user's drawing); see ``dxf_text``.
+    crlf : bool
+        Write CR LF line ends (as the input had) instead of LF.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    text = dxf_text(doc, keep)
+    if crlf:
+        text = text.replace("\n", "\r\n")
+    data = text.encode(doc.output_encoding, errors="dxfreplace")
+    return write_atomic(path, lambda tmp: tmp.write_bytes(data))
+
+
+def _set_extents(doc) -> None:
+    """$EXTMIN/$EXTMAX from what the model space draws (ezdxf keeps ±1e20 where it does not know them)."""
+    from ezdxf import bbox
+
+    msp = doc.modelspace()
+    try:
+        box = bbox.extents(msp, fast=True)
+    except Exception:  # noqa: BLE001 - an entity ezdxf cannot bound leaves the extents as they were
+        return
+    if box.has_data and all(np.isfinite(v) for v in (*box.extmin, *box.extmax)):
+        doc.header["$EXTMIN"] = tuple(box.extmin)
+        doc.header["$EXTMAX"] = tuple(box.extmax)
+        if doc.dxfversion > "AC1009":  # R12 layouts have no such attributes
+            msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax
+
+
+def _export_header(header, tagwriter, extra: tuple[str, ...]) -> None:
+    """ezdxf's header export, plus the input's variables ezdxf does not write for this version."""
+    from ezdxf.sections.header import HeaderVar, header_vars_by_priority
+    from ezdxf.sections.headervars import HEADER_VAR_MAP, version_specific_group_code
+
+    version = tagwriter.dxfversion
+    tagwriter.write_str("  0\nSECTION\n  2\nHEADER\n")
+    saved = header["$ACADVER"]
+    header["$ACADVER"] = version
+    written = set()
+    for name, value in header_vars_by_priority(header.hdrvars, version):
+        if name == "$HANDSEED" and not tagwriter.write_handles and name not in extra:
+            continue
+        if value.value is None:
+            continue
+        code = version_specific_group_code(name, version)
+        if code != value.code:
+            value = HeaderVar((code, value.value))
+        tagwriter.write_tag2(9, name)
+        tagwriter.write_str(str(value))
+        written.add(name)
+        if name == "$LASTSAVEDBY":
+            header.custom_vars.write(tagwriter)
+    for name in extra:
+        value = header.hdrvars.get(name)
+        if name in written or value is None or value.value is None:
+            continue
+        if name in HEADER_VAR_MAP and not _fits(HEADER_VAR_MAP[name], version) and name in RECOMPUTED:
+            continue
+        tagwriter.write_tag2(9, name)
+        tagwriter.write_str(str(value))
+    header["$ACADVER"] = saved
+    tagwriter.write_str("  0\nENDSEC\n")
+
+
+def _fits(vardef, version: str) -> bool:
+    return vardef.mindxf <= version <= vardef.maxdxf

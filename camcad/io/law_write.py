@@ -1,20 +1,44 @@
 """Writing laws: an acceleration polyline DXF and CSV tables; and a corrected copy of the user's drawing.
 
-All outputs are written atomically (temp file + rename). DXF files are ASCII (binary DXF is
-unreadable for several CAD readers, dxf-interop.md trap 5) with extents set (trap 2).
+All outputs are written atomically and byte-deterministically (``dxf_write.save_document``). DXF
+files are ASCII (binary DXF is unreadable for several CAD readers, dxf-interop.md trap 5) with
+extents set (trap 2).
+
+A corrected copy of a drawing (``write_corrected_drawing``) is the input as faithfully as ezdxf can
+write it: every entity, layer, block and header variable kept, the same DXF version where ezdxf
+writes it (R12, R2000 and later; R13/R14 come out as R2000, older than R12 as R12, and the notes
+say so), the same line ends (CR LF stays CR LF), the input's creation and update stamps and GUIDs.
+The original law is kept in an unreferenced block, CAMCAD_ORIGINAL: LibreCAD, Inkscape and
+LibreOffice do not draw a block that is not inserted (they do draw a layer that is switched off,
+and Inkscape draws a frozen one too), so a render shows one law, and nothing the user drew is lost.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
-from camcad.io.dxf_write import lwpolyline_from_array, set_lwpolyline_rows
+from camcad.io.dxf_write import (
+    header_snapshot,
+    lwpolyline_from_array,
+    new_document,
+    save_document,
+    set_lwpolyline_rows,
+)
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
+ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
+#: what ezdxf writes instead of a DXF version it cannot write
+WRITTEN_AS = {"AC1012": "AC1015", "AC1014": "AC1015", "AC1002": "AC1009", "AC1003": "AC1009",
+              "AC1004": "AC1009", "AC1006": "AC1009"}
+RELEASES = {"AC1002": "R2.5", "AC1003": "R2.6", "AC1004": "R9", "AC1006": "R10", "AC1009": "R12",
+            "AC1012": "R13", "AC1014": "R14", "AC1015": "R2000", "AC1018": "R2004", "AC1021": "R2007",
+            "AC1024": "R2010", "AC1027": "R2013", "AC1032": "R2018"}
+_ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
 
 
 def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *, layer: str = "ACCEL",
@@ -23,16 +47,34 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
 
     Besides the law (LWPOLYLINE, or POLYLINE for R12) on ``layer``, the file holds the θ axis on
     layer AXES and a title on layer TEXT, so it reads back through ``camcad check`` unchanged.
-    The drawing is unitless ($INSUNITS 0): neither axis is a length.
-    """
-    import ezdxf
-    from ezdxf import appsettings
+    The drawing is unitless ($INSUNITS 0): neither axis is a length. The same input gives the same
+    bytes (``dxf_write.save_document``).
 
+    Parameters
+    ----------
+    path : str or Path
+        The DXF file to write.
+    theta_deg : ndarray
+        Cam angle of each vertex (deg), non-decreasing.
+    accel : ndarray
+        Acceleration analog of each vertex (mm/rad²).
+    layer : str
+        Layer of the law.
+    r12 : bool
+        Write DXF R12 (POLYLINE) instead of R2000 (LWPOLYLINE).
+    title : str
+        Text above the law (ASCII).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     theta_deg = np.asarray(theta_deg, dtype=float)
     accel = np.asarray(accel, dtype=float)
     if theta_deg.shape != accel.shape or theta_deg.ndim != 1 or len(theta_deg) < 2:
         raise ValueError("theta_deg and accel must be 1-D arrays of equal length >= 2")
-    doc = ezdxf.new("R12" if r12 else "R2000")
+    doc = new_document("R12" if r12 else "R2000")
     if not r12:  # R12 has no $INSUNITS
         doc.units = 0
     for name, color in ((layer, 1), ("AXES", 8), ("TEXT", 7)):
@@ -49,12 +91,24 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
     label = title or "acceleration analog a (mm/rad/rad) vs cam angle (deg)"
     msp.add_text(label.encode("ascii", "replace").decode(), dxfattribs={"layer": "TEXT", "height": height}) \
         .set_placement((float(theta_deg[0]), float(np.max(accel)) + 2 * height))
-    appsettings.update_extents(doc)
-    return write_atomic(path, lambda tmp: doc.saveas(tmp, fmt="asc"))
+    return save_document(doc, path)
 
 
 def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None) -> Path:
-    """θ (deg), s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³) and any extra columns, one row per sample."""
+    """θ (deg), s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³) and any extra columns, one row per sample.
+
+    Parameters
+    ----------
+    path : str or Path
+    kinematics : camcad.law.law.Kinematics
+    extra : dict of str to ndarray, optional
+        Further columns, one value per sample.
+
+    Returns
+    -------
+    Path
+        ``path`` (12 significant digits, ``\\n`` line ends: the same bytes for the same numbers).
+    """
     columns = {"theta_deg": np.degrees(kinematics.theta), "s_mm": kinematics.s, "v_mm_per_rad": kinematics.v,
                "a_mm_per_rad2": kinematics.a, "j_mm_per_rad3": kinematics.j}
     columns.update(extra or {})
@@ -68,59 +122,98 @@ def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | N
 def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
     """A copy of the user's drawing with the law's curve replaced by ``law`` (same layer).
 
-    Every other entity, layer, block and header variable is kept. The original curve is kept on
-    layer CAMCAD_ORIGINAL (switched off). An LWPOLYLINE, POLYLINE or LINE chain keeps its entity
-    type, handle and vertex count (vertices move); a curve that was flattened (SPLINE, bulges,
-    arcs, a block) or a resampled law is written as a new polyline on the curve's layer.
-    Coordinates go back to drawing units: x = x_min + θ/cycle·(x_max − x_min), y = a / y_scale.
+    Every other entity, layer, block and header variable is kept (see the module docstring for the
+    version, line ends and stamps). The original curve goes into the block CAMCAD_ORIGINAL (not
+    inserted, so not drawn; its entities on the frozen layer CAMCAD_ORIGINAL). An LWPOLYLINE,
+    POLYLINE or LINE chain keeps its entity type, handle and vertex count (vertices move); a curve
+    that was flattened (SPLINE, bulges, arcs), one inside a block reference, or a resampled law is
+    written as a new polyline on the curve's layer, and the original entity itself moves into the
+    block. Coordinates go back to drawing units through ``loaded.theta_to_x`` and ``loaded.a_to_y``;
+    a vertex the correction did not move keeps its drawn coordinates bit for bit.
+
+    Parameters
+    ----------
+    loaded : camcad.law.source.LoadedLaw
+        The law as read (its curve, vertex map and mapping to drawing units).
+    law : PiecewiseLinearLaw
+        The corrected law (θ rad, a mm/rad²).
+    out : str or Path
+        The DXF file to write.
+    resampled : bool
+        The corrected law has other vertices than the drawn one.
+
+    Returns
+    -------
+    (Path, list of str)
+        The written path and notes saying what was written and what could not be kept.
     """
     from camcad.io.dxf_read import open_drawing
 
     out = Path(out)
     if loaded.curve is None:
         raise ValueError("the law was not read from a drawing")
+    raw = Path(loaded.path).read_bytes()
     source = open_drawing(loaded.path)  # a fresh copy: the loaded document stays as read
     doc = source.doc
-    notes: list[str] = []
-    if source.binary:
-        notes.append("the input is binary DXF; the corrected copy is written as ASCII DXF")
-    if ORIGINAL_LAYER not in doc.layers:
-        doc.layers.add(ORIGINAL_LAYER, color=8)
-    doc.layers.get(ORIGINAL_LAYER).off()
+    keep = header_snapshot(doc, None if source.binary else raw)
+    notes = _fidelity_notes(raw, source, doc, bool(keep.names))
+    block = _original_block(doc)
     curve = loaded.curve
-    entities = [doc.entitydb.get(h) for h in curve.handles]
-    in_block = any(e is None or e.dxftype() == "INSERT" for e in entities)
+    entities, unique = _curve_entities(doc, curve)
+    in_block = not unique or any(e.dxftype() == "INSERT" for e in entities)
     x_new, y_new = _drawing_coordinates(loaded, law)
+    msp = doc.modelspace()
     if curve.editable and not resampled and not in_block and len(law.x) == int(loaded.vertex_map.lo.max()) + 1:
         xs = loaded.vertex_map.ordinates(x_new)
         ys = loaded.vertex_map.ordinates(y_new)
-        msp = doc.modelspace()
         for entity in entities:
-            keep = entity.copy()
-            keep.dxf.layer = ORIGINAL_LAYER
-            msp.add_entity(keep)
-        _move_vertices(curve, entities, xs, ys)
-        notes.append(f"{curve.label}: {len(xs)} vertices moved in place; the original is kept on layer "
-                     f"{ORIGINAL_LAYER} (off)")
+            kept = entity.copy()
+            kept.dxf.layer = ORIGINAL_LAYER
+            block.add_entity(kept)
+        moved = _move_vertices(curve, entities, xs, ys)
+        notes.insert(0, f"{curve.label}: {moved} of {len(xs)} vertices moved in place; the original is kept in "
+                        f"block {block.name} (not inserted, so not drawn)")
     else:
         layer = curve.layer
+        extra = 0
         for entity in entities:
-            if entity is not None and entity.dxftype() != "INSERT":
+            if entity is None:
+                continue
+            if entity.dxftype() == "INSERT":
+                extra += _keep_insert(doc, entity, curve, block)
+            else:
+                msp.move_to_layout(entity, block)
                 entity.dxf.layer = ORIGINAL_LAYER
-        points = list(zip(x_new.tolist(), y_new.tolist()))
-        msp = doc.modelspace()
+        points = np.column_stack((x_new, y_new))
         if doc.dxfversion <= "AC1009":
-            msp.add_polyline2d(points, dxfattribs={"layer": layer})
+            msp.add_polyline2d([(float(x), float(y)) for x, y in points], dxfattribs={"layer": layer})
         else:
-            lwpolyline_from_array(msp, np.column_stack((x_new, y_new)), dxfattribs={"layer": layer})
-        why = "resampled" if resampled else f"{curve.kind} cannot take the corrected vertices in place"
-        notes.append(f"the corrected law is a new polyline of {len(points)} vertices on layer {layer} ({why}); "
-                     f"the original is on layer {ORIGINAL_LAYER} (off)")
+            lwpolyline_from_array(msp, points, dxfattribs={"layer": layer})
+        why = "resampled" if resampled else (
+            f"{curve.kind} cannot take the corrected vertices in place" if not in_block else
+            f"{curve.kind} inside a block reference" if unique else f"{curve.kind} whose handles are not unique")
+        text = (f"the corrected law is a new polyline of {len(points)} vertices on layer {layer} ({why}); the "
+                f"original {curve.label} is kept in block {block.name} (not inserted, so not drawn)")
+        if extra:
+            text += f"; the other {extra} entities of its block reference are drawn as copies in model space"
+        notes.insert(0, text)
+    notes.extend(_writable(doc))
+    crlf = _crlf(raw) and not source.binary
     try:
-        write_atomic(out, lambda tmp: doc.saveas(tmp, fmt="asc"))
-    except OSError as err:
-        raise CamcadError(f"cannot write the corrected drawing ({err.strerror})", str(out),
-                          "choose another output with -o") from None
+        save_document(doc, out, keep=keep, crlf=crlf)
+    except CamcadError:
+        raise
+    except Exception as err:  # noqa: BLE001 - ezdxf refuses to write some entities it read
+        count = sum(1 for _ in doc.modelspace())
+        fixes = _audit(doc)
+        lost = count - sum(1 for _ in doc.modelspace())
+        if not fixes:
+            raise CamcadError(f"ezdxf cannot write this drawing ({' '.join(str(err).split())[:100]})", str(out),
+                              "write the corrected law as a table instead: -o law.csv") from None
+        save_document(doc, out, keep=keep, crlf=crlf)
+        notes.append(f"ezdxf could not write the drawing as read ({' '.join(str(err).split())[:80]}); its audit "
+                     f"made {len(fixes)} repairs" + (f" and removed {lost} model-space entities" if lost else "")
+                     + ": " + "; ".join(fixes[:2]) + (" ..." if len(fixes) > 2 else ""))
     return out, notes
 
 
@@ -128,12 +221,24 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     """Save a corrected law the way ``camcad fix`` does, by the output's suffix and the input's kind.
 
     - a law read from a drawing, saved as ``.dxf``: a corrected copy of the drawing
-      (``write_corrected_drawing``: every other entity kept, the original on CAMCAD_ORIGINAL);
+      (``write_corrected_drawing``: every other entity kept, the original in block CAMCAD_ORIGINAL);
     - any law saved as ``.dxf`` otherwise: an acceleration polyline (``write_law_dxf``);
     - anything else: a two-column table (θ in deg, a in the input's y units) in the input table's
       dialect (delimiter, decimal comma) when the law came from a table, else comma-separated.
 
-    Returns the written path and notes saying what was written.
+    Parameters
+    ----------
+    loaded : camcad.law.source.LoadedLaw
+    law : PiecewiseLinearLaw
+        The corrected law.
+    out : str or Path
+    resampled : bool
+        The corrected law has other vertices than the drawn one.
+
+    Returns
+    -------
+    (Path, list of str)
+        The written path and notes saying what was written.
     """
     from camcad.io.table_read import write_table
 
@@ -150,6 +255,159 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
     return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
 
+
+# --- fidelity ----------------------------------------------------------------------------------------
+
+def _crlf(raw: bytes) -> bool:
+    first = raw.find(b"\n")
+    return first > 0 and raw[first - 1:first] == b"\r"
+
+
+def input_version(raw: bytes) -> str | None:
+    """The $ACADVER a DXF file's bytes declare (e.g. "AC1014"), or None.
+
+    Examples
+    --------
+    >>> input_version(b"  0\\nSECTION\\n  2\\nHEADER\\n  9\\n$ACADVER\\n  1\\nAC1014\\n")
+    'AC1014'
+    """
+    match = _ACADVER.search(raw[:65536])
+    return match.group(1).decode("ascii") if match else None
+
+
+def _fidelity_notes(raw: bytes, source, doc, has_header: bool) -> list[str]:
+    """What the copy cannot keep of the input, and why."""
+    notes = []
+    if source.binary:
+        notes.append("the input is binary DXF; the copy is ASCII DXF (several CAD readers cannot read binary)")
+    declared = None if source.binary else input_version(raw)
+    written = doc.dxfversion
+    if declared is None and not source.binary:
+        notes.append(f"the input has no $ACADVER (no or an incomplete HEADER); the copy is a complete "
+                     f"{RELEASES.get(written, written)} drawing with the header, tables and objects ezdxf writes")
+    elif declared is not None and declared != written:
+        notes.append(f"the input is DXF {RELEASES.get(declared, declared)} ({declared}); the copy is "
+                     f"{RELEASES.get(written, written)} ({written}): ezdxf writes R12 and R2000 or later only")
+    if source.recovered and declared is not None:
+        notes.append("the input was damaged and repaired on reading (see the notes above); the copy holds the "
+                     "repaired drawing")
+    if has_header:
+        notes.append("header variables kept from the input, except $EXTMIN/$EXTMAX (recomputed from the drawing) "
+                     "and $HANDSEED (the next free handle)")
+    return notes
+
+
+def _writable(doc) -> list[str]:
+    """Rewrite, without changing their shape, entities ezdxf reads but refuses to write; say which.
+
+    An ELLIPSE whose axis ratio exceeds 1 (its "minor" axis is the longer one) is the same ellipse
+    with the axes swapped and the parameters shifted by a quarter turn.
+    """
+    swapped = []
+    for entity in list(doc.entitydb.values()):
+        if entity.dxftype() == "ELLIPSE" and entity.is_alive and abs(float(entity.dxf.ratio)) > 1.0 + 1e-9:
+            entity.swap_axis()
+            swapped.append(str(entity.dxf.get("handle", "?")))
+    if not swapped:
+        return []
+    listed = ", ".join(swapped[:4]) + (" ..." if len(swapped) > 4 else "")
+    return [(f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not write: "
+             "written with their axes swapped (the same ellipses)")]
+
+
+def _audit(doc) -> list[str]:
+    auditor = doc.audit()
+    return [" ".join(str(getattr(entry, "message", entry)).split()) for entry in auditor.fixes]
+
+
+def _curve_entities(doc, curve) -> tuple[list, bool]:
+    """The model-space entities the curve was read from, and whether each handle named exactly one.
+
+    Handles are looked up among the model-space entities (as the reader found them), not in ezdxf's
+    handle table: a damaged file may give the same handle to several entities (the table then holds
+    only one of them, maybe a BLOCK). Among several candidates, those of the curve's entity kind whose
+    ends lie on the curve are taken.
+    """
+    wanted = list(dict.fromkeys(curve.handles or (curve.handle,)))
+    found: dict[str, list] = {h: [] for h in wanted}
+    for entity in doc.modelspace():
+        handle = str(entity.dxf.get("handle", "") or "?")
+        if handle in found:
+            found[handle].append(entity)
+    kinds = {"LWPOLYLINE": ("LWPOLYLINE",), "POLYLINE": ("POLYLINE",), "SPLINE": ("SPLINE",),
+             "LINE chain": ("LINE",), "LINE/ARC chain": ("LINE", "ARC")}.get(curve.kind, ())
+    entities, unique = [], True
+    for handle in wanted:
+        candidates = found[handle]
+        if len(candidates) > 1:
+            typed = [e for e in candidates if e.dxftype() in kinds or e.dxftype() == "INSERT"]
+            candidates = [e for e in typed if _lies_on(e, curve)] or typed
+        if len(candidates) != 1:
+            unique = False
+        entities.extend(candidates)
+    return entities, unique
+
+
+def _original_block(doc):
+    """A new block definition (never inserted) for the original curve, and its frozen layer."""
+    if ORIGINAL_LAYER not in doc.layers:
+        doc.layers.add(ORIGINAL_LAYER, color=8)
+    layer = doc.layers.get(ORIGINAL_LAYER)
+    layer.off()
+    layer.freeze()
+    name, number = ORIGINAL_BLOCK, 2
+    while name in doc.blocks:
+        name, number = f"{ORIGINAL_BLOCK}_{number}", number + 1
+    return doc.blocks.new(name)
+
+
+def _keep_insert(doc, insert, curve, block) -> int:
+    """A law inside a block reference: the reference moves into ``block``; every entity it draws that is
+    not part of the law is drawn again as a copy in model space. Returns how many were copied."""
+    msp = doc.modelspace()
+    pieces = list(insert.virtual_entities())
+    msp.move_to_layout(insert, block)
+    copied = 0
+    for piece in pieces:
+        if _lies_on(piece, curve):
+            continue
+        msp.add_entity(piece)
+        copied += 1
+    return copied
+
+
+def _lies_on(entity, curve) -> bool:
+    """True when ``entity`` is a curve piece whose start, middle and end lie on the curve's polyline."""
+    if entity.dxftype() not in ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC") or \
+            str(entity.dxf.get("layer", "0")) != curve.layer:
+        return False
+    from ezdxf import path as ezpath
+
+    try:
+        shape = ezpath.make_path(entity)
+        points = np.array([[p.x, p.y] for p in shape.flattening(1e-3 * max(curve.x_range, 1e-9))])
+    except Exception:  # noqa: BLE001 - anything ezdxf cannot trace is not the law
+        return False
+    if len(points) == 0:
+        return False
+    probes = points[[0, len(points) // 2, -1]]
+    size = float(np.hypot(*np.ptp(curve.points, axis=0))) or 1.0
+    return bool(np.all(_distance_to_polyline(probes, curve.points) <= 1e-6 * size + curve.flatten_tol * 2))
+
+
+def _distance_to_polyline(probes: np.ndarray, polyline: np.ndarray) -> np.ndarray:
+    start, end = polyline[:-1], polyline[1:]
+    seg = end - start
+    length2 = np.maximum((seg ** 2).sum(axis=1), 1e-300)
+    result = []
+    for p in probes:
+        t = np.clip(((p - start) * seg).sum(axis=1) / length2, 0.0, 1.0)
+        nearest = start + t[:, None] * seg
+        result.append(float(np.sqrt(((nearest - p) ** 2).sum(axis=1)).min()))
+    return np.array(result)
+
+
+# --- coordinates -------------------------------------------------------------------------------------
 
 def _drawing_coordinates(loaded, law) -> tuple[np.ndarray, np.ndarray]:
     """Drawing x, y of each law vertex; a vertex the correction did not move keeps its drawn coordinates
@@ -173,30 +431,52 @@ def _drawing_coordinates(loaded, law) -> tuple[np.ndarray, np.ndarray]:
     return x_new, y_new
 
 
-def _move_vertices(curve, entities, xs: np.ndarray, ys: np.ndarray) -> None:
-    entity = entities[0]
+def _move_vertices(curve, entities, xs: np.ndarray, ys: np.ndarray) -> int:
+    """Write the points (xs, ys) (WCS) into the curve's own entities; return how many points changed.
+
+    A single LWPOLYLINE or POLYLINE takes point i as its vertex i. A chain (``curve.vertex_refs``)
+    names, for each point, the entity ends or vertices at it: (handle, "start"|"end") of a LINE, or
+    (handle, k) for vertex k of an LWPOLYLINE or POLYLINE piece.
+    """
+    moved = int(np.count_nonzero((xs != curve.points[:, 0]) | (ys != curve.points[:, 1])))
+    by_handle = {e.dxf.handle: e for e in entities}
+    if curve.vertex_refs:
+        targets: dict[str, dict[int, tuple[float, float]]] = {}
+        for refs, wx, wy in zip(curve.vertex_refs, xs, ys):
+            for handle, where in refs:
+                entity = by_handle[handle]
+                if where in ("start", "end"):
+                    old = getattr(entity.dxf, where)
+                    setattr(entity.dxf, where, (float(wx), float(wy), old.z))
+                else:
+                    targets.setdefault(handle, {})[int(where)] = (float(wx), float(wy))
+        for handle, vertices in targets.items():
+            _set_polyline_vertices(by_handle[handle], vertices)
+        return moved
+    _set_polyline_vertices(entities[0], dict(enumerate(zip(xs.tolist(), ys.tolist()))))
+    return moved
+
+
+def _set_polyline_vertices(entity, vertices: dict[int, tuple[float, float]]) -> None:
+    """Set vertex k of an LWPOLYLINE or POLYLINE to the WCS point vertices[k] (OCS handled)."""
     kind = entity.dxftype()
     if kind == "LWPOLYLINE":
         ocs = entity.ocs()
-        old = entity.get_points("xyseb")
-        new = []
-        for (x, y, *rest), wx, wy in zip(old, xs, ys):
+        rows = np.array(entity.get_points("xyseb"), dtype=float).reshape(-1, 5)
+        for k, (wx, wy) in vertices.items():
             p = ocs.from_wcs((wx, wy, 0.0)) if ocs.transform else (wx, wy, 0.0)
-            new.append((p[0], p[1], *rest))
-        set_lwpolyline_rows(entity, new)
+            rows[k, 0], rows[k, 1] = p[0], p[1]
+        set_lwpolyline_rows(entity, rows)
     elif kind == "POLYLINE":
         ocs = entity.ocs() if entity.is_2d_polyline else None
-        for vertex, wx, wy in zip(entity.vertices, xs, ys):
+        vertex_list = list(entity.vertices)
+        for k, (wx, wy) in vertices.items():
+            vertex = vertex_list[k]
             z = vertex.dxf.location.z
             if ocs is not None and ocs.transform:
                 p = ocs.from_wcs((wx, wy, 0.0))
                 vertex.dxf.location = (p[0], p[1], p[2])
             else:
                 vertex.dxf.location = (wx, wy, z)
-    else:  # LINE chain: every LINE end that sits on a chain point moves with it
-        by_handle = {e.dxf.handle: e for e in entities}
-        for refs, wx, wy in zip(curve.vertex_refs, xs, ys):
-            for handle, end in refs:
-                line = by_handle[handle]
-                old = getattr(line.dxf, end)
-                setattr(line.dxf, end, (wx, wy, old.z))
+    else:
+        raise ValueError(f"cannot move the vertices of a {kind}")
