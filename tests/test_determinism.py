@@ -102,9 +102,21 @@ def test_fix_outputs_are_byte_identical(cli, tmp_path, name):
 
 
 def test_corrected_crlf_drawing_is_byte_identical(tmp_path):
-    path = REAL_DXF / "libredwg__sample_2018.dxf"
-    if not path.exists():
-        pytest.skip("../shared/dxf-real is not beside the project")
+    # a drawing saved with CR LF line ends, as AutoCAD does: a law (a rise over 0..180, a return after) and its axis
+    import io
+
+    import ezdxf
+    import numpy as np
+
+    doc = ezdxf.new("R2000")
+    x = np.linspace(0, 360, 73)
+    a = 10 * np.sin(np.radians(2 * x)) * np.where(x <= 180, 1.0, -1.0)
+    doc.modelspace().add_lwpolyline(list(zip(x, a)), dxfattribs={"layer": "LAW"})
+    doc.modelspace().add_line((0, 0), (360, 0), dxfattribs={"layer": "AXES"})
+    text = io.StringIO()
+    doc.write(text)
+    path = tmp_path / "crlf_input.dxf"
+    path.write_bytes(text.getvalue().replace("\n", "\r\n").encode("ascii"))
     loaded = load_law(path)
 
     def make(folder):

@@ -171,3 +171,16 @@ def test_a_huge_value_in_a_scene_gives_a_short_line(cli, tmp_path):
     assert "100000 items" in result.err
     after = tree(tmp_path)
     assert {k: v for k, v in after.items() if not k.startswith("o/")} == before
+
+
+def test_the_original_kept_by_fix_is_read_back_exactly(cli, tmp_path):
+    # nothing the user drew is lost: the fixed copy keeps the original curve (in a block no reader draws),
+    # and --layer CAMCAD_ORIGINAL reads it back, vertex for vertex
+    source = tmp_path / "law.dxf"
+    shutil.copy(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf", source)
+    assert cli("fix", source, "--no-plots").code == 0
+    original = cli("check", source, "--json").json()
+    kept = cli("check", tmp_path / "law.fixed.dxf", "--layer", "CAMCAD_ORIGINAL", "--json").json()
+    for key in ("rise", "return", "displacement_closure"):
+        assert kept[key] == original[key]
+    assert kept["areas"] == original["areas"]

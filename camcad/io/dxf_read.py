@@ -26,6 +26,8 @@ from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input, utf16_without_bom
 
 #: entity types that can hold (a piece of) the law
+#: the block in which camcad fix keeps the original law (io.law_write.ORIGINAL_BLOCK)
+KEPT_ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
 CURVE_TYPES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC", "ELLIPSE")
 #: block references nest at most this deep
 MAX_BLOCK_DEPTH = 16
@@ -464,6 +466,17 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
             piece = _entity_piece(entity, kind, handle, flatten_tol, notes, zero, index, hidden)
             if piece is not None:
                 pieces.append(piece)
+        # the original laws that camcad fix kept in its unreferenced block: hidden candidates, found only
+        # when asked for (--layer CAMCAD_ORIGINAL or --handle), so nothing the user drew is out of reach
+        for block in drawing.doc.blocks:
+            if not str(block.name).upper().startswith(KEPT_ORIGINAL_BLOCK):
+                continue
+            for entity in block:
+                kind = entity.dxftype()
+                handle = str(entity.dxf.get("handle", "") or "?")
+                piece = _entity_piece(entity, kind, handle, flatten_tol, notes, zero, -1, None)
+                if piece is not None:
+                    pieces.append(replace(piece, hidden=True))
     if zero[0]:
         notes.append(f"{zero[0]} entit{'y' if zero[0] == 1 else 'ies'} of no length (a point, an arc of radius 0) "
                      "ignored")

@@ -7,7 +7,7 @@ follows, each learned from real readers:
 - ASCII DXF only (binary is unreadable for GDAL < 3.12, LibreOffice, Inkscape, dxfgrabber);
 - R2000 by default (LWPOLYLINE, SPLINE), R12 on request (2D POLYLINE; R12 has no SPLINE);
 - ``$INSUNITS = 4`` (mm) in R2000 — R12 cannot store it; ``ezdxf.new()`` would say metres;
-- ``$EXTMIN/$EXTMAX`` set from the content with ``ezdxf.appsettings.update_extents``:
+- ``$EXTMIN/$EXTMAX`` set from the content with ezdxf's fast bounding boxes (``_set_extents``):
   LibreOffice collapses a drawing whose extents keep ezdxf's ±1e20 default;
 - SPLINEs with control points and knots, never fit points only (GDAL, Inkscape, LibreCAD and
   LibreOffice lose or misdraw those);
@@ -138,8 +138,6 @@ def set_lwpolyline_rows(entity, rows) -> None:
 
 def build_document(drawing: Drawing, version: str = "R2000"):
     """An ezdxf document holding ``drawing`` (units mm, extents set)."""
-    import ezdxf
-    import ezdxf.appsettings
 
     if version not in DXF_VERSIONS:
         raise CamcadError(f"DXF version {version!r} is not supported", "dxf writer", "use R2000 or R12")
@@ -182,7 +180,7 @@ def build_document(drawing: Drawing, version: str = "R2000"):
         entity = msp.add_text(ascii_text(text.text), height=float(text.height),
                               dxfattribs={"layer": text.layer})
         entity.set_placement((float(text.insert[0]), float(text.insert[1])))
-    ezdxf.appsettings.update_extents(doc)
+    _set_extents(doc)   # fast bounds (no font metrics: they cost ~0.2 s per drawing); save_document sets them again
     return doc
 
 
@@ -430,8 +428,13 @@ def _set_extents(doc) -> None:
     msp = doc.modelspace()
     try:
         box = bbox.extents(msp, fast=True)
-    except Exception:  # noqa: BLE001 - an entity ezdxf cannot bound leaves the extents as they were
-        return
+    except Exception:  # noqa: BLE001 - an entity ezdxf cannot bound (an invalid leader) is left out
+        box = bbox.BoundingBox()
+        for entity in msp:
+            try:
+                box.extend(bbox.extents([entity], fast=True))
+            except Exception:  # noqa: BLE001
+                continue
     if box.has_data and all(np.isfinite(v) for v in (*box.extmin, *box.extmax)):
         doc.header["$EXTMIN"] = tuple(box.extmin)
         doc.header["$EXTMAX"] = tuple(box.extmax)

@@ -308,11 +308,20 @@ def _writable(doc) -> list[str]:
         if entity.dxftype() == "ELLIPSE" and entity.is_alive and abs(float(entity.dxf.ratio)) > 1.0 + 1e-9:
             entity.swap_axis()
             swapped.append(str(entity.dxf.get("handle", "?")))
-    if not swapped:
-        return []
-    listed = ", ".join(swapped[:4]) + (" ..." if len(swapped) > 4 else "")
-    return [(f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not write: "
-             "written with their axes swapped (the same ellipses)")]
+    notes = []
+    if swapped:
+        listed = ", ".join(swapped[:4]) + (" ..." if len(swapped) > 4 else "")
+        notes.append(f"{len(swapped)} ELLIPSEs (handles {listed}) have an axis ratio above 1, which ezdxf does not "
+                     "write: written with their axes swapped (the same ellipses)")
+    # a LEADER needs at least two vertices: ezdxf skips one with fewer (LibreCAD writes such leaders); nothing
+    # of it can be drawn, but say so, since the copy then lacks an entity of the input
+    empty = [str(e.dxf.get("handle", "?")) for e in doc.modelspace() if e.dxftype() == "LEADER"
+             and len(getattr(e, "vertices", ())) < 2]
+    if empty:
+        listed = ", ".join(empty[:4]) + (" ..." if len(empty) > 4 else "")
+        notes.append(f"{len(empty)} LEADER entities (handles {listed}) have fewer than two vertices: ezdxf does not "
+                     "write such an (invalid, invisible) leader, so the copy lacks it")
+    return notes
 
 
 def _audit(doc) -> list[str]:

@@ -31,6 +31,8 @@ from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import detect_phases, parse_phases
 
+#: the largest lift camcad takes (mm, or deg of swing): larger is a typing mistake
+MAX_LIFT = 1e6
 #: relative tolerance (of the curve's x-range) below which x steps count as vertical or equal
 X_TOLERANCE = 1e-9
 #: a rise (or return) whose end velocity is within this fraction of its peak velocity ends at rest
@@ -200,8 +202,9 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     cycle_deg = 360.0 if cycle_deg is None else float(cycle_deg)
     if not np.isfinite(cycle_deg) or not 0 < cycle_deg <= 360.0:
         raise CamcadError(f"cycle {cycle_deg:g} deg is not in (0, 360]", "--cycle", "give the working angle in degrees")
-    if lift is not None and not (np.isfinite(lift) and lift > 0):
-        raise CamcadError(f"lift {lift:g} mm must be positive", "--lift", "give the rise in mm")
+    if lift is not None and not (np.isfinite(lift) and 0 < lift <= MAX_LIFT):
+        raise CamcadError(f"lift {lift:g} mm must be positive and at most {MAX_LIFT:g}", "--lift",
+                          "give the rise in mm")
     for name, value in (("--y0", y0), ("--x0", x0)):
         if value is not None and not (np.isfinite(value) and abs(value) < 1e100):
             raise CamcadError(f"{name} {value:g} is not a finite coordinate", name, "give the drawing coordinate")

@@ -113,10 +113,23 @@ def _coerce(raw: Any, field: Field, where: str) -> Any:
     raise ValueError(f"unknown field kind {field.kind!r}")
 
 
+#: no physical quantity of a cam mechanism is this large in its unit (mm, N, MPa, Hz, kg, ...): larger
+#: values are typing mistakes, and they overflow the squares and cubes of the models
+MAX_MAGNITUDE = 1e9
+#: nor is a positive quantity this small (a lever of 1e-300 mm divides by zero)
+MIN_POSITIVE = 1e-12
+
+
 def _check_range(value: float, field: Field, where: str) -> None:
     name = _describe(field)
     if field.positive and not value > 0:
         raise CamcadError(f"{name} must be positive, got {value:g}", where, "give a value > 0")
+    if abs(value) > MAX_MAGNITUDE and field.maximum is None:
+        raise CamcadError(f"{name} is {value:g}, out of any mechanism's range", where,
+                          f"give a value of at most {MAX_MAGNITUDE:g} in its unit")
+    if field.positive and value < MIN_POSITIVE and field.minimum is None:
+        raise CamcadError(f"{name} is {value:g}, too small to compute with", where,
+                          f"give a value of at least {MIN_POSITIVE:g} in its unit")
     if field.minimum is not None and value < field.minimum:
         raise CamcadError(f"{name} must be at least {field.minimum:g}, got {value:g}", where,
                           f"give a value >= {field.minimum:g}")
@@ -127,6 +140,8 @@ def _check_range(value: float, field: Field, where: str) -> None:
 
 #: speeds sampled over an [n1, n2] range given without a step
 RANGE_SPEEDS = 15
+#: the fastest cam shaft camcad takes (rpm)
+MAX_RPM = 1e6
 
 
 def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
@@ -158,6 +173,9 @@ def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
         raise CamcadError(f"rpm must be a number, [n1, n2] or \"n1:n2:step\", got {excerpt(value)}", where, fix)
     if not all(math.isfinite(e) and e > 0 for e in ends):
         raise CamcadError(f"speeds must be positive, got {excerpt(value)}", where, fix)
+    if max(ends) > MAX_RPM:
+        raise CamcadError(f"a speed of {max(ends):g} rpm is out of any machine's range", where,
+                          f"give speeds up to {MAX_RPM:g} rpm")
     if len(ends) == 1:
         return ends
     low, high = sorted(ends)

@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from camcad.errors import CamcadError
+from camcad.errors import CamcadError, excerpt
 from camcad.scene.fields import Field, read_table
 
 
@@ -105,9 +105,12 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                                   if key == "phases" else "add lift = 25.0 (mm)")
     file = None
     if values["file"] is not None:
+        if "\x00" in values["file"] or not values["file"].strip():
+            raise CamcadError(f"law file name {excerpt(values['file'])} is not a file name", where,
+                              'write file = "accel.dxf" (relative to the scene file)')
         file = (base_dir / values["file"]).resolve()
         if not file.exists():
-            raise CamcadError(f"law file {values['file']} not found", where,
+            raise CamcadError(f"law file {excerpt(values['file'])} not found", where,
                               "give the path relative to the scene file")
     return LawSpec(where=where, standard=values["standard"], return_standard=values["return_standard"],
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
