@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REAL_DXF, SAMPLES
+from conftest import SAMPLES
 
 from camcad.io.law_write import write_corrected_drawing, write_law_csv, write_law_dxf
 from camcad.law.source import load_law
