@@ -185,3 +185,21 @@ def test_laws_with_acceleration_jumps_have_an_infinite_peak_jerk():
     # the cycloidal rise starts and ends at a = 0: finite jerk 4π² (its closed form)
     cycloidal = peak_coefficients(standard.SHAPES["cycloidal"])
     assert cycloidal.jerk == pytest.approx(4 * math.pi**2, rel=1e-12) and cycloidal.to_dict()["cj"] is not None
+
+
+def test_the_scalar_acceleration_equals_the_array_one_at_every_angle():
+    # acceleration_at (the ODE right-hand side's fast path) against kinematics(...).a, composed and drawn
+    # laws, angles inside and outside the cycle, at segment starts and at a jump
+    from camcad.law.law import PiecewiseLinearLaw
+
+    law = compose([("dwell", 40), ("rise", 70), ("dwell", 60), ("return", 70), ("dwell", 120)], 30.0, "poly345")
+    starts = np.radians([0.0, 40.0, 110.0, 170.0, 240.0, 360.0])
+    theta = np.concatenate((np.random.default_rng(1).uniform(-1.0, 8.0, 500), starts))
+    assert [law.acceleration_at(t) for t in theta] == list(law.kinematics(theta).a)
+    x = np.sort(np.concatenate((np.linspace(0, 2 * math.pi, 50), [1.0, 1.0])))
+    a = np.sin(3 * x)
+    a[np.flatnonzero(x == 1.0)[1]] += 2.0                 # a jump of acceleration at x = 1
+    drawn = PiecewiseLinearLaw(x, a, 2 * math.pi)
+    np.testing.assert_allclose([drawn.acceleration_at(t) for t in theta], drawn.kinematics(theta).a,
+                               rtol=0, atol=1e-14)
+    assert drawn.acceleration_at(1.0) == drawn.kinematics(np.array([1.0])).a[0]   # the right-hand value

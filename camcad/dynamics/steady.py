@@ -210,7 +210,8 @@ class _TimeModel:
         self.stiffness = follower.stiffness
 
     def forcing(self, theta: float) -> float:
-        a = float(self.law.kinematics(np.array([theta])).a[0])
+        scalar = getattr(self.law, "acceleration_at", None)   # the standard and drawn laws' fast path
+        a = scalar(theta) if scalar is not None else float(self.law.kinematics(np.array([theta])).a[0])
         if self.external is not None:
             a -= float(self.external(theta)) / self.omega**2
         return -a

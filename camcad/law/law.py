@@ -228,6 +228,17 @@ class PiecewiseLinearLaw:
         s = s0 + v0 * t + a0 * t**2 / 2.0 + slope * t**3 / 6.0
         return Kinematics(theta=theta, s=s, v=v, a=a, j=slope)
 
+    def acceleration_at(self, theta: float) -> float:
+        """a(θ) (mm/rad²) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
+        at every step); equal to ``kinematics(np.array([theta])).a[0]`` (the right-hand value at a jump)."""
+        t = float(wrap(np.float64(theta), self.cycle))
+        x = self.x
+        k = min(max(int(np.searchsorted(x, t, side="right")) - 1, 0), len(x) - 2)
+        length = x[k + 1] - x[k]
+        if length <= 0.0:
+            return float(self.a[k + 1])
+        return float(self.a[k] + (t - x[k]) / length * (self.a[k + 1] - self.a[k]))
+
     def with_ordinates(self, a: np.ndarray) -> "PiecewiseLinearLaw":
         """The same knots and phases with new acceleration ordinates."""
         return PiecewiseLinearLaw(self.x, a, self.cycle, self.phases, self.v0, self.s0)

@@ -19,6 +19,7 @@ H. A. Rothbart, Cam Design Handbook (2004), ch. 4.
 
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from dataclasses import dataclass
@@ -338,6 +339,23 @@ class CompositeLaw:
             a[inside] = h * seg.shape.evaluate(u, 2) / beta**2
             j[inside] = h * seg.shape.evaluate(u, 3) / beta**3
         return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
+
+    def acceleration_at(self, theta: float) -> float:
+        """a(θ) (mm/rad²) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
+        at every step); equal to ``kinematics(np.array([theta])).a[0]``."""
+        t = float(wrap(np.float64(theta), self.cycle))
+        k = min(max(bisect.bisect_right(self._starts_list, t) - 1, 0), len(self.segments) - 1)
+        seg = self.segments[k]
+        if seg.kind == "dwell":
+            return 0.0
+        beta = seg.end - seg.start
+        u = min(max((t - seg.start) / beta, 0.0), 1.0)
+        h = seg.lift if seg.kind == "rise" else -seg.lift
+        return float(h * seg.shape.evaluate(np.array([u]), 2)[0] / beta**2)
+
+    @functools.cached_property
+    def _starts_list(self) -> list[float]:
+        return [float(seg.start) for seg in self.segments]
 
     @functools.cached_property
     def _starts(self) -> np.ndarray:
