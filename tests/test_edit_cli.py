@@ -60,7 +60,8 @@ def test_move_undo_min_change_save_equals_fix(cli, tmp_path, name):
     ed_other = Counter((e.dxftype(), e.dxf.layer) for e in doc_ed.modelspace()
                        if e.dxf.handle != handle and e.dxf.layer != "CAMCAD_ORIGINAL")
     assert in_other == ed_other
-    original = [e for e in doc_ed.modelspace() if e.dxf.layer == "CAMCAD_ORIGINAL"]
+    # the original curve is kept as fix keeps it: in the block CAMCAD_ORIGINAL, which no reader draws
+    original = list(doc_ed.blocks.get("CAMCAD_ORIGINAL"))
     drawn = doc_in.entitydb[handle]
     assert len(original) == 1 and np.array_equal(np.array(original[0].get_points("xy")),
                                                  np.array(drawn.get_points("xy")))

@@ -52,7 +52,7 @@ def drawings(tmp_path_factory):
     appsettings.update_extents(doc)
     source = root / "input.dxf"
     doc.saveas(source)
-    loaded = load_law(source)
+    loaded = load_law(source, cycle_deg=360.0)   # a sine over the sheet: the cycle is stated
     fixed, _ = write_corrected_drawing(loaded, loaded.law.with_ordinates(-loaded.law.a), root / "fixed.dxf")
     control_doc = ezdxf.readfile(fixed)
     for entity in control_doc.blocks.get("CAMCAD_ORIGINAL"):

@@ -92,8 +92,8 @@ def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None =
     >>> x = np.radians([0.0, 90.0, 180.0, 270.0, 360.0])
     >>> law = PiecewiseLinearLaw(x, np.array([0.0, 1.0, -1.0, 1.0, 0.0]), 2 * np.pi,
     ...                          (Phase("rise", 0.0, np.pi), Phase("return", np.pi, 2 * np.pi)))
-    >>> [round(c.target, 6) for c in lift_conditions(law)]   # s(pi) = pi^2 / 6 for this triangle-pair
-    [1.644934]
+    >>> [round(c.target, 6) for c in lift_conditions(law)]   # s(pi) = pi^2/24 + pi^2/8 + pi^2/24 = 5 pi^2 / 24
+    [2.056168]
     """
     rises = [(index, phase) for index, phase in enumerate(law.phases) if phase.kind == "rise"]
     if targets is None:
