@@ -30,6 +30,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
     "cyclogram": ("camcad.cli.contact", "Optimise the group's cyclogram: least makespan under the phase limits."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
+    "sweep": ("camcad.cli.sweep", "Explore a design space: a scene's keys over ranges and draws, on a pool or Dask."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
 }
 

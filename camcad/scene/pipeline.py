@@ -36,6 +36,9 @@ class PipelineOptions:
     r12: bool = False
     plots: tuple[str, ...] = ("summary",)   # names of the plots to draw ("all": every one; (): none)
     contact_samples: int = CONTACT_SAMPLES
+    #: only what the checks need (``camcad sweep``): no smallest-base-radius design in the profile and no
+    #: least phase angles of a mechanism (step 8; a cyclogram still finds its own); the checks are unchanged
+    checks_only: bool = False
 
 
 @dataclass
@@ -142,6 +145,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
     dynamics), for a mechanism the cyclogram will retime and analyse again."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
+    limits = limits and not options.checks_only
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -252,7 +256,7 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
     follower, law, _, notes = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"), law)
     settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
-                               plots=bool(options.plots), name=mech.name)
+                               plots=bool(options.plots), name=mech.name, design=not options.checks_only)
     result = synthesize(law, follower, settings.validate(), name=mech.name)
     return with_fields(result, notes=tuple(notes) + result.notes) if notes else result
 
