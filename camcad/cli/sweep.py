@@ -87,6 +87,8 @@ def sweep(
     stem = Path(name).stem if scene is not None else "default"
     folder = output if output is not None else Path("camcad-out") / f"{safe_name(stem)}-sweep"
     with OutputFolder(folder, inputs) as out:
+        for name_out in OUTPUT_NAMES:  # an output that would replace an input is refused before any work
+            out.path(name_out)
         if resume and chunk is None:
             found = store.read_manifest(out.folder)
             if found is not None:
@@ -132,6 +134,10 @@ def sweep(
                    "report it; their rows say which", err=True)
         raise typer.Exit(3)
     raise typer.Exit(0 if counts["feasible"] else 1)
+
+
+#: every name the sweep writes into its folder
+OUTPUT_NAMES = ("sweep.json", "results", "report.json", "best.toml", "best", "region.png", "pareto.png", "pareto.csv")
 
 
 def _space(plan):

@@ -191,7 +191,7 @@ class DaskCluster(Engine):
         first = [submit(item) for item in _take(pending, window)]
         if not first:
             return
-        finished = as_completed(first, with_results=True)
+        finished = as_completed(first, with_results=True, loop=self.client.loop)
         try:
             for future, result in finished:
                 future.release()

@@ -156,9 +156,37 @@ def prepared(task: SweepTask) -> Prepared:
 # one design
 # --------------------------------------------------------------------------------------------
 
-def design_checks(report: dict) -> list[Check]:
-    """Every check of a scene's report (``analyse_scene(...).report``) as ``Check`` objects, named as the
-    sweep's columns are (``<mechanism>/<check>`` in a group)."""
+@dataclass(frozen=True)
+class Figure:
+    """One check of a design as the sweep records it: the figure, its limit, the margin towards failure (in the
+    check's unit), the margin as a fraction of |limit|, and the verdict. From a report's check dictionary the
+    figures are taken as the report gives them (``camcad profile`` prints the same numbers)."""
+
+    name: str
+    value: float | None
+    limit: float | None
+    unit: str
+    margin: float | None
+    margin_ratio: float | None
+    passed: bool
+
+    @classmethod
+    def of(cls, check: Check) -> Figure:
+        return cls(check.name, check.value, check.limit, check.unit, check.margin, check.margin_ratio,
+                   bool(check.passed))
+
+
+def design_checks(report: dict) -> list[Figure]:
+    """Every check of a scene's report (``analyse_scene(...).report``) as ``Figure`` objects, named as the
+    sweep's columns are (``<mechanism>/<check>`` in a group).
+
+    Examples
+    --------
+    >>> report = {"checks": {"pressure angle, rise": {"value": 18.4, "limit": 30.0, "margin": 11.6,
+    ...           "margin_ratio": 0.3867, "unit": "deg", "sense": "max", "passed": True}}, "passed": True}
+    >>> [(f.name, f.margin, f.passed) for f in design_checks(report)]
+    [('pressure angle, rise', 11.6, True)]
+    """
     mechanisms = report.get("mechanisms")
     if mechanisms is None:
         found = _mechanism_checks(report, "")
@@ -169,13 +197,14 @@ def design_checks(report: dict) -> list[Check]:
     cyclogram = report.get("cyclogram")
     if cyclogram is not None:
         feasible = bool(cyclogram.get("passed", cyclogram.get("feasible", False)))
-        found.append(Check("cyclogram feasible", 1.0 if feasible else 0.0, None, "", passed_override=feasible))
+        found.append(Figure.of(Check("cyclogram feasible", 1.0 if feasible else 0.0, None, "",
+                                     passed_override=feasible)))
         if cyclogram.get("makespan_deg") is not None:
-            found.append(Check("cyclogram makespan", float(cyclogram["makespan_deg"]), None, "deg"))
+            found.append(Figure.of(Check("cyclogram makespan", float(cyclogram["makespan_deg"]), None, "deg")))
     return found
 
 
-def _mechanism_checks(mech: dict, prefix: str) -> list[Check]:
+def _mechanism_checks(mech: dict, prefix: str) -> list[Figure]:
     found = [_from_dict(prefix + name, data) for name, data in (mech.get("checks") or {}).items()]
     for model in ("spectrum", "dynamics", "impact", "contact"):
         data = mech.get(model)
@@ -185,22 +214,22 @@ def _mechanism_checks(mech: dict, prefix: str) -> list[Check]:
         if isinstance(own, dict) and own:
             found.extend(_from_dict(f"{prefix}{model} {name}", entry) for name, entry in own.items())
             continue
-        found.extend(_model_checks(model, data, prefix))
+        found.extend(Figure.of(c) for c in _model_checks(model, data, prefix))
     return found
 
 
-def _from_dict(name: str, data: dict) -> Check:
-    """A check from its JSON form ({"value", "limit", "sense", "unit", "passed"}, or "allowed" for "limit")."""
-    limit = data.get("limit", data.get("allowed"))
+def _from_dict(name: str, data: dict) -> Figure:
+    """A check from its JSON form ({"value", "limit", "margin", "margin_ratio", "unit", "sense", "passed"}; a
+    model may say "allowed" for "limit" and leave out the margin, which is then computed)."""
+    limit = _number(data.get("limit", data.get("allowed")))
     sense = data.get("sense", "max")
-    value = data.get("value")
-    number = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
-    check = Check(name, number, float(limit) if isinstance(limit, (int, float)) else None, data.get("unit", ""),
-                  sense if sense in ("max", "min") else "max")
+    check = Check(name, _number(data.get("value")), limit, data.get("unit", ""), sense if sense in ("max", "min")
+                  else "max")
     passed = data.get("passed")
-    if isinstance(passed, bool) and passed != check.passed:
-        check = Check(check.name, check.value, check.limit, check.unit, check.sense, passed_override=passed)
-    return check
+    margin = _number(data["margin"]) if "margin" in data else check.margin
+    ratio = _number(data["margin_ratio"]) if "margin_ratio" in data else check.margin_ratio
+    return Figure(name, check.value, check.limit, check.unit, margin, ratio,
+                  passed if isinstance(passed, bool) else bool(check.passed))
 
 
 def _model_checks(model: str, data: dict, prefix: str) -> list[Check]:
@@ -217,8 +246,9 @@ def _model_checks(model: str, data: dict, prefix: str) -> list[Check]:
     if model == "impact":
         rebound = data.get("rebound_mm")
         worst = max(rebound) if isinstance(rebound, list) and rebound else None
-        return [Check(f"{prefix}impact rebound", _number(worst), _number(data.get("allowed_amplitude_mm")), "mm",
-                      "max", passed_override=None if data.get("allowed_amplitude_mm") is not None else passed)]
+        allowed = _number(data.get("allowed_amplitude_mm"))
+        return [Check(f"{prefix}impact rebound", _number(worst), allowed, "mm", "max",
+                      passed_override=None if allowed is not None else passed)]
     return [Check(f"{prefix}{model}", 1.0 if passed else 0.0, None, "", passed_override=passed)]
 
 
@@ -277,7 +307,7 @@ def _failed(row: dict, prep: Prepared, status: str, message: str) -> dict:
     return row
 
 
-def _governing(checks: list[Check]) -> tuple[str, float]:
+def _governing(checks: list[Figure]) -> tuple[str, float]:
     """The check with the least margin ratio (failed checks without a ratio first), and that ratio."""
     failed = [c for c in checks if not c.passed]
     pool = failed or [c for c in checks if c.margin_ratio is not None]
@@ -288,7 +318,7 @@ def _governing(checks: list[Check]) -> tuple[str, float]:
     return best.name, (best.margin_ratio if best.margin_ratio is not None else math.nan)
 
 
-def _part(check: Check, part: str):
+def _part(check: Figure, part: str):
     if part == "passed":
         return bool(check.passed)
     value = getattr(check, part)
