@@ -12,8 +12,21 @@ import pytest
 
 from camcad.errors import CamcadError
 from camcad.scene.default import default_tables
-from camcad.sweep.analysis import best_index, feasible_boundary, parse_objective, pareto_front, Objective
-from camcad.sweep.space import DesignSpace, apply_values, build_space, parse_spec, resolve_key, stretched_phases
+from camcad.sweep.analysis import (
+    Objective,
+    best_index,
+    feasible_boundary,
+    pareto_front,
+    parse_objective,
+)
+from camcad.sweep.space import (
+    DesignSpace,
+    apply_values,
+    build_space,
+    parse_spec,
+    resolve_key,
+    stretched_phases,
+)
 
 SCENES = Path(__file__).resolve().parents[1] / "samples" / "scenes"
 

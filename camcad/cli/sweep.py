@@ -10,7 +10,7 @@ when none was, 2 for bad input, 3 when a design hit an internal error (its row s
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
@@ -26,30 +26,30 @@ VaryOpt = Annotated[list[str], typer.Option(
 
 @app.command()
 def sweep(
-    scene: Annotated[Optional[Path], typer.Argument(
+    scene: Annotated[Path | None, typer.Argument(
         help="Scene file (TOML); none: the built-in default design.", show_default=False)] = None,
     vary: VaryOpt = None,  # type: ignore[assignment]
-    samples: Annotated[Optional[int], typer.Option(
+    samples: Annotated[int | None, typer.Option(
         "--samples", help="Draws of the distribution keys per grid point (Monte-Carlo).")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
-    objective: Annotated[Optional[list[str]], typer.Option(
+    objective: Annotated[list[str] | None, typer.Option(
         "--objective", help="min:COLUMN or max:COLUMN, repeatable, in order of priority: a varied key, "
                             "min_margin_ratio, or a check's figure (\"pressure angle, rise.margin\"). Default: "
                             "min of the first varied key (a base radius first), then max:min_margin_ratio.",
         show_default=False)] = None,
-    scheduler: Annotated[Optional[str], typer.Option(
+    scheduler: Annotated[str | None, typer.Option(
         "--scheduler", help="Run on a Dask cluster: tcp://HOST:PORT of its scheduler, or its scheduler file.",
         show_default=False)] = None,
-    workers: Annotated[Optional[int], typer.Option(
+    workers: Annotated[int | None, typer.Option(
         "--workers", help="Processes of the local pool (default: every core; 1 runs in this process).",
         show_default=False)] = None,
-    chunk: Annotated[Optional[int], typer.Option(
+    chunk: Annotated[int | None, typer.Option(
         "--chunk", help="Designs per task (default: about 0.5 s of work, at least 4 tasks per worker).",
         show_default=False)] = None,
-    output: Annotated[Optional[Path], typer.Option(
+    output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Output folder (default ./camcad-out/<scene>-sweep/).", show_default=False)] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Complete the sweep already in the output folder.")] = False,
-    plot: Annotated[Optional[str], typer.Option(
+    plot: Annotated[str | None, typer.Option(
         "--plot", help="KEY_X,KEY_Y: the keys on the axes of the feasible-region plot (default: the first two "
                        "numeric keys).", show_default=False)] = None,
     connect_timeout: Annotated[float, typer.Option(
@@ -58,7 +58,7 @@ def sweep(
     = False,
     no_plots: NoPlotsOpt = False,
     as_json: JsonOpt = False,
-    stop_after_chunks: Annotated[Optional[int], typer.Option("--stop-after-chunks", hidden=True)] = None,
+    stop_after_chunks: Annotated[int | None, typer.Option("--stop-after-chunks", hidden=True)] = None,
 ) -> None:
     """Explore a design space: every design of the --vary grid (and draws) through the scene's checks, on a
     local pool or a Dask cluster; Parquet results, feasible region, Pareto front, best design. Exit 0 if a
@@ -152,8 +152,14 @@ def _progress_bar(enabled: bool, total: int):
 
     if not enabled or not sys.stderr.isatty():
         return None, lambda: None
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
-                               TimeRemainingColumn)
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     from camcad.cli.common import console
 

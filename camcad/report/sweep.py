@@ -53,8 +53,8 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
     reference : (ndarray, ndarray, str), optional
         A curve (x, y, legend text) drawn over the region, e.g. the least base radius solved per rise angle.
     boundary : list of dict, optional
-        ``camcad.sweep.analysis.feasible_boundary`` of the slice (drawn at the lower edge of the least
-        feasible cell of each column).
+        ``camcad.sweep.analysis.feasible_boundary`` of the slice, drawn half-way between the largest infeasible
+        and the least feasible value of each column (not drawn where it lies outside the grid).
 
     Returns
     -------
@@ -79,14 +79,19 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
                      label=("feasible" if n == "feasible" else f"fails: {n}")) for i, n in enumerate(names)
                if n in set(labels)]
     if boundary:
-        dy = float(np.min(np.diff(ys))) if len(ys) > 1 else 0.0
-        bx = [b["x"] for b in boundary if b["least_feasible"] is not None]
-        by = [b["least_feasible"] - dy / 2 for b in boundary if b["least_feasible"] is not None]
-        if bx:
-            dx = float(np.min(np.diff(xs))) if len(xs) > 1 else 1.0
-            sx = np.repeat(np.array(bx), 2) + np.tile([-dx / 2, dx / 2], len(bx))
-            (line,) = ax.plot(sx, np.repeat(by, 2), color="black", linewidth=1.6,
-                              label="feasible boundary (sweep grid)")
+        dx = float(np.min(np.diff(xs))) if len(xs) > 1 else 1.0
+        px: list[float] = []
+        py: list[float] = []
+        for b in sorted(boundary, key=lambda e: e["x"]):
+            if b["least_feasible"] is None or b["greatest_infeasible"] is None:
+                px.append(math.nan)   # the boundary of this column lies outside the grid: not drawn
+                py.append(math.nan)
+                continue
+            level = (b["least_feasible"] + b["greatest_infeasible"]) / 2
+            px += [b["x"] - dx / 2, b["x"] + dx / 2]
+            py += [level, level]
+        if any(math.isfinite(v) for v in px):
+            (line,) = ax.plot(px, py, color="black", linewidth=1.6, label="feasible boundary (sweep grid)")
             handles.append(line)
     if reference is not None:
         rx, ry, text = reference
@@ -318,8 +323,7 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
     objectives = [o for o in objectives if o.column in cols]
     points = analysis.per_grid_point(cols, space.samples, grid_keys, objectives)
     feasible_rows = np.flatnonzero(points["feasible"])
-    labels = {c: axis_label(c, units.get(c, "")) if c in plan.keys else f"{c} ({units.get(_check_of(c), '')})"
-              .replace(" ()", "") for c in [o.column for o in objectives]}
+    labels = {c: _column_label(c, units, plan.keys) for c in [o.column for o in objectives]}
     outputs: list = []
     report: dict[str, Any] = {"counts": counts, "objectives": [o.text for o in objectives],
                               "per_grid_point": space.samples > 1}
@@ -387,8 +391,16 @@ def _space(plan):
     return prepared(plan.task).space
 
 
-def _check_of(column: str) -> str:
-    return column.rsplit(".", 1)[0]
+def _column_label(column: str, units: dict, keys: dict) -> str:
+    """An axis label for a results column: a key with its unit, a check's figure with its unit."""
+    if column in keys:
+        return axis_label(column, units.get(column, ""))
+    if column == "min_margin_ratio":
+        return "least margin / limit over all checks"
+    check, _, part = column.rpartition(".")
+    unit = units.get(column, "") if part in ("value", "limit", "margin") else ""
+    what = {"margin_ratio": "margin / limit", "value": "", "limit": "limit", "margin": "margin"}.get(part, part)
+    return " ".join(x for x in (check, what) if x) + (f" ({unit})" if unit else "")
 
 
 def _tightest(report: dict) -> list:

@@ -82,7 +82,7 @@ def rows_to_table(rows: list[dict], key_kinds: dict[str, str], key_units: dict[s
     def add(name: str, kind: str, unit: str | None = None) -> None:
         values = [row.get(name) for row in rows]
         if kind == "float":  # a figure not computed (NaN) is stored as null
-            values = [None if v is None or v != v else float(v) for v in values]
+            values = [None if v is None or math.isnan(v) else float(v) for v in values]
         typ = {"float": pa.float64(), "int": pa.int64(), "str": pa.string(), "bool": pa.bool_()}[kind]
         metadata = {"unit": unit} if unit else None
         fields.append(pa.field(name, typ, metadata=metadata))
