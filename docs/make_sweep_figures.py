@@ -11,6 +11,7 @@ default scene, 6161 designs.
    docs/img/sweep_pareto.png; the figures and checks in docs/sweep_must_show.json.
 
 Run: python docs/make_sweep_figures.py [--workers 2] [--dask] [--out FOLDER]   (tens of minutes on 2 cores)
+     python docs/make_sweep_figures.py --figures-only FOLDER/pool                (redraw the figures only)
 """
 
 from __future__ import annotations
@@ -112,10 +113,12 @@ def auto_rb(rise: float, scratch: Path) -> float:
 
 
 def figures(folder: Path, solved: dict[float, float]) -> list[str]:
+    """docs/img/sweep_region.png (the region, the auto-rb curve over it) and docs/img/sweep_pareto.png (the
+    trade-off between the smallest cam and the shortest rise: min base radius, min rise angle)."""
     import numpy as np
 
     from camcad.report.figure import save_figure
-    from camcad.report.sweep import axis_label, region_figure
+    from camcad.report.sweep import axis_label, pareto_figure, region_figure
     from camcad.sweep import analysis
     from camcad.sweep.store import read_results
 
@@ -125,16 +128,25 @@ def figures(folder: Path, solved: dict[float, float]) -> list[str]:
     labels = np.where(feasible, "feasible", cols["governing"]).astype(object)
     rises = np.array(sorted(solved))
     fig = region_figure(x, y, labels, axis_label("law.phases.rise", "deg"), axis_label("follower.base_radius", "mm"),
-                        f"default scene, {len(x)} designs: {int(feasible.sum())} feasible "
-                        "(cycloidal rise 25 mm, roller 10 mm, pressure-angle limit 30 deg)",
+                        f"default scene (cycloidal rise of 25 mm, roller 10 mm, pressure-angle limit 30 deg): "
+                        f"{int(feasible.sum())} of {len(x)} designs feasible",
                         reference=(rises, np.array([solved[r] for r in rises]),
-                                   "least Rb, camcad profile --auto-rb"),
-                        boundary=analysis.feasible_boundary(x, y, feasible))
+                                   "least Rb: camcad profile --auto-rb"),
+                        boundary=analysis.feasible_boundary(x, y, feasible), zoom=(74.6, 80.4, 39.8, 46.2))
     region = save_figure(fig, ROOT / "docs" / "img" / "sweep_region.png")
-    pareto = folder / "pareto.png"
-    target = ROOT / "docs" / "img" / "sweep_pareto.png"
-    target.write_bytes(pareto.read_bytes())
-    return [str(region.relative_to(ROOT)), str(target.relative_to(ROOT))]
+    objectives = [analysis.Objective("min", "follower.base_radius"), analysis.Objective("min", "law.phases.rise")]
+    points = {"design": cols["design"], "feasible": feasible, "follower.base_radius": y, "law.phases.rise": x}
+    rows = np.flatnonzero(feasible)
+    values = np.column_stack([y[rows], x[rows]])
+    front = rows[analysis.pareto_front(values, ["min", "min"])]
+    best = analysis.best_index(points, objectives)
+    fig = pareto_figure(points, front, best, objectives,
+                        {"follower.base_radius": axis_label("follower.base_radius", "mm"),
+                         "law.phases.rise": axis_label("law.phases.rise", "deg")},
+                        f"smallest cam against shortest rise: {len(front)} Pareto-optimal of {len(rows)} feasible "
+                        "designs", best_label="least base radius, then shortest rise")
+    pareto = save_figure(fig, ROOT / "docs" / "img" / "sweep_pareto.png")
+    return [str(region.relative_to(ROOT)), str(pareto.relative_to(ROOT))]
 
 
 def main() -> None:
@@ -142,7 +154,14 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--dask", action="store_true", help="also run the sweep on a 2-worker LocalCluster")
     parser.add_argument("--out", type=Path, default=None, help="folder for the sweeps (default: a temporary one)")
+    parser.add_argument("--figures-only", type=Path, default=None,
+                        help="redraw the figures from the sweep in this folder and docs/sweep_must_show.json")
     options = parser.parse_args()
+    if options.figures_only is not None:
+        saved = json.loads((ROOT / "docs" / "sweep_must_show.json").read_text())
+        solved = {r["rise_deg"]: r["auto_rb_mm"] for r in saved["boundary_vs_auto_rb"]["rows"]}
+        print("written", ", ".join(figures(options.figures_only, solved)))
+        return
     out = options.out or Path(tempfile.mkdtemp(prefix="camcad-must-show-"))
     out.mkdir(parents=True, exist_ok=True)
     found: dict = {"command": " ".join(["camcad sweep", *VARY, *AXES, "--chunk", str(CHUNK), "--workers",

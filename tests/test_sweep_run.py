@@ -77,8 +77,14 @@ def test_checks_only_gives_the_same_checks_as_the_full_pipeline():
     tables = default_tables()
     weft = tomllib.loads((SCENES / "loom_group1.toml").read_text())["mechanisms"]["weft_returner"]
     with_contact = {"name": "weft", "machine": {"rpm": [280.0, 420.0]}, **copy.deepcopy(weft)}
-    scenes = [scene_from_dict(tables, Path("default"), from_file=False), SCENES / "shuttle_lift.toml",
-              scene_from_dict(with_contact, Path("weft"), from_file=False)]
+    groove = copy.deepcopy(tables)
+    groove["follower"].update(groove=True, base_radius=35.0)           # fails its rise pressure angle
+    pair = copy.deepcopy(tables)
+    pair["follower"].update(pair_distance=145.0, rho_min=3.0)          # a conjugate cam, a curvature limit
+    knife = copy.deepcopy(tables)
+    knife["follower"].update(type="knife", roller_radius=0.0, base_radius=12.0)   # undercut by a loop
+    scenes = [scene_from_dict(t, Path("t"), from_file=False) for t in (tables, groove, pair, knife)]
+    scenes += [SCENES / "shuttle_lift.toml", scene_from_dict(with_contact, Path("weft"), from_file=False)]
     for scene in scenes:
         full = analyse_scene(scene, PipelineOptions(plots=())).report
         quick = analyse_scene(scene, PipelineOptions(plots=(), checks_only=True)).report

@@ -37,7 +37,7 @@ def axis_label(key: str, unit: str = "") -> str:
 
 def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str, y_label: str,
                   title: str = "", reference: tuple[np.ndarray, np.ndarray, str] | None = None,
-                  boundary: list[dict] | None = None):
+                  boundary: list[dict] | None = None, zoom: tuple[float, float, float, float] | None = None):
     """The feasible region of a 2-D slice.
 
     Parameters
@@ -49,18 +49,21 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
     x_label, y_label : str
         Axis labels with units.
     title : str
-        Title (what the slice holds fixed).
+        Title (what the slice holds fixed); wrapped to the figure's width.
     reference : (ndarray, ndarray, str), optional
         A curve (x, y, legend text) drawn over the region, e.g. the least base radius solved per rise angle.
     boundary : list of dict, optional
         ``camcad.sweep.analysis.feasible_boundary`` of the slice, drawn half-way between the largest infeasible
         and the least feasible value of each column (not drawn where it lies outside the grid).
+    zoom : (x0, x1, y0, y1), optional
+        Also show this window enlarged in an inset (the grid's cells, the boundary and the reference).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.colors import ListedColormap
+    import textwrap
+
     from matplotlib.patches import Patch
 
     xs, ys = np.unique(x), np.unique(y)
@@ -72,12 +75,42 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
     code = {name: i for i, name in enumerate(names)}
     grid = np.full((len(ys), len(xs)), np.nan)
     grid[np.searchsorted(ys, y), np.searchsorted(xs, x)] = [code[str(v)] for v in labels]
-    fig, ax = new_figure(9.0, 6.0)
-    ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(grid), cmap=ListedColormap(colours),
-                  vmin=-0.5, vmax=len(names) - 0.5, shading="flat")
+    fig, ax = new_figure(9.5, 6.0)
     handles = [Patch(facecolor=colours[i], edgecolor="#555555", linewidth=0.5,
                      label=("feasible" if n == "feasible" else f"fails: {n}")) for i, n in enumerate(names)
                if n in set(labels)]
+    handles += _draw_region(ax, xs, ys, grid, colours, boundary, reference)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_xlim(_edges(xs)[0], _edges(xs)[-1])
+    ax.set_ylim(_edges(ys)[0], _edges(ys)[-1])
+    if zoom is not None:   # each design a dot: the boundary lies between the last failing and the first feasible
+        inset = ax.inset_axes([0.52, 0.5, 0.45, 0.46])
+        inside = (x >= zoom[0]) & (x <= zoom[1]) & (y >= zoom[2]) & (y <= zoom[3])
+        dots = [colours[code[str(v)]] for v in labels[inside]]
+        inset.scatter(x[inside], y[inside], c=dots, s=22, edgecolors="#333333", linewidths=0.4, zorder=2)
+        if reference is not None:
+            inset.plot(reference[0], reference[1], color="#1a237e", linewidth=1.3, linestyle="--", zorder=3)
+        inset.set_xlim(zoom[0], zoom[1])
+        inset.set_ylim(zoom[2], zoom[3])
+        inset.set_facecolor("white")
+        inset.tick_params(labelsize=7)
+        inset.grid(True, alpha=0.25)
+        inset.set_title("enlarged: one dot per design", fontsize=8)
+        ax.indicate_inset_zoom(inset, edgecolor="#333333")
+    if title:
+        ax.set_title("\n".join(textwrap.wrap(title, 90)), fontsize=10)
+    fig.legend(handles=handles, loc="outside right upper", fontsize=8, frameon=False)
+    return fig
+
+
+def _draw_region(ax, xs, ys, grid, colours, boundary, reference) -> list:
+    """The coloured cells, the boundary and the reference curve on ``ax``; returns the legend's line handles."""
+    from matplotlib.colors import ListedColormap
+
+    ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(grid), cmap=ListedColormap(colours),
+                  vmin=-0.5, vmax=len(colours) - 0.5, shading="flat")
+    handles = []
     if boundary:
         dx = float(np.min(np.diff(xs))) if len(xs) > 1 else 1.0
         px: list[float] = []
@@ -91,21 +124,14 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
             px += [b["x"] - dx / 2, b["x"] + dx / 2]
             py += [level, level]
         if any(math.isfinite(v) for v in px):
-            (line,) = ax.plot(px, py, color="black", linewidth=1.6, label="feasible boundary (sweep grid)")
+            (line,) = ax.plot(px, py, color="black", linewidth=1.4, label="feasible boundary (sweep grid)")
             handles.append(line)
     if reference is not None:
         rx, ry, text = reference
-        (line,) = ax.plot(rx, ry, color="white", linewidth=3.2, zorder=3)
-        (line,) = ax.plot(rx, ry, color="#1a237e", linewidth=1.4, linestyle="--", label=text, zorder=4)
+        ax.plot(rx, ry, color="white", linewidth=3.0, zorder=3)
+        (line,) = ax.plot(rx, ry, color="#1a237e", linewidth=1.3, linestyle="--", label=text, zorder=4)
         handles.append(line)
-    ax.set_xlabel(x_label)
-    ax.set_ylabel(y_label)
-    ax.set_xlim(_edges(xs)[0], _edges(xs)[-1])
-    ax.set_ylim(_edges(ys)[0], _edges(ys)[-1])
-    if title:
-        ax.set_title(title, fontsize=10)
-    fig.legend(handles=handles, loc="outside right upper", fontsize=8, frameon=False)
-    return fig
+    return handles
 
 
 def _counts(labels: np.ndarray) -> dict[str, int]:
@@ -126,7 +152,7 @@ def _edges(values: np.ndarray) -> np.ndarray:
 
 
 def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | None, objectives: list,
-                  labels: dict[str, str], title: str = ""):
+                  labels: dict[str, str], title: str = "", best_label: str = "best design (best.toml)"):
     """Feasible designs in the plane of the first two objectives, the Pareto front joined, the best marked.
 
     Parameters
@@ -143,6 +169,8 @@ def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | 
         {column: axis label with unit}.
     title : str
         Title.
+    best_label : str
+        Legend text of the best design.
 
     Returns
     -------
@@ -168,7 +196,7 @@ def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | 
                 label=f"Pareto front ({len(front)} designs)")
     if best is not None:
         ax.plot([xv[best]], [yv[best]], marker="*", markersize=16, color="#ffb300", markeredgecolor="black",
-                linestyle="none", label="best design (best.toml)")
+                linestyle="none", label=best_label)
     ax.set_xlabel(f"{objectives[0].sense}imise {labels.get(first, first)}")
     if second:
         ax.set_ylabel(f"{objectives[1].sense}imise {labels.get(second, second)}")

@@ -36,8 +36,9 @@ class PipelineOptions:
     r12: bool = False
     plots: tuple[str, ...] = ("summary",)   # names of the plots to draw ("all": every one; (): none)
     contact_samples: int = CONTACT_SAMPLES
-    #: only what the checks need (``camcad sweep``): no smallest-base-radius design in the profile and no
-    #: least phase angles of a mechanism (step 8; a cyclogram still finds its own); the checks are unchanged
+    #: only what the checks need (``camcad sweep``): no smallest-base-radius design and no written pitch curve in
+    #: the profile, no least phase angles of a mechanism (step 8; a cyclogram still finds its own); the checks are
+    #: unchanged
     checks_only: bool = False
 
 
@@ -256,7 +257,8 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
     follower, law, _, notes = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"), law)
     settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
-                               plots=bool(options.plots), name=mech.name, design=not options.checks_only)
+                               plots=bool(options.plots), name=mech.name, design=not options.checks_only,
+                               checks_only=options.checks_only)
     result = synthesize(law, follower, settings.validate(), name=mech.name)
     return with_fields(result, notes=tuple(notes) + result.notes) if notes else result
 

@@ -118,6 +118,11 @@ class Prepared:
 
         self.task = task
         self.folder = Path(tempfile.mkdtemp(prefix="camcad-sweep-")) if task.files else None
+        if self.folder is not None:
+            import atexit
+            import shutil
+
+            atexit.register(shutil.rmtree, self.folder, True)   # a forked pool worker never runs atexit
         for name, content in task.files.items():
             (self.folder / name).write_bytes(content)
         self.space = build_space(task.tables, list(task.vary), task.samples, task.seed)
