@@ -13,7 +13,7 @@ Rows:
 The machine may be shared: each row carries the load average when it ran, and the CPU time per design (the
 workers' own CPU time, which sharing the cores does not inflate much) is the figure to scale from.
 
-Run: python benchmarks/bench_sweep.py [--quick]
+Run: python benchmarks/bench_sweep.py [--quick]   (--quick: the default scene only, seconds; in full: minutes)
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def _largest_difference(a: dict, b: dict) -> float:
 def design_rows(repeats: int, loom_repeats: int) -> list[dict]:
     rows = []
     cases = [("default scene", lambda: scene_from_dict(default_tables(), Path("default"), from_file=False), repeats),
-             ("loom group (4 mechanisms)", lambda: read_scene(LOOM), loom_repeats)]
+             ("loom group (4 mechanisms)", lambda: read_scene(LOOM), loom_repeats)][:2 if loom_repeats else 1]
     for kernel, make, count in cases:
         found = {}
         for method, checks_only in (("full pipeline (camcad profile)", False), ("checks only (sweep)", True)):
@@ -76,32 +76,43 @@ def design_rows(repeats: int, loom_repeats: int) -> list[dict]:
     return rows
 
 
-def sweep_rows(designs_default: int, designs_loom: int) -> list[dict]:
+def sweep_rows(designs_default: int, designs_loom: int, rounds: int) -> list[dict]:
+    """Sweeps on 1 and 2 workers, interleaved ``rounds`` times (1, 2, 1, 2, ...) so that both see the same
+    load on a shared machine; each row has the medians over the rounds. ``cores_obtained`` is the workers'
+    CPU time over the wall time: how much of the machine the sweep actually got."""
+    import statistics
+
     from camcad.sweep.engine import make_engine
     from camcad.sweep.run import prepare_sweep, run_sweep, sized
 
     rows = []
     radii = max(1, designs_default // 10)
     default_vary = [f"follower.base_radius=30:{30 + 2 * (radii - 1)}:2", "law.phases.rise=60:114:6"]
-    loom_vary = [f"mechanisms.shuttle_lift.follower.base_radius=40:{40 + 2 * (designs_loom - 1)}:2"]
+    loom_vary = [f"mechanisms.shuttle_lift.follower.base_radius=40:{40 + 2 * max(designs_loom - 1, 0)}:2"]
     loom_tables = read_scene(LOOM).raw
     cases = [("default scene", default_tables(), "built-in default", None, default_vary),
-             ("loom group (4 mechanisms)", loom_tables, LOOM.name, LOOM.parent, loom_vary)]
+             ("loom group (4 mechanisms)", loom_tables, LOOM.name, LOOM.parent, loom_vary)][:2 if designs_loom else 1]
     for kernel, tables, name, base, vary in cases:
         plan = prepare_sweep(tables, name, base, vary)
+        runs: dict[int, list[dict]] = {1: [], 2: []}
+        for _ in range(rounds):
+            for workers in (1, 2):
+                with tempfile.TemporaryDirectory() as folder, make_engine(workers) as engine:
+                    sized_plan = sized(plan, workers, max(1, plan.designs // (4 * workers)))
+                    runs[workers].append(run_sweep(sized_plan, Path(folder), engine).as_dict())
         rates = {}
         for workers in (1, 2):
-            with tempfile.TemporaryDirectory() as folder, make_engine(workers) as engine:
-                sized_plan = sized(plan, workers, max(1, plan.designs // (4 * workers)))
-                stats = run_sweep(sized_plan, Path(folder), engine).as_dict()
-            rates[workers] = stats["designs_per_s"]
+            found = runs[workers]
+            rate = statistics.median(r["designs_per_s"] for r in found)
+            rates[workers] = rate
+            cpu = statistics.median(r["cpu_s_per_design"] for r in found)
+            cores = statistics.median(r["worker_cpu_s"] / r["wall_s"] for r in found)
             rows.append({"kernel": f"sweep: {kernel}", "method": "in-process" if workers == 1 else "local pool",
                          "setting": f"{workers} worker{'s' if workers > 1 else ''}, {plan.designs} designs",
-                         "time_s": stats["wall_s"] / stats["designs_computed"], "error": None, "error_unit": "-",
-                         "designs_per_s": stats["designs_per_s"],
-                         "designs_per_s_per_worker": stats["designs_per_s_per_worker"],
-                         "cpu_s_per_design": stats["cpu_s_per_design"], "workers": workers,
-                         "load_average": stats["load_average_before"]})
+                         "time_s": 1.0 / rate, "error": None, "error_unit": "-", "designs_per_s": rate,
+                         "designs_per_s_per_worker": rate / workers, "cpu_s_per_design": cpu,
+                         "cores_obtained": cores, "rounds": rounds, "workers": workers,
+                         "load_average": found[0]["load_average_before"]})
         rows[-1]["speedup_vs_1_worker"] = rates[2] / rates[1]
     return rows
 
@@ -114,9 +125,9 @@ def _load() -> list:
 
 
 def run(quick: bool = False) -> list[dict]:
-    if quick:
-        return design_rows(3, 1) + sweep_rows(20, 2)
-    return design_rows(15, 3) + sweep_rows(200, 12)
+    if quick:   # the default scene only (the loom group's rows take minutes)
+        return design_rows(3, 0) + sweep_rows(20, 0, 1)
+    return design_rows(15, 3) + sweep_rows(200, 8, 3)
 
 
 def main() -> None:
@@ -130,6 +141,8 @@ def main() -> None:
         notes = []
         if row.get("designs_per_s"):
             notes.append(f"{row['designs_per_s']:.3g} designs/s ({row['designs_per_s_per_worker']:.3g} per worker)")
+        if row.get("cores_obtained"):
+            notes.append(f"got {row['cores_obtained']:.2f} cores")
         if row.get("speedup_vs_1_worker"):
             notes.append(f"speed-up 1->2 workers {row['speedup_vs_1_worker']:.2f}")
         if row.get("error") is not None:

@@ -37,7 +37,7 @@ class PipelineOptions:
     plots: tuple[str, ...] = ("summary",)   # names of the plots to draw ("all": every one; (): none)
     contact_samples: int = CONTACT_SAMPLES
     #: only what the checks need (``camcad sweep``): no smallest-base-radius design and no written pitch curve in
-    #: the profile, no least phase angles of a mechanism (step 8; a cyclogram still finds its own); the checks are
+    #: the profile, no least phase angles (step 8) of a mechanism the cyclogram does not retime; the checks are
     #: unchanged
     checks_only: bool = False
 
@@ -146,7 +146,8 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
     dynamics), for a mechanism the cyclogram will retime and analyse again."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
-    limits = limits and not options.checks_only
+    # checks only: no least phase angles, but for a mechanism the cyclogram retimes (it reuses them: same figures)
+    limits = limits and (only_limits or not options.checks_only)
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
