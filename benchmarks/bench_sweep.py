@@ -13,7 +13,8 @@ Rows:
 The machine may be shared: each row carries the load average when it ran, and the CPU time per design (the
 workers' own CPU time, which sharing the cores does not inflate much) is the figure to scale from.
 
-Run: python benchmarks/bench_sweep.py [--quick]   (--quick: the default scene only, seconds; in full: minutes)
+Run: python benchmarks/bench_sweep.py [--quick | --speedup]   (--quick: the default scene only, seconds; in full:
+     minutes; --speedup: the default scene's sweeps on 1 and 2 workers only, about a minute)
 """
 
 from __future__ import annotations
@@ -132,7 +133,8 @@ def run(quick: bool = False) -> list[dict]:
 
 def main() -> None:
     quick = "--quick" in sys.argv
-    rows = run(quick)
+    # --speedup: only the default scene's 1- and 2-worker sweeps (200 designs, interleaved twice)
+    rows = sweep_rows(200, 0, 2) if "--speedup" in sys.argv else run(quick)
     print(f"cores: {len(os.sched_getaffinity(0)) if hasattr(os, 'sched_getaffinity') else os.cpu_count()}, "
           f"load average now {_load()}")
     print(f"{'kernel':36s} {'method':32s} {'setting':26s} {'time/design':>12s} {'CPU/design':>11s}  notes")
