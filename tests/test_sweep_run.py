@@ -177,6 +177,8 @@ def test_a_stopped_sweep_resumes_where_it_stopped_and_computes_each_design_once(
     fresh = tmp_path / "fresh"
     assert cli("sweep", *VARY, "--chunk", "4", "--workers", "1", "-o", fresh, "--no-plots", "--no-best").code == 0
     assert read(fresh).equals(table)                                 # in-process = pool, stopped + resumed = fresh
+    complete = cli("sweep", *VARY, "-o", stopped, "--resume", "--no-plots", "--no-best", "--json")
+    assert complete.code == 0 and complete.json()["throughput"]["designs_computed"] == 0   # nothing left to do
     refused = [r for r in table.to_pylist() if r["status"] == "bad input"]
     assert len(refused) == 6 and all("rise cannot be made 200 deg wide" in r["error"] for r in refused)
     assert all(r["law.phases.rise"] == 200 and not r["feasible"] for r in refused)

@@ -258,3 +258,13 @@ def test_a_design_space_of_one_design():
     assert space.size == 1 and space.values(0) == {"follower.base_radius": 50.0}
     with pytest.raises(IndexError):
         space.values(1)
+
+
+@pytest.mark.parametrize("module", ["camcad.sweep.space", "camcad.sweep.analysis", "camcad.sweep.run",
+                                    "camcad.sweep.evaluate", "camcad.report.sweep"])
+def test_the_docstring_examples_run(module):
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.failed == 0 and result.attempted > 0

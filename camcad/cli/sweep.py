@@ -206,5 +206,6 @@ def _print(report: dict) -> None:
                   f"-> {best['profile']['folder']}")
     else:
         print("  no feasible design")
-    print(f"  Pareto front: {report['pareto']['designs']} designs")
+    count = report["pareto"]["designs"]
+    print(f"  Pareto front: {count} design{'' if count == 1 else 's'}")
     print("written: " + ", ".join(report["outputs"]))

@@ -27,10 +27,18 @@ ERROR_COLOUR = "#bdbdbd"
 
 
 def axis_label(key: str, unit: str = "") -> str:
-    """``follower.base_radius`` (mm) → "base radius (mm)  [follower.base_radius]"."""
-    name = key.rsplit(".", 1)[-1].replace("_", " ")
-    if ".phases." in key:
-        name = f"{name} phase angle"
+    """An axis label for a varied key: its section and name, its unit, the key itself.
+
+    Examples
+    --------
+    >>> axis_label("follower.base_radius", "mm"), axis_label("law.phases.rise", "deg")
+    ('follower base radius (mm)  [follower.base_radius]', 'rise phase angle (deg)  [law.phases.rise]')
+    """
+    parts = key.split(".")
+    if len(parts) >= 3 and parts[-2] == "phases":
+        name = f"{parts[-1]} phase angle"
+    else:
+        name = " ".join(parts[-2:]).replace("_", " ")
     unit = f" ({unit})" if unit else ""
     return f"{name}{unit}  [{key}]"
 
@@ -77,7 +85,8 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
     grid[np.searchsorted(ys, y), np.searchsorted(xs, x)] = [code[str(v)] for v in labels]
     fig, ax = new_figure(9.5, 6.0)
     handles = [Patch(facecolor=colours[i], edgecolor="#555555", linewidth=0.5,
-                     label=("feasible" if n == "feasible" else f"fails: {n}")) for i, n in enumerate(names)
+                     label=("feasible" if n == "feasible" else f"refused: {n}" if n in ("bad input", "internal error")
+                            else f"fails: {n}")) for i, n in enumerate(names)
                if n in set(labels)]
     handles += _draw_region(ax, xs, ys, grid, colours, boundary, reference)
     ax.set_xlabel(x_label)
@@ -152,7 +161,8 @@ def _edges(values: np.ndarray) -> np.ndarray:
 
 
 def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | None, objectives: list,
-                  labels: dict[str, str], title: str = "", best_label: str = "best design (best.toml)"):
+                  labels: dict[str, str], title: str = "", best_label: str = "best design (best.toml)",
+                  what: str = "designs"):
     """Feasible designs in the plane of the first two objectives, the Pareto front joined, the best marked.
 
     Parameters
@@ -171,6 +181,8 @@ def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | 
         Title.
     best_label : str
         Legend text of the best design.
+    what : str
+        What a point is ("designs", or "grid points" for a Monte-Carlo sweep).
 
     Returns
     -------
@@ -185,15 +197,15 @@ def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | 
     if len(objectives) > 2:
         third = objectives[2].column
         art = ax.scatter(xv[feasible], yv[feasible], c=np.asarray(points[third], dtype=float)[feasible], s=10,
-                         cmap="viridis", alpha=0.7, label="feasible designs")
+                         cmap="viridis", alpha=0.7, label=f"feasible {what}")
         bar = fig.colorbar(art, ax=ax)
         bar.set_label(f"{objectives[2].sense}imise {labels.get(third, third)}", fontsize=8)
     else:
-        ax.scatter(xv[feasible], yv[feasible], s=8, color="#9e9e9e", alpha=0.6, label="feasible designs")
+        ax.scatter(xv[feasible], yv[feasible], s=8, color="#9e9e9e", alpha=0.6, label=f"feasible {what}")
     if len(front):
         order = front[np.argsort(xv[front], kind="stable")]
         ax.plot(xv[order], yv[order], color=COLOURS["fail"], marker="o", markersize=4, linewidth=1.2,
-                label=f"Pareto front ({len(front)} designs)")
+                label=f"Pareto front ({len(front)} {what if len(front) != 1 else what[:-1]})")
     if best is not None:
         ax.plot([xv[best]], [yv[best]], marker="*", markersize=16, color="#ffb300", markeredgecolor="black",
                 linestyle="none", label=best_label)
@@ -407,7 +419,8 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
     if plots and len(objectives) >= 2 and len(feasible_rows):
         title = f"{len(feasible_rows)} feasible of {len(points['design'])} " + \
             ("grid points (feasible in every draw)" if space.samples > 1 else "designs")
-        fig = pareto_figure(points, front, best, objectives, labels, title)
+        fig = pareto_figure(points, front, best, objectives, labels, title,
+                            what="grid points" if space.samples > 1 else "designs")
         outputs.append(save_figure(fig, path("pareto.png")))
     report["outputs"] = [str(p) for p in outputs]
     return report
