@@ -116,8 +116,8 @@ def parse_objective(text: str, names: list[str], where: str = "--objective") -> 
     if sense not in ("min", "max") or not column:
         raise CamcadError(f"{text[:60]!r} is not min:COLUMN or max:COLUMN", where,
                           'write e.g. --objective min:follower.base_radius --objective "max:min_margin_ratio"')
-    numeric = [n for n in names if not n.endswith((".passed",)) and n not in ("status", "error", "governing",
-                                                                                "feasible", "design", "sample")]
+    numeric = [n for n in names if not n.endswith(".passed") and not n.startswith("_")
+               and n not in ("status", "error", "governing", "feasible", "design", "sample")]
     if column in numeric:
         return Objective(sense, column)
     if f"{column}.margin" in numeric:
