@@ -268,3 +268,26 @@ def test_the_docstring_examples_run(module):
 
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
+
+
+def test_a_model_s_own_checks_become_columns_named_by_the_model():
+    # the JSON form of camcad.verdict.Check (value, limit, margin, ...) as a model's report carries it
+    from camcad.sweep.evaluate import design_checks
+
+    def check(value, limit, sense="max", unit="mm"):
+        margin = limit - value if sense == "max" else value - limit
+        return {"value": value, "limit": limit, "margin": margin, "margin_ratio": margin / limit, "unit": unit,
+                "sense": sense, "passed": margin >= 0}
+
+    report = {"mechanisms": {"lift": {
+        "checks": {"pressure angle, rise": check(31.0, 30.0, unit="deg")},
+        "impact": {"passed": False, "checks": {"first rebound": check(0.105, 0.1)}},
+        "contact": {"passed": True, "sigma_max_MPa": 900.0, "allowable_MPa": 1100.0, "separation": False}}},
+        "cyclogram": {"passed": True, "checks": {"makespan": check(141.0, 360.0, unit="deg")}}}
+    found = {f.name: f for f in design_checks(report)}
+    assert list(found) == ["lift/pressure angle, rise", "lift/impact first rebound", "lift/contact stress",
+                           "lift/contact separation", "cyclogram makespan"]
+    assert found["lift/impact first rebound"].margin == pytest.approx(-0.005) and not found[
+        "lift/impact first rebound"].passed
+    assert found["lift/contact stress"].margin == 200.0 and found["lift/contact stress"].unit == "MPa"
+    assert found["cyclogram makespan"].margin_ratio == pytest.approx(219.0 / 360.0)

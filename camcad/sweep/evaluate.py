@@ -11,8 +11,8 @@ has run. Its row holds:
 - ``feasible``: every check passed; ``governing``: the check with the least margin ratio — the one that fails
   worst, or for a feasible design the tightest; ``min_margin_ratio``: its margin ratio;
 - every check's ``.value``, ``.limit``, ``.margin``, ``.margin_ratio`` and ``.passed`` (columns named
-  ``<check>.value`` …; in a group ``<mechanism>/<check>.value`` …; the unit of each column is in the
-  Parquet schema's field metadata).
+  ``<check>.value`` …; a model's own checks as ``<model> <check>``; in a group ``<mechanism>/<check>.value`` …;
+  the unit of each column is in the Parquet schema's field metadata).
 
 The checks are those of the report: the profile's (pressure angle per phase, undercut, convex radius,
 closure), each model's own ``checks`` when it has them, else its verdict as a figure against its limit:
@@ -200,7 +200,10 @@ def design_checks(report: dict) -> list[Figure]:
         for name, mech in mechanisms.items():
             found.extend(_mechanism_checks(mech, f"{name}/"))
     cyclogram = report.get("cyclogram")
-    if cyclogram is not None:
+    own = cyclogram.get("checks") if isinstance(cyclogram, dict) else None
+    if isinstance(own, dict) and own:   # the cyclogram's own verdict, when its report has one
+        found.extend(_from_dict(_prefixed("cyclogram", name, ""), entry) for name, entry in own.items())
+    elif cyclogram is not None:
         feasible = bool(cyclogram.get("passed", cyclogram.get("feasible", False)))
         found.append(Figure.of(Check("cyclogram feasible", 1.0 if feasible else 0.0, None, "",
                                      passed_override=feasible)))
@@ -217,10 +220,15 @@ def _mechanism_checks(mech: dict, prefix: str) -> list[Figure]:
             continue
         own = data.get("checks")
         if isinstance(own, dict) and own:
-            found.extend(_from_dict(f"{prefix}{model} {name}", entry) for name, entry in own.items())
+            found.extend(_from_dict(_prefixed(model, name, prefix), entry) for name, entry in own.items())
             continue
         found.extend(Figure.of(c) for c in _model_checks(model, data, prefix))
     return found
+
+
+def _prefixed(model: str, name: str, prefix: str) -> str:
+    """A model's check named for its column: "<mechanism>/<model> <check>" (the model once)."""
+    return f"{prefix}{name}" if name.startswith(model) else f"{prefix}{model} {name}"
 
 
 def _from_dict(name: str, data: dict) -> Figure:
