@@ -22,6 +22,8 @@ LAYERS = {
     "balance": 2,
     "fourier": 3, "profile": 3, "dynamics": 3, "contact": 3, "cyclogram": 3, "linkage": 3,
     "scene": 4,
+    # a sweep runs scenes (many at once, checks only) and the report layer draws and writes its outputs
+    "sweep": 4.5,
     "report": 5,
     "edit": 6,
     "cli": 7, "__main__": 7,

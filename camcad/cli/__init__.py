@@ -31,6 +31,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "linkage": ("camcad.cli.linkage", "Linkages after the cam (seed 002): the atlas of adjustable chains, function generators."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
+    "sweep": ("camcad.cli.sweep", "Explore a design space: a scene's keys over ranges and draws, on a pool or Dask."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
 }
 

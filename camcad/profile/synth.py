@@ -50,6 +50,9 @@ class ProfileSettings:
         Also compute the smallest base radius meeting the limits (``min_base_radius``).
     name : str
         The design's name (output folder, drawing title).
+    checks_only : bool
+        Skip what only the written files need: the pitch curves' chord polylines (left empty; every check
+        figure is the same; ``camcad sweep`` uses it).
 
     Examples
     --------
@@ -72,6 +75,7 @@ class ProfileSettings:
     analysis_step_deg: float = 0.1
     design: bool = True
     name: str = "profile"
+    checks_only: bool = False
 
     def validate(self) -> "ProfileSettings":
         if not (math.isfinite(self.tol_mm) and self.tol_mm > 0.0):
@@ -108,7 +112,8 @@ class CurveResult:
               curve closes). arcs / spline: the other representations, when asked for.
     rho_convex_min:  smallest radius of curvature of its convex parts (mm).
     rho_concave_min: smallest |radius| of its concave parts (mm), None if it has none.
-    simple:   shapely finds the closed polygon valid and its ring simple (no loop, no cusp).
+    simple:   shapely finds the closed polygon valid and its ring simple (no loop, no cusp); None for a
+              curve not written (``ProfileSettings.checks_only``: its polyline is empty).
     closure_gap: distance between the curve's end and its start (mm); closed: gap ≤ tol.
     """
 
@@ -118,7 +123,7 @@ class CurveResult:
     spline: SplineData | None
     rho_convex_min: Extremum | None
     rho_concave_min: Extremum | None
-    simple: bool
+    simple: bool | None
     closure_gap: float
     closed: bool
 
@@ -328,15 +333,22 @@ def _is_simple(points: np.ndarray) -> bool:
 
 
 def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSettings,
-                  analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str]
-                  ) -> CurveResult:
+                  analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str],
+                  written: bool = True) -> CurveResult:
+    """One curve's polyline (when ``written``), other representations, extrema of curvature and closure."""
     cycle = float(geometry.law.cycle)
     lobes, sigma = geometry.lobes, geometry.sigma
+    gap, _ = _closure_gap(curve, geometry)
+    closed = gap <= settings.tol_mm
+    if not written:   # only its figures: the radii of curvature and the closure
+        rho = curve(analysis).rho
+        convex = refine_min(lambda t: _convex(curve(t).rho), analysis, _convex(rho))
+        concave = refine_min(lambda t: _concave(curve(t).rho), analysis, _concave(rho))
+        empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
+        return CurveResult(name, empty, None, None, convex, concave, None, gap, closed)
     breaks = geometry.breakpoints()
     breaks = breaks[breaks <= cycle]
     one = chord_nodes(curve, 0.0, cycle, settings.tol_mm, breaks)
-    gap, _ = _closure_gap(curve, geometry)
-    closed = gap <= settings.tol_mm
     theta_all = np.concatenate([one.theta[:-1] + k * cycle for k in range(lobes)] + [[2.0 * math.pi]])
     points_all = _replicate(one.points, lobes, cycle, sigma)
     if closed:
@@ -503,7 +515,8 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
 
     profile = _curve_result("profile", geometry.profile, geometry, settings, analysis,
                             settings.arcs, settings.spline, notes)
-    pitch = _curve_result("pitch", geometry.pitch, geometry, settings, analysis, False, False, notes)
+    pitch = _curve_result("pitch", geometry.pitch, geometry, settings, analysis, False, False, notes,
+                          written=not settings.checks_only)
     outer = counter = counter_pitch = None
     if follower.groove:
         outer = _curve_result("outer flank", geometry.outer_flank, geometry, settings, analysis,
@@ -512,7 +525,8 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
         counter = _curve_result("counter-cam", geometry.counter_profile, geometry, settings, analysis,
                                 settings.arcs, settings.spline, notes)
         counter_pitch = _curve_result("counter-cam pitch", lambda t: geometry.pitch(t, second=True),
-                                      geometry, settings, analysis, False, False, notes)
+                                      geometry, settings, analysis, False, False, notes,
+                                      written=not settings.checks_only)
 
     pressure = _pressure_check(geometry, analysis, second=False)
     counter_pressure = _pressure_check(geometry, analysis, second=True) if follower.has_pair else None

@@ -61,6 +61,10 @@ class PipelineOptions:
     r12: bool = False
     plots: tuple[str, ...] = ("summary",)   # names of the plots to draw ("all": every one; (): none)
     contact_samples: int = CONTACT_SAMPLES
+    #: only what the checks need (``camcad sweep``): no smallest-base-radius design and no written pitch curve in
+    #: the profile, no least phase angles (step 8) of a mechanism the cyclogram does not retime; the checks are
+    #: unchanged
+    checks_only: bool = False
 
 
 @dataclass
@@ -225,6 +229,8 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
     dynamics), for a mechanism the cyclogram will retime and analyse again."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
+    # checks only: no least phase angles, but for a mechanism the cyclogram retimes (it reuses them: same figures)
+    limits = limits and (only_limits or not options.checks_only)
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -322,7 +328,8 @@ def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
 
     follower, law, _, notes = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"), law)
     settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
-                               plots=bool(options.plots), name=mech.name)
+                               plots=bool(options.plots), name=mech.name, design=not options.checks_only,
+                               checks_only=options.checks_only)
     result = synthesize(law, follower, settings.validate(), name=mech.name)
     return with_fields(result, notes=tuple(notes) + result.notes) if notes else result
 

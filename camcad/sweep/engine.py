@@ -1,0 +1,235 @@
+"""Where a sweep's chunks run: this process, a local pool of processes, or a Dask cluster.
+
+Every engine takes the same work — chunks of consecutive design ids, each an ``evaluate_chunk(task, chunk,
+start, stop)`` call — and yields each chunk's result as it completes; the caller writes it to disk at once
+(``camcad.sweep.store``), so results stream and nothing computed is lost when a run stops.
+
+- ``InProcess``: one worker, this process (``--workers 1``).
+- ``LocalPool``: a ``concurrent.futures.ProcessPoolExecutor`` of N processes (default: every core this process
+  may use). The processes start before any progress display (a fork never copies a running thread).
+- ``DaskCluster``: a ``dask.distributed`` scheduler (``tcp://HOST:PORT``, or a scheduler file). The task —
+  the scene's tables and its law files' bytes — is scattered to the workers once; no shared file system is
+  assumed. The workers must have camcad installed (the same version: checked before any work is sent).
+
+At most ``window`` chunks are in flight at once (a few per worker), so a sweep of 10⁵ chunks neither floods
+the scheduler nor keeps 10⁵ futures in memory.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+
+from camcad.errors import CamcadError
+from camcad.sweep.evaluate import ChunkResult, SweepTask, evaluate_chunk, worker_version
+from camcad.sweep.store import INSTALL_FIX
+
+#: chunks in flight per worker
+IN_FLIGHT_PER_WORKER = 3
+#: seconds to wait for a Dask scheduler (and for its first worker)
+CONNECT_TIMEOUT_S = 10.0
+
+
+def local_cores() -> int:
+    """Cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+class Engine:
+    """What every engine offers: ``workers`` (parallel slots), ``name``, ``run(task, chunks)``, ``close()``."""
+
+    name = "engine"
+    workers = 1
+
+    def run(self, task: SweepTask, chunks: list[tuple[int, int, int]]) -> Iterator[ChunkResult]:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def describe(self) -> dict:
+        return {"engine": self.name, "workers": self.workers}
+
+
+class InProcess(Engine):
+    """Chunks computed one after the other in this process."""
+
+    name = "in-process"
+
+    def run(self, task, chunks):
+        for chunk, start, stop in chunks:
+            yield evaluate_chunk(task, chunk, start, stop)
+
+
+class LocalPool(Engine):
+    """A pool of ``workers`` processes on this machine."""
+
+    name = "local pool"
+
+    def __init__(self, workers: int) -> None:
+        from concurrent.futures import ProcessPoolExecutor
+
+        if workers < 1:
+            raise CamcadError(f"--workers must be at least 1, got {workers}", "--workers", "give --workers N, N >= 1")
+        self.workers = workers
+        self.pool = ProcessPoolExecutor(max_workers=workers)
+        # start the processes now, before the caller shows a progress bar (its thread is not forked)
+        for future in [self.pool.submit(worker_version) for _ in range(workers)]:
+            future.result()
+
+    def run(self, task, chunks):
+        from concurrent.futures import FIRST_COMPLETED, wait
+
+        pending = iter(chunks)
+        running = set()
+        window = max(IN_FLIGHT_PER_WORKER * self.workers, 2)
+        try:
+            while True:
+                while len(running) < window:
+                    item = next(pending, None)
+                    if item is None:
+                        break
+                    running.add(self.pool.submit(evaluate_chunk, task, *item))
+                if not running:
+                    return
+                done, running = wait(running, return_when=FIRST_COMPLETED)
+                for future in sorted(done, key=lambda f: f.result().chunk):
+                    yield future.result()
+        finally:
+            for future in running:
+                future.cancel()
+
+    def close(self) -> None:
+        self.pool.shutdown(wait=True, cancel_futures=True)
+
+
+class DaskCluster(Engine):
+    """The chunks on a ``dask.distributed`` cluster.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://HOST:PORT`` (or ``tls://``, ``ucx://``) of the scheduler, or the path of a scheduler file
+        (JSON, as ``dask scheduler --scheduler-file`` writes it).
+    timeout_s : float
+        Seconds to wait for the scheduler and for its first worker.
+    """
+
+    name = "dask"
+
+    def __init__(self, address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise CamcadError("running on a Dask cluster needs dask.distributed, which is not installed",
+                              "--scheduler", INSTALL_FIX) from None
+        self.address = address
+        where = "--scheduler"
+        is_file = os.path.isfile(address)
+        if not is_file and "://" not in address:
+            raise CamcadError(f"{address[:60]!r} is neither tcp://HOST:PORT nor a scheduler file", where,
+                              "give --scheduler tcp://HOST:PORT, or the path of the scheduler's JSON file")
+        try:
+            if is_file:
+                self.client = Client(scheduler_file=address, timeout=f"{timeout_s}s", set_as_default=False)
+            else:
+                self.client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
+        except Exception as err:  # noqa: BLE001 - OSError, TimeoutError, a bad scheduler file: all unreachable
+            text = " ".join(str(err).split())[:80] or type(err).__name__
+            raise CamcadError(f"cannot reach the Dask scheduler at {address[:80]} ({text})", where,
+                              "start it (dask scheduler; dask worker ADDRESS) or check the address and the network") \
+                from None
+        try:
+            self.client.wait_for_workers(1, timeout=timeout_s)
+        except Exception:  # noqa: BLE001 - a timeout
+            self.client.close()
+            raise CamcadError(f"the Dask scheduler at {address[:80]} has no workers", where,
+                              "start workers with: dask worker ADDRESS") from None
+        self._check_workers(timeout_s)
+        self.workers = sum(self.client.nthreads().values())
+
+    def _check_workers(self, timeout_s: float) -> None:
+        from camcad.version import __version__
+
+        try:
+            theirs = self.client.submit(worker_version, pure=False).result(timeout=max(timeout_s, 30.0))
+        except Exception as err:  # noqa: BLE001 - ModuleNotFoundError on the worker, a timeout
+            self.client.close()
+            raise CamcadError(f"the cluster's workers cannot run camcad ({type(err).__name__}: "
+                              f"{' '.join(str(err).split())[:60]})", "--scheduler",
+                              f"install camcad {__version__} with its sweep extra on every worker") from None
+        if theirs != __version__:
+            self.client.close()
+            raise CamcadError(f"the cluster's workers run camcad {theirs}, this is camcad {__version__}",
+                              "--scheduler", f"install camcad {__version__} on the workers")
+
+    def describe(self) -> dict:
+        return {"engine": self.name, "workers": self.workers, "scheduler": self.address,
+                "hosts": len({w.split("://")[-1].rsplit(":", 1)[0] for w in self.client.nthreads()})}
+
+    def run(self, task, chunks):
+        from distributed import as_completed
+
+        shared = self.client.scatter(task, broadcast=True, hash=False)
+        pending = iter(chunks)
+        window = max(IN_FLIGHT_PER_WORKER * self.workers, 2)
+
+        def submit(item):
+            chunk, start, stop = item
+            return self.client.submit(evaluate_chunk, shared, chunk, start, stop, retries=1,
+                                      key=f"camcad-sweep-{task.digest[:16]}-{chunk}")
+
+        first = [submit(item) for item in _take(pending, window)]
+        if not first:
+            return
+        finished = as_completed(first, with_results=True, loop=self.client.loop)
+        try:
+            for future, result in finished:
+                future.release()
+                yield result
+                item = next(pending, None)
+                if item is not None:
+                    finished.add(submit(item))
+        finally:
+            for future in list(finished.futures):
+                future.cancel()
+            shared.release()
+
+    def close(self) -> None:
+        import contextlib
+
+        with contextlib.suppress(Exception):  # closing a client whose scheduler went away
+            self.client.close()
+
+
+def _take(items, count: int) -> list:
+    out = []
+    for item in items:
+        out.append(item)
+        if len(out) >= count:
+            break
+    return out
+
+
+def make_engine(workers: int | None = None, scheduler: str | None = None,
+                timeout_s: float = CONNECT_TIMEOUT_S) -> Engine:
+    """The engine the options ask for: a Dask cluster with ``scheduler``, else a local pool of ``workers``
+    processes (default every core), or this process for one worker."""
+    if scheduler is not None:
+        if workers is not None:
+            raise CamcadError("--workers sizes the local pool; a Dask cluster's workers are started with it",
+                              "--workers", "drop --workers when giving --scheduler")
+        return DaskCluster(scheduler, timeout_s)
+    count = local_cores() if workers is None else workers
+    if count < 1:
+        raise CamcadError(f"--workers must be at least 1, got {count}", "--workers", "give --workers N, N >= 1")
+    return InProcess() if count == 1 else LocalPool(count)
