@@ -9,6 +9,8 @@ Keys (angles deg, lengths mm):
     layer, handle, cycle, x_deg   choose and map the drawn curve (as the CLI options)
     fix              balance a drawn law first with this mode (min-change, ...); "none" only checks it
     tol              balance tolerance (fraction of the rise)
+    law_of           "follower" (default), or "output": the law is the working member's after the [linkage],
+                     and the cam is designed for psi = Pi^-1(y) (camcad.scene.linkage)
 """
 
 from __future__ import annotations
@@ -42,6 +44,8 @@ def law_fields() -> list[Field]:
         Field("x_deg", "bool", default=False),
         Field("fix", "str", choices=MODES + ("none",), default="none"),
         Field("tol", "float", default=DEFAULT_TOL, positive=True),
+        Field("law_of", "str", choices=("follower", "output"), default="follower",
+              help="(what the law describes: the follower, or the working member after the [linkage])"),
     ]
 
 
@@ -61,6 +65,7 @@ class LawSpec:
     x_deg: bool = False
     fix: str = "none"
     tol: float = 1e-5
+    law_of: str = "follower"
 
 
 @dataclass(frozen=True)
@@ -105,7 +110,7 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
     return LawSpec(where=where, standard=values["standard"], return_standard=values["return_standard"],
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
                    handle=values["handle"], cycle=values["cycle"], x_deg=values["x_deg"], fix=values["fix"],
-                   tol=values["tol"])
+                   tol=values["tol"], law_of=values["law_of"])
 
 
 def build_law(spec: LawSpec) -> BuiltLaw:

@@ -52,6 +52,7 @@ class MechanismRun:
     impact: Any = None
     contact: Any = None
     memo: Any = None        # LimitMemo shared by the scene's runs: least phase angles solved once
+    linkage: Any = None     # camcad.scene.linkage.LinkageContext: the [linkage] after the follower, or None
 
 
 @dataclass(frozen=True)
@@ -142,6 +143,13 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
     dynamics), for a mechanism the cyclogram will retime and analyse again."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
+    # ---- [linkage] (camcad.scene.linkage): with [law] law_of = "output" the law becomes the follower's law
+    # designed for the working member; dynamics, impact and contact below get the working member through Pi
+    from camcad.scene.linkage import prepare as prepare_linkage
+
+    built, run.linkage = prepare_linkage(scene, mech, built)
+    run.law = built.law
+    # ----
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -193,6 +201,15 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         say(f"{mech.name}: {key}")
         step(scene, mech, run, speeds, options, where(section), limits)
         run.ran.append(key)
+    # ---- [linkage]: its analysis, and every setting of [linkage.adjust] through the models above
+    if run.linkage is not None and not only_limits:
+        from camcad.scene.linkage import linkage_step
+
+        say(f"{mech.name}: linkage")
+        linkage_step(scene, mech, run, speeds, options, {"dynamics": _dynamics, "impact": _impact,
+                                                         "contact": _contact})
+        run.ran.append("linkage")
+    # ----
     # 8 phase limits
     if limits:
         found = {}
@@ -262,6 +279,7 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.dynamics import parse_dynamics
 
     settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
+    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
     lead = None
     if mech.has("filter"):
         from camcad.scene.filter import parse_filter
@@ -269,7 +287,7 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
         filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
         if filt.lead_in_deg is not None and "filter" not in run.ran:
             lead = (filt.lead_in_deg, filt.lead_in_fraction)
-    run.dynamics = run_dynamics(run.law, settings, speeds, lead_in=lead)
+    run.dynamics = run_dynamics(law, settings, speeds, lead_in=lead)
     run.report["dynamics"] = run.dynamics.report
 
 
@@ -278,16 +296,18 @@ def _impact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.stops import parse_stops
 
     model = parse_stops(mech.sections["stops"], where)
-    run.impact = run_impact(run.law, model, speeds)
+    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
+    run.impact = run_impact(law, model, speeds)
     run.report["impact"] = run.impact.report
 
 
 def _contact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.mechanism import mechanism_contact
 
+    extra = None if run.linkage is None else (lambda theta: run.linkage.load_on(run.law, theta))  # [linkage]
     report, at_worst, sweep = mechanism_contact(scene, mech, speeds, options.contact_samples, law=run.law,
                                                 memo=run.memo,
-                                                with_limits=limits)
+                                                with_limits=limits, extra_load=extra)
     run.contact = (at_worst, sweep)
     run.report["contact"] = report
 
@@ -354,7 +374,7 @@ def _mechanism_report(run: MechanismRun) -> dict:
     checks = {}
     if "profile" in run.report:
         checks["profile"] = bool(run.report["profile"]["passed"])
-    for key in ("spectrum", "dynamics", "impact", "contact"):
+    for key in ("spectrum", "dynamics", "impact", "contact", "linkage"):
         if key in run.report:
             checks[key] = bool(run.report[key].get("passed", True))
     out["checks_by_model"] = checks
