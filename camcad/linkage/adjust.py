@@ -560,7 +560,7 @@ def check_requirements(rows: list[dict], task: int, table: int = 3, tol_deg: flo
     spec = (TABLE3 if table == 3 else TABLE2).get(task)
     if spec is None:
         raise CamcadError(f"Table {table} has no task {task}", "--task",
-                          f"tasks are 1-{max((TABLE3 if table == 3 else TABLE2))}")
+                          f"tasks are 1-{max(TABLE3 if table == 3 else TABLE2)}")
     out: dict[str, object] = {}
     ok = True
     for column, need in spec.items():

@@ -221,7 +221,7 @@ class Loop:
                     out.append(math.remainder(eps + sign * t, 2 * math.pi))
         return out
 
-    def with_branch_through(self, theta: float, b_point: complex) -> "Loop":
+    def with_branch_through(self, theta: float, b_point: complex) -> Loop:
         """The same loop on the branch that puts B at ``b_point`` (mm) at input angle θ (rad).
 
         Examples

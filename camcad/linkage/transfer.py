@@ -157,7 +157,8 @@ class Transfer:
             bad = ~np.isfinite(nxt) | (nxt < lo[active]) | (nxt > hi[active])
             nxt = np.where(bad, 0.5 * (lo[active] + hi[active]), nxt)
             x[active] = nxt
-            done = (np.abs(nxt - xa) <= 4e-16 * np.maximum(1.0, np.abs(xa))) | (np.abs(r) <= 2e-16 * scale)
+            # converged: the step is a few ulps (Π itself carries rounding of that order), or r vanishes
+            done = (np.abs(nxt - xa) <= 2e-15 * np.maximum(1.0, np.abs(xa))) | (np.abs(r) <= 2e-16 * scale)
             active = active[~done]
         return np.where(inside, x, np.nan).reshape(shape)
 

@@ -348,7 +348,7 @@ class LinkageContext:
         return linkage_load(self.transfer, kin, v["output_inertia"] or 0.0, load,
                             self.arm_mm if self.follower_kind == "oscillating" else None)
 
-    def for_setting(self, value: float) -> "LinkageContext":
+    def for_setting(self, value: float) -> LinkageContext:
         """The context of one setting of [linkage.adjust] (the same cam and follower law)."""
         from camcad.linkage.adjust import Adjustment, adjusted
         from camcad.linkage.transfer import LinkageTransfer
@@ -683,3 +683,76 @@ def _settings_report(scene, mech, run, speeds, options, steps, context: LinkageC
             governing[key] = {"setting": worst["setting"], figure: worst["models"][key][figure]}
     failing = [r["setting"] for r in rows if not r["passed"]]
     return {"element": adj.describe(), "rows": rows, "governing": governing, "failing": failing}
+
+
+# --------------------------------------------------------------------------------------------
+# The linkage of a command: from a scene, or from the command's options
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class CommandLinkage:
+    """What ``camcad linkage analyse|adjust|tune`` work on: the nominal linkage, the follower's swing ψ_max
+    (rad), and for a scene its context, mechanism, law and follower."""
+
+    linkage: Any
+    psi_max: float
+    mu_min: float
+    context: LinkageContext | None = None
+    scene: Any = None
+    mechanism: Any = None
+    follower_law: Any = None
+    output_law: Any = None
+    name: str = "linkage"
+
+
+def from_scene(path: Path, mechanism: str | None = None) -> CommandLinkage:
+    """The [linkage] of a scene's mechanism with its follower's swing (the law's ψ range, or the swing the
+    law of the working member needs with ``law_of = "output"``)."""
+    from camcad.scene.file import mechanism_law, read_scene
+
+    scene = read_scene(path)
+    if mechanism is None:
+        candidates = [m for m in scene.mechanisms if m.has("linkage")]
+        if len(candidates) != 1:
+            names = ", ".join(m.name for m in candidates) or "none"
+            raise CamcadError(f"the scene has {len(candidates)} mechanisms with a [linkage] ({names})", str(path),
+                              "add [linkage] to a mechanism, or pick one with --mechanism")
+        mech = candidates[0]
+    else:
+        mech = scene.mechanism(mechanism)
+    if not mech.has("linkage"):
+        raise CamcadError(f"mechanism {mech.name!r} has no [linkage]", str(path), "add the [linkage] section")
+    built = mechanism_law(scene, mech)
+    built2, context = prepare(scene, mech, built)
+    if context.linkage is None:
+        raise CamcadError(f"the [linkage] is a {context.spec.type}: there are no links to analyse",
+                          mech.where(scene.path, "linkage"), 'describe it as type = "fourbar" or "sixbar"')
+    name = mech.name if mech.prefix else scene.name
+    return CommandLinkage(context.linkage, context.psi_max, context.spec.values["mu_min"], context, scene, mech,
+                          built2.law, built.law if context.law_of == "output" else None, name)
+
+
+def from_options(values: dict, swing_deg: float | None, sense: int, where: str = "command line") -> CommandLinkage:
+    """A linkage from a command's options, given as the keys of ``[linkage]`` (``values``), with the input
+    pivot ``values["input_pivot"]`` (mm), the swing (deg) and the input's sense (+1: the input link turns
+    counter-clockwise as ψ grows)."""
+    if swing_deg is None or not swing_deg > 0:
+        raise CamcadError("the follower's swing is missing", "--swing", "give --swing DEG (> 0)")
+    pivot = values.pop("input_pivot", (0.0, 0.0))
+    table = {k: v for k, v in values.items() if v is not None}
+    spec = parse_linkage(table, where, Path("."))
+    if spec.type not in ("fourbar", "sixbar"):
+        raise CamcadError("the options describe a four-bar or six-bar", where, "give --links and --output-pivot")
+    lk = orient(build_linkage(spec, tuple(pivot), None, sense), spec.values["output_direction"], where)
+    return CommandLinkage(lk, math.radians(swing_deg), spec.values["mu_min"])
+
+
+def cam_profile(command: CommandLinkage):
+    """The cam profile of a scene's mechanism (``camcad.profile.synth.synthesize``) for the combined drawing."""
+    from camcad.profile.synth import ProfileSettings, synthesize
+    from camcad.scene.follower import follower_for_law
+
+    mech, scene = command.mechanism, command.scene
+    follower, law, _, _ = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"),
+                                           command.follower_law)
+    return synthesize(law, follower, ProfileSettings(plots=False, name=mech.name).validate(), name=mech.name)
