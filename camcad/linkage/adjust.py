@@ -224,9 +224,13 @@ class SettingResult:
                 "branch_continuous": self.branch_continuous, "monotone": self.monotone}
 
 
-def characteristics(linkage: Linkage, adj: Adjustment, x: float, psi_max: float, points: int = 181) -> SettingResult:
+def characteristics(linkage: Linkage, adj: Adjustment, x: float, psi_max: float, points: int = 181,
+                    quick: bool = False) -> SettingResult:
     """ψ₁, ψ₂ and the swing of the working member at setting ``x`` over the follower's swing [0, ψ_max],
     measured from the nominal linkage's working angle at ψ = 0 in the working member's positive sense.
+    ``quick``: no full analysis (``analysis`` None): the loops' closure on ``points`` samples, the dead points
+    and the worst transmission angles in closed form over each loop's input interval — what scans and fits
+    need.
 
     Examples
     --------
@@ -241,11 +245,39 @@ def characteristics(linkage: Linkage, adj: Adjustment, x: float, psi_max: float,
     s = linkage.output_sense
     ref = float(linkage.working_angle(np.array([0.0]))[0])
     lk = adjusted(linkage, adj, x)
+    if quick:
+        return _quick(lk, x, psi_max, s, ref, points)
     res = analyse(lk, psi_max, points)
     w = lk.working_angle(np.array([0.0, psi_max]))
-    psi1, psi2 = s * (float(w[0]) - ref), s * (float(w[1]) - ref)
+    psi1, psi2 = s * math.remainder(float(w[0]) - ref, 2 * math.pi), s * math.remainder(float(w[1]) - ref, 2 * math.pi)
     mu = min(res.mu_min) if res.closes else float("nan")
     return SettingResult(x, psi1, psi2, psi2 - psi1, mu, res.branch_continuous, res.monotone, res)
+
+
+def _quick(lk: Linkage, x: float, psi_max: float, s: int, ref: float, points: int) -> SettingResult:
+    psi = np.linspace(0.0, psi_max, max(points, 3))
+    w = lk.working_angle(psi)
+    closes = bool(np.all(np.isfinite(w)))
+    mu = math.inf
+    dead = False
+    if closes:
+        for loop, (theta, _) in zip(lk.loops, lk.angles(psi, order=1)):
+            lo, hi = float(np.min(theta)), float(np.max(theta))
+            mu = min(mu, loop.worst_transmission(lo, hi))
+            dead = dead or any(_strictly_inside(t, lo, hi) for t in loop.dead_points())
+    else:
+        mu = math.nan
+    turn = np.remainder(w - w[0] + np.pi, 2 * np.pi) - np.pi if closes else w
+    step = np.diff(turn)
+    monotone = closes and bool(np.all(step > 0) or np.all(step < 0))
+    psi1 = s * math.remainder(float(w[0]) - ref, 2 * math.pi)
+    psi2 = s * math.remainder(float(w[-1]) - ref, 2 * math.pi)
+    return SettingResult(x, psi1, psi2, psi2 - psi1, mu, closes and not dead, monotone, None)
+
+
+def _strictly_inside(angle: float, lo: float, hi: float) -> bool:
+    k = math.ceil((lo - angle) / (2 * math.pi))
+    return lo < angle + 2 * math.pi * k < hi
 
 
 def task1_adjustment(linkage: Linkage, psi_max: float, keep: str = "psi1") -> Adjustment:
@@ -271,7 +303,7 @@ def task1_adjustment(linkage: Linkage, psi_max: float, keep: str = "psi1") -> Ad
 
 
 def settings_for(linkage: Linkage, adj: Adjustment, psi_max: float, quantity: str, targets, span: float = math.pi,
-                 step: float = math.radians(0.5)) -> list[float | None]:
+                 step: float = math.radians(0.5), mu_min: float = 0.0) -> list[float | None]:
     """The setting for each target value of ``quantity`` ("psi1", "psi2" or "swing"; rad): scan the settings
     from the nominal one outwards over ±``span`` while the linkage works (closes, keeps its branch), bracket
     every sign change of quantity − target and refine by Brent; the root nearest the nominal setting is taken
@@ -289,12 +321,12 @@ def settings_for(linkage: Linkage, adj: Adjustment, psi_max: float, quantity: st
     from scipy.optimize import brentq
 
     x_b = base_setting(linkage, adj)
-    interval = working_interval(linkage, adj, psi_max, span, step)
+    interval = working_interval(linkage, adj, psi_max, span, step, mu_min)
     grid = np.arange(interval[0], interval[1] + 0.5 * step, step)
     grid = np.clip(grid, interval[0], interval[1])
 
     def value(x):
-        r = characteristics(linkage, adj, float(x), psi_max, points=61)
+        r = characteristics(linkage, adj, float(x), psi_max, points=9, quick=True)
         return getattr(r, quantity)
 
     values = np.array([value(x) for x in grid])
@@ -323,7 +355,7 @@ def working_interval(linkage: Linkage, adj: Adjustment, psi_max: float, span: fl
     x_b = base_setting(linkage, adj)
 
     def works(x):
-        r = characteristics(linkage, adj, x, psi_max, points=61)
+        r = characteristics(linkage, adj, x, psi_max, points=17, quick=True)
         return r.branch_continuous and np.isfinite(r.mu_min) and r.mu_min >= mu_min
 
     if not works(x_b):
@@ -360,28 +392,29 @@ class AdjustResult:
 
 
 def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, float], count: int = 7,
-                keep: str = "psi1") -> AdjustResult:
+                keep: str = "psi1", mu_min: float = 0.0) -> AdjustResult:
     """Table 3 task 1: ψ₁ constant, the swing regulated over ``swing_range`` (rad): the exact arc
-    (``task1_adjustment``) and the settings giving ``count`` swings evenly spread over the range.
+    (``task1_adjustment``) and the settings giving ``count`` swings evenly spread over the range, among the
+    settings where the linkage works (closes, keeps its branch, transmission angle ≥ ``mu_min`` rad).
 
     Raises CamcadError when the linkage cannot reach a requested swing without a dead point.
     """
     adj = task1_adjustment(linkage, psi_max, keep)
     lo, hi = swing_range
     targets = np.linspace(lo, hi, count)
-    xs = settings_for(linkage, adj, psi_max, "swing", targets)
+    xs = settings_for(linkage, adj, psi_max, "swing", targets, mu_min=mu_min)
     missing = [math.degrees(t) for t, x in zip(targets, xs) if x is None]
     if missing:
-        interval = working_interval(linkage, adj, psi_max)
+        interval = working_interval(linkage, adj, psi_max, mu_min=mu_min)
         swings = [characteristics(linkage, adj, x, psi_max).swing for x in interval]
         raise CamcadError(f"no setting of the arc gives a swing of {missing[0]:.6g} deg: over the settings where the "
-                          f"linkage works the swing runs {math.degrees(min(swings)):.6g} to "
+                          f"linkage works (mu >= {math.degrees(mu_min):.4g} deg) the swing runs {math.degrees(min(swings)):.6g} to "
                           f"{math.degrees(max(swings)):.6g} deg", "--swing-range",
                           "ask for a swing range inside that, or change the linkage")
     xs = np.array(xs, dtype=float)
     rows = [characteristics(linkage, adj, float(x), psi_max) for x in xs]
     dense = np.linspace(xs.min(), xs.max(), 201)
-    swings = np.array([characteristics(linkage, adj, float(x), psi_max, points=61).swing for x in dense])
+    swings = np.array([characteristics(linkage, adj, float(x), psi_max, points=9, quick=True).swing for x in dense])
     monotone = bool(np.all(np.diff(swings) > 0) or np.all(np.diff(swings) < 0))
     fixed = "psi1" if keep == "psi1" else "psi2"
     spread = max(abs(getattr(r, fixed) - getattr(rows[0], fixed)) for r in rows)
@@ -391,13 +424,15 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
 
 
 def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, float], functions: dict,
-             count: int = 21, starts: int = 6) -> AdjustResult:
+             count: int = 21, starts: int = 6, max_evaluations: int = 150) -> AdjustResult:
     """Tasks 2–6 of Table 3 fitted by least squares on ``count`` values of the regulating variable u
     over ``u_range``: the arc of joint A on the input lever (centre M, radius r) and the settings
     x(u) = x₀ + (x₁ − x₀)(u − u₀)/(u₁ − u₀); task 4 keeps task 1's arc (ψ₁ exact) and fits x₀, x₁ only.
 
     ``functions`` (callables of u, rad): task 2 {"psi2_of_psi1"} with u = ψ₁; task 3 {"psi1"}; task 4
-    {"psi2"}; task 5 {"psi1", "psi2"}; task 6 {"swing"}.
+    {"psi2"}; task 5 {"psi1", "psi2"}; task 6 {"swing"}. The fit starts from task 1's arc with settings
+    spans of 10°, 20°, … (``starts``) in both directions, ``max_evaluations`` residual evaluations each; it is
+    a local least-squares fit: the deviation it reports is what it reached, not a proven optimum.
 
     Returns
     -------
@@ -424,7 +459,7 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
         for uk in u:
             x = x0 + (x1 - x0) * (uk - u[0]) / (u[-1] - u[0])
             try:
-                r = characteristics(linkage, adj, x, psi_max, points=31)
+                r = characteristics(linkage, adj, x, psi_max, points=3, quick=True)
             except (CamcadError, ValueError, ZeroDivisionError):
                 out += [1.0, 1.0]
                 continue
@@ -444,11 +479,13 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
                 p0 += [centre.real, centre.imag]
             try:
                 fit = least_squares(residuals, np.array(p0), x_scale=[1.0, 1.0] + ([b_len, b_len] if task != 4 else []),
-                                    xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=400)
+                                    xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=max_evaluations)
             except ValueError:
                 continue
             if best is None or fit.cost < best.cost:
                 best = fit
+        if best is not None and best.cost < 1e-24:
+            break
     adj, x0, x1 = unpack(best.x)
     xs = x0 + (x1 - x0) * (u - u[0]) / (u[-1] - u[0])
     rows = [characteristics(linkage, adj, float(x), psi_max) for x in xs]
@@ -475,11 +512,16 @@ def _task_residual(task: int, r: SettingResult, u: float, f: dict) -> list[float
 def _task_deviation(task: int, rows, u, f: dict) -> dict:
     out: dict[str, float] = {}
     for r, uk in zip(rows, u):
-        pairs = {2: [("psi1", r.psi1 - uk), ("psi2", r.psi2 - f["psi2_of_psi1"](uk))],
-                 3: [("psi1", r.psi1 - f["psi1"](uk))],
-                 4: [("psi1_spread", r.psi1 - rows[0].psi1), ("psi2", r.psi2 - f["psi2"](uk))],
-                 5: [("psi1", r.psi1 - f["psi1"](uk)), ("psi2", r.psi2 - f["psi2"](uk))],
-                 6: [("swing", r.swing - f["swing"](uk))]}[task]
+        if task == 2:
+            pairs = [("psi1", r.psi1 - uk), ("psi2", r.psi2 - f["psi2_of_psi1"](uk))]
+        elif task == 3:
+            pairs = [("psi1", r.psi1 - f["psi1"](uk))]
+        elif task == 4:
+            pairs = [("psi1_spread", r.psi1 - rows[0].psi1), ("psi2", r.psi2 - f["psi2"](uk))]
+        elif task == 5:
+            pairs = [("psi1", r.psi1 - f["psi1"](uk)), ("psi2", r.psi2 - f["psi2"](uk))]
+        else:
+            pairs = [("swing", r.swing - f["swing"](uk))]
         for name, value in pairs:
             out[name] = max(out.get(name, 0.0), abs(float(value)))
     return out

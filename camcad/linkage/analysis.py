@@ -334,7 +334,10 @@ class Linkage:
         beta, d1, d2, d3 = self.absolute_derivatives(psi, order)
         base = float(self.absolute_derivatives(0.0, 1)[0])
         s = self.output_sense
-        return s * (beta - base), s * d1, s * d2, s * d3
+        # the output angle of fourbar.output_angle jumps by 2π where A crosses the frame line beyond Q; a
+        # rocker turns less than half a turn, so the turn from ψ = 0 is taken in (−π, π]
+        turn = np.remainder(beta - base + np.pi, 2 * np.pi) - np.pi
+        return s * turn, s * d1, s * d2, s * d3
 
     def working_angle(self, psi):
         """The working member's absolute angle β_last + output_offset (rad) at swings ψ."""
@@ -509,18 +512,19 @@ def analyse(linkage: Linkage, psi_max: float, points: int = ANALYSIS_POINTS) -> 
     mus, worst, dead = [], [], []
     for loop, (theta, _) in zip(linkage.loops, linkage.angles(psi)):
         mus.append(loop.transmission(theta))
-        if closes:
-            # the loop's input sweeps [min, max] of θ over the swing (monotone when no limit position of the
-            # loop before it; otherwise take the sampled extremes)
-            pieces = _monotone_pieces(theta)
-            worst.append(min(loop.worst_transmission(float(theta[i]), float(theta[j])) for i, j in pieces))
-            for angle in loop.dead_points():
-                for i, j in pieces:
-                    hit = _angle_in(angle, float(theta[i]), float(theta[j]))
-                    if hit is not None:
-                        dead.append(_swing_at(linkage, len(mus) - 1, hit, psi, theta))
-        else:
-            worst.append(float("nan"))
+        # the loop's input sweeps each monotone piece of its samples (one piece unless a loop before it has a
+        # limit position); a dead point is looked for where the input is known, also when the loop opens
+        # beyond it — that is where it opens
+        finite = np.isfinite(theta)
+        count = int(np.argmin(finite)) if not np.all(finite) else len(theta)
+        pieces = _monotone_pieces(theta[:count]) if count > 1 else []
+        worst.append(min(loop.worst_transmission(float(theta[i]), float(theta[j])) for i, j in pieces)
+                     if closes else float("nan"))
+        for angle in loop.dead_points():
+            for i, j in pieces:
+                hit = _angle_in(angle, float(theta[i]), float(theta[j]))
+                if hit is not None:
+                    dead.append(_swing_at(linkage, len(mus) - 1, hit, psi[:count], theta[:count]))
     dead = sorted({round(x, 15) for x in dead if x is not None})
     limits = []
     if closes:

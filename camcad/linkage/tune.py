@@ -119,7 +119,7 @@ def extreme_positions(linkage: Linkage, tuned_linkage: Linkage, psi_max: float) 
     ref = float(linkage.working_angle(np.array([0.0]))[0])
     w = tuned_linkage.working_angle(np.array([0.0, psi_max]))
     s = linkage.output_sense
-    return s * (float(w[0]) - ref), s * (float(w[1]) - ref)
+    return s * math.remainder(float(w[0]) - ref, 2 * math.pi), s * math.remainder(float(w[1]) - ref, 2 * math.pi)
 
 
 def solve_settings(linkage: Linkage, adj: Adjustment, psi_max: float, psi1: float, psi2: float,
