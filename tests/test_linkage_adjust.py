@@ -10,8 +10,16 @@ import numpy as np
 import pytest
 
 from camcad.errors import CamcadError
-from camcad.linkage.adjust import (Adjustment, adjusted, base_setting, characteristics, check_requirements,
-                                   crank_extremes, fit_task, solve_task1)
+from camcad.linkage.adjust import (
+    Adjustment,
+    adjusted,
+    base_setting,
+    characteristics,
+    check_requirements,
+    crank_extremes,
+    fit_task,
+    solve_task1,
+)
 from camcad.linkage.analysis import Linkage, Loop
 from camcad.linkage.family import Member, synthesize_family
 from camcad.linkage.tune import extreme_positions, settings_table, solve_settings, tuned

@@ -170,3 +170,13 @@ def test_a_linkage_that_does_not_close():
     assert not res.closes and not res.branch_continuous
     with pytest.raises(CamcadError):
         analyse(lk, 0.0)
+
+
+def test_docstring_examples_of_part_two_run():
+    import doctest
+    import importlib
+
+    for name in ("analysis", "transfer", "adjust", "family", "tune"):
+        module = importlib.import_module(f"camcad.linkage.{name}")
+        failed, _ = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+        assert failed == 0, name

@@ -18,7 +18,7 @@ SHUTTLE = (ROOT / "samples" / "scenes" / "shuttle_lift.toml").read_text()
 
 
 def _without(text: str, section: str) -> str:
-    return re.sub(rf"\n\[{section}\].*?(?=\n\[|\Z)", "\n", text, flags=re.S)
+    return re.sub(rf"\n\[{section}\].*?(?=\n\[|\Z)", "\n", text, flags=re.DOTALL)
 
 
 def _compare(a, b, path=""):
@@ -67,7 +67,7 @@ BATTEN = (ROOT / "samples" / "scenes" / "batten_linkage.toml").read_text()
 def _light_batten(tmp_path: Path, settings: str | None = None) -> Path:
     text = _without(_without(BATTEN, "contact"), "dynamics")
     if settings is not None:
-        text = re.sub(r"settings = \[.*?\]", f"settings = [{settings}]", text, flags=re.S)
+        text = re.sub(r"settings = \[.*?\]", f"settings = [{settings}]", text, flags=re.DOTALL)
     path = tmp_path / "batten.toml"
     path.write_text(text)
     return path
@@ -94,11 +94,11 @@ def test_dynamics_runs_on_the_working_member(tmp_path):
     """With law_of = output the dynamics sees y = Π(Π⁻¹(y_law)): the same figures as the plain law in rad."""
     from camcad.dynamics.runs import run_dynamics
     from camcad.law.standard import compose
-    from camcad.scene.dynamics import parse_dynamics
     from camcad.profile.scaled_law import ScaledLaw
+    from camcad.scene.dynamics import parse_dynamics
 
     text = _without(BATTEN, "contact")
-    text = re.sub(r"\n\[linkage\.adjust\].*?(?=\n\[dynamics\])", "\n", text, flags=re.S)
+    text = re.sub(r"\n\[linkage\.adjust\].*?(?=\n\[dynamics\])", "\n", text, flags=re.DOTALL)
     path = tmp_path / "dyn.toml"
     path.write_text(text)
     report = analyse_scene(path).report["dynamics"]
@@ -120,7 +120,7 @@ def test_dynamics_runs_on_the_working_member(tmp_path):
     (lambda t: re.sub(r"\n(pivot|arm) = .*", "", t.replace('type = "oscillating"', 'type = "roller"')),
      "driven by a rocker"),
     (lambda t: t.replace("[follower]", "[follower]\nswing = 20.0"), "sets the follower's swing"),
-    (lambda t: re.sub(r"\n\[linkage\].*?(?=\n\[dynamics\])", "\n", t, flags=re.S), "there is no \\[linkage\\]"),
+    (lambda t: re.sub(r"\n\[linkage\].*?(?=\n\[dynamics\])", "\n", t, flags=re.DOTALL), "there is no \\[linkage\\]"),
     (lambda t: t.replace('output_unit = "rad"               # the batten', 'output_unit = "mm"   # the batten'),
      "output_unit"),
     (lambda t: t.replace('joint = "A"', 'joint = "Q"'), "cannot be a joint"),
@@ -143,7 +143,7 @@ def test_a_non_monotone_position_function_is_refused_with_the_dead_point_angle(t
     text = _without(_without(_without(BATTEN, "contact"), "dynamics"), "linkage.adjust")
     rows = ", ".join(f"[{x:g}, {30.0 * math.sin(math.radians(x) * 2.0)!r}]" for x in range(0, 61, 2))
     text = re.sub(r"\n\[linkage\].*?(?=\Z)", f'\n[linkage]\ntype = "table"\ninput_unit = "deg"\noutput_unit = "deg"\n'
-                                            f"table = [{rows}]\n", text, flags=re.S)
+                                            f"table = [{rows}]\n", text, flags=re.DOTALL)
     path = tmp_path / "bump.toml"
     path.write_text(text)
     with pytest.raises(CamcadError, match=r"dead point \(limit position, Pi' = 0\) at swing 45 deg"):

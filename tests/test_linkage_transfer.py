@@ -6,6 +6,7 @@ the contact hook, tables with hard rows.
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -14,8 +15,16 @@ from numpy.polynomial import chebyshev as cheb
 from camcad.errors import CamcadError
 from camcad.law.standard import compose
 from camcad.linkage.analysis import Linkage, Loop
-from camcad.linkage.transfer import (FollowerLaw, LinkageTransfer, RatioTransfer, TableTransfer, WorkingLaw,
-                                     follower_generalised_force, kinetic_energy, linkage_load)
+from camcad.linkage.transfer import (
+    FollowerLaw,
+    LinkageTransfer,
+    RatioTransfer,
+    TableTransfer,
+    WorkingLaw,
+    follower_generalised_force,
+    kinetic_energy,
+    linkage_load,
+)
 from camcad.profile.scaled_law import ScaledLaw
 
 LINKAGE = Linkage((Loop((0.0, 0.0), (100.0, 20.0), 40.0, 120.0, 90.0, 1),), theta0=math.radians(80.0),
@@ -85,8 +94,8 @@ def test_rigid_model_energy_balance_with_a_nonlinear_position_function():
     omega = 2 * math.pi * rpm / 60.0
     nodes, weights = np.polynomial.legendre.leggauss(10)
     ends = sorted({0.0, 2 * math.pi} | {p.start for p in psi_law.phases} | {p.end for p in psi_law.phases})
-    panels = np.concatenate([np.linspace(a, b, max(2, int(math.ceil(math.degrees(b - a))) + 1))[:-1]
-                             for a, b in zip(ends[:-1], ends[1:])] + [[2 * math.pi]])
+    panels = np.concatenate([np.linspace(a, b, max(2, math.ceil(math.degrees(b - a)) + 1))[:-1]
+                             for a, b in pairwise(ends)] + [[2 * math.pi]])
     lo, hi = panels[:-1], panels[1:]
     theta = (lo[:, None] + hi[:, None]) / 2 + (hi - lo)[:, None] / 2 * nodes[None, :]
     kin = psi_law.kinematics(theta.ravel())

@@ -293,8 +293,8 @@ def _command_linkage(scene: Path | None, mechanism: str | None, pivot: str, outp
             raise CamcadError("not a scene file", str(scene), "give a .toml scene with a [linkage]")
         return from_scene(scene, mechanism)
     if links is None or output_pivot is None or input_angle is None:
-        missing = [o for o, v in (("--links", links), ("--output-pivot", output_pivot), ("--input-angle", input_angle))
-                   if v is None][0]
+        missing = next(o for o, v in (("--links", links), ("--output-pivot", output_pivot),
+                                      ("--input-angle", input_angle)) if v is None)
         raise CamcadError("missing", missing, "give a scene, or --links A,B,C --output-pivot X,Y --input-angle DEG "
                                               "--swing DEG")
     a, b, c = _triple(links, "--links")
@@ -445,8 +445,8 @@ def analyse(
         figures["diagram.png"] = lambda: diagram_figure(command.linkage, command.psi_max, settings, arc,
                                                         f"{command.name}: the linkage in its extreme positions")
     title = (f"camcad linkage analyse: {command.name}, {result.linkage.kind}",
-             f"swing {math.degrees(command.psi_max):.6g} deg, stroke {math.degrees(result.stroke):.6g} deg, "
-             f"worst transmission angle {result.worst_mu_deg():.3f} deg",
+             (f"swing {math.degrees(command.psi_max):.6g} deg, stroke {math.degrees(result.stroke):.6g} deg, "
+              f"worst transmission angle {result.worst_mu_deg():.3f} deg"),
              "layers: LINKS psi = 0, EXTREME_POSITIONS psi max, SETTINGS, ADJUSTMENT arc" +
              (", cam PROFILE/PITCH/BASE_CIRCLE" if profile is not None else ""))
     drawing = kinematic_drawing(command.linkage, command.psi_max, settings, arc, profile, follower, title)
@@ -455,15 +455,15 @@ def analyse(
     write_linkage_outputs(folder, "analysis", payload, texts, figures, drawing)
     passed = bool(payload["linkage"]["passed"])
     rep = payload["linkage"]
-    summary = [f"camcad linkage analyse: {command.name}, {rep['type']}, swing {rep['swing_deg']:.6g} deg -> stroke "
-               f"{rep['stroke_deg']:.6g} deg ({rep['output_direction']})",
-               f"  Pi'            {rep['pi_prime_range'][0]:.6g} .. {rep['pi_prime_range'][1]:.6g} rad/rad; "
-               f"|Pi''| <= {rep['pi_second_abs_max']:.4g}, |Pi'''| <= {rep['pi_third_abs_max']:.4g}",
+    summary = [(f"camcad linkage analyse: {command.name}, {rep['type']}, swing {rep['swing_deg']:.6g} deg -> stroke "
+                f"{rep['stroke_deg']:.6g} deg ({rep['output_direction']})"),
+               (f"  Pi'            {rep['pi_prime_range'][0]:.6g} .. {rep['pi_prime_range'][1]:.6g} rad/rad; "
+                f"|Pi''| <= {rep['pi_second_abs_max']:.4g}, |Pi'''| <= {rep['pi_third_abs_max']:.4g}"),
                f"  mu min         {', '.join(f'{m:.3f}' for m in rep['mu_min_deg'])} deg (limit {command.mu_min:g})",
-               f"  dead points    {rep['dead_points_swing_deg'] or 'none'}; limit positions "
-               f"{rep['limit_positions_swing_deg'] or 'none'} (swing deg)",
-               f"  branch         {'continuous' if rep['branch_continuous'] else 'NOT continuous'}; "
-               f"{'monotone' if rep['monotone'] else 'NOT monotone'}"]
+               (f"  dead points    {rep['dead_points_swing_deg'] or 'none'}; limit positions "
+                f"{rep['limit_positions_swing_deg'] or 'none'} (swing deg)"),
+               (f"  branch         {'continuous' if rep['branch_continuous'] else 'NOT continuous'}; "
+                f"{'monotone' if rep['monotone'] else 'NOT monotone'}")]
     if "working_member" in payload:
         w = payload["working_member"]
         line = f"  working member stroke {w['stroke']:.6g} {w['unit']}, |y''| <= {w['acceleration_analog_max']:.5g}"
@@ -503,9 +503,15 @@ def _functions(options: dict) -> dict:
             expr = parse_expression(text)
         except CamcadError as err:
             raise CamcadError(err.what, option, err.fix) from None
-        out[key] = (lambda e: (lambda u: math.radians(float(e(math.degrees(u))))))(expr) if key == "psi2_of_psi1" \
-            else (lambda e: (lambda u: math.radians(float(e(u)))))(expr)
+        out[key] = _in_radians(expr, key == "psi2_of_psi1")
     return out
+
+
+def _in_radians(expr, argument_in_deg: bool = False):
+    """A callable rad → rad of an expression giving deg (of x in deg when ``argument_in_deg``, else of x)."""
+    if argument_in_deg:
+        return lambda u: math.radians(float(expr(math.degrees(u))))
+    return lambda u: math.radians(float(expr(u)))
 
 
 @linkage_app.command()
@@ -614,7 +620,7 @@ def adjust(
         needed = {2: {"psi2_of_psi1": ("--psi2-of-psi1", psi2_of_psi1)}, 3: {"psi1": ("--psi1", psi1)},
                   4: {"psi2": ("--psi2", psi2)}, 5: {"psi1": ("--psi1", psi1), "psi2": ("--psi2", psi2)},
                   6: {"swing": ("--swing-function", swing_fn)}}[task]
-        for key, (option, text) in needed.items():
+        for option, text in needed.values():
             if text is None:
                 raise CamcadError("missing", option, f"task {task} needs {option} EXPR (deg, a function of x)")
         functions = _functions(needed)
@@ -709,8 +715,7 @@ def family(
                 expr = parse_expression(text)
             except CamcadError as err:
                 raise CamcadError(err.what, f"--member {k}", err.fix) from None
-            members.append(Member((lambda e: (lambda p: math.radians(float(e(math.degrees(p))))))(expr),
-                                  math.radians(a), math.radians(b), text))
+            members.append(Member(_in_radians(expr, True), math.radians(a), math.radians(b), text))
     else:
         members = _table_members(table, a, b)
     result = synthesize_family(members, nodes, crank, math.radians(phi0), spacing, ratio_max=ratio_max)
@@ -736,15 +741,15 @@ def family(
                                                                          "the family's mechanism at every setting")}
     drawing = kinematic_drawing(base, swing, settings_links, arc, title=(
         f"camcad linkage family: {len(members)} members, Q = {result.q:.3g}",
-        f"OA {result.crank:.4f}  AB {result.coupler:.4f}  CB {result.output_link:.4f} mm; arc F "
-        f"({result.centre.real:.4f}, {result.centre.imag:.4f}) R {result.radius:.4f} mm"))
+        (f"OA {result.crank:.4f}  AB {result.coupler:.4f}  CB {result.output_link:.4f} mm; arc F "
+         f"({result.centre.real:.4f}, {result.centre.imag:.4f}) R {result.radius:.4f} mm")))
     folder = output_dir(output, "family")
     write_linkage_outputs(folder, "family", payload, {"family.csv": rows_csv(rows)}, figures, drawing)
     summary = [f"camcad linkage family: {len(members)} members on [{a:g}, {b:g}] deg, {nodes} nodes each",
-               f"  stage 1        Q = {result.q:.4g} crank lengths; OA {result.crank:.6g}, AB {result.coupler:.6g}, "
-               f"CB {result.output_link:.6g} mm",
-               f"  stage 2        arc centre F ({result.centre.real:.6f}, {result.centre.imag:.6f}) mm, radius "
-               f"{result.radius:.6f} mm (residual {result.circle_residual:.3g} mm)"]
+               (f"  stage 1        Q = {result.q:.4g} crank lengths; OA {result.crank:.6g}, AB {result.coupler:.6g}, "
+                f"CB {result.output_link:.6g} mm"),
+               (f"  stage 2        arc centre F ({result.centre.real:.6f}, {result.centre.imag:.6f}) mm, radius "
+                f"{result.radius:.6f} mm (residual {result.circle_residual:.3g} mm)")]
     summary += [f"  member {r['member']:<14} setting {r['setting_deg']:10.5f} deg, max error {r['max_error_deg']:.3g} "
                 f"deg, mu min {r['mu_min_deg']:.2f} deg" + ("" if r["branch_ok"] else ", BRANCH BROKEN") for r in rows]
     _finish(payload, summary, as_json, passed)
@@ -782,8 +787,7 @@ def _table_members(path: Path, a: float, b: float) -> list:
     members = []
     for k in range(1, data.shape[1]):
         spline = CubicSpline(np.radians(data[:, 0]), np.radians(data[:, k]))
-        members.append(Member((lambda s: (lambda p: float(s(p))))(spline), math.radians(a), math.radians(b),
-                              f"column {k}"))
+        members.append(Member(spline, math.radians(a), math.radians(b), f"column {k}"))
     return members
 
 
@@ -881,12 +885,12 @@ def tune(
             f"camcad linkage tune: psi1 {psi1:g} deg, psi2 {psi2:g} deg", adj.describe(),
             "SETTINGS: the mechanism at every root, both extremes"))
     write_linkage_outputs(folder, "tune", payload, {"tune.csv": rows_csv(rows)}, figures, drawing)
-    summary = [f"camcad linkage tune: psi1 {psi1:g} deg, psi2 {psi2:g} deg; x1 on {adj.describe()}, x2 the input "
-               f"link's clamp angle"]
+    summary = [(f"camcad linkage tune: psi1 {psi1:g} deg, psi2 {psi2:g} deg; x1 on {adj.describe()}, x2 the input "
+                "link's clamp angle")]
     summary += [f"  root {r['root']}: x1 {r['x1']:.9f} {unit}, x2 {r['x2_deg']:.9f} deg; round trip error "
                 f"{r['error_deg']:.2g} deg, mu min {r['mu_min_deg'] or float('nan'):.2f} deg" +
-                ("" if r["branch_continuous"] else ", BRANCH BROKEN") for r in rows] or ["  no setting gives these "
-                                                                                         "extreme positions"]
+                ("" if r["branch_continuous"] else ", BRANCH BROKEN") for r in rows] or [
+        "  no setting gives these extreme positions"]
     _finish(payload, summary, as_json, bool(rows))
 
 

@@ -340,7 +340,7 @@ def settings_for(linkage: Linkage, adj: Adjustment, psi_max: float, quantity: st
             if diff[i] == 0.0:
                 roots.append(float(grid[i]))
             elif diff[i] * diff[i + 1] < 0.0:
-                roots.append(float(brentq(lambda x: value(x) - target, grid[i], grid[i + 1], xtol=1e-15,
+                roots.append(float(brentq(lambda x, t=target: value(x) - t, grid[i], grid[i + 1], xtol=1e-15,
                                           rtol=4 * np.finfo(float).eps)))
         if len(diff) and diff[-1] == 0.0:
             roots.append(float(grid[-1]))
@@ -550,7 +550,7 @@ def crank_extremes(loop) -> list[tuple[float, float]]:
     p, q = complex(*loop.p), complex(*loop.q)
     out = []
     for reach, sign in ((loop.a + loop.b, 1.0), (abs(loop.a - loop.b), 1.0 if loop.a >= loop.b else -1.0)):
-        points, gap = circle_intersections(p, reach, q, loop.c)
+        points, _ = circle_intersections(p, reach, q, loop.c)
         for b_pt in points:
             if reach == 0.0:
                 continue

@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from itertools import pairwise
 
 import numpy as np
 
@@ -249,7 +250,7 @@ def compose(inner, outer):
     >>> round(d[3] + 8 * math.cos(0.6), 12)
     0.0
     """
-    g, g1, g2, g3 = inner
+    _, g1, g2, g3 = inner
     f, f1, f2, f3 = outer
     return (f, f1 * g1, f2 * g1 ** 2 + f1 * g2, f3 * g1 ** 3 + 3 * f2 * g1 * g2 + f1 * g3)
 
@@ -279,7 +280,7 @@ class Linkage:
 
     Examples
     --------
-    >>> lk = Linkage((Loop((0.0, 0.0), (3.0, 0.0), 1.0, 3.0, 1.0, -1),), theta0=0.5, input_sense=-1)
+    >>> lk = Linkage((Loop((0.0, 0.0), (3.0, 0.0), 1.0, 3.0, 1.0, -1),), theta0=0.5, input_sense=1)
     >>> y, y1, y2, y3 = lk.position(0.2)
     >>> round(float(y), 12), round(float(y1), 12)
     (0.2, 1.0)
@@ -328,7 +329,7 @@ class Linkage:
         Examples
         --------
         >>> lk = Linkage((Loop((0.0, 0.0), (3.0, 0.0), 1.0, 3.0, 1.0, -1),), theta0=0.5, input_sense=1)
-        >>> [round(float(v), 12) for v in lk.position(0.1)]
+        >>> [round(float(v), 12) + 0.0 for v in lk.position(0.1)]
         [0.1, 1.0, 0.0, 0.0]
         """
         beta, d1, d2, d3 = self.absolute_derivatives(psi, order)
@@ -544,7 +545,7 @@ def _monotone_pieces(theta: np.ndarray) -> list[tuple[int, int]]:
     each piece monotonically (one piece unless a loop before it has a limit position in the swing)."""
     d = np.diff(theta)
     turns = [0] + [i + 1 for i in range(len(d) - 1) if d[i] * d[i + 1] < 0] + [len(theta) - 1]
-    return list(zip(turns[:-1], turns[1:]))
+    return list(pairwise(turns))
 
 
 def _swing_at(linkage: Linkage, loop_index: int, theta_hit: float, psi: np.ndarray, theta: np.ndarray) -> float | None:

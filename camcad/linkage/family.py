@@ -182,7 +182,7 @@ def fit_circle(points: list[complex]) -> tuple[complex, float, float]:
                           "give three or more members")
     a = np.column_stack([2 * z.real, 2 * z.imag, np.ones(len(z))])
     rhs = np.abs(z) ** 2
-    (cx, cy, k), *_ = np.linalg.lstsq(a, rhs, rcond=None)
+    (cx, cy, _), *_ = np.linalg.lstsq(a, rhs, rcond=None)
     centre = complex(cx, cy)
     if len(z) > 3:
         fit = least_squares(lambda p: np.abs(z - complex(p[0], p[1])) - np.mean(np.abs(z - complex(p[0], p[1]))),
@@ -278,7 +278,7 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
             # the landscape of Q in α is sharp: refine the best cell by a bounded one-dimensional search
             start = float(alpha[int(np.argmin(q))])
 
-            def q_of(al, a_pts=a_pts, psi=psi):
+            def q_of(al, a_pts=a_pts, psi=psi, b=b):
                 nonlocal evaluations
                 evaluations += 1
                 return min(admissible(member_state(a_pts, psi, b, al, subsets), b).q, 1e3)

@@ -988,8 +988,8 @@ def analysis_csv(analysis) -> str:
     point = analysis.joints.get("P")
     if point is not None:
         head += ["coupler_x_mm", "coupler_y_mm"]
-    lines = ["# Pi: the working member's turn from its position at psi = 0 (deg); pi_1..pi_3: exact dPi/dpsi.. "
-             "(rad per rad of follower swing)", ",".join(head)]
+    lines = [("# Pi: the working member's turn from its position at psi = 0 (deg); pi_1..pi_3: exact dPi/dpsi.. "
+              "(rad per rad of follower swing)"), ",".join(head)]
     for i in range(len(analysis.psi)):
         cells = [math.degrees(analysis.psi[i]), math.degrees(analysis.pi[i]), analysis.d1[i], analysis.d2[i],
                  analysis.d3[i]] + [math.degrees(mu[i]) for mu in analysis.mu]
