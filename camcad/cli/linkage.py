@@ -425,7 +425,7 @@ def analyse(
                 ch = characteristics(command.linkage, adj, x, command.psi_max)
                 rows.append({"setting": value, **{k: v for k, v in ch.as_dict(adj.unit).items()
                                                   if not k.startswith("setting")}})
-                settings.append((f"{value:g}", adjusted(command.linkage, adj, x)))
+                settings.append((f"{value:g} {'mm' if adj.unit == 'mm' else 'deg'}", adjusted(command.linkage, adj, x)))
             payload["settings"] = {"element": adj.describe(), "rows": rows}
             texts["settings.csv"] = rows_csv(rows, "psi1, psi2: the working member at the follower's extremes, "
                                                    "from its nominal position at psi = 0 (deg)")
@@ -633,7 +633,11 @@ def adjust(
     if task == 1:
         for row in rows:
             row["u"] = row["swing_deg"]
-    verdict = adj_mod.check_requirements(rows, task, 3)
+    swapped = task == 1 and keep == "psi2"   # task 1 with the second extreme kept: the columns trade roles
+    check_rows = [{**r, "psi1_deg": r["psi2_deg"], "psi2_deg": r["psi1_deg"]} for r in rows] if swapped else rows
+    verdict = adj_mod.check_requirements(check_rows, task, 3)
+    if swapped:
+        verdict = {{"psi1": "psi2", "psi2": "psi1"}.get(k, k): v for k, v in verdict.items()}
     checks_ok = all(r["branch_continuous"] and r["mu_min_deg"] >= mu_min for r in rows)
     adj = result.adjustment
     payload.update({"element": adj.describe(), "arc_centre_mm": [adj.centre.real, adj.centre.imag],
@@ -641,7 +645,7 @@ def adjust(
                                                                                    result.deviation.items()},
                     "monotone": result.monotone, "requirements": verdict, "notes": list(result.notes),
                     "passed": bool(verdict["passed"] and checks_ok and result.monotone)})
-    settings_links = [(f"{r['setting_deg']:.3f}", adj_mod.adjusted(lk, adj, math.radians(r["setting_deg"])))
+    settings_links = [(f"x = {r['setting_deg']:.3f} deg", adj_mod.adjusted(lk, adj, math.radians(r["setting_deg"])))
                       for r in rows]
     arc = (adj.centre, result.radius, [math.radians(r["setting_deg"]) for r in rows])
     figures = {} if no_plots else {
@@ -732,7 +736,7 @@ def family(
                "arc_centre_mm": [result.centre.real, result.centre.imag], "arc_radius_mm": result.radius,
                "circle_residual_mm": result.circle_residual, "settings_deg": [math.degrees(x) for x in result.settings],
                "rows": rows, "position_evaluations": result.evaluations, "passed": passed}
-    settings_links = [(f"{math.degrees(x):.3f}", result.mechanism(k)) for k, x in enumerate(result.settings)]
+    settings_links = [(f"x = {math.degrees(x):.3f} deg", result.mechanism(k)) for k, x in enumerate(result.settings)]
     arc = (result.centre, result.radius, list(result.settings))
     base = settings_links[0][1]
     swing = math.radians(b)

@@ -671,9 +671,15 @@ def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=No
                                                             centre.imag + radius_mm * np.sin(span)]), False))
         circles.append(DxfCircle("ADJUSTMENT", (centre.real, centre.imag), 0.6 * r))
         for k, ang in enumerate(angles):
-            end = centre + radius_mm * complex(math.cos(ang), math.sin(ang))
-            lines.append(DxfLine("ADJUSTMENT", (centre.real, centre.imag), (end.real, end.imag)))
-            texts.append(DxfText("TEXT", f"x{k + 1}", (end.real + r, end.imag - 2 * r), 0.7 * h))
+            # a short radial tick at each lock position (the radii to M would cross the whole sheet)
+            u = complex(math.cos(ang), math.sin(ang))
+            end = centre + radius_mm * u
+            lines.append(DxfLine("ADJUSTMENT", ((end - 1.5 * r * u).real, (end - 1.5 * r * u).imag),
+                                 ((end + 1.5 * r * u).real, (end + 1.5 * r * u).imag)))
+            if k in (0, len(angles) - 1):
+                texts.append(DxfText("TEXT", f"x{k + 1}", (end.real + 2 * r, end.imag - 2 * r), 0.7 * h))
+        middle = centre + radius_mm * complex(math.cos((lo + hi) / 2), math.sin((lo + hi) / 2))
+        lines.append(DxfLine("ADJUSTMENT", (centre.real, centre.imag), (middle.real, middle.imag)))
         texts.append(DxfText("TEXT", "M", (centre.real + r, centre.imag + r), h))
     layers = ["FRAME", "LINKS", "EXTREME_POSITIONS", "SETTINGS", "ADJUSTMENT", "JOINTS", "PATHS", "TEXT"]
     extra_paths: list = []
@@ -737,7 +743,7 @@ def diagram_figure(linkage, psi_max: float, settings=(), arc=None, title: str = 
         draw(linkage, psi, color="#cccccc", lw=0.7)
     for k, (label, lk) in enumerate(settings):
         colour = SETTING_COLOURS[k % len(SETTING_COLOURS)]
-        draw(lk, 0.0, color=colour, lw=0.9, ls="--", label=f"setting {label}")
+        draw(lk, 0.0, color=colour, lw=0.9, ls="--", label=f"setting {label}")  # label carries its unit
         draw(lk, psi_max, color=colour, lw=0.9, ls="--")
     draw(linkage, 0.0, color="#1f4e9c", lw=2.0, marker="o", ms=4, label="follower on the base circle (ψ = 0)")
     draw(linkage, psi_max, color="#c0392b", lw=2.0, marker="o", ms=4,
