@@ -331,7 +331,8 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
         phi = np.linspace(m.phi_start, m.phi_end, 401)
         beta = lk.loops[0].output(phi0 + phi)
         target = np.array([float(m.function(p)) for p in phi])
-        err = (beta - beta[0]) - (target - target[0])
+        # the output angle may jump by 2π where A crosses the frame line beyond C: compare turns mod 2π
+        err = np.remainder((beta - beta[0]) - (target - target[0]) + np.pi, 2 * np.pi) - np.pi
         errors.append(float(np.max(np.abs(err))) if np.all(np.isfinite(err)) else math.inf)
         loop = lk.loops[0]
         mus.append(loop.worst_transmission(phi0 + m.phi_start, phi0 + m.phi_end))
