@@ -333,7 +333,7 @@ class ContactResult:
 
 def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad, rho_profile_mm,
                    follower_radius_mm: float, rpm: float, params: ContactParams,
-                   rho_back_mm=None) -> ContactResult:
+                   rho_back_mm=None, linkage_load=None) -> ContactResult:
     """Hertz contact stress along the profile of a cam and its follower at one speed.
 
     Inputs are arrays over the same cam angles θ (**rad**; the profile's ``table`` gives them), so that
@@ -370,6 +370,9 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
         wall, seen from the roller: −(ρ_pitch + Rr)), mm, same sign convention; without it
         ``rho_profile_mm`` is used for both signs.
 
+    linkage_load : camcad.linkage.transfer.LinkageLoad, optional
+        The working member behind a linkage, reduced to the roller's path on the same θ: F = A ω² + B (N),
+        with A = J Π'(Π'ψ'' + Π''ψ'²)/L and B = Π'Q/L, added to the axial force; None (default): no linkage.
     Returns
     -------
     ContactResult
@@ -412,6 +415,8 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
     """
     theta = np.asarray(theta_rad, dtype=float)
     load = params.load_over(theta)
+    if linkage_load is not None:  # the working member through Pi' (camcad.linkage.transfer)
+        load = load + linkage_load.at(rpm)
     force_axial = axial_force(s_mm, a_mm_per_rad2, rpm, params.mass, params.spring_rate,
                               params.preload, load)
     force_n = normal_force(force_axial, pressure_angle_rad, v_mm_per_rad, params.friction)
@@ -474,24 +479,24 @@ class SpeedSweep:
 
 def stress_versus_speed(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad,
                         rho_profile_mm, follower_radius_mm: float, rpm_values,
-                        params: ContactParams, rho_back_mm=None) -> SpeedSweep:
+                        params: ContactParams, rho_back_mm=None, linkage_load=None) -> SpeedSweep:
     """``contact_stress`` at every speed of ``rpm_values`` (the source plots the safety factor
     against shaft speed), plus the lowest separation speed (``separation_speed_rpm``).
     Units as ``contact_stress``; the rigid law's analogs are used at every speed."""
     rpm_values = np.atleast_1d(np.asarray(rpm_values, dtype=float))
     results = [contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_rad,
-                              rho_profile_mm, follower_radius_mm, rpm, params, rho_back_mm)
+                              rho_profile_mm, follower_radius_mm, rpm, params, rho_back_mm, linkage_load)
                for rpm in rpm_values]
     sigma_max = np.array([r.sigma_max for r in results])
     return SpeedSweep(
         rpm=rpm_values, sigma_max=sigma_max, at=np.array([r.at for r in results]),
         safety_factor=np.array([r.safety_factor for r in results]),
         separation=np.array([r.separation for r in results]),
-        separation_rpm=separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params),
+        separation_rpm=separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params, linkage_load),
         allowable=params.allowable_stress)
 
 
-def separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params: ContactParams) -> float:
+def separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params: ContactParams, linkage_load=None) -> float:
     """Lowest shaft speed at which a force-closed follower leaves the cam, rpm (inf: never).
 
     The normal force has the sign of F = F_s(θ) + m a ω²/1000 with F_s = k s + F0 + Q (friction
@@ -499,6 +504,8 @@ def separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params: ContactParams) 
     ω² = 1000 F_s / (m |a|), so n_sep = (60/2π) min over {a < 0} of sqrt(1000 F_s/(m|a|)); where
     F_s ≤ 0 the follower leaves even at rest (0 rpm). Units: s mm, a mm/rad², m kg, k N/mm, F N.
     Exact on the sampled θ; a form-closed cam never separates (inf).
+
+    With a ``linkage_load`` (A ω² + B, N) F_s gains B and the ω² coefficient m a/1000 gains A.
 
     Source: Norton (2009), force-closed follower: the spring must exceed the negative inertia force.
     """
@@ -508,6 +515,14 @@ def separation_speed_rpm(theta_rad, s_mm, a_mm_per_rad2, params: ContactParams) 
     a = np.asarray(a_mm_per_rad2, dtype=float)
     static = (params.spring_rate * np.asarray(s_mm, dtype=float) + params.preload
               + params.load_over(theta))
+    if linkage_load is not None:  # the working member through Pi' (camcad.linkage.transfer)
+        static = static + linkage_load.static
+        if np.any(static <= 0.0):
+            return 0.0
+        per = params.mass * a / 1000.0 + linkage_load.per_omega2
+        if not np.any(per < 0.0):
+            return float("inf")
+        return float(np.sqrt(np.min(static[per < 0.0] / -per[per < 0.0])) * 60.0 / (2.0 * np.pi))
     if np.any(static <= 0.0):
         return 0.0
     pulling = a < 0.0

@@ -14,8 +14,11 @@ from camcad.scene.dynamics import DYNAMICS_FIELDS
 from camcad.scene.filter import FILTER_FIELDS
 from camcad.scene.law import law_fields
 from camcad.scene.follower import FOLLOWER_FIELDS
+from camcad.scene.linkage import ADJUST_FIELDS, LINKAGE_FIELDS
 
 SECTIONS = [("law", law_fields(), "camcad.scene.law"), ("follower", FOLLOWER_FIELDS, "camcad.scene.follower"),
+            ("linkage", LINKAGE_FIELDS, "camcad.scene.linkage"),
+            ("linkage.adjust", ADJUST_FIELDS, "camcad.scene.linkage"),
             ("filter", FILTER_FIELDS, "camcad.scene.filter"), ("dynamics", DYNAMICS_FIELDS, "camcad.scene.dynamics"),
             ("stops", STOPS_FIELDS, "camcad.scene.stops"), ("contact", CONTACT_FIELDS, "camcad.scene.contact"),
             ("cyclogram", CYCLOGRAM_FIELDS, "camcad.scene.cyclogram"),

@@ -48,7 +48,13 @@ from itertools import product
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.linkage.fgen import FunctionGenerator, Limits, Work, from_pivots, structural_error
+from camcad.linkage.fgen import (
+    FunctionGenerator,
+    Limits,
+    Work,
+    from_pivots,
+    structural_error,
+)
 from camcad.linkage.target import Target
 
 PENALTY = 100.0

@@ -23,7 +23,14 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.linkage.deviation import least_squares_synthesis
-from camcad.linkage.fgen import Evaluation, FunctionGenerator, Limits, Work, evaluate, nodes
+from camcad.linkage.fgen import (
+    Evaluation,
+    FunctionGenerator,
+    Limits,
+    Work,
+    evaluate,
+    nodes,
+)
 from camcad.linkage.minimax import MinimaxResult, minimax_synthesis
 from camcad.linkage.precision import precision_synthesis
 from camcad.linkage.qmethod import QResult, node_subsets, q_synthesis

@@ -559,3 +559,470 @@ def write_fgen_outputs(out_dir: Path, result, payload: dict, plots: bool = True,
     payload["outputs"] = [str(p) for p in written] + [str(out_dir / f"{prefix}fgen.json")]
     written.append(write_json(out_dir / f"{prefix}fgen.json", payload))
     return written
+
+
+# --------------------------------------------------------------------------------------------
+# Linkage after the cam (part II): analysis, adjustable mechanisms, family, tuning
+# --------------------------------------------------------------------------------------------
+
+LOOP_NAMES = (("O", "A", "B", "C"), ("C", "D", "E", "F"))
+SETTING_COLOURS = ("#7b3294", "#008837", "#e66101", "#5e3c99", "#1b9e77", "#d95f02", "#666666")
+
+
+def _segments(joints: dict, loops: int, index=None) -> list[tuple[complex, complex]]:
+    """The links of a chain as (start, end) pairs of complex points (mm) from ``Linkage.joints``."""
+    def at(name):
+        value = np.asarray(joints[name])
+        return complex(value if index is None else value[index])
+
+    pairs = [("O", "A"), ("A", "B"), ("B", "C")]
+    if loops > 1:
+        pairs += [("C", "D"), ("D", "E"), ("E", "F"), ("B", "D")]
+    return [(at(p), at(q)) for p, q in pairs]
+
+
+def _ground(lines: list, point: complex, r: float) -> None:
+    x0, y0 = point.real, point.imag
+    lines.append(DxfLine("FRAME", (x0 - 2 * r, y0 - 1.6 * r), (x0 + 2 * r, y0 - 1.6 * r)))
+    lines.append(DxfLine("FRAME", (x0, y0 - r), (x0, y0 - 1.6 * r)))
+    for k in range(5):
+        xa = x0 - 2 * r + k * r
+        lines.append(DxfLine("FRAME", (xa, y0 - 1.6 * r), (xa - 0.7 * r, y0 - 2.3 * r)))
+
+
+def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=None, follower=None,
+                      title: tuple[str, ...] = ()) -> Drawing:
+    """The linkage's kinematic diagram as DXF (mm, the cam's frame): FRAME (pivots, ground marks), LINKS (the
+    chain with the follower on its base circle, ψ = 0), EXTREME_POSITIONS (at ψ_max), SETTINGS (every
+    setting in both extreme positions), ADJUSTMENT (the adjustable element's arc, its centre and the lock
+    radii), JOINTS (pair circles), PATHS (joint paths and the coupler point's path over the swing), TEXT;
+    with ``profile`` (a ``ProfileResult``) the cam on its own layers (PROFILE, PITCH, BASE_CIRCLE, CENTER,
+    ROLLER) at the same origin, and FOLLOWER (the arm from the pivot to the roller in both extremes).
+
+    Parameters
+    ----------
+    linkage : camcad.linkage.analysis.Linkage
+    psi_max : float
+        The follower's swing, rad.
+    settings : sequence of (label, Linkage)
+        The chain at each setting.
+    arc : tuple or None
+        (centre complex mm, radius mm, lock angles rad) of the adjustable element's arc.
+    profile : ProfileResult or None
+    follower : camcad.profile.followers.Follower or None
+        The oscillating follower (arm drawn in both extremes).
+    title : tuple of str
+        Text lines under the drawing.
+
+    Examples
+    --------
+    >>> from camcad.linkage.analysis import Linkage, Loop
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 40.0, 120.0, 90.0),), theta0=1.4)
+    >>> d = kinematic_drawing(lk, 0.4, arc=(100 + 10j, 10.0, [3.0, 3.5]))
+    >>> sorted({x.layer for x in d.lines}) == ['ADJUSTMENT', 'EXTREME_POSITIONS', 'FRAME', 'LINKS']
+    True
+    """
+    loops = len(linkage.loops)
+    scale = max(max(lp.a, lp.b, lp.c, lp.d) for lp in linkage.loops)
+    r = 0.02 * scale
+    h = 0.025 * scale
+    lines: list = []
+    circles: list = []
+    paths: list = []
+    texts: list = []
+
+    def add_chain(layer, lk, psi, names=True, suffix=""):
+        j = lk.joints(np.array([psi]))
+        for p, q in _segments(j, len(lk.loops), 0):
+            d = q - p
+            if abs(d) > 2 * r:
+                u = d / abs(d)
+                lines.append(DxfLine(layer, ((p + r * u).real, (p + r * u).imag), ((q - r * u).real, (q - r * u).imag)))
+        for name in ("A", "B") + (("D", "E") if len(lk.loops) > 1 else ()):
+            z = complex(np.asarray(j[name])[0])
+            circles.append(DxfCircle("JOINTS" if layer != "SETTINGS" else "SETTINGS", (z.real, z.imag), r))
+            if names:
+                texts.append(DxfText("TEXT", name + suffix, (z.real + 1.5 * r, z.imag + 1.5 * r), h))
+        return j
+
+    j0 = add_chain("LINKS", linkage, 0.0, suffix="1")
+    add_chain("EXTREME_POSITIONS", linkage, psi_max, suffix="2")
+    pivots = ["O", "C"] + (["F"] if loops > 1 else [])
+    for name in pivots:
+        z = complex(np.asarray(j0[name])[0])
+        circles.append(DxfCircle("JOINTS", (z.real, z.imag), r))
+        _ground(lines, z, r)
+        texts.append(DxfText("TEXT", name, (z.real - 3.5 * r, z.imag + 1.5 * r), h))
+    for label, lk in settings:
+        for psi in (0.0, psi_max):
+            add_chain("SETTINGS", lk, psi, names=False)
+    grid = np.linspace(0.0, psi_max, 61)
+    j = linkage.joints(grid)
+    for name in ("A", "B") + (("D", "E") if loops > 1 else ()) + (("P",) if "P" in j else ()):
+        pts = np.column_stack([np.real(j[name]), np.imag(j[name])])
+        if np.all(np.isfinite(pts)):
+            paths.append(DxfPath("PATHS", pts, False))
+    if arc is not None:
+        centre, radius_mm, angles = arc
+        angles = np.asarray(angles, dtype=float)
+        lo, hi = float(angles.min()), float(angles.max())
+        span = np.linspace(lo - 0.1 * (hi - lo) - 0.05, hi + 0.1 * (hi - lo) + 0.05, 60)
+        paths.append(DxfPath("ADJUSTMENT", np.column_stack([centre.real + radius_mm * np.cos(span),
+                                                            centre.imag + radius_mm * np.sin(span)]), False))
+        circles.append(DxfCircle("ADJUSTMENT", (centre.real, centre.imag), 0.6 * r))
+        for k, ang in enumerate(angles):
+            # a short radial tick at each lock position (the radii to M would cross the whole sheet)
+            u = complex(math.cos(ang), math.sin(ang))
+            end = centre + radius_mm * u
+            lines.append(DxfLine("ADJUSTMENT", ((end - 1.5 * r * u).real, (end - 1.5 * r * u).imag),
+                                 ((end + 1.5 * r * u).real, (end + 1.5 * r * u).imag)))
+            if k in (0, len(angles) - 1):
+                texts.append(DxfText("TEXT", f"x{k + 1}", (end.real + 2 * r, end.imag - 2 * r), 0.7 * h))
+        middle = centre + radius_mm * complex(math.cos((lo + hi) / 2), math.sin((lo + hi) / 2))
+        lines.append(DxfLine("ADJUSTMENT", (centre.real, centre.imag), (middle.real, middle.imag)))
+        texts.append(DxfText("TEXT", "M", (centre.real + r, centre.imag + r), h))
+    layers = ["FRAME", "LINKS", "EXTREME_POSITIONS", "SETTINGS", "ADJUSTMENT", "JOINTS", "PATHS", "TEXT"]
+    extra_paths: list = []
+    extra_circles: list = []
+    extra_lines: list = []
+    extra_splines: list = []
+    if profile is not None:
+        from camcad.report.profile_files import build_drawing
+
+        cam = build_drawing(profile)
+        extra_paths, extra_circles, extra_lines = list(cam.paths), list(cam.circles), list(cam.lines)
+        extra_splines = list(cam.splines)
+        layers += [x for x in ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER") if x not in layers]
+    if follower is not None and follower.kind == "oscillating":
+        from camcad.profile.followers import arm_angle_on_base_circle
+
+        g0 = arm_angle_on_base_circle(follower)
+        for psi in (0.0, psi_max):
+            g = g0 + psi
+            end = complex(follower.pivot - follower.arm * math.cos(g), follower.arm * math.sin(g))
+            lines.append(DxfLine("FOLLOWER", (follower.pivot, 0.0), (end.real, end.imag)))
+            circles.append(DxfCircle("FOLLOWER", (end.real, end.imag), follower.roller_radius))
+        layers.append("FOLLOWER")
+    ys = [c.centre[1] for c in circles] + [y for p in paths for y in p.points[:, 1]]
+    xs = [c.centre[0] for c in circles]
+    if profile is not None:
+        ys += [y for p in extra_paths for y in p.points[:, 1]]
+    low = min(ys) - 6 * r
+    left = min(xs) if xs else 0.0
+    for k, line in enumerate(title):
+        texts.append(DxfText("TEXT", line, (left, low - k * 1.8 * h), h))
+    return Drawing(paths=tuple(paths + extra_paths), splines=tuple(extra_splines),
+                   circles=tuple(circles + extra_circles), lines=tuple(lines + extra_lines), texts=tuple(texts),
+                   layers=tuple(layers))
+
+
+def diagram_figure(linkage, psi_max: float, settings=(), arc=None, title: str = ""):
+    """The kinematic diagram as a figure: the chain in both extreme positions (blue ψ = 0, red ψ_max), faint
+    intermediate positions, joint and coupler-point paths, the settings (thin, coloured) and the arc.
+
+    Examples
+    --------
+    >>> from camcad.linkage.analysis import Linkage, Loop
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 40.0, 120.0, 90.0),), theta0=1.4)
+    >>> diagram_figure(lk, 0.4).axes[0].get_xlabel()
+    'x (mm)'
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 6.0), layout="constrained")
+    ax = fig.subplots()
+    loops = len(linkage.loops)
+
+    def draw(lk, psi, **kw):
+        j = lk.joints(np.array([psi]))
+        label = kw.pop("label", None)
+        for k, (p, q) in enumerate(_segments(j, len(lk.loops), 0)):
+            ax.plot([p.real, q.real], [p.imag, q.imag], label=label if k == 0 else None, **kw)
+
+    for psi in np.linspace(0.0, psi_max, 7)[1:-1]:
+        draw(linkage, psi, color="#cccccc", lw=0.7)
+    for k, (label, lk) in enumerate(settings):
+        colour = SETTING_COLOURS[k % len(SETTING_COLOURS)]
+        draw(lk, 0.0, color=colour, lw=0.9, ls="--", label=f"setting {label}")  # label carries its unit
+        draw(lk, psi_max, color=colour, lw=0.9, ls="--")
+    draw(linkage, 0.0, color="#1f4e9c", lw=2.0, marker="o", ms=4, label="follower on the base circle (ψ = 0)")
+    draw(linkage, psi_max, color="#c0392b", lw=2.0, marker="o", ms=4,
+         label=f"follower at its swing ({math.degrees(psi_max):.4g} deg)")
+    grid = np.linspace(0.0, psi_max, 121)
+    j = linkage.joints(grid)
+    for name in ("A", "B") + (("D", "E") if loops > 1 else ()):
+        ax.plot(np.real(j[name]), np.imag(j[name]), color="#555555", lw=0.6, ls=":")
+    if "P" in j:
+        ax.plot(np.real(j["P"]), np.imag(j["P"]), color="#2d7f3b", lw=1.2, label="coupler point path")
+    j0 = linkage.joints(np.array([0.0]))
+    for name in ("O", "C") + (("F",) if loops > 1 else ()):
+        z = complex(np.asarray(j0[name])[0])
+        ax.plot(z.real, z.imag, "^", color="black", ms=10)
+        ax.annotate(name, (z.real, z.imag), textcoords="offset points", xytext=(-4, -16))
+    for name in ("A", "B") + (("D", "E") if loops > 1 else ()):
+        z = complex(np.asarray(j0[name])[0])
+        ax.annotate(name + "₁", (z.real, z.imag), textcoords="offset points", xytext=(5, 5), color="#1f4e9c")
+    if arc is not None:
+        centre, radius_mm, angles = arc
+        angles = np.asarray(angles, dtype=float)
+        lo, hi = float(angles.min()), float(angles.max())
+        span = np.linspace(lo - 0.1 * (hi - lo) - 0.05, hi + 0.1 * (hi - lo) + 0.05, 100)
+        ax.plot(centre.real + radius_mm * np.cos(span), centre.imag + radius_mm * np.sin(span), color="#e66101",
+                lw=1.6, label="adjustment arc")
+        ax.plot(centre.real, centre.imag, "+", color="#e66101", ms=12)
+        ax.annotate("M", (centre.real, centre.imag), textcoords="offset points", xytext=(5, -12), color="#e66101")
+    ax.set_aspect("equal")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def analysis_figure(analysis, mu_limit_deg: float | None = None):
+    """Π (deg) and its exact derivatives Π', Π'', Π''' against the follower's swing, and the transmission
+    angle of each loop with the limit's forbidden bands; limit positions and dead points marked.
+
+    Examples
+    --------
+    >>> from camcad.linkage.analysis import Linkage, Loop, analyse
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 40.0, 120.0, 90.0),), theta0=1.4)
+    >>> len(analysis_figure(analyse(lk, 0.4), 40.0).axes)
+    5
+    """
+    from matplotlib.figure import Figure
+
+    psi = np.degrees(analysis.psi)
+    fig = Figure(figsize=(9.0, 9.0), layout="constrained")
+    axes = fig.subplots(5, 1, sharex=True)
+    rows = (("Π (deg)", np.degrees(analysis.pi)), ("Π' (rad/rad)", analysis.d1), ("Π'' (1/rad)", analysis.d2),
+            ("Π''' (1/rad²)", analysis.d3))
+    for ax, (label, values) in zip(axes, rows):
+        ax.plot(psi, values, color="#1f4e9c", lw=1.3)
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.6)
+        for x in analysis.limit_positions:
+            ax.axvline(math.degrees(x), color="#c0392b", lw=0.8, ls="--")
+        for x in analysis.dead_points:
+            ax.axvline(math.degrees(x), color="black", lw=1.0, ls="-.")
+    ax = axes[-1]
+    if mu_limit_deg is not None:
+        ax.axhspan(0, mu_limit_deg, color=FORBIDDEN, lw=0, label=f"below μ_min = {mu_limit_deg:g} deg")
+        ax.axhspan(180 - mu_limit_deg, 180, color=FORBIDDEN, lw=0)
+    for k, mu in enumerate(analysis.mu):
+        ax.plot(psi, np.degrees(mu), lw=1.3, label=f"loop {k + 1}: worst {math.degrees(analysis.mu_min[k]):.2f} deg")
+    ax.set_ylim(0, 180)
+    ax.set_yticks([0, 45, 90, 135, 180])
+    ax.set_ylabel("μ (deg)")
+    ax.set_xlabel("follower swing ψ (deg)")
+    ax.grid(True, lw=0.4, alpha=0.6)
+    ax.legend(fontsize=8, loc="best")
+    state = ("branch continuous" if analysis.branch_continuous else "BRANCH NOT CONTINUOUS") + \
+            (", monotone" if analysis.monotone else ", NOT monotone (limit position inside the swing)")
+    axes[0].set_title(f"{analysis.linkage.kind}: stroke {math.degrees(analysis.stroke):.5g} deg over a swing of "
+                      f"{math.degrees(analysis.psi_max):.5g} deg; {state}\nexact loop-closure derivatives; "
+                      "dashed: limit positions (Π' = 0), dash-dot: dead points", fontsize=9)
+    return fig
+
+
+def working_figure(theta, kin, unit: str, title: str = ""):
+    """The working member's y, y', y'', y''' against the cam angle (chain rule through Π).
+
+    Examples
+    --------
+    >>> from camcad.law.law import Kinematics
+    >>> t = np.linspace(0, 2 * np.pi, 5)
+    >>> working_figure(t, Kinematics(t, t, t, t, t), "rad").axes[3].get_xlabel()
+    'cam angle θ (deg)'
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 8.0), layout="constrained")
+    axes = fig.subplots(4, 1, sharex=True)
+    deg = np.degrees(theta)
+    shown = "deg" if unit == "rad" else "mm"
+    factor = math.degrees(1.0) if unit == "rad" else 1.0
+    for ax, (label, values) in zip(axes, ((f"y ({shown})", kin.s * factor), (f"y' ({shown}/rad)", kin.v * factor),
+                                          (f"y'' ({shown}/rad²)", kin.a * factor),
+                                          (f"y''' ({shown}/rad³)", kin.j * factor))):
+        ax.plot(deg, values, color="#1f4e9c", lw=1.2)
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.6)
+    axes[-1].set_xlabel("cam angle θ (deg)")
+    axes[-1].set_xticks(np.arange(0, 361, 30))
+    axes[0].set_title(title or "the working member through the linkage: y = Π(ψ(θ)), y'' = Π''ψ'² + Π'ψ''",
+                      fontsize=9)
+    return fig
+
+
+def settings_figure(rows: list[dict], setting_label: str, title: str = ""):
+    """ψ₁, ψ₂, the swing (deg) and the worst transmission angle against the setting.
+
+    Examples
+    --------
+    >>> rows = [{"setting": 1.0, "psi1_deg": 0.0, "psi2_deg": 10.0, "swing_deg": 10.0, "mu_min_deg": 50.0},
+    ...         {"setting": 2.0, "psi1_deg": 0.0, "psi2_deg": 12.0, "swing_deg": 12.0, "mu_min_deg": 48.0}]
+    >>> len(settings_figure(rows, "lock angle (deg)").axes)
+    2
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.5, 6.0), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    x = [r["setting"] for r in rows if "psi1_deg" in r]
+    for key, label, colour in (("psi1_deg", "ψ₁ (first extreme)", "#1f4e9c"), ("psi2_deg", "ψ₂ (second extreme)",
+                                                                           "#c0392b"),
+                               ("swing_deg", "swing ψ₁₂", "#2d7f3b")):
+        ax.plot(x, [r[key] for r in rows if "psi1_deg" in r], "-o", ms=4, color=colour, label=label)
+    ax.set_ylabel("working member (deg)")
+    ax.grid(True, lw=0.4, alpha=0.6)
+    ax.legend(fontsize=8)
+    ax2.plot(x, [r["mu_min_deg"] for r in rows if "psi1_deg" in r], "-o", ms=4, color="#7b3294")
+    ax2.set_ylabel("worst μ (deg)")
+    ax2.set_xlabel(setting_label)
+    ax2.grid(True, lw=0.4, alpha=0.6)
+    if title:
+        ax.set_title(title, fontsize=9)
+    return fig
+
+
+def family_figure(result, members):
+    """Stage 1 and 2 of the family synthesis: every member's pivots and their rectangle, the circle through
+    the members' pivots (the adjustable link), and each member's structural error.
+
+    Examples
+    --------
+    >>> import types
+    >>> r = types.SimpleNamespace(pivots=[1 + 0j, 1j, -1 + 0j], centre=0j, radius=1.0, settings=np.array([0.0, 1.5, 3.1]),
+    ...     q=0.0, max_error=[0.0, 0.0, 0.0], crank=1.0)
+    >>> len(family_figure(r, [None] * 3).axes)
+    2
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 5.0), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2, width_ratios=(3, 2))
+    t = np.linspace(0, 2 * np.pi, 400)
+    ax.plot(result.centre.real + result.radius * np.cos(t), result.centre.imag + result.radius * np.sin(t),
+            color="#e66101", lw=1.2, label="circle through the pivots (adjustable link)")
+    ax.plot(result.centre.real, result.centre.imag, "+", color="#e66101", ms=12)
+    for k, (p, x) in enumerate(zip(result.pivots, result.settings)):
+        colour = SETTING_COLOURS[k % len(SETTING_COLOURS)]
+        ax.plot(p.real, p.imag, "o", color=colour, label=f"member {k + 1}: C at x = {math.degrees(x):.4f} deg")
+        ax.plot([result.centre.real, p.real], [result.centre.imag, p.imag], color=colour, lw=0.8)
+    ax.set_aspect("equal")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(f"stage 1: Q = {result.q:.3g} crank lengths; stage 2: F = ({result.centre.real:.4f}, "
+                 f"{result.centre.imag:.4f}) mm, R = {result.radius:.4f} mm", fontsize=9)
+    errors = np.degrees(np.asarray(result.max_error, dtype=float))
+    ax2.bar(np.arange(1, len(errors) + 1), np.maximum(errors, 1e-16), color="#1f4e9c")
+    ax2.set_yscale("log")
+    ax2.set_xlabel("member")
+    ax2.set_ylabel("largest structural error (deg)")
+    ax2.grid(True, lw=0.4, alpha=0.5, axis="y")
+    return fig
+
+
+def tune_figure(result, unit: str):
+    """F(x₁) = f₁(x₁) − f₂(x₁) (deg) over the searched interval with every root marked (seed ch. 6, eq. 2).
+
+    Examples
+    --------
+    >>> import types
+    >>> r = types.SimpleNamespace(x1_grid=np.linspace(0, 1, 5), f_grid=np.linspace(-1, 1, 5), roots=[],
+    ...     psi1=0.0, psi2=0.2)
+    >>> tune_figure(r, "rad").axes[0].get_ylabel()
+    'F(x1) = f1 - f2 (deg)'
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.5, 4.5), layout="constrained")
+    ax = fig.subplots()
+    x = np.degrees(result.x1_grid) if unit == "rad" else result.x1_grid
+    ax.axhline(0, color="grey", lw=0.6)
+    ax.plot(x, np.degrees(result.f_grid), color="#1f4e9c", lw=1.2, label="F(x1)")
+    for k, root in enumerate(result.roots):
+        xr = math.degrees(root.x1) if unit == "rad" else root.x1
+        ax.plot(xr, 0.0, "o", color="#c0392b", ms=7, label=f"root {k + 1}: x1 = {xr:.6g}, x2 = "
+                                                            f"{math.degrees(root.x2):.6g} deg")
+    ax.set_xlabel("x1: lock angle (deg)" if unit == "rad" else "x1: slot position (mm)")
+    ax.set_ylabel("F(x1) = f1 - f2 (deg)")
+    ax.grid(True, lw=0.4, alpha=0.6)
+    ax.legend(fontsize=8)
+    ax.set_title(f"settings for psi1 = {math.degrees(result.psi1):.6g} deg, psi2 = {math.degrees(result.psi2):.6g} "
+                 "deg: every sign change of F bracketed and refined", fontsize=9)
+    return fig
+
+
+def rows_csv(rows: list[dict], comment: str = "") -> str:
+    """Rows of dicts as CSV (the union of their keys, first-seen order); None as empty.
+
+    Examples
+    --------
+    >>> rows_csv([{"a": 1, "b": 2.5}, {"a": 2, "b": None}]).splitlines()
+    ['a,b', '1,2.5', '2,']
+    """
+    keys: list[str] = []
+    for r in rows:
+        keys += [k for k in r if k not in keys and not isinstance(r[k], (dict, list))]
+    lines = ([f"# {comment}"] if comment else []) + [",".join(keys)]
+    for r in rows:
+        cells = []
+        for k in keys:
+            v = r.get(k)
+            cells.append("" if v is None else (f"{v:.12g}" if isinstance(v, float) else str(v)))
+        lines.append(",".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+def analysis_csv(analysis) -> str:
+    """ψ (deg), Π (deg), Π', Π'', Π''' and each loop's μ (deg) over the swing, and the coupler point (mm).
+
+    Examples
+    --------
+    >>> from camcad.linkage.analysis import Linkage, Loop, analyse
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 40.0, 120.0, 90.0),), theta0=1.4)
+    >>> analysis_csv(analyse(lk, 0.4, 5)).splitlines()[1]
+    'psi_deg,pi_deg,pi_1,pi_2,pi_3,mu1_deg'
+    """
+    head = ["psi_deg", "pi_deg", "pi_1", "pi_2", "pi_3"] + [f"mu{k + 1}_deg" for k in range(len(analysis.mu))]
+    point = analysis.joints.get("P")
+    if point is not None:
+        head += ["coupler_x_mm", "coupler_y_mm"]
+    lines = [("# Pi: the working member's turn from its position at psi = 0 (deg); pi_1..pi_3: exact dPi/dpsi.. "
+              "(rad per rad of follower swing)"), ",".join(head)]
+    for i in range(len(analysis.psi)):
+        cells = [math.degrees(analysis.psi[i]), math.degrees(analysis.pi[i]), analysis.d1[i], analysis.d2[i],
+                 analysis.d3[i]] + [math.degrees(mu[i]) for mu in analysis.mu]
+        if point is not None:
+            cells += [point[i].real, point[i].imag]
+        lines.append(",".join(f"{float(c):.12g}" for c in cells))
+    return "\n".join(lines) + "\n"
+
+
+def write_linkage_outputs(out_dir: Path, name: str, payload: dict, texts: dict | None = None,
+                          figures: dict | None = None, drawing: Drawing | None = None) -> list[Path]:
+    """Write ``name``.json (``payload`` with ``outputs``), the CSV ``texts`` ({file name: text}), the PNG
+    ``figures`` ({file name: Figure factory}) and ``name``.dxf into ``out_dir``, atomically.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> files = write_linkage_outputs(Path(tempfile.mkdtemp()), "analysis", {"a": 1}, {"x.csv": "a\\n1\\n"})
+    >>> sorted(p.name for p in files)
+    ['analysis.json', 'x.csv']
+    """
+    out_dir = Path(out_dir)
+    written = [write_text_atomic(out_dir / file, text) for file, text in (texts or {}).items()]
+    if drawing is not None:
+        written.append(_write_dxf(out_dir / f"{name}.dxf", drawing))
+    for file, make in (figures or {}).items():
+        written.append(_save_png(make(), out_dir / file))
+    payload["outputs"] = [str(p) for p in written] + [str(out_dir / f"{name}.json")]
+    written.append(write_json(out_dir / f"{name}.json", payload))
+    return written

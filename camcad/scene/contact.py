@@ -170,7 +170,7 @@ def contact_of_mechanism(scene, mech, speeds: list[float], samples: int, phase_a
 
 
 def contact_step(scene, mech, law, speeds: list[float], samples: int, angles=None,
-                 least: dict | None = None, memo=None) -> MechanismContact:
+                 least: dict | None = None, memo=None, extra_load=None) -> MechanismContact:
     """Contact stress of one mechanism's ``law`` (the pipeline's step 7 and ``camcad contact``): the SPEC.md
     ``contact`` keys, the least normal force over the speeds, and the least phase angles — computed by root
     finding when ``least`` is None, else ``least`` ({label: (deg, source, binding)}, e.g. the cyclogram's)."""
@@ -179,7 +179,7 @@ def contact_step(scene, mech, law, speeds: list[float], samples: int, angles=Non
 
     angles = angles if angles is not None else PhaseAngles.of_law(law)
     report, at_worst, sweep = mechanism_contact(scene, mech, speeds, samples, law=law, with_limits=least is None,
-                                                memo=memo)
+                                                memo=memo, extra_load=extra_load)
     if least is None:
         # mechanism_contact searches down to a tenth of the phase: a limit there does not bind
         widths = {}

@@ -17,7 +17,7 @@ from typing import Any
 from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
 
-MECHANISM_SECTIONS = ("law", "follower", "filter", "dynamics", "stops", "contact")
+MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact")
 TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram") + MECHANISM_SECTIONS
 MACHINE_KEYS = ("rpm",)
 
@@ -60,6 +60,9 @@ class Scene:
             law = mech.sections.get("law")
             if isinstance(law, dict) and isinstance(law.get("file"), str):
                 found.append(self.base_dir / law["file"])
+            linkage = mech.sections.get("linkage")  # a [linkage] table of Pi (camcad.scene.linkage)
+            if isinstance(linkage, dict) and isinstance(linkage.get("file"), str):
+                found.append(self.base_dir / linkage["file"])
         return found
 
     def mechanism(self, name: str) -> Mechanism:

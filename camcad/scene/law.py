@@ -11,6 +11,8 @@ Keys (angles deg, lengths mm):
                      overriding what camcad finds (as --y0, --x0)
     fix              balance a drawn law first with this mode (min-change, ...); "none" only checks it
     tol              balance tolerance (fraction of the rise)
+    law_of           "follower" (default), or "output": the law is the working member's after the [linkage],
+                     and the cam is designed for psi = Pi^-1(y) (camcad.scene.linkage)
 """
 
 from __future__ import annotations
@@ -46,6 +48,8 @@ def law_fields() -> list[Field]:
         Field("x_deg", "bool", default=False),
         Field("fix", "str", choices=MODES + ("none",), default="none"),
         Field("tol", "float", default=DEFAULT_TOL, positive=True),
+        Field("law_of", "str", choices=("follower", "output"), default="follower",
+              help="(what the law describes: the follower, or the working member after the [linkage])"),
     ]
 
 
@@ -68,6 +72,7 @@ class LawSpec:
     x_deg: bool = False
     fix: str = "none"
     tol: float = 1e-5
+    law_of: str = "follower"
 
 
 @dataclass(frozen=True)
@@ -115,7 +120,8 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
     return LawSpec(where=where, standard=values["standard"], return_standard=values["return_standard"],
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
                    handle=values["handle"], y0=values["y0"], x0=values["x0"], cycle=values["cycle"],
-                   cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"])
+                   cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"],
+                   law_of=values["law_of"])
 
 
 def build_law(spec: LawSpec) -> BuiltLaw:

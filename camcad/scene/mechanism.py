@@ -289,10 +289,12 @@ def stress_relation(law, follower_table: dict, params, speeds: list[float], inde
 
 
 def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
-                      with_limits: bool = True, memo: LimitMemo | None = None):
+                      with_limits: bool = True, memo: LimitMemo | None = None, extra_load=None):
     """Contact analysis of one mechanism: stress along the profile at every speed, the worst speed's
     figures (SPEC.md ``contact`` keys), separation, and (``with_limits``) the contact-limited least phase angle
-    of each rise and return. ``law`` defaults to the mechanism's [law]. Returns (report, ContactResult at
+    of each rise and return. ``law`` defaults to the mechanism's [law]. ``extra_load(theta)``: a
+    ``camcad.linkage.transfer.LinkageLoad`` (the working member behind a [linkage]) or None; with one, the
+    phase limits are not computed (their stretched phases do not carry it). Returns (report, ContactResult at
     the worst speed, SpeedSweep)."""
     from camcad.contact import contact_stress, stress_versus_speed
 
@@ -308,8 +310,10 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
                           f"{geometry.follower_radius:g} mm", mech.where(scene.path, "contact"),
                           "give the roller radius in [follower] only")
     theta, s, v, a, phi, rho, radius, back = geometry.arrays()
-    sweep = stress_versus_speed(theta, s, v, a, phi, rho, radius, speeds, params, back)
-    at_worst = contact_stress(theta, s, v, a, phi, rho, radius, float(sweep.rpm[sweep.worst]), params, back)
+    load = None if extra_load is None else extra_load(theta)
+    sweep = stress_versus_speed(theta, s, v, a, phi, rho, radius, speeds, params, back, linkage_load=load)
+    at_worst = contact_stress(theta, s, v, a, phi, rho, radius, float(sweep.rpm[sweep.worst]), params, back,
+                              linkage_load=load)
     report = at_worst.report()
     report["separation"] = bool(np.any(sweep.separation))
     report["passed"] = bool(np.all(sweep.sigma_max <= params.allowable_stress)) and not report["separation"]
@@ -317,6 +321,10 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     report["follower"] = geometry.kind
     limits: dict[str, Any] = {}
     notes: list[str] = []
+    if load is not None:
+        with_limits = False
+        notes.append("the working member's inertia and load through the [linkage] are in the contact force; the "
+                     "contact-limited phase angles are not computed with them")
     for index, label in (motion_labels(phases) if with_limits else []):
         start, end, _ = phases[index]
         relation = stress_relation(law, follower_table, params, speeds, index, law_where, samples)

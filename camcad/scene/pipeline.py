@@ -81,6 +81,7 @@ class MechanismRun:
     impact: Any = None
     contact: Any = None
     memo: Any = None        # LimitMemo shared by the scene's runs: least phase angles solved once
+    linkage: Any = None     # camcad.scene.linkage.LinkageContext: the [linkage] after the follower, or None
 
 
 @dataclass(frozen=True)
@@ -231,6 +232,13 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     run = MechanismRun(mech.name, law=built.law, memo=memo)
     # checks only: no least phase angles, but for a mechanism the cyclogram retimes (it reuses them: same figures)
     limits = limits and (only_limits or not options.checks_only)
+    # ---- [linkage] (camcad.scene.linkage): with [law] law_of = "output" the law becomes the follower's law
+    # designed for the working member; dynamics, impact and contact below get the working member through Pi
+    from camcad.scene.linkage import prepare as prepare_linkage
+
+    built, run.linkage = prepare_linkage(scene, mech, built)
+    run.law = built.law
+    # ----
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -282,6 +290,15 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         say(f"{mech.name}: {key}")
         step(scene, mech, run, speeds, options, where(section), limits)
         run.ran.append(key)
+    # ---- [linkage]: its analysis, and every setting of [linkage.adjust] through the models above
+    if run.linkage is not None and not only_limits:
+        from camcad.scene.linkage import linkage_step
+
+        say(f"{mech.name}: linkage")
+        linkage_step(scene, mech, run, speeds, options, {"dynamics": _dynamics, "impact": _impact,
+                                                         "contact": _contact})
+        run.ran.append("linkage")
+    # ----
     # 8 phase limits
     if limits:
         found = {}
@@ -343,6 +360,7 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
     unit, _ = law_unit(scene, mech, None, run.law)
     if unit in ("mm", "rad"):
         settings = replace(settings, output_unit=unit)
+    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
     lead = None
     if mech.has("filter"):
         from camcad.scene.filter import parse_filter
@@ -350,7 +368,7 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
         filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
         if filt.lead_in_deg is not None and "filter" not in run.ran:
             lead = (filt.lead_in_deg, filt.lead_in_fraction)
-    run.dynamics = run_dynamics(run.law, settings, speeds, lead_in=lead,
+    run.dynamics = run_dynamics(law, settings, speeds, lead_in=lead,
                                 applies=pipeline_angles(scene, mech, run.law).describe())
     run.report["dynamics"] = rounded_tree(run.dynamics.to_dict())
 
@@ -361,7 +379,8 @@ def _impact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.stops import parse_stops
 
     model = parse_stops(mech.sections["stops"], where)
-    run.impact = run_impact(run.law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe())
+    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
+    run.impact = run_impact(law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe())
     run.report["impact"] = rounded_tree(run.impact.to_dict())
 
 
@@ -370,8 +389,9 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.scene.contact import contact_step, contact_verdict
 
     # the retimed pass (limits False) keeps the first pass's least angles in report["phase_limits"]
+    extra = None if run.linkage is None else (lambda theta: run.linkage.load_on(run.law, theta))  # [linkage]
     found = contact_step(scene, mech, run.law, speeds, options.contact_samples, pipeline_angles(scene, mech, run.law),
-                         None if limits else {}, memo=run.memo)
+                         None if limits else {}, memo=run.memo, extra_load=extra)
     run.contact = found
     run.report["contact"] = rounded_tree({**found.report, **contact_verdict([found], speeds).to_dict()})
 
@@ -417,7 +437,7 @@ def _mechanism_report(run: MechanismRun) -> dict:
     checks = {}
     if "profile" in run.report:
         checks["profile"] = bool(run.report["profile"]["passed"])
-    for key in ("spectrum", "dynamics", "impact", "contact"):
+    for key in ("spectrum", "dynamics", "impact", "contact", "linkage"):
         if key in run.report:
             checks[key] = bool(run.report[key].get("passed", True))
     out["checks_by_model"] = checks

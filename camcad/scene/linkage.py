@@ -1,0 +1,758 @@
+"""The scene's ``[linkage]`` section (with ``[linkage.adjust]``): the linkage between the follower and the
+working member, and what the pipeline does with it.
+
+``[linkage]`` describes the chain after the follower (lengths in mm in the cam's frame: origin at the cam
+centre, the oscillating follower's pivot at (pivot, 0); angles in deg, counter-clockwise):
+
+- ``type = "fourbar"``: the input link of length ``input_link`` is clamped to the follower's arm
+  (``input_offset``, deg from the arm, or ``input_angle``, its absolute angle with the roller on the base
+  circle), a ``coupler`` joins it to the ``output_link`` pivoted at ``output_pivot`` = [x, y]; the output link
+  is the working member. ``branch`` = ±1 picks the assembly (``camcad.linkage.fourbar``).
+- ``type = "sixbar"``: a second four-bar in series whose input link ``input_link_2`` is rigid with the first
+  output link (``coupling_2`` deg from it), ``coupler_2``, ``output_link_2`` pivoted at ``output_pivot_2``,
+  ``branch_2``; its output link is the working member.
+- ``type = "table"``: Π as a table of (ψ, y) rows (``file`` = a .csv/.txt file, or ``table`` = [[ψ, y], …]),
+  ψ in ``input_unit``, y in ``output_unit``.
+- ``type = "ratio"``: Π = ``ratio`` · ψ (the constant ratio of camcad's [stops]).
+
+``output_unit`` is also the unit of the [law] when ``[law] law_of = "output"`` (the law then describes the
+working member, and the cam is designed for ψ = Π⁻¹(y)). ``mu_min`` is the transmission-angle limit (deg).
+``output_inertia`` (kg·m², or kg for a sliding member) and ``output_load`` (N·m or N, resisting its motion,
+within ``output_load_range_deg``) are the working member's, reduced to the follower and the contact through
+Π' (``camcad.linkage.transfer``).
+
+``[linkage.adjust]``: one adjustable element (``camcad.linkage.adjust``) and its ``settings``; the pipeline
+runs every setting and reports each and the governing one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from camcad.errors import CamcadError, excerpt
+from camcad.scene.fields import Field, read_table
+
+TYPES = ("fourbar", "sixbar", "table", "ratio")
+UNITS = ("deg", "rad", "mm")
+DIRECTIONS = ("auto", "ccw", "cw")
+#: the default transmission-angle limit (deg), as ``camcad linkage fgen --mu-min``
+MU_MIN_DEG = 30.0
+
+LINKAGE_FIELDS: list[Field] = [
+    Field("type", "str", required=True, choices=TYPES, help="(fourbar, sixbar, table or ratio)"),
+    Field("output_pivot", "list", "mm", help="[x, y] of the output link's frame pivot C (cam frame)"),
+    Field("input_link", "float", "mm", positive=True, help="input link OA, clamped to the follower's arm"),
+    Field("coupler", "float", "mm", positive=True, help="coupler AB"),
+    Field("output_link", "float", "mm", positive=True, help="output link CB (the working member for a four-bar)"),
+    Field("input_offset", "float", "deg", help="angle from the follower's arm to the input link (CCW)"),
+    Field("input_angle", "float", "deg", help="absolute angle of the input link on the base circle "
+                                              "(instead of input_offset)"),
+    Field("branch", "int", default=1, minimum=-1, maximum=1, help="assembly branch +1 or -1"),
+    Field("output_pivot_2", "list", "mm", help="six-bar: [x, y] of the second output pivot F"),
+    Field("input_link_2", "float", "mm", positive=True, help="six-bar: CD, rigid with the first output link"),
+    Field("coupling_2", "float", "deg", default=0.0, help="six-bar: angle from CB to CD"),
+    Field("coupler_2", "float", "mm", positive=True, help="six-bar: coupler DE"),
+    Field("output_link_2", "float", "mm", positive=True, help="six-bar: output link FE (the working member)"),
+    Field("branch_2", "int", default=1, minimum=-1, maximum=1, help="six-bar: branch of the second loop"),
+    Field("coupler_point", "list", "mm", help="[u, v]: a point of the (first) coupler, u along AB, v to its left"),
+    Field("file", "str", help="table: a .csv/.txt file of psi, y rows"),
+    Field("table", "list", help="table: [[psi, y], ...] rows"),
+    Field("input_unit", "str", default="deg", choices=UNITS, help="table: unit of psi (deg/rad swing, mm lift)"),
+    Field("output_unit", "str", choices=UNITS, help="unit of y in the table, the ratio and a law_of = output law "
+                                                    "(default deg for a turning member, mm for a ratio)"),
+    Field("ratio", "float", positive=True, help="ratio: y per unit of psi"),
+    Field("output_direction", "str", default="auto", choices=DIRECTIONS,
+          help="four/six-bar: the working member's positive sense (auto: the one it turns on the rise)"),
+    Field("mu_min", "float", "deg", default=MU_MIN_DEG, minimum=0.0, maximum=90.0,
+          help="transmission-angle limit"),
+    Field("output_inertia", "float", "kg m^2 (kg)", minimum=0.0, help="the working member's J (mass if it slides)"),
+    Field("output_load", "float", "N m (N)", help="load on the working member, resisting its motion"),
+    Field("output_load_range_deg", "list", "deg", help="[start, end] cam angles of output_load (all if not given)"),
+    Field("adjust", "table", help="the [linkage.adjust] table"),
+]
+
+ADJUST_FIELDS: list[Field] = [
+    Field("element", "str", required=True, choices=("pivot", "joint", "link_angle"),
+          help="a frame pivot on an arc or slot, a joint on its lever, or the input link locked at angles"),
+    Field("joint", "str", default="", help="pivot: C (or F of a six-bar); joint: A (input lever), B or E (output "
+                                           "lever)"),
+    Field("path", "str", default="arc", choices=("arc", "slot"), help="the pivot's or joint's path"),
+    Field("centre", "list", "mm", help="[x, y]: the arc's centre with the follower on the base circle"),
+    Field("direction", "float", "deg", default=0.0, help="slot: its direction"),
+    Field("settings", "list", "deg (mm for a slot)", required=True,
+          help="lock angles of the arc's radius, slot positions, or added link angles"),
+]
+
+
+@dataclass(frozen=True)
+class AdjustSpec:
+    where: str
+    element: str
+    joint: str
+    path: str
+    centre: tuple[float, float] | None
+    direction_deg: float
+    settings: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class LinkageSpec:
+    """What ``[linkage]`` asks for (validated; lengths mm, angles deg)."""
+
+    where: str
+    type: str
+    values: dict
+    rows: tuple | None = None          # table rows (psi, y) as read
+    adjust: AdjustSpec | None = None
+
+    @property
+    def output_unit(self) -> str:
+        unit = self.values["output_unit"]
+        if unit is not None:
+            return unit
+        return "mm" if self.type == "ratio" else "deg"
+
+
+def _point(value, key: str, where: str) -> tuple[float, float]:
+    if (not isinstance(value, list) or len(value) != 2
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in value)):
+        raise CamcadError(f"'{key}' must be [x, y] in mm, got {excerpt(value)}", where, f"write {key} = [120.0, 35.0]")
+    return float(value[0]), float(value[1])
+
+
+def parse_linkage(table: Any, where: str, base_dir: Path) -> LinkageSpec:
+    """A scene's ``[linkage]`` table (and its ``[linkage.adjust]``) → LinkageSpec; every mistake is one line.
+
+    Parameters
+    ----------
+    table : dict
+        The raw TOML table.
+    where : str
+        "scene.toml [linkage]" for messages.
+    base_dir : Path
+        Folder of the scene (a table ``file`` is relative to it).
+
+    Returns
+    -------
+    LinkageSpec
+    """
+    values = read_table(table, LINKAGE_FIELDS, where)
+    kind = values["type"]
+    needed = {"fourbar": ("output_pivot", "input_link", "coupler", "output_link"),
+              "sixbar": ("output_pivot", "input_link", "coupler", "output_link", "output_pivot_2", "input_link_2",
+                         "coupler_2", "output_link_2"),
+              "table": (), "ratio": ("ratio",)}[kind]
+    for key in needed:
+        if values[key] is None:
+            raise CamcadError(f"missing value '{key}' for a {kind} linkage", where, f"add {key} = ...")
+    if kind in ("fourbar", "sixbar"):
+        for key in ("output_pivot", "output_pivot_2", "coupler_point"):
+            if values[key] is not None:
+                values[key] = _point(values[key], key, where)
+        if values["input_offset"] is not None and values["input_angle"] is not None:
+            raise CamcadError("input_offset and input_angle both place the input link", where, "give only one")
+        if values["input_offset"] is None and values["input_angle"] is None:
+            raise CamcadError("the input link has no angle", where,
+                              "add input_offset = ... (deg from the follower's arm) or input_angle = ... (deg)")
+        for key in ("branch", "branch_2"):
+            if values[key] == 0:
+                raise CamcadError(f"'{key}' must be +1 or -1, got 0", where, f"write {key} = 1 or {key} = -1")
+        if values["output_unit"] == "mm":
+            raise CamcadError("a four-bar or six-bar turns its working member: output_unit mm does not apply",
+                              where, 'use output_unit = "deg" or "rad"')
+    else:
+        extra = [k for k in ("output_pivot", "input_link", "coupler", "output_link", "output_pivot_2",
+                             "input_link_2", "coupler_2", "output_link_2", "coupler_point", "input_offset",
+                             "input_angle") if values[k] is not None]
+        if extra:
+            raise CamcadError(f"'{extra[0]}' belongs to a four-bar or six-bar, this linkage is a {kind}", where,
+                              f"drop {extra[0]} or set type = \"fourbar\"")
+    if kind == "fourbar":
+        extra = [k for k in ("output_pivot_2", "input_link_2", "coupler_2", "output_link_2")
+                 if values[k] is not None]
+        if extra:
+            raise CamcadError(f"'{extra[0]}' belongs to a six-bar", where, 'drop it or set type = "sixbar"')
+    rows = None
+    if kind == "table":
+        rows = _table_rows(values, where, base_dir)
+    elif values["file"] is not None or values["table"] is not None:
+        raise CamcadError("'file' and 'table' give a tabulated position function", where,
+                          'drop them or set type = "table"')
+    if kind != "ratio" and values["ratio"] is not None:
+        raise CamcadError("'ratio' is for type = \"ratio\"", where, "drop ratio or set type = \"ratio\"")
+    load_range = values["output_load_range_deg"]
+    if load_range is not None:
+        if (len(load_range) != 2 or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in load_range)):
+            raise CamcadError(f"'output_load_range_deg' must be [start, end] in deg, got {excerpt(load_range)}",
+                              where, "write output_load_range_deg = [90.0, 180.0]")
+        values["output_load_range_deg"] = (float(load_range[0]), float(load_range[1]))
+    adjust = None
+    if values["adjust"] is not None:
+        adjust = parse_adjust(values["adjust"], where.replace("[linkage]", "[linkage.adjust]")
+                              if "[linkage]" in where else where + " adjust", kind)
+    return LinkageSpec(where, kind, values, rows, adjust)
+
+
+def _table_rows(values: dict, where: str, base_dir: Path) -> tuple:
+    if (values["file"] is None) == (values["table"] is None):
+        raise CamcadError("a table linkage needs its rows as 'file' or as 'table'", where,
+                          'write file = "pi.csv" (two columns psi, y) or table = [[0, 0], [10, 5], ...]')
+    if values["file"] is not None:
+        from camcad.io.table_read import read_table as read_rows
+
+        path = (base_dir / values["file"]).resolve()
+        if not path.is_file():
+            raise CamcadError(f"table file {excerpt(values['file'])} not found", where,
+                              "give the path relative to the scene file")
+        found = read_rows(path)
+        return tuple(zip(found.theta_deg.tolist(), found.accel.tolist()))
+    rows = []
+    for i, row in enumerate(values["table"]):
+        if (not isinstance(row, list) or len(row) != 2
+                or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in row)):
+            raise CamcadError(f"table row {i + 1} is {excerpt(row)}, not [psi, y]", f"{where} table",
+                              "write table = [[0.0, 0.0], [5.0, 2.1], ...]")
+        rows.append((float(row[0]), float(row[1])))
+    return tuple(rows)
+
+
+def parse_adjust(table: Any, where: str, kind: str) -> AdjustSpec:
+    """``[linkage.adjust]`` → AdjustSpec (deg, mm); the joint must exist in the linkage ``kind``."""
+    values = read_table(table, ADJUST_FIELDS, where)
+    element, joint = values["element"], values["joint"].upper()
+    if kind in ("table", "ratio"):
+        raise CamcadError(f"a {kind} position function has no links to adjust", where,
+                          "describe the linkage as a fourbar or sixbar")
+    allowed = {"pivot": ("C", "F") if kind == "sixbar" else ("C",),
+               "joint": ("A", "B", "E") if kind == "sixbar" else ("A", "B"),
+               "link_angle": ("",)}[element]
+    if joint not in allowed:
+        raise CamcadError(f"joint {excerpt(values['joint'])} cannot be a {element} of a {kind}", where,
+                          f"use joint = {' or '.join(repr(j) for j in allowed)}" if allowed != ("",)
+                          else "drop joint (the input link is locked at the settings' angles)")
+    centre = None
+    if element != "link_angle":
+        if values["path"] == "arc":
+            if values["centre"] is None:
+                raise CamcadError("an arc needs its centre", where, "add centre = [x, y] (mm)")
+            centre = _point(values["centre"], "centre", where)
+        elif values["centre"] is not None:
+            raise CamcadError("a slot has no centre", where, "drop centre, give direction (deg)")
+    settings = values["settings"]
+    if (not settings or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
+                            for v in settings)):
+        raise CamcadError(f"'settings' must be a list of numbers, got {excerpt(settings)}", where,
+                          "write settings = [40.0, 50.0, 60.0]")
+    return AdjustSpec(where, element, joint, values["path"] if element != "link_angle" else "angle", centre,
+                      values["direction"], tuple(float(v) for v in settings))
+
+
+# --------------------------------------------------------------------------------------------
+# Building the linkage from the section and the follower
+# --------------------------------------------------------------------------------------------
+
+def build_linkage(spec: LinkageSpec, pivot_xy: tuple[float, float], arm_angle0: float | None,
+                  input_sense: int = -1):
+    """The four-bar or six-bar (``camcad.linkage.analysis.Linkage``) of a spec, with the follower's pivot at
+    ``pivot_xy`` (mm) and its arm at the absolute angle ``arm_angle0`` (rad) on the base circle (None when
+    ``input_angle`` places the input link). ``input_sense``: dθ/dψ of the arm (−1 for camcad's oscillating
+    follower, whose arm turns clockwise as ψ grows). The output sense is left +1 (``orient``)."""
+    from camcad.linkage.analysis import Linkage, Loop
+
+    v = spec.values
+    if v["input_angle"] is not None:
+        theta0 = math.radians(v["input_angle"])
+    else:
+        if arm_angle0 is None:
+            raise CamcadError("input_offset needs the follower's arm angle on the base circle", spec.where,
+                              "give input_angle (deg, absolute) instead")
+        theta0 = arm_angle0 + math.radians(v["input_offset"])
+    loops = [Loop(tuple(pivot_xy), v["output_pivot"], v["input_link"], v["coupler"], v["output_link"], v["branch"])]
+    couplings: tuple[float, ...] = ()
+    if spec.type == "sixbar":
+        loops.append(Loop(v["output_pivot"], v["output_pivot_2"], v["input_link_2"], v["coupler_2"],
+                          v["output_link_2"], v["branch_2"]))
+        couplings = (math.radians(v["coupling_2"]),)
+    point = None
+    if v["coupler_point"] is not None:
+        point = (0, float(v["coupler_point"][0]), float(v["coupler_point"][1]))
+    return Linkage(tuple(loops), theta0, input_sense, couplings, 1, 0.0, point)
+
+
+def orient(linkage, direction: str, where: str):
+    """``linkage`` with its output sense: "ccw" +1, "cw" −1, "auto" the sense the working member turns in
+    when the follower leaves the base circle (Π'(0) > 0)."""
+    if direction == "ccw":
+        return replace(linkage, output_sense=1)
+    if direction == "cw":
+        return replace(linkage, output_sense=-1)
+    d1 = float(replace(linkage, output_sense=1).position(np.array([0.0]))[1][0])
+    if not math.isfinite(d1):
+        raise CamcadError("the linkage does not close with the follower on the base circle", where,
+                          "check the link lengths, the pivots and the input link's angle")
+    if d1 == 0.0:
+        raise CamcadError("the working member is at a limit position (Pi' = 0) with the follower on the base circle",
+                          where, "set output_direction, or move the input link's angle")
+    return replace(linkage, output_sense=1 if d1 > 0 else -1)
+
+
+def unit_scale(unit: str) -> float:
+    """Π's unit per unit of the scene: deg → rad (π/180), rad and mm → 1."""
+    return math.pi / 180.0 if unit == "deg" else 1.0
+
+
+@dataclass
+class LinkageContext:
+    """The linkage of one mechanism as the pipeline uses it: the spec, Π (``transfer``) with its swing, the
+    follower's law → ψ map, the working member's law, its load on the follower, and the settings."""
+
+    spec: LinkageSpec
+    transfer: Any
+    psi_max: float
+    follower_kind: str
+    arm_mm: float | None
+    to_psi: Any                       # callable: the follower's law (law units) → a law of ψ (follower units)
+    law_of: str = "follower"
+    linkage: Any = None               # the nominal Linkage (four/six-bar)
+    setting: float | None = None      # the setting this context is for (None: the nominal geometry)
+    notes: list = field(default_factory=list)
+
+    def working_law(self, follower_law):
+        """The working member's law y(θ) = Π(ψ(θ)) (rad or mm), chain rule."""
+        from camcad.linkage.transfer import WorkingLaw
+
+        return WorkingLaw(self.to_psi(follower_law), self.transfer)
+
+    def load_on(self, follower_law, theta):
+        """The working member's inertia and load reduced to the roller's path on the cam angles ``theta``
+        (``camcad.linkage.transfer.LinkageLoad``), or None when [linkage] gives neither."""
+        v = self.spec.values
+        if v["output_inertia"] is None and v["output_load"] is None:
+            return None
+        from camcad.linkage.transfer import linkage_load
+
+        theta = np.asarray(theta, dtype=float)
+        kin = self.to_psi(follower_law).kinematics(theta)
+        load = 0.0
+        if v["output_load"] is not None:
+            load = np.full_like(theta, v["output_load"])
+            if v["output_load_range_deg"] is not None:
+                start, end = np.radians(v["output_load_range_deg"])
+                inside = np.mod(theta - start, 2 * np.pi) <= np.mod(end - start, 2 * np.pi)
+                load = np.where(inside, load, 0.0)
+        return linkage_load(self.transfer, kin, v["output_inertia"] or 0.0, load,
+                            self.arm_mm if self.follower_kind == "oscillating" else None)
+
+    def for_setting(self, value: float) -> LinkageContext:
+        """The context of one setting of [linkage.adjust] (the same cam and follower law)."""
+        from camcad.linkage.adjust import Adjustment, adjusted
+        from camcad.linkage.transfer import LinkageTransfer
+
+        adj = adjustment_of(self.spec.adjust)
+        lk = adjusted(self.linkage, adj, setting_value(self.spec.adjust, value))
+        return replace(self, transfer=LinkageTransfer(lk, self.psi_max), linkage=lk, setting=value, notes=[]) \
+            if isinstance(adj, Adjustment) else self
+
+
+def adjustment_of(spec: AdjustSpec):
+    """The ``camcad.linkage.adjust.Adjustment`` of an ``[linkage.adjust]`` spec."""
+    from camcad.linkage.adjust import Adjustment
+
+    centre = None if spec.centre is None else complex(*spec.centre)
+    return Adjustment(spec.element, spec.joint, spec.path, centre, math.radians(spec.direction_deg))
+
+
+def setting_value(spec: AdjustSpec, value: float) -> float:
+    """A setting in the scene's unit (deg, or mm for a slot) → the adjustment's (rad or mm)."""
+    return value if spec.path == "slot" else math.radians(value)
+
+
+def _law_of(mech_sections: dict, where: str) -> str:
+    law = mech_sections.get("law")
+    value = law.get("law_of", "follower") if isinstance(law, dict) else "follower"
+    return value
+
+
+def linkage_context(scene, mech, law) -> LinkageContext:
+    """Read ``[linkage]`` and build Π for ``law`` (the [law]'s law: the follower's, or the working member's
+    when ``law_of = "output"``) with the mechanism's follower."""
+    from camcad.scene.follower import FOLLOWER_FIELDS, follower_for_law, parse_follower
+
+    where = mech.where(scene.path, "linkage")
+    spec = parse_linkage(mech.sections["linkage"], where, scene.base_dir)
+    law_of = _law_of(mech.sections, where)
+    if not mech.has("follower"):
+        raise CamcadError("a [linkage] needs the [follower] that drives it", where,
+                          "add the [follower] section (an oscillating follower for a four-bar or six-bar)")
+    follower_where = mech.where(scene.path, "follower")
+    table = mech.sections["follower"]
+    follower = parse_follower(table, follower_where)
+    follower_values = read_table(table, FOLLOWER_FIELDS, follower_where)
+    rotary_in = follower.kind == "oscillating"
+    unit_in = "rad" if rotary_in else "mm"
+    if spec.type in ("fourbar", "sixbar") and not rotary_in:
+        raise CamcadError(f"a {spec.type} is driven by a rocker: the follower is {follower.kind!r}", where,
+                          'use type = "oscillating" in [follower], or a table / ratio linkage')
+    if law_of == "output" and follower_values["swing"] is not None:
+        raise CamcadError("with law_of = \"output\" the linkage sets the follower's swing", follower_where,
+                          "drop swing from [follower]")
+    arm = follower.arm if rotary_in else None
+
+    def to_psi(follower_law):
+        if not rotary_in:
+            return follower_law
+        from camcad.profile.scaled_law import swing_law
+
+        return swing_law(follower_law, arm_mm=follower.arm, swing_deg=follower_values["swing"])
+
+    notes: list[str] = []
+    transfer, linkage, psi_max = None, None, None
+    out_scale = unit_scale(spec.output_unit)
+    if spec.type == "ratio":
+        from camcad.linkage.transfer import RatioTransfer
+
+        k = spec.values["ratio"]
+        transfer = RatioTransfer(k, unit_in, "mm" if spec.output_unit == "mm" else "rad")
+    elif spec.type == "table":
+        from camcad.linkage.transfer import TableTransfer
+
+        in_unit = spec.values["input_unit"]
+        if (in_unit == "mm") == rotary_in:
+            raise CamcadError(f"input_unit {in_unit!r} does not fit a {follower.kind} follower", where,
+                              'use input_unit = "deg" (or "rad") for an oscillating follower, "mm" for a translating one')
+        rows = np.array(spec.rows, dtype=float)
+        transfer = TableTransfer(rows[:, 0] * unit_scale(in_unit), rows[:, 1] * out_scale, unit_in,
+                                 "mm" if spec.output_unit == "mm" else "rad", where)
+        psi_max = transfer.psi_max
+    if spec.type in ("fourbar", "sixbar"):
+        arm_angle0 = None
+        if spec.values["input_angle"] is None:
+            if law_of == "output" and follower_values["auto_base_radius"]:
+                raise CamcadError("input_offset needs the base radius, which auto_base_radius sizes from the "
+                                  "follower's law this linkage gives", where,
+                                  "give input_angle (the input link's absolute angle, deg) instead of input_offset")
+            sized = follower_for_law(table, follower_where, law)[0] if law_of == "follower" else follower
+            from camcad.profile.followers import arm_angle_on_base_circle
+
+            arm_angle0 = math.pi - arm_angle_on_base_circle(sized)
+        linkage = orient(build_linkage(spec, (follower.pivot, 0.0), arm_angle0), spec.values["output_direction"],
+                         where)
+    if law_of == "output":
+        y_max = _law_extreme(law) * out_scale
+        if spec.type in ("fourbar", "sixbar"):
+            psi_max = _swing_for(linkage, y_max, where)
+            from camcad.linkage.transfer import LinkageTransfer
+
+            transfer = LinkageTransfer(linkage, psi_max)
+        elif spec.type == "ratio":
+            psi_max = y_max / transfer.k * 1.0000001
+        else:
+            if float(transfer(np.array([psi_max]))[0]) < y_max * (1 - 1e-12):
+                raise CamcadError(f"the table's y reaches {float(transfer(np.array([psi_max]))[0]) / out_scale:.6g} "
+                                  f"{spec.output_unit}, the law asks for {y_max / out_scale:.6g}", where,
+                                  "extend the table to the working member's full stroke")
+        sense = transfer.check_monotone(psi_max, where)
+        if sense < 0:
+            raise CamcadError("the working member moves backwards as the follower rises (Pi' < 0)", where,
+                              "for a four-bar set output_direction, for a table give y rising with psi")
+    else:
+        psi = to_psi(law).kinematics(np.linspace(0.0, law.cycle, 4097)).s
+        if float(np.min(psi)) < -1e-9 * max(1.0, float(np.max(np.abs(psi)))):
+            raise CamcadError("the follower's law goes below its base-circle position", where,
+                              "a linkage's position function starts at psi = 0")
+        psi_max = float(np.max(psi)) if psi_max is None or spec.type != "table" else psi_max
+        if spec.type == "table" and float(np.max(psi)) > transfer.psi_max * (1 + 1e-12):
+            raise CamcadError(f"the follower moves to {_fmt(float(np.max(psi)), unit_in)}, beyond the table's "
+                              f"{_fmt(transfer.psi_max, unit_in)}", where, "extend the table over the follower's stroke")
+        if spec.type == "table":
+            psi_max = float(np.max(psi))
+        if spec.type in ("fourbar", "sixbar"):
+            from camcad.linkage.transfer import LinkageTransfer
+
+            transfer = LinkageTransfer(linkage, psi_max)
+    context = LinkageContext(spec, transfer, float(psi_max), follower.kind, arm, to_psi, law_of, linkage,
+                             notes=notes)
+    return context
+
+
+def _fmt(psi: float, unit: str) -> str:
+    return f"{math.degrees(psi):.6g} deg" if unit == "rad" else f"{psi:.6g} mm"
+
+
+def _law_extreme(law) -> float:
+    """The law's largest displacement: sampled (phase ends included), refined by a bounded search."""
+    from scipy.optimize import minimize_scalar
+
+    theta = np.union1d(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
+    s = law.kinematics(theta).s
+    i = int(np.argmax(s))
+    lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, len(theta) - 1)]
+    best = float(s[i])
+    if hi > lo:
+        fine = minimize_scalar(lambda t: -float(law.kinematics(np.array([t])).s[0]), bounds=(lo, hi),
+                               method="bounded", options={"xatol": 1e-12})
+        best = max(best, -float(fine.fun))
+    return best
+
+
+def _swing_for(linkage, y_max: float, where: str, step_deg: float = 0.25, limit_deg: float = 180.0) -> float:
+    """The least swing ψ (rad) at which Π reaches ``y_max`` on the monotone, closed stretch from ψ = 0."""
+    from scipy.optimize import brentq
+
+    grid = np.radians(np.arange(0.0, limit_deg + step_deg, step_deg))
+    pi, d1 = (np.asarray(v, dtype=float) for v in linkage.position(grid)[:2])
+    if y_max <= 0.0:
+        raise CamcadError("the working member's law has no stroke", where, "check [law]")
+    for i in range(1, len(grid)):
+        if not (np.isfinite(pi[i]) and np.isfinite(d1[i])) or d1[i] <= 0.0:
+            what = "does not close" if not np.isfinite(pi[i]) else "reaches a limit position (Pi' = 0)"
+            reach = float(np.nanmax(pi[:i])) if i > 0 else 0.0
+            raise CamcadError(f"the linkage {what} at swing {math.degrees(grid[i]):.4g} deg, where the working member "
+                              f"has turned {math.degrees(reach):.6g} deg of the {math.degrees(y_max):.6g} deg the law "
+                              "asks for", where, "lengthen the input link, or shorten the output link")
+        if pi[i] >= y_max:
+            return float(brentq(lambda x: float(linkage.position(np.array([x]))[0][0]) - y_max, grid[i - 1],
+                                grid[i], xtol=1e-15))
+    raise CamcadError(f"the linkage does not turn the working member {math.degrees(y_max):.6g} deg within a "
+                      f"{limit_deg:g} deg swing", where, "change the link lengths")
+
+
+def prepare(scene, mech, built):
+    """The pipeline's linkage step before the profile: returns (built, LinkageContext or None). With
+    ``[law] law_of = "output"`` the built law is replaced by the follower's law designed for it (the roller's
+    arc in mm for an oscillating follower, so that [follower] turns it into ψ as for any law)."""
+    law_of = _law_of(mech.sections, "")
+    if not mech.has("linkage"):
+        if law_of == "output":
+            raise CamcadError("law_of = \"output\" describes the working member, but there is no [linkage]",
+                              mech.where(scene.path, "law"), "add the [linkage] section, or drop law_of")
+        return built, None
+    context = linkage_context(scene, mech, built.law)
+    _check_models(scene, mech, context)
+    if law_of != "output":
+        return built, context
+    from camcad.linkage.transfer import FollowerLaw
+
+    out_scale = 1.0 if context.follower_kind != "oscillating" else float(context.arm_mm)
+    follower_law = FollowerLaw(built.law, context.transfer, context.psi_max, unit_scale(context.spec.output_unit),
+                               out_scale)
+    note = (f"law_of = output: the [law] is the working member's ({context.spec.output_unit}); the cam is designed "
+            f"for the follower's psi = Pi^-1(y) through {context.transfer.describe()}, swing "
+            f"{_fmt(context.psi_max, context.transfer.unit_in)}")
+    context.notes.append(note)
+    return replace(built, law=follower_law, notes=tuple(built.notes) + (note,)), context
+
+
+def _check_models(scene, mech, context: LinkageContext) -> None:
+    """The models' units fit the working member: [dynamics] output_unit, [stops] ratio for a turning one."""
+    unit = context.transfer.unit_out
+    dyn = mech.sections.get("dynamics")
+    if isinstance(dyn, dict):
+        given = dyn.get("output_unit", "mm")
+        if (given == "rad") != (unit == "rad"):
+            raise CamcadError(f"the working member after the [linkage] moves in {unit}, [dynamics] output_unit is "
+                              f"{given!r}", mech.where(scene.path, "dynamics"),
+                              f'set output_unit = "{unit}" (the [dynamics] data are the working member\'s)')
+    stops = mech.sections.get("stops")
+    if isinstance(stops, dict) and unit == "rad" and "ratio" not in stops:
+        raise CamcadError("the working member after the [linkage] turns (rad): the stop's contact point needs its "
+                          "distance from the working member's pivot", mech.where(scene.path, "stops"),
+                          "give ratio = ... (mm of the contact point per rad of the working member)")
+    if scene.cyclogram is not None and context.law_of == "output":
+        named = {str(op.get("mechanism")) for op in scene.cyclogram.get("operations", []) if isinstance(op, dict)}
+        if mech.name in named:
+            raise CamcadError("a law_of = \"output\" mechanism in a [cyclogram] is not supported (the cyclogram's "
+                              "limits read the [law] as the follower's)", mech.where(scene.path, "law"),
+                              "give the follower's law (law_of = \"follower\") for a mechanism the cyclogram retimes")
+
+
+def working_report(context: LinkageContext, follower_law, built_law=None, samples: int = 4096) -> dict:
+    """The working member's motion over the cycle (y in rad or mm, per rad of cam angle) and, with
+    ``law_of = "output"``, the round trip: max |Π(ψ(θ)) − y_law(θ)| of the designed follower law."""
+    theta = np.linspace(0.0, follower_law.cycle, samples + 1)
+    y = context.working_law(follower_law).kinematics(theta)
+    unit = context.transfer.unit_out
+    out = {"unit": unit, "stroke": float(np.ptp(y.s)), "velocity_analog_max": float(np.max(np.abs(y.v))),
+           "acceleration_analog_max": float(np.max(np.abs(y.a))), "jerk_analog_max": float(np.max(np.abs(y.j)))}
+    if context.law_of == "output" and built_law is not None:
+        law = built_law.kinematics(theta)
+        scale = unit_scale(context.spec.output_unit)
+        out["round_trip_max"] = float(np.max(np.abs(y.s - law.s * scale)))
+        out["round_trip_unit"] = unit
+    return out
+
+
+def linkage_step(scene, mech, run, speeds, options, steps: dict) -> None:
+    """The pipeline's linkage step after the models: the linkage's analysis (Π and its derivatives,
+    transmission angles, dead points, branch), the working member's motion, and with [linkage.adjust] every
+    setting through the models that ran (``steps``: the pipeline's dynamics, impact and contact functions),
+    each setting's figures and the governing one. Writes ``run.report["linkage"]``."""
+    context: LinkageContext = run.linkage
+    spec = context.spec
+    mu_limit = spec.values["mu_min"]
+    report: dict[str, Any] = {"type": spec.type, "law_of": context.law_of, "position_function":
+                              context.transfer.describe(), "swing": context.psi_max,
+                              "swing_unit": context.transfer.unit_in, "notes": list(context.notes)}
+    if context.linkage is not None:
+        from camcad.linkage.analysis import analyse
+
+        nominal = analyse(context.linkage, context.psi_max)
+        report["analysis"] = nominal.report(mu_limit)
+        checks = dict(report["analysis"]["checks"])
+        if context.law_of == "follower" and not nominal.monotone:
+            checks["monotone"] = {**checks["monotone"], "passed": True,
+                                  "why": "informative with law_of = follower: the working member may reverse"}
+    else:
+        checks = {}
+    report["working_member"] = working_report(context, run.law, _built_output_law(run))
+    if spec.adjust is not None:
+        report["settings"] = _settings_report(scene, mech, run, speeds, options, steps, context, mu_limit)
+        for item in report["settings"]["rows"]:
+            if not item["passed"]:
+                checks["settings"] = {"value": item["setting"], "passed": False,
+                                      "why": "a setting fails a check (see settings.rows)"}
+                break
+        else:
+            checks["settings"] = {"value": len(report["settings"]["rows"]), "passed": True,
+                                  "why": "every setting passes"}
+    report["checks"] = checks
+    report["passed"] = all(c["passed"] for c in checks.values())
+    run.report["linkage"] = report
+
+
+def _built_output_law(run):
+    law = run.law
+    return getattr(law, "base", None) if type(law).__name__ == "FollowerLaw" else None
+
+
+MODEL_FIGURES = {"dynamics": ("peak_accel_ratio", max), "impact": ("rebound_mm", max),
+                 "contact": ("sigma_max_MPa", max)}
+
+
+def _settings_report(scene, mech, run, speeds, options, steps, context: LinkageContext, mu_limit) -> dict:
+    from camcad.linkage.adjust import characteristics
+
+    adj_spec = context.spec.adjust
+    adj = adjustment_of(adj_spec)
+    rows = []
+    for value in adj_spec.settings:
+        item: dict[str, Any] = {"setting": value, "unit": "mm" if adj_spec.path == "slot" else "deg"}
+        try:
+            ch = characteristics(context.linkage, adj, setting_value(adj_spec, value), context.psi_max)
+        except CamcadError as err:
+            item.update({"passed": False, "error": err.message()})
+            rows.append(item)
+            continue
+        item.update({k: v for k, v in ch.as_dict("rad").items() if not k.startswith("setting")})
+        ok = ch.branch_continuous and math.isfinite(ch.mu_min) and math.degrees(ch.mu_min) >= mu_limit
+        item["linkage_passed"] = bool(ok)
+        models: dict[str, Any] = {}
+        if ch.branch_continuous:
+            sub = context.for_setting(value)
+            for key, step in steps.items():
+                section = "stops" if key == "impact" else key
+                if key not in run.report or not mech.has(section) or speeds is None:
+                    continue
+                trial = type(run)(run.name, law=run.law, memo=None, linkage=sub)
+                try:
+                    step(scene, mech, trial, speeds, options, mech.where(scene.path, section), False)
+                except CamcadError as err:
+                    models[key] = {"passed": False, "error": err.message()}
+                    continue
+                figure, pick = MODEL_FIGURES[key]
+                value_k = trial.report[key].get(figure)
+                value_k = pick(value_k) if isinstance(value_k, list) else value_k
+                models[key] = {"passed": bool(trial.report[key].get("passed", True)), figure: value_k}
+        item["models"] = models
+        item["passed"] = bool(ok and all(m["passed"] for m in models.values()))
+        rows.append(item)
+    governing: dict[str, Any] = {}
+    valid = [r for r in rows if "mu_min_deg" in r]
+    if valid:
+        worst = min(valid, key=lambda r: r["mu_min_deg"] if math.isfinite(r["mu_min_deg"]) else -math.inf)
+        governing["transmission_angle"] = {"setting": worst["setting"], "mu_min_deg": worst["mu_min_deg"]}
+    for key, (figure, _) in MODEL_FIGURES.items():
+        with_key = [r for r in rows if key in r.get("models", {}) and figure in r["models"][key]]
+        if with_key:
+            worst = max(with_key, key=lambda r: r["models"][key][figure])
+            governing[key] = {"setting": worst["setting"], figure: worst["models"][key][figure]}
+    failing = [r["setting"] for r in rows if not r["passed"]]
+    return {"element": adj.describe(), "rows": rows, "governing": governing, "failing": failing}
+
+
+# --------------------------------------------------------------------------------------------
+# The linkage of a command: from a scene, or from the command's options
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class CommandLinkage:
+    """What ``camcad linkage analyse|adjust|tune`` work on: the nominal linkage, the follower's swing ψ_max
+    (rad), and for a scene its context, mechanism, law and follower."""
+
+    linkage: Any
+    psi_max: float
+    mu_min: float
+    context: LinkageContext | None = None
+    scene: Any = None
+    mechanism: Any = None
+    follower_law: Any = None
+    output_law: Any = None
+    name: str = "linkage"
+
+
+def from_scene(path: Path, mechanism: str | None = None) -> CommandLinkage:
+    """The [linkage] of a scene's mechanism with its follower's swing (the law's ψ range, or the swing the
+    law of the working member needs with ``law_of = "output"``)."""
+    from camcad.scene.file import mechanism_law, read_scene
+
+    scene = read_scene(path)
+    if mechanism is None:
+        candidates = [m for m in scene.mechanisms if m.has("linkage")]
+        if len(candidates) != 1:
+            names = ", ".join(m.name for m in candidates) or "none"
+            raise CamcadError(f"the scene has {len(candidates)} mechanisms with a [linkage] ({names})", str(path),
+                              "add [linkage] to a mechanism, or pick one with --mechanism")
+        mech = candidates[0]
+    else:
+        mech = scene.mechanism(mechanism)
+    if not mech.has("linkage"):
+        raise CamcadError(f"mechanism {mech.name!r} has no [linkage]", str(path), "add the [linkage] section")
+    built = mechanism_law(scene, mech)
+    built2, context = prepare(scene, mech, built)
+    if context.linkage is None:
+        raise CamcadError(f"the [linkage] is a {context.spec.type}: there are no links to analyse",
+                          mech.where(scene.path, "linkage"), 'describe it as type = "fourbar" or "sixbar"')
+    name = mech.name if mech.prefix else scene.name
+    return CommandLinkage(context.linkage, context.psi_max, context.spec.values["mu_min"], context, scene, mech,
+                          built2.law, built.law if context.law_of == "output" else None, name)
+
+
+def from_options(values: dict, swing_deg: float | None, sense: int, where: str = "command line") -> CommandLinkage:
+    """A linkage from a command's options, given as the keys of ``[linkage]`` (``values``), with the input
+    pivot ``values["input_pivot"]`` (mm), the swing (deg) and the input's sense (+1: the input link turns
+    counter-clockwise as ψ grows)."""
+    if swing_deg is None or not swing_deg > 0:
+        raise CamcadError("the follower's swing is missing", "--swing", "give --swing DEG (> 0)")
+    pivot = values.pop("input_pivot", (0.0, 0.0))
+    table = {k: v for k, v in values.items() if v is not None}
+    spec = parse_linkage(table, where, Path("."))
+    if spec.type not in ("fourbar", "sixbar"):
+        raise CamcadError("the options describe a four-bar or six-bar", where, "give --links and --output-pivot")
+    lk = orient(build_linkage(spec, tuple(pivot), None, sense), spec.values["output_direction"], where)
+    return CommandLinkage(lk, math.radians(swing_deg), spec.values["mu_min"])
+
+
+def cam_profile(command: CommandLinkage):
+    """The cam profile of a scene's mechanism (``camcad.profile.synth.synthesize``) for the combined drawing."""
+    from camcad.profile.synth import ProfileSettings, synthesize
+    from camcad.scene.follower import follower_for_law
+
+    mech, scene = command.mechanism, command.scene
+    follower, law, _, _ = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"),
+                                           command.follower_law)
+    return synthesize(law, follower, ProfileSettings(plots=False, name=mech.name).validate(), name=mech.name)
