@@ -176,6 +176,16 @@ def test_rollers_touch_but_never_cut_their_cams(follower):
     assert counter["closed"] and counter["simple"]
 
 
+@pytest.mark.parametrize("distance", [60.0, 65.0, 85.0])
+def test_pair_whose_second_roller_crosses_the_shaft_is_refused(distance):
+    # Rb 50, Rr 10, lift 25: the first roller centre runs from 60 to 85 mm above the axis, so a second
+    # roller D below it comes within Rr of the axis for 50 <= D <= 95 (hand geometry, no offset).
+    follower = Follower("roller", 50.0, 10.0, pair_distance=distance)
+    with pytest.raises(CamcadError) as caught:
+        synthesize(law_for(follower), follower, FAST)
+    assert "pair_distance" in caught.value.where and "cam centre" in caught.value.what
+
+
 def pitch_radius_min_numeric(cam: CamGeometry) -> float:
     """Smallest convex radius of the pitch curve from circumradii of generated points (dense)."""
     theta = np.linspace(0.0, 2 * math.pi, 72001)
@@ -348,6 +358,30 @@ def test_parse_follower_table():
     assert {field.name for field in FOLLOWER_FIELDS} >= {
         "type", "base_radius", "roller_radius", "offset", "pivot", "arm", "initial_angle",
         "pressure_angle_limit_rise", "pressure_angle_limit_return", "reversible", "cw"}
+
+
+@pytest.mark.parametrize("table", [
+    {"type": "oscillating", "roller_radius": 10, "pivot": 120, "arm": 100, "pressure_angle_limit_rise": 30,
+     "pressure_angle_limit_return": 40},
+    {"type": "roller", "roller_radius": 3, "offset": 12, "pressure_angle_limit_rise": 30,
+     "pressure_angle_limit_return": 30},
+])
+def test_auto_base_radius_for_every_follower(table):
+    # An oscillating follower, and an offset larger than 1 mm + Rr, once refused while the base radius was
+    # unknown. The sized base radius is the one min_base_radius gives for the same follower with any valid
+    # base radius; for the offset roller, the largest |phi| at that radius from the closed form
+    # tan phi = (v - e)/(sqrt(Rp^2 - e^2) + s) (CCW cam, no other source) equals the 30 deg limit.
+    from camcad.scene.follower import follower_for_law
+
+    sized, law, _, notes = follower_for_law({**table, "auto_base_radius": True}, "s.toml [follower]", LAW)
+    given = parse_follower({**table, "base_radius": 70.0}, "s.toml [follower]")
+    assert sized.base_radius == pytest.approx(min_base_radius(law, given).rb_min, rel=1e-12)
+    assert "smallest that meets the limits" in notes[0]
+    if table["type"] == "roller":
+        k = LAW.kinematics(np.linspace(0.0, 2 * math.pi, 200001))
+        rp, e = sized.base_radius + 3.0, 12.0
+        phi = np.degrees(np.arctan(np.abs(k.v - e) / (math.sqrt(rp**2 - e**2) + k.s)))
+        assert phi.max() == pytest.approx(30.0, abs=1e-6)
 
 
 @pytest.mark.parametrize("table, message", [

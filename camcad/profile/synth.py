@@ -322,11 +322,36 @@ def _replicate(points: np.ndarray, lobes: int, cycle: float, sigma: float) -> np
     return np.concatenate(parts)
 
 
+def _check_pair_clearance(geometry: CamGeometry, analysis: np.ndarray) -> None:
+    """Refuse a conjugate pair whose second roller covers the cam centre somewhere in the cycle.
+
+    A roller of radius Rr whose centre comes within Rr of the cam's axis would have to pass
+    through the shaft: no counter-cam exists (its offset curve is undefined there).
+    """
+    follower = geometry.follower
+    with np.errstate(invalid="ignore", divide="ignore"):  # the normal is undefined where it crosses
+        centre = geometry.pitch(analysis, second=True).centre
+    radius = np.hypot(centre[:, 0], centre[:, 1])
+    clearance = radius - follower.roller_radius
+    worst = int(np.nanargmin(np.where(np.isfinite(clearance), clearance, -np.inf)))
+    if np.isfinite(clearance[worst]) and clearance[worst] > 1e-9 * max(1.0, follower.roller_radius):
+        return
+    key = "pair_distance" if follower.pair_distance is not None else "pair_angle"
+    setting = (f"{follower.pair_distance:g} mm" if follower.pair_distance is not None
+               else f"{follower.pair_angle_deg:g} deg")
+    raise CamcadError(
+        f"the second roller of the pair covers the cam centre at {math.degrees(analysis[worst]):.2f} deg "
+        f"(its centre {radius[worst]:.3f} mm from the axis, roller radius {follower.roller_radius:g} mm)",
+        f"follower {key} = {setting}",
+        "choose a pair distance (or angle) that keeps the second roller clear of the cam shaft "
+        "for the whole cycle")
+
+
 def _is_simple(points: np.ndarray) -> bool:
     """shapely: the closed polygon is valid and its ring simple (no loop, no cusp overlap)."""
     import shapely
 
-    if len(points) < 4:
+    if len(points) < 4 or not np.all(np.isfinite(points)):
         return False
     ring = shapely.LinearRing(points)
     return bool(ring.is_simple and shapely.Polygon(ring).is_valid)
@@ -522,6 +547,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
         outer = _curve_result("outer flank", geometry.outer_flank, geometry, settings, analysis,
                               settings.arcs, settings.spline, notes)
     if follower.has_pair:
+        _check_pair_clearance(geometry, analysis)
         counter = _curve_result("counter-cam", geometry.counter_profile, geometry, settings, analysis,
                                 settings.arcs, settings.spline, notes)
         counter_pitch = _curve_result("counter-cam pitch", lambda t: geometry.pitch(t, second=True),

@@ -88,7 +88,7 @@ def parse_follower(table, where: str) -> Follower:
         if base is not None:
             raise CamcadError("base_radius and auto_base_radius both choose the base radius", where,
                               "give only one of them")
-        base = 1.0  # a placeholder until follower_for_law sizes it for its law
+        base = _placeholder_base(kind, values, roller)  # until follower_for_law sizes it for its law
     if base is None:
         raise CamcadError("missing value 'base_radius' (mm)", where,
                           "add base_radius = ... (or auto_base_radius = true)")
@@ -101,6 +101,17 @@ def parse_follower(table, where: str) -> Follower:
         pair_distance=values["pair_distance"], pair_angle_deg=values["pair_angle"],
         rho_min=values["rho_min"])
     return follower.validate(where)
+
+
+def _placeholder_base(kind: str, values: dict, roller: float) -> float:
+    """A base radius (mm) the follower's own checks accept, held until ``follower_for_law`` sizes it:
+    the prime circle clear of the offset (translating), or a roller centre the arm can reach midway
+    between |C − L| and C + L (oscillating)."""
+    if kind == "oscillating":
+        c, arm = values["pivot"], values["arm"]
+        low, high = max(abs(c - arm), roller), c + arm
+        return max(0.5 * (low + high) - roller, 1e-9 * high) if high > low else 1.0
+    return max(1.0, abs(values["offset"]) - roller + 1.0)
 
 
 def swing_of(table, where: str) -> float | None:
