@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -391,3 +392,39 @@ def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     assert lead["reduction"] == pytest.approx([a.peak_link_accel / b.peak_link_accel for a, b in zip(ours, theirs)],
                                               rel=1e-9)
     assert lead["reduction"][0] > 1.05  # measured 1.10 here (the source reports 3.45x for its batten law)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_stiffness_bound_holds_the_highest_natural_frequency(seed):
+    # the bound (trace of M^-1 K) against the eigenvalues of the linearised two-DOF model (cam on an
+    # elastic shaft with the flywheel held at speed, driven mass on the chain, lever Π' = p): numpy's
+    # eigenvalues, not the formula; the trace is at least the largest eigenvalue and at most twice it
+    rng = np.random.default_rng(seed)
+    j1, j2 = 10 ** rng.uniform(-6, 0), 10 ** rng.uniform(-3, 1)
+    c1, c2, p = 10 ** rng.uniform(3, 7), 10 ** rng.uniform(3, 7), 10 ** rng.uniform(-3, 0)
+    model = multimass.MultiMassModel(1.0, j1, c1, j2, c2)
+    bound = multimass.highest_frequency(model, p, speed_drive=True)
+    stiffness = np.array([[c1 + c2 * p * p, -c2 * p], [-c2 * p, c2]])
+    largest = max(np.linalg.eigvals(np.diag([1 / j1, 1 / j2]) @ stiffness).real)
+    assert largest <= bound**2 * (1 + 1e-12)
+    assert bound**2 <= 2 * largest * (1 + 1e-12)
+
+
+def test_a_multimass_model_too_stiff_for_an_explicit_solver_is_refused_at_once(tmp_path):
+    # issue 19's reproducer: a cam inertia of 1e-6 kg m^2 ran the explicit solver for minutes
+    import subprocess
+    import sys
+    import time
+
+    text = (SAMPLES / "scenes" / "batten.toml").read_text()
+    text = re.sub(r"(?m)^cam_inertia_kg_m2 = .*$", "cam_inertia_kg_m2 = 1e-6", text)
+    scene = tmp_path / "stiff.toml"
+    scene.write_text(text)
+    began = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "camcad", "dynamics", str(scene), "--no-plots", "-o",
+                           str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert time.perf_counter() - began < 30  # wall guard on a loaded machine; the refusal itself is instant
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and len(lines[0]) < 300, done.stderr
+    assert "stiff.toml [dynamics]" in lines[0] and "too stiff for DOP853" in lines[0]

@@ -248,10 +248,61 @@ class _Equations:
         return named
 
 
+#: explicit solve_ivp methods: their step is bounded by stability, |λ h| ≲ EXPLICIT_STABILITY (RK45's
+#: boundary on the imaginary axis is about 3.3, RK23's 1.7, DOP853's about 4; the bound of RK45 is used)
+EXPLICIT_SOLVERS = ("RK45", "RK23", "DOP853")
+EXPLICIT_STABILITY = 3.3
+#: the least step count an explicit solver may need before the model is refused as too stiff for it
+#: (the batten sample needs ~550 by this estimate)
+MAX_EXPLICIT_STEPS = 20_000
+#: evaluations of the equations a solver may make, a backstop of about 10 s of CPU: explicit solvers
+#: evaluate ~30,000 times a second here, the implicit ones (Radau, BDF, LSODA: Newton iterations and
+#: finite-difference Jacobians around each evaluation) ~3,000; the batten sample makes ~14,000 with DOP853
+MAX_EVALUATIONS = 100_000
+MAX_IMPLICIT_EVALUATIONS = 30_000
+
+
+def highest_frequency(model: MultiMassModel, slope_max: float, speed_drive: bool) -> float:
+    """An upper bound (rad/s) of the model's highest natural frequency: ω²max ≤ trace of M⁻¹K.
+
+    K couples the cam's rotation and the driven mass through the chain (stiffness c2, lever Π' at most
+    ``slope_max`` output units per rad); the shaft adds c1 between flywheel and cam. The trace of M⁻¹K
+    is the sum of the diagonal terms, each a stiffness over its inertia, and bounds the largest
+    eigenvalue of the (symmetric, positive) undamped problem.
+    """
+    c2 = model.driven_stiffness * (1.0 if model.stiffness is None else float(np.max(model.stiffness.factor)))
+    trace = c2 / model.driven_inertia
+    if model.rigid_shaft:
+        if not speed_drive:
+            trace += c2 * slope_max**2 / (model.flywheel_inertia + model.cam_inertia)
+    else:
+        trace += (model.shaft_stiffness + c2 * slope_max**2) / model.cam_inertia
+        if not speed_drive:
+            trace += model.shaft_stiffness / model.flywheel_inertia
+    return math.sqrt(trace)
+
+
+class _OverBudget(Exception):
+    pass
+
+
+class _Budgeted:
+    """The equations' right-hand side, refusing to be evaluated more than ``budget`` times."""
+
+    def __init__(self, rhs, budget: int):
+        self.rhs, self.left = rhs, budget
+
+    def __call__(self, t, y):
+        self.left -= 1
+        if self.left < 0:
+            raise _OverBudget
+        return self.rhs(t, y)
+
+
 def simulate(model: MultiMassModel, law: MotionLaw, drive: SpeedDrive | MotorDrive, duration_s: float, *,
              samples: int = 2001, q0: float | None = None, dq0: float | None = None,
              load: Callable[[float], float] | None = None, method: str = "RK45", rtol: float = 1e-9,
-             atol: float | None = None) -> MultiMassResult:
+             atol: float | None = None, where: str = "[dynamics]") -> MultiMassResult:
     """March the model from t = 0 to ``duration_s`` (s) with solve_ivp; histories at ``samples`` instants.
 
     Start: φ0 = φ1 = 0 turning at the drive's nominal speed, the driven mass on its kinematic
@@ -267,11 +318,30 @@ def simulate(model: MultiMassModel, law: MotionLaw, drive: SpeedDrive | MotorDri
     kin0 = law.kinematics(np.array([0.0]))
     q_start = kin0.s[0] * model.position_scale if q0 is None else q0
     dq_start = kin0.v[0] * model.position_scale * eq.omega if dq0 is None else dq0
-    lift = float(np.ptp(law.kinematics(np.linspace(0.0, law.cycle, 1025)).s)) * model.position_scale
+    grid = law.kinematics(np.linspace(0.0, law.cycle, 1025))
+    lift = float(np.ptp(grid.s)) * model.position_scale
     atol = rtol * 1e-3 * (lift or 1.0) if atol is None else atol
+    omega_max = highest_frequency(model, float(np.max(np.abs(grid.v))) * model.position_scale,
+                                  isinstance(drive, SpeedDrive))
+    if method in EXPLICIT_SOLVERS:
+        steps = duration_s * omega_max / EXPLICIT_STABILITY
+        if steps > MAX_EXPLICIT_STEPS:
+            raise CamcadError(
+                f"the multi-mass model is too stiff for {method}: fastest mode up to "
+                f"{omega_max / (2.0 * math.pi):.3g} Hz (J1 {model.cam_inertia:g} kg·m², c1 {model.shaft_stiffness:g} "
+                f"N·m/rad) needs >= {steps:,.0f} steps (budget {MAX_EXPLICIT_STEPS:,})", where,
+                "check cam_inertia_kg_m2 and shaft_stiffness_N_m_per_rad, or set solver = \"Radau\"")
+    budget = MAX_EVALUATIONS if method in EXPLICIT_SOLVERS else MAX_IMPLICIT_EVALUATIONS
+    counted = _Budgeted(eq.rhs, budget)
     time = np.linspace(0.0, duration_s, samples)
-    sol = solve_ivp(eq.rhs, (0.0, duration_s), eq.initial(q_start, dq_start), method=method, rtol=rtol,
-                    atol=atol, t_eval=time)
+    try:
+        sol = solve_ivp(counted, (0.0, duration_s), eq.initial(q_start, dq_start), method=method, rtol=rtol,
+                        atol=atol, t_eval=time)
+    except _OverBudget:
+        raise CamcadError(f"the multi-mass integration ({method}, rtol {rtol:g}) needed more than "
+                          f"{budget:,} evaluations over {duration_s:.3g} s (fastest mode up to "
+                          f"{omega_max / (2.0 * math.pi):.3g} Hz)", where,
+                          "loosen rtol, or check cam_inertia_kg_m2 and shaft_stiffness_N_m_per_rad") from None
     if not sol.success:
         raise CamcadError(f"the multi-mass integration failed: {sol.message}", "dynamics",
                           "loosen the tolerance or choose another solver")

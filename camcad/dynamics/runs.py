@@ -377,7 +377,7 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
                                          settings.shaft_stiffness, position_scale=scale)
     period = 2.0 * math.pi / rpm_to_rad_s(rpm)
     result = simulate(model, law, SpeedDrive(rpm), 3.0 * period, samples=3 * 1024 + 1, method=settings.solver,
-                      rtol=settings.rtol)
+                      rtol=settings.rtol, where=settings.where)
     last = result.time >= 2.0 * period
     rigid = law.kinematics(result.phi1[last]).a * rpm_to_rad_s(rpm)**2
     return {"rpm": rpm, "drive": "flywheel at constant speed", "cycles": 3,

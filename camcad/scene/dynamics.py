@@ -67,6 +67,7 @@ class DynamicsSettings:
     solver: str = "RK45"
     rtol: float = 1e-8
     samples: int = DEFAULT_SAMPLES
+    where: str = "[dynamics]"   # the section in its file, for errors found when the model runs
 
     @property
     def has_multimass(self) -> bool:
@@ -113,7 +114,7 @@ def parse_dynamics(table: Any, where: str, cycle_deg: float = 360.0) -> Dynamics
                             values["flywheel_inertia_kg_m2"], values["cam_inertia_kg_m2"], shaft,
                             values["allowed_peak_accel_ratio"], values["allowed_dynamic_error_mm"],
                             values["allowed_residual_mm"], values["method"], values["solver"], values["rtol"],
-                            values["samples"])
+                            values["samples"], where)
 
 
 def _stiffness_table(raw: list, where: str, cycle_deg: float) -> StiffnessTable:
