@@ -13,11 +13,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad import balance  # noqa: E402
-from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapezoid  # noqa: E402
-from camcad.law.phases import detect_phases  # noqa: E402
-from camcad.law.standard import compose  # noqa: E402
-from timing import median_time  # noqa: E402
+from timing import median_time
+
+from camcad import balance
+from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapezoid
+from camcad.law.phases import detect_phases
+from camcad.law.standard import compose
 
 
 def drawn_law(vertices: int, seed: int = 0) -> PiecewiseLinearLaw:

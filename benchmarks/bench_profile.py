@@ -22,9 +22,10 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad.profile.synth import ProfileSettings, synthesize
+from timing import median_time
+
 from camcad.profile import default_design
-from timing import median_time  # noqa: E402
+from camcad.profile.synth import ProfileSettings, synthesize
 
 
 def timed(function, repeats: int):

@@ -37,7 +37,8 @@ import os
 import sys
 import tempfile
 import warnings
-from timing import median_time  # noqa: E402
+
+from timing import median_time
 
 
 def timed(function, repeats: int):

@@ -53,14 +53,19 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
     from camcad.profile.summary import profile_report
-    from camcad.scene.pipeline import PipelineOptions
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
-    from camcad.report.profile import (plot_curvature, plot_hodograph, plot_kinematics, plot_pressure_angle,
-                                       plot_profile, plot_summary)
+    from camcad.report.profile import (
+        plot_curvature,
+        plot_hodograph,
+        plot_kinematics,
+        plot_pressure_angle,
+        plot_profile,
+        plot_summary,
+    )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
     from camcad.scene.file import read_scene
-    from camcad.scene.pipeline import analyse_scene
+    from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
 #: public name -> the module that defines it
 _EXPORTS: dict[str, str] = {
@@ -105,7 +110,6 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "__version__",
     "BalanceReport",
     "CamcadError",
     "ContactParams",
@@ -118,6 +122,7 @@ __all__ = [
     "ProfileResult",
     "ProfileSettings",
     "StopModel",
+    "__version__",
     "analyse",
     "analyse_scene",
     "check",

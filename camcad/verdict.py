@@ -21,8 +21,9 @@ JSON form (SPEC.md): ``{"value", "limit", "margin", "passed", "why", ...}``.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any
 
 #: significant digits of figures in reports (text and JSON): 169.99999999999997 → 170
 REPORT_DIGITS = 10
@@ -99,7 +100,7 @@ class Check:
             return self.passed_override
         if self.limit is None:
             return True
-        if self.value is None or not math.isfinite(self.value) and self.sense == "max" and self.value > 0:
+        if self.value is None or (not math.isfinite(self.value) and self.sense == "max" and self.value > 0):
             return False
         margin = self.margin
         return margin is not None and margin >= 0.0

@@ -17,14 +17,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
-from camcad.cyclogram.network import Operation, make_network
 from camcad.cyclogram.conflicts import find_conflict, longest_path_times
-from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
-from camcad.cyclogram.lp import optimise
-from camcad.scene.cyclogram import parse_cyclogram
 from camcad.cyclogram.constraints import constraints_of
+from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
+from camcad.cyclogram.lp import optimise
+from camcad.cyclogram.network import Operation, make_network
+from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
 from camcad.errors import CamcadError
+from camcad.scene.cyclogram import parse_cyclogram
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"

@@ -12,10 +12,10 @@ from scipy.spatial import cKDTree
 from camcad.errors import CamcadError
 from camcad.io.dxf_write import Drawing, DxfSpline, ascii_text, build_document
 from camcad.law.standard import compose
-from camcad.profile.followers import Follower
-from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.profile import default_design
+from camcad.profile.followers import Follower
 from camcad.profile.scaled_law import swing_law
+from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.report.profile_files import write_outputs
 
 NAME, LAW, FOLLOWER = default_design()

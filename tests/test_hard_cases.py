@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
+from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 
-from camcad import balance
-from camcad import dynamics
+from camcad import balance, dynamics
 from camcad.dynamics import impact
 from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.errors import CamcadError
@@ -33,7 +33,6 @@ from camcad.law.standard import compose
 from camcad.profile.followers import Follower
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 from camcad.scene import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"

@@ -20,7 +20,6 @@ from pathlib import Path
 import ezdxf
 import numpy as np
 import pytest
-
 from conftest import SAMPLES
 
 INKSCAPE_DXF = Path("/usr/share/inkscape/extensions/dxf_input.py")
@@ -44,9 +43,9 @@ def written(tmp_path_factory):
     from camcad.io.law_write import write_law_dxf
     from camcad.law.standard import compose
     from camcad.profile.followers import Follower
+    from camcad.profile.geometry import CamGeometry
     from camcad.profile.synth import ProfileSettings, synthesize
     from camcad.report.profile_files import write_outputs
-    from camcad.profile.geometry import CamGeometry
 
     root = tmp_path_factory.mktemp("interop")
     law = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")

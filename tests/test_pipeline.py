@@ -8,10 +8,10 @@ import re
 import ezdxf
 import numpy as np
 import pytest
+from conftest import SAMPLES
 
 from camcad.report.scene import run_scene
 from camcad.scene.pipeline import PipelineOptions
-from conftest import SAMPLES
 
 SCENES = SAMPLES / "scenes"
 

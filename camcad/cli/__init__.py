@@ -12,7 +12,6 @@ import importlib
 import importlib.util
 import sys
 
-
 import typer
 from typer.core import TyperGroup
 

@@ -8,8 +8,22 @@ from typing import Annotated
 import typer
 
 from camcad.cli import app
-from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, OriginOpt, PhasesOpt, X0Opt,
-                               XDegOpt, Y0Opt, load_law_from_options, parse_pair, print_json)
+from camcad.cli.common import (
+    CycleOpt,
+    HandleOpt,
+    JsonOpt,
+    LawArg,
+    LayerOpt,
+    LiftOpt,
+    OriginOpt,
+    PhasesOpt,
+    X0Opt,
+    XDegOpt,
+    Y0Opt,
+    load_law_from_options,
+    parse_pair,
+    print_json,
+)
 
 TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")]
 

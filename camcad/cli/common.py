@@ -7,13 +7,14 @@ import json
 import shutil
 import sys
 import warnings
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Callable, Optional
+from typing import Annotated
 
 import typer
 
 from camcad.errors import CamcadError
-from camcad.io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
+from camcad.io.jsonout import to_jsonable
 
 #: exit codes (SPEC.md)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -116,14 +117,14 @@ def finish(payload: dict, report_path: Path, as_json: bool, render: Callable[[di
 
 LawArg = Annotated[Path, typer.Argument(help="Acceleration law: a DXF drawing or a .csv/.txt table (θ deg, a).",
                                         show_default=False)]
-LayerOpt = Annotated[Optional[str], typer.Option("--layer", help="Layer holding the law's curve.")]
-HandleOpt = Annotated[Optional[str], typer.Option("--handle", help="Handle of the law's curve.")]
-Y0Opt = Annotated[Optional[float], typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
-X0Opt = Annotated[Optional[float], typer.Option("--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
-OriginOpt = Annotated[Optional[str], typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
+LayerOpt = Annotated[str | None, typer.Option("--layer", help="Layer holding the law's curve.")]
+HandleOpt = Annotated[str | None, typer.Option("--handle", help="Handle of the law's curve.")]
+Y0Opt = Annotated[float | None, typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
+X0Opt = Annotated[float | None, typer.Option("--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
+OriginOpt = Annotated[str | None, typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
 CycleOpt = Annotated[float, typer.Option("--cycle", help="Working angle the curve spans (deg).")]
-LiftOpt = Annotated[Optional[float], typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
-PhasesOpt = Annotated[Optional[str], typer.Option(
+LiftOpt = Annotated[float | None, typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
+PhasesOpt = Annotated[str | None, typer.Option(
     "--phases", help='Override detected phases: "0:90:rise,90:180:dwell,180:270:return,270:360:dwell" (deg).')]
 XDegOpt = Annotated[bool, typer.Option("--x-deg", help="The drawing's x is already the cam angle in deg.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object on stdout, nothing else.")]
@@ -201,19 +202,19 @@ def console(stderr: bool = False):
 
 # --- a law from a file, a scene or a standard shape (the commands that analyse a law) ----------
 
-SourceArg = Annotated[Optional[Path], typer.Argument(
+SourceArg = Annotated[Path | None, typer.Argument(
     help="A scene (.toml), or an acceleration law (DXF or .csv/.txt table); omit it with --standard.",
     show_default=False)]
 SceneArg = Annotated[Path, typer.Argument(help="Scene file (TOML): one mechanism or a group with [cyclogram].",
                                           show_default=False)]
-StandardOpt = Annotated[Optional[str], typer.Option(
+StandardOpt = Annotated[str | None, typer.Option(
     "--standard", help="A standard law instead of a file: cycloidal, harmonic, poly345, ... (needs --phases, --lift).")]
-ReturnStandardOpt = Annotated[Optional[str], typer.Option("--return-standard",
+ReturnStandardOpt = Annotated[str | None, typer.Option("--return-standard",
                                                           help="Shape of the returns (default: --standard).")]
-RpmOpt = Annotated[Optional[str], typer.Option("--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
-OutOpt = Annotated[Optional[Path], typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
+RpmOpt = Annotated[str | None, typer.Option("--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
+OutOpt = Annotated[Path | None, typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
 NoPlotsOpt = Annotated[bool, typer.Option("--no-plots", help="Do not write PNG plots.")]
-MechanismOpt = Annotated[Optional[str], typer.Option("--mechanism", help="The mechanism of a group scene.")]
+MechanismOpt = Annotated[str | None, typer.Option("--mechanism", help="The mechanism of a group scene.")]
 
 
 class LawSource:

@@ -3,21 +3,17 @@
 
 from __future__ import annotations
 
-
-
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from camcad.errors import CamcadError
 from camcad.cyclogram.conflicts import find_conflict
+from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
 from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.network import Network, _reachable
-from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
-
-
+from camcad.errors import CamcadError
 
 # --------------------------------------------------------------------------------------------
 # Constraints and the LP
@@ -78,7 +74,7 @@ class CyclogramResult:
             out["explanation"] = self.explanation
         return out
 
-    def raise_if_infeasible(self, where: str = "[cyclogram]") -> "CyclogramResult":
+    def raise_if_infeasible(self, where: str = "[cyclogram]") -> CyclogramResult:
         if not self.feasible:
             raise CamcadError(self.explanation, where, _conflict_fix(self.conflict))
         return self

@@ -3,17 +3,11 @@
 
 from __future__ import annotations
 
-
-
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 
-
-from camcad.errors import CamcadError
-from camcad.errors import nearest_name
-
-
+from camcad.errors import CamcadError, nearest_name
 
 # --------------------------------------------------------------------------------------------
 # The network

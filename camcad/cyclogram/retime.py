@@ -3,15 +3,10 @@
 
 from __future__ import annotations
 
-
-
 from collections.abc import Mapping
 
-
-from camcad.errors import CamcadError
 from camcad.cyclogram.lp import CyclogramResult
-
-
+from camcad.errors import CamcadError
 
 # --------------------------------------------------------------------------------------------
 # Feeding the optimal angles back into a mechanism's phases

@@ -14,8 +14,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from camcad.law.law import PiecewiseLinearLaw
-from camcad.law.source import LoadedLaw
 from camcad.edit.session import (
     DEFAULT_TOL,
     EditSession,
@@ -24,6 +22,8 @@ from camcad.edit.session import (
     loaded_from_law,
     sampled_law,
 )
+from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.source import LoadedLaw
 
 
 @dataclass

@@ -29,7 +29,6 @@ from matplotlib.patches import Polygon, Rectangle
 from matplotlib.transforms import blended_transform_factory
 
 from camcad.balance import MODES
-from camcad.errors import CamcadError
 from camcad.edit.session import (
     EditSession,
     default_output,
@@ -37,6 +36,7 @@ from camcad.edit.session import (
     extremum_group,
     lobe_of,
 )
+from camcad.errors import CamcadError
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 ABOVE, BELOW = "#2a9d8f", "#e76f51"

@@ -3,15 +3,13 @@
 
 from __future__ import annotations
 
-
 import math
 
 import numpy as np
 
-from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 from camcad.fourier.exact import _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
-
+from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 
 # =============================================================================================
 # Analysis entry points

@@ -4,14 +4,12 @@ laws (piecewise-linear acceleration), by integration by parts over the pieces (s
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from camcad.law.law import PiecewiseLinearLaw
-
 
 EPS = float(np.finfo(float).eps)
 #: below this |z| the monomial moments E_m(z) are integrated by Gauss–Legendre, above by recurrence
@@ -70,7 +68,7 @@ class Piece:
     rates: np.ndarray = field(default_factory=lambda: np.zeros(0))
     amps: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=complex))
 
-    def derivative(self, order: int) -> "Piece":
+    def derivative(self, order: int) -> Piece:
         if order == 0:
             return self
         poly = np.polynomial.polynomial.polyder(self.poly, order) if len(self.poly) > order else np.zeros(1)

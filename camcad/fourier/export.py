@@ -3,17 +3,15 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.analysis import analyse
 from camcad.fourier.filter import _evaluation_grid, _jumps_and_phase_ends, _knots_of
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 # =============================================================================================
 # Polylines of the acceleration: export, lead-in segments

@@ -3,16 +3,14 @@
 
 from __future__ import annotations
 
-
 from dataclasses import dataclass
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.export import _left_value, _right_value, acceleration_polyline
 from camcad.fourier.filter import _evaluation_grid, motion_starts
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -12,9 +11,8 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import _grow_until_found
-from camcad.fourier.exact import EPS, Piece, _TAIL_ORDERS, _gauss_legendre, shape_terms, tail_mean_square
+from camcad.fourier.exact import _TAIL_ORDERS, EPS, Piece, _gauss_legendre, shape_terms, tail_mean_square
 from camcad.fourier.series import FourierLaw, Spectrum, series_on_grid
-
 
 # =============================================================================================
 # The database of harmonic patterns of the standard laws, and synthesis from it

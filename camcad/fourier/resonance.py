@@ -3,14 +3,12 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camcad.errors import CamcadError
-
 
 # =============================================================================================
 # Resonance filtering

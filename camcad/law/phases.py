@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.numerics import brent_root
 from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.numerics import brent_root
 
 #: |a| at or below this fraction of max|a| counts as zero acceleration
 ZERO_FRACTION = 1e-6

@@ -111,7 +111,7 @@ class Transfer:
             raise CamcadError(f"the linkage does not close at swing {_show(bad, self.unit_in)}", where,
                               "change the link lengths or the follower's swing")
         roots = self.limit_positions(psi_max)
-        if roots or np.any(d1 == 0.0) and not (np.all(d1 >= 0) or np.all(d1 <= 0)):
+        if roots or (np.any(d1 == 0.0) and not (np.all(d1 >= 0) or np.all(d1 <= 0))):
             at = roots[0] if roots else float(grid[np.argmax(d1 == 0.0)])
             raise CamcadError(f"the position function is not monotone on the swing: the working member has a "
                               f"dead point (limit position, Pi' = 0) at swing {_show(at, self.unit_in)}", where,

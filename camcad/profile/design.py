@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camcad.numerics import bounded_minimum, brent_root
 from camcad.law.law import MotionLaw
+from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
 
 

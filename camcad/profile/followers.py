@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-
 from camcad.errors import CamcadError
 from camcad.profile import defaults
 
@@ -119,7 +118,7 @@ class Follower:
     def has_pair(self) -> bool:
         return self.pair_distance is not None or self.pair_angle_deg is not None
 
-    def with_base_radius(self, base_radius: float) -> "Follower":
+    def with_base_radius(self, base_radius: float) -> Follower:
         return replace(self, base_radius=float(base_radius))
 
     def describe(self) -> str:
@@ -137,7 +136,7 @@ class Follower:
                     f"e {self.offset:.6g} mm")
         return f"{text}, {turn}"
 
-    def validate(self, where: str = "follower") -> "Follower":
+    def validate(self, where: str = "follower") -> Follower:
         """Raise CamcadError for a follower that cannot work; return self."""
         if self.kind not in FOLLOWER_KINDS:
             raise CamcadError(f"follower type {self.kind!r} is unknown", where,

@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.numerics import bounded_minimum
 from camcad.law.law import MotionLaw
+from camcad.numerics import bounded_minimum
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import Follower
@@ -77,7 +77,7 @@ class ProfileSettings:
     name: str = "profile"
     checks_only: bool = False
 
-    def validate(self) -> "ProfileSettings":
+    def validate(self) -> ProfileSettings:
         if not (math.isfinite(self.tol_mm) and self.tol_mm > 0.0):
             raise CamcadError(f"chord tolerance must be a positive number of mm, got {self.tol_mm!r}",
                               "--tol-mm", "give e.g. --tol-mm 0.001")

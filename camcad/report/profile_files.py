@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from camcad.io.jsonout import write_json
-from camcad.io.output_folder import OutputFolder
 from camcad.io.atomic import write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
+from camcad.io.jsonout import write_json
+from camcad.io.output_folder import OutputFolder
 from camcad.profile.scaled_law import describe_law, describe_phases
 from camcad.profile.summary import profile_report as report
 from camcad.profile.summary import stroke

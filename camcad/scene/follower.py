@@ -3,15 +3,12 @@
 
 from __future__ import annotations
 
-
 import math
 
-
 from camcad.errors import CamcadError
-from camcad.scene.fields import Field, read_table
 from camcad.profile import defaults
 from camcad.profile.followers import FOLLOWER_KINDS, Follower
-
+from camcad.scene.fields import Field, read_table
 
 # --------------------------------------------------------------------------------------------
 # Scene section [follower]

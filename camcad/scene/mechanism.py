@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.scene.stretch import PhaseStretch, least_angle
 from camcad.law.law import Phase
 from camcad.scene.file import Mechanism, Scene, mechanism_law
+from camcad.scene.stretch import PhaseStretch, least_angle
 
 #: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
 PRESSURE_SAMPLES = 361
@@ -183,7 +183,7 @@ class LimitMemo:
         return found
 
 
-def _solve(memo: "LimitMemo | None", key: tuple, relation, limit, lower, upper, **kwargs):
+def _solve(memo: LimitMemo | None, key: tuple, relation, limit, lower, upper, **kwargs):
     if memo is None:
         return least_angle(relation, limit, lower, upper, **kwargs)
     return memo.solve(key, relation, limit, lower, upper, **kwargs)

@@ -13,13 +13,14 @@ no step fills in a physical quantity the scene did not give.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from camcad.errors import CamcadError
-from camcad.scene.mechanism import LimitMemo
 from camcad.scene.file import Mechanism, Scene, mechanism_law, read_scene
+from camcad.scene.mechanism import LimitMemo
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
 CONTACT_SAMPLES = 2000

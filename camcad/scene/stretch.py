@@ -27,8 +27,8 @@ import numpy as np
 from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
-from camcad.numerics import brent_root
 from camcad.law.law import Kinematics
+from camcad.numerics import brent_root
 from camcad.profile.geometry import CamGeometry, oscillating_track, pitch_geometry, translating_track
 from camcad.profile.scaled_law import law_breakpoints
 
@@ -64,7 +64,7 @@ class PhaseStretch:
     u: np.ndarray
 
     @classmethod
-    def sample(cls, cam: CamGeometry, scale: float, phases_deg, index: int, samples: int) -> "PhaseStretch":
+    def sample(cls, cam: CamGeometry, scale: float, phases_deg, index: int, samples: int) -> PhaseStretch:
         """Uniform samples on the phase (``samples`` points, ends included) plus its inner breakpoints."""
         start, end, _ = phases_deg[index]
         width = math.radians(end - start)
