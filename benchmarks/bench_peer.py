@@ -397,7 +397,7 @@ def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, .
     for tol in tolerances:
         settings = ProfileSettings(tol_mm=tol, plots=False, design=False)
         synthesize(law, follower, settings)  # warm-up: the first call imports shapely
-        seconds, result = timed(lambda: synthesize(law, follower, settings), repeats)
+        seconds, result = timed(lambda settings=settings: synthesize(law, follower, settings), repeats)
         figures = report(result)
         figures_mm = profile_errors(result.profile.polyline.points, result.pitch.polyline.points)
         rows.append(_row(K_PROFILE, "camcad synthesize (chords)", f"tol {tol:g} mm", seconds, figures_mm.pop("error"),
@@ -411,7 +411,7 @@ def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, .
     limit_deg = math.degrees(max(extremes["max"], -extremes["min"]))
     law, sized = camcad_case(limit_deg)
     for grid in grids:
-        seconds, design = timed(lambda: min_base_radius(law, sized, grid=grid), repeats)
+        seconds, design = timed(lambda grid=grid: min_base_radius(law, sized, grid=grid), repeats)
         rb = design.rb_pressure_angle
         rows.append(_row(K_SIZING, "camcad min_base_radius", f"grid {grid}", seconds, abs(rb - BASE_RADIUS_MM),
                          "mm (Rb error; exact Rb = 40)", rb_mm=rb, rb_curvature_mm=design.rb_curvature))

@@ -90,7 +90,7 @@ def run(quick: bool = False) -> list[dict]:
     for arcs in (False, True):
         for tol in tolerances:
             settings = ProfileSettings(tol_mm=tol, arcs=arcs, design=False, plots=False)
-            seconds, result = timed(lambda: synthesize(law, follower, settings), repeats)
+            seconds, result = timed(lambda settings=settings: synthesize(law, follower, settings), repeats)
             written = result.profile.arcs.vertices if arcs else result.profile.polyline.points
             rows.append({"kernel": "profile synthesis (default cam)",
                          "method": "tangent arcs (--arcs)" if arcs else "chords (LWPOLYLINE)",

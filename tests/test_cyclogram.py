@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -166,7 +167,7 @@ def test_lp_equals_longest_path_on_precedence_networks(case):
     # tight to optimise()'s tight_tol_deg = 1e-6 deg
     path = result.critical_path
     assert path[0] == "0" and path[-1] == str(n - 1)
-    total = sum(weights[(int(a), int(b))] for a, b in zip(path[:-1], path[1:]))
+    total = sum(weights[(int(a), int(b))] for a, b in pairwise(path))
     assert total == pytest.approx(earliest[-1], rel=1e-9, abs=1e-6 * len(path))
 
 
@@ -175,7 +176,7 @@ def test_lp_equals_longest_path_on_precedence_networks(case):
 def test_lp_agrees_with_bellman_ford_with_upper_bounds(case, data):
     # with upper bounds the constraint graph has backward arcs; the LP (earliest schedule) must equal
     # Bellman–Ford longest paths, and be infeasible exactly when those find a positive cycle
-    n, weights = case
+    _n, weights = case
     ops = []
     for (i, j), w in weights.items():
         upper = data.draw(st.one_of(st.just(math.inf), st.floats(w, w + 80.0)))

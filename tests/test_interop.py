@@ -186,8 +186,8 @@ def test_inkscape_imports_every_layer(written, kind):
         if group.get(label) is not None:
             drawn[group.get(label)] = [c.tag.split("}")[1] for c in group]
     ours = _ezdxf_counts(path)
-    for (layer, entity), _ in ours.items():
-        expected = sum(n for (l, _e), n in ours.items() if l == layer)
+    for (layer, _entity), _ in ours.items():
+        expected = sum(n for (other, _e), n in ours.items() if other == layer)
         if kind == "fixed_drawing" and layer == "CAMCAD_ORIGINAL":
             continue  # a layer that is switched off is not imported as drawn geometry by every reader
         assert len(drawn.get(layer, [])) >= expected, (layer, drawn.get(layer))

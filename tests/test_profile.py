@@ -80,7 +80,7 @@ def test_pressure_angle_and_curvature_match_numerical_methods(key):
     # radius of curvature: closed form against circumradii of triples of generated points
     for curve in (cam.profile, cam.pitch):
         rho = curve(theta).rho
-        numeric = circumradius(lambda t: curve(t).points, theta, 2e-3, sigma)
+        numeric = circumradius(lambda t, curve=curve: curve(t).points, theta, 2e-3, sigma)
         assert np.max(np.abs(numeric - rho) / np.abs(rho)) < 1e-6, curve.__name__
 
     # pressure angle: the profile's normal comes from differences of its generated points (turned

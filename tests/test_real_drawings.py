@@ -570,7 +570,7 @@ def regenerate() -> None:
     import tempfile
 
     FIXTURES.mkdir(parents=True, exist_ok=True)
-    for name, path in make_byte_level(FIXTURES).items():
+    for _name, path in make_byte_level(FIXTURES).items():
         print("wrote", path)
     with tempfile.TemporaryDirectory() as tmp:
         for program, maker in (("inkscape", make_inkscape), ("gdal", make_gdal), ("freecad", make_freecad)):

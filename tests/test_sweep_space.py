@@ -237,7 +237,7 @@ def test_boundary_and_objective_parsing():
         [(32.0, 31.0, True), (31.0, 30.0, False), (30.0, None, True)]
     names = ["follower.base_radius", "pressure angle, rise.value", "pressure angle, rise.margin", "min_margin_ratio"]
     assert parse_objective("max:pressure angle, rise", names).column == "pressure angle, rise.margin"
-    with pytest.raises(CamcadError, match="did you mean 'follower.base_radius'"):
+    with pytest.raises(CamcadError, match=r"did you mean 'follower\.base_radius'"):
         parse_objective("min:follower.base_radis", names)
     with pytest.raises(CamcadError, match="min:COLUMN"):
         parse_objective("smallest:follower.base_radius", names)

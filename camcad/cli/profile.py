@@ -102,7 +102,7 @@ def profile(
                               "change the scene's [law] and [follower] sections instead")
         source: object = target
     else:
-        name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
+        _name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
                                      pivot=pivot, arm=arm, swing=swing, lift=lift, cycle=cycle, phases=phases,
                                      layer=layer, handle=handle, y0=y0, x0=x0, origin=origin, x_deg=x_deg,
                                      rise_law=rise_law, return_law=return_law, cw=cw,

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from itertools import pairwise
 
 from camcad.cyclogram.lp import CyclogramResult
 from camcad.errors import CamcadError
@@ -73,7 +74,7 @@ def retime_phases(phases_deg: list[tuple[float, float, str]],
             raise CamcadError(f"the {kind} would run over {start:.6g}..{end:.6g} deg, across the cycle's "
                               f"start", where, "shift the cyclogram's start_deg so every motion lies in 0..360")
     motions.sort()
-    for (s0, e0, k0), (s1, e1, k1) in zip(motions[:-1], motions[1:]):
+    for (s0, e0, k0), (s1, e1, k1) in pairwise(motions):
         if s1 < e0 - tol:
             raise CamcadError(f"the {k0} {s0:.6g}..{e0:.6g} deg and the {k1} {s1:.6g}..{e1:.6g} deg overlap",
                               where, "give the mechanism's operations consecutive events in the cyclogram")

@@ -149,7 +149,7 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
 
 def _fft_analysis(law, harmonics: int, tol: float, max_samples: int) -> Spectrum:
     cycle = law.cycle
-    samples = max(1024, 1 << int(math.ceil(math.log2(8 * (harmonics + 1)))))
+    samples = max(1024, 1 << math.ceil(math.log2(8 * (harmonics + 1))))
     end = law.kinematics(np.array([cycle]))
     previous = None
     while True:
@@ -210,7 +210,7 @@ def max_errors(law: MotionLaw, spectrum: Spectrum, ns, samples: int | None = Non
     """
     ns = np.atleast_1d(np.asarray(ns, dtype=int))
     if samples is None:
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (int(ns.max()) + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (int(ns.max()) + 1))))
     theta = np.arange(samples) * (law.cycle / samples)
     s = law.kinematics(theta).s
     out = []

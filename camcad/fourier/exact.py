@@ -269,7 +269,7 @@ def uniform_grid_size(positions: np.ndarray, cycle: float, limit: int = 1 << 22)
         return None
     gaps = np.diff(np.sort(positions))
     smallest = float(gaps[gaps > 0].min()) if np.any(gaps > 0) else cycle
-    size = int(round(cycle / smallest))
+    size = int(round(cycle / smallest))  # noqa: RUF046 - round() of a numpy float is a float on numpy < 2
     if size < 1 or size > limit or size > 64 * len(positions):
         return None
     index = positions * size / cycle
@@ -317,7 +317,7 @@ def _polyline_analysis(law: PiecewiseLinearLaw, harmonics: int, tail_to: int):
     extended = _jump_coefficients(positions, deltas, cycle, max(harmonics, tail_to))
     coefficients = extended[:harmonics]
     accel = _jump_coefficients(positions, deltas[2:], cycle, harmonics)
-    start, length, s0, v0, a0, slope = _polyline_segments(law)
+    _start, length, s0, v0, a0, slope = _polyline_segments(law)
     # numpy's pairwise summation: round-off ~ eps·log2(n) of the sum of |terms|
     integral = s0 * length + v0 * length**2 / 2 + a0 * length**3 / 6 + slope * length**4 / 24
     mean = float(np.sum(integral)) / cycle

@@ -28,7 +28,7 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
     if not (np.isfinite(step_deg) and 0 < step_deg <= 30):
         raise CamcadError(f"step {step_deg!r} deg must be in (0, 30]", "polyline", "give e.g. 0.1 deg")
     cycle = law.cycle
-    count = max(8, int(math.ceil(cycle / np.radians(step_deg) - 1e-9)))
+    count = max(8, math.ceil(cycle / np.radians(step_deg) - 1e-9))
     grid = np.linspace(0.0, cycle, count + 1)
     breaks = _knots_of(law)
     if len(breaks) > 4 * count:

@@ -192,7 +192,7 @@ def synthesise_standard(phases_deg, lift: float, tol: float, *, shape: str = "cy
         n = len(spectrum.coefficients)
     law = spectrum.truncated(n, exact.phases)
     if samples is None:
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (n + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (n + 1))))
     theta = np.arange(samples) * (exact.cycle / samples)
     difference = exact.kinematics(theta).s - series_on_grid(law.mean, law.coefficients, samples, 0, exact.cycle)
     measured = float(np.sqrt(np.mean(difference**2)))

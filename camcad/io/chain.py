@@ -899,7 +899,7 @@ def make_curve(graph: Graph, path: Path) -> Curve:
         kind = "chain"
     refs: list[list[tuple[str, str | int]]] = []
     if exact:
-        for k, ((i, own), piece) in enumerate(zip(steps, pieces)):
+        for k, ((_i, own), piece) in enumerate(zip(steps, pieces)):
             n = len(piece.points)
             order = range(n) if own else range(n - 1, -1, -1)
             names = ["start", "end"] if piece.kind == "LINE" else list(range(n))

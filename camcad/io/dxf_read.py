@@ -811,7 +811,7 @@ def curve_entities(doc, curve: Curve) -> list:
     """
     msp = list(doc.modelspace())
     found = []
-    for position, (handle, index) in enumerate(zip(curve.handles, curve.entity_indices)):
+    for handle, index in zip(curve.handles, curve.entity_indices):
         entity = msp[index] if 0 <= index < len(msp) else None
         if entity is not None and str(entity.dxf.get("handle", "")).upper() != handle.upper():
             entity = None

@@ -298,7 +298,7 @@ def canonical_form(n: int, edges, colours=None, vertex_colours=None) -> tuple[tu
 
     def search(partition: list[list[int]]) -> None:
         partition = _refine(partition, n, nbrs)
-        for index, cell in enumerate(partition):
+        for index, cell in enumerate(partition):  # noqa: B007 - index and cell are used after the break
             if len(cell) > 1:
                 break
         else:

@@ -220,7 +220,7 @@ def layout(n: int, edges) -> np.ndarray:
     if not np.all(np.isfinite(dist)):
         return best
     # relax the inner vertices of the best few, the outer cycle fixed (spreads twins and near-collinear paths)
-    for key, k, pos in scored[:6]:
+    for _key, k, _pos in scored[:6]:
         relaxed = _normalise(_relax_inner(_tutte(n, edges, outers[k]), dist, set(outers[k])))
         relaxed_key = score(relaxed)
         if relaxed_key < best_key:
@@ -228,7 +228,7 @@ def layout(n: int, edges) -> np.ndarray:
     if not best_key[0] and best_key[1] == 0:
         return best
     # relax the best few by stress majorisation (separates the blocks of fractionated chains)
-    for key, k, pos in scored[:4]:
+    for _key, _k, pos in scored[:4]:
         k_index = np.arange(n)
         nudge = 0.05 * np.column_stack([np.cos(2.4 * k_index), np.sin(2.4 * k_index)])  # split coincident points
         relaxed = _normalise(_smacof(pos + nudge, dist))

@@ -131,7 +131,7 @@ def minimax_synthesis(target: Target, start: FunctionGenerator, work: Work, max_
     if len(es) and float(np.max(np.abs(es))) < 1e-13:
         max_iterations = 0                   # the start reproduces the target: nothing to equalise
         message, converged = "the start reproduces the target (zero error)", True
-    for iteration in range(1, max_iterations + 1):
+    for iteration in range(1, max_iterations + 1):  # noqa: B007 - the count is reported after the loop
         signs = (-1.0) ** np.arange(count)
 
         def equations(y, refs=refs, signs=signs):

@@ -449,12 +449,12 @@ def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -
 
 def analysis_grid(geometry: CamGeometry, step_deg: float) -> np.ndarray:
     """Uniform θ over the cam's turn (rad) with the law's breakpoints added."""
-    count = int(math.ceil(360.0 / step_deg))
+    count = math.ceil(360.0 / step_deg)
     return np.union1d(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
 
 
 def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:
-    count = int(round(360.0 / step_deg))
+    count = int(round(360.0 / step_deg))  # noqa: RUF046 - round() of a numpy float is a float on numpy < 2
     theta = np.linspace(0.0, 2.0 * math.pi, count + 1)
     kin = geometry.kinematics(theta)
     if geometry.follower.kind == "flat":

@@ -653,7 +653,7 @@ def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=No
         circles.append(DxfCircle("JOINTS", (z.real, z.imag), r))
         _ground(lines, z, r)
         texts.append(DxfText("TEXT", name, (z.real - 3.5 * r, z.imag + 1.5 * r), h))
-    for label, lk in settings:
+    for _label, lk in settings:
         for psi in (0.0, psi_max):
             add_chain("SETTINGS", lk, psi, names=False)
     grid = np.linspace(0.0, psi_max, 61)

@@ -274,7 +274,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     else:
         run.skipped["profile"] = "no [follower] in scene"
     # 5 dynamics, 6 impact, 7 contact
-    for section, step, needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
+    for section, step, _needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
                                  ("contact", _contact, "materials and loads")):
         key = "impact" if section == "stops" else section
         if not mech.has(section):
