@@ -46,7 +46,8 @@ def run(quick: bool = False) -> list[dict]:
     rows.append({"kernel": "law integration (10k vertices)", "method": "exact piecewise cubic", "setting": "-",
                  "time_s": t_exact, "error": 0.0, "error_unit": "mm (s at cycle end)"})
     for step_deg in ((0.5, 0.1) if quick else (1.0, 0.5, 0.1, 0.05, 0.01)):
-        t_trap, (_, _, _, s) = timed(lambda step_deg=step_deg: integrate_trapezoid(law.x, law.a, np.radians(step_deg)), repeats)
+        t_trap, (_, _, _, s) = timed(lambda step_deg=step_deg: integrate_trapezoid(law.x, law.a, np.radians(step_deg)),
+                                     repeats)
         rows.append({"kernel": "law integration (10k vertices)", "method": "trapezoid (source)",
                      "setting": f"step {step_deg} deg", "time_s": t_trap, "error": abs(s[-1] - s_ref[-1]),
                      "error_unit": "mm (s at cycle end)"})

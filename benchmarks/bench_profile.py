@@ -103,7 +103,8 @@ def run(quick: bool = False) -> list[dict]:
 def main() -> None:
     quick = "--quick" in sys.argv
     rows = run(quick)
-    print(f"{'kernel':32s} {'method':24s} {'setting':16s} {'time':>10s} {'error':>10s} {'err/tol':>8s} {'vertices':>9s}")
+    print(f"{'kernel':32s} {'method':24s} {'setting':16s} {'time':>10s} {'error':>10s} {'err/tol':>8s} "
+          f"{'vertices':>9s}")
     for row in rows:
         print(f"{row['kernel']:32s} {row['method']:24s} {row['setting']:16s} {row['time_s'] * 1e3:8.1f}ms "
               f"{row['error']:10.2e} {row['error'] / row['tol_mm']:8.3f} {row['vertices']:9d}")

@@ -17,8 +17,9 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
-Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure): ``plot_summary``,
-``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``, ``plot_hodograph``.
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
+``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
+``plot_hodograph``.
 
 Every name loads on first use, so ``import camcad`` costs almost nothing (the command line's start-up
 depends on it).

@@ -324,7 +324,8 @@ def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
 
 def test_cli_contact_bad_input(tmp_path, cli):
     text = SAMPLE.read_text()
-    for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"), "did you mean 'allowable_stress'"),
+    for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"),
+                           "did you mean 'allowable_stress'"),
                           (("mass = 0.9", "mass = \"heavy\""), "'mass' (kg) must be a number"),
                           (('rpm = [280.0, 420.0]', 'rpm = "fast"'), "rpm 'fast' is not N")):
         scene = tmp_path / "bad.toml"

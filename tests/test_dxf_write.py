@@ -112,7 +112,8 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     texts = [e.dxf.text for e in doc.modelspace() if e.dxftype() == "TEXT"]
     joined = "\n".join(texts)
     assert all(t.isascii() for t in texts)
-    for needed in ("law: rise cycloidal 0-120", "phases (deg): rise 0-120", "Rb 50 mm", "Rr 10 mm", "e 0 mm", "lift 25 mm"):
+    for needed in ("law: rise cycloidal 0-120", "phases (deg): rise 0-120", "Rb 50 mm", "Rr 10 mm", "e 0 mm",
+                   "lift 25 mm"):
         assert needed in joined
     # extents come from the content (LibreOffice collapses ±1e20)
     assert doc.header["$EXTMAX"][0] == pytest.approx(np.max(vertices[:, 0]), abs=60.0)

@@ -123,7 +123,8 @@ roller_radius = 10.0
 
 
 BAD_SCENES = [
-    ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = 10\n[folower]\ntype = \"roller\"\n",
+    ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = 10\n"
+     "[folower]\ntype = \"roller\"\n",
      "did you mean 'follower'"),
     ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\n", "missing value 'lift'"),
     ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = \"ten\"\n",

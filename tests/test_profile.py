@@ -354,7 +354,8 @@ def test_parse_follower_table():
     # oscillating with initial_angle: Rb + Rr = √(C² + L² − 2CL cos γ0) (law of cosines)
     osc = parse_follower({"type": "oscillating", "roller_radius": 10, "pivot": 120, "arm": 100,
                           "initial_angle": 25}, "w")
-    assert osc.base_radius + 10 == pytest.approx(math.sqrt(120**2 + 100**2 - 2 * 120 * 100 * math.cos(math.radians(25))))
+    assert osc.base_radius + 10 == pytest.approx(
+        math.sqrt(120**2 + 100**2 - 2 * 120 * 100 * math.cos(math.radians(25))))
     assert {field.name for field in FOLLOWER_FIELDS} >= {
         "type", "base_radius", "roller_radius", "offset", "pivot", "arm", "initial_angle",
         "pressure_angle_limit_rise", "pressure_angle_limit_return", "reversible", "cw"}

@@ -13,7 +13,8 @@ from camcad.cli.common import JsonOpt, NoPlotsOpt, OutOpt, console, output_dir, 
 
 @app.command()
 def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings and repeats (under a minute).")] = False,
-          only: Annotated[str | None, typer.Option("--only", help="Comma-separated benchmark names, e.g. balance,profile.")] = None,
+          only: Annotated[str | None, typer.Option(
+              "--only", help="Comma-separated benchmark names, e.g. balance,profile.")] = None,
           output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Time and error of every kernel (method, setting, median time, error against a reference); writes
     bench.md, bench.json and bench.png."""

@@ -120,7 +120,8 @@ LawArg = Annotated[Path, typer.Argument(help="Acceleration law: a DXF drawing or
 LayerOpt = Annotated[str | None, typer.Option("--layer", help="Layer holding the law's curve.")]
 HandleOpt = Annotated[str | None, typer.Option("--handle", help="Handle of the law's curve.")]
 Y0Opt = Annotated[float | None, typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
-X0Opt = Annotated[float | None, typer.Option("--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
+X0Opt = Annotated[float | None, typer.Option(
+    "--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
 OriginOpt = Annotated[str | None, typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
 CycleOpt = Annotated[float, typer.Option("--cycle", help="Working angle the curve spans (deg).")]
 LiftOpt = Annotated[float | None, typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
@@ -158,8 +159,8 @@ def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, 
             raise ValueError
         return float(parts[0]), float(parts[1])
     except ValueError:
-        raise CamcadError(f"{text[:40]!r} is not two numbers", "--origin", "write --origin X,Y, e.g. --origin 10,104.5") \
-            from None
+        raise CamcadError(f"{text[:40]!r} is not two numbers", "--origin",
+                          "write --origin X,Y, e.g. --origin 10,104.5") from None
 
 
 def _given(name: str) -> bool:
@@ -211,7 +212,8 @@ StandardOpt = Annotated[str | None, typer.Option(
     "--standard", help="A standard law instead of a file: cycloidal, harmonic, poly345, ... (needs --phases, --lift).")]
 ReturnStandardOpt = Annotated[str | None, typer.Option("--return-standard",
                                                           help="Shape of the returns (default: --standard).")]
-RpmOpt = Annotated[str | None, typer.Option("--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
+RpmOpt = Annotated[str | None, typer.Option(
+    "--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
 OutOpt = Annotated[Path | None, typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
 NoPlotsOpt = Annotated[bool, typer.Option("--no-plots", help="Do not write PNG plots.")]
 MechanismOpt = Annotated[str | None, typer.Option("--mechanism", help="The mechanism of a group scene.")]

@@ -93,7 +93,8 @@ def _fgen_summary(payload: dict) -> None:
             f"{payload['method']}")
     lines = [head, _fgen_table([payload])]
     lines.append(f"  offsets        phi0 {payload['offsets_deg']['phi0']:.4f} deg, psi0 "
-                 f"{payload['offsets_deg']['psi0']:.4f} deg, branch {payload['branch']:+d}, {payload['grashof']['class']}")
+                 f"{payload['offsets_deg']['psi0']:.4f} deg, branch {payload['branch']:+d}, "
+                 f"{payload['grashof']['class']}")
     lines.append("  nodes (deg)    " + ", ".join(f"{v:.4f}" for v in payload["nodes_deg"][:12])
                  + (" ..." if len(payload["nodes_deg"]) > 12 else ""))
     lines.append("  positions      " + ", ".join(f"{k} {v}" for k, v in payload["position_breakdown"].items())
@@ -654,7 +655,8 @@ def adjust(
         "diagram.png": lambda: diagram_figure(lk, psi_max, settings_links, arc, f"task {task}: every setting")}
     drawing = kinematic_drawing(lk, psi_max, settings_links, arc, title=(
         f"camcad linkage adjust: Table 3 task {task}", adj.describe(),
-        f"arc radius {result.radius:.4f} mm, lock angles {rows[0]['setting_deg']:.3f} .. {rows[-1]['setting_deg']:.3f} deg"))
+        f"arc radius {result.radius:.4f} mm, lock angles {rows[0]['setting_deg']:.3f} .. "
+        f"{rows[-1]['setting_deg']:.3f} deg"))
     folder = output_dir(output, f"adjust-{command.name}")
     _refuse_inputs(command, folder)
     write_linkage_outputs(folder, "adjust", payload, {"adjust.csv": rows_csv(rows, "u: the regulating variable "

@@ -208,7 +208,8 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
     if swing is not None and kind != "oscillating":
         raise CamcadError("--swing is for an oscillating follower", "--swing", "drop it or use --follower oscillating")
     follower: dict = {"type": kind, "offset": offset, "cw": cw, "reversible": reversible, "groove": groove,
-                      "pressure_angle_limit_rise": defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG if pa_rise is None else pa_rise,
+                      "pressure_angle_limit_rise": (defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG if pa_rise is None
+                                                    else pa_rise),
                       "pressure_angle_limit_return": (defaults.PRESSURE_ANGLE_LIMIT_RETURN_DEG if pa_return is None
                                                       else pa_return)}
     for key, value in (("base_radius", rb), ("roller_radius", rr if kind in ("roller", "oscillating") else None),
@@ -307,7 +308,8 @@ def _print_group(out, report: dict) -> None:
     if cyclogram:
         if cyclogram.get("feasible"):
             out.print(f"cyclogram: makespan {cyclogram['makespan_deg']:.4f} deg, critical path "
-                      f"{' -> '.join(cyclogram['critical_path'])}, active bounds {', '.join(cyclogram['active_bounds'])}")
+                      f"{' -> '.join(cyclogram['critical_path'])}, "
+                      f"active bounds {', '.join(cyclogram['active_bounds'])}")
             for name, text in cyclogram.get("phases", {}).items():
                 out.print(f"  {name}: phases {text}")
         else:

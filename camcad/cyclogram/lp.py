@@ -154,7 +154,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     ...                              camcad.Operation("a", "c", 0.0, 60.0)])
     >>> camcad.optimise(tight, strict=False).explanation
     'the cyclogram is infeasible: t(a->b) >= 30 deg (bounds_deg); t(b->c) >= 45 deg (bounds_deg); t(a->c) <= 60 deg (bounds_deg) cannot all hold (together they overrun by 15 deg)'
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     from scipy.optimize import linprog
     from scipy.sparse import csr_matrix
 

@@ -140,7 +140,7 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: [cyclogram]: the operations form a cycle: a -> b -> a; an event cannot come before itself; remove or reverse one of these operations
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     ops = tuple(operations)
     if not ops:
         raise CamcadError("the cyclogram has no operations", where, "add [[cyclogram.operations]] tables")

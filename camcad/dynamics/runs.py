@@ -127,7 +127,8 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
                                        "end_deg": math.degrees(r.phase.end), key("amplitude_mm"): r.amplitude,
                                        "rpm": r.rpm} for r in first],
         key("residual_vibration_max_mm"): {"value": worst_residual[0], "rpm": worst_residual[1],
-                                           "phase": None if worst_residual[2] is None else worst_residual[2].phase.kind},
+                                           "phase": (None if worst_residual[2] is None
+                                                     else worst_residual[2].phase.kind)},
         "method": result.method,
         "accuracy": ({"samples": settings.samples} if result.method == "frequency"
                      else {"solver": settings.solver, "rtol": settings.rtol, "samples": settings.samples}),

@@ -162,8 +162,8 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
         if amplitude > ZERO_HARMONIC * spectrum.lift:
             raise ResonanceError(
                 f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in resonance "
-                f"with harmonic {k} of the law (amplitude {amplitude:.3g}, law units) at {rpm:g} rpm: no bounded periodic "
-                "steady state", rpm, k, float(amplitude))
+                f"with harmonic {k} of the law (amplitude {amplitude:.3g}, law units) at {rpm:g} rpm: "
+                "no bounded periodic steady state", rpm, k, float(amplitude))
         denominator[k] = 1.0
         forcing[k] = 0.0
         notes.append(f"harmonic {k} is in exact resonance at {rpm:g} rpm but its amplitude is zero "

@@ -449,8 +449,10 @@ class EditorView:
         session = self.session
         report = session.report_of(law)
         self.title_text.set_text(f"camcad edit — {self.title}")
-        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} operation{'s' if session.applied != 1 else ''} · "
-                                  f"undo {'yes' if session.can_undo else 'no'} · redo {'yes' if session.can_redo else 'no'}"
+        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} "
+                                  f"operation{'s' if session.applied != 1 else ''} · "
+                                  f"undo {'yes' if session.can_undo else 'no'} · "
+                                  f"redo {'yes' if session.can_redo else 'no'}"
                                   f" · saves to {self.output.name}")
         self.badge.set_text("\n".join(self.badge_lines(law, report)))
         preview = session.preview is not None

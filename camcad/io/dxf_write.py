@@ -295,7 +295,8 @@ class HeaderKeep:
     values: dict
 
 
-_HEADER_SECTION = re.compile(rb"(?s)0\s*\r?\n\s*SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER\s*\r?\n(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
+_HEADER_SECTION = re.compile(rb"(?s)0\s*\r?\n\s*SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER\s*\r?\n"
+                             rb"(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
 
 
 def header_snapshot(doc, raw: bytes | None) -> HeaderKeep:

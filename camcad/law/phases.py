@@ -218,7 +218,7 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: --phases: gap or overlap between phases at 90 and 100 deg; make each phase start where the previous ends
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     phases = []
     items = [item.strip() for item in text.split(",") if item.strip()]
     if not items:
@@ -246,7 +246,8 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     for before, after in pairwise(phases):
         if abs(np.degrees(after.start - before.end)) > tol:
             raise CamcadError(f"gap or overlap between phases at {np.degrees(before.end):g} and "
-                              f"{np.degrees(after.start):g} deg", where, "make each phase start where the previous ends")
+                              f"{np.degrees(after.start):g} deg", where,
+                              "make each phase start where the previous ends")
     return tuple(phases)
 
 

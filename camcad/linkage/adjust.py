@@ -408,7 +408,8 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
         interval = working_interval(linkage, adj, psi_max, mu_min=mu_min)
         swings = [characteristics(linkage, adj, x, psi_max).swing for x in interval]
         raise CamcadError(f"no setting of the arc gives a swing of {missing[0]:.6g} deg: over the settings where the "
-                          f"linkage works (mu >= {math.degrees(mu_min):.4g} deg) the swing runs {math.degrees(min(swings)):.6g} to "
+                          f"linkage works (mu >= {math.degrees(mu_min):.4g} deg) the swing runs "
+                          f"{math.degrees(min(swings)):.6g} to "
                           f"{math.degrees(max(swings)):.6g} deg", "--swing-range",
                           "ask for a swing range inside that, or change the linkage")
     xs = np.array(xs, dtype=float)

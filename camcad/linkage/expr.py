@@ -165,7 +165,8 @@ class _Parser:
             self.depth -= 1
             close = self.take()
             if close.kind != "rpar":
-                raise _error(self.text, close.pos, "missing ')'" if close.kind == "end" else f"unexpected {close.text!r}",
+                raise _error(self.text, close.pos,
+                             "missing ')'" if close.kind == "end" else f"unexpected {close.text!r}",
                              f"close the '(' opened at position {token.pos}")
             return node
         if token.kind == "name":

@@ -176,7 +176,8 @@ def _relax_inner(pos: np.ndarray, dist: np.ndarray, pinned: set[int], iterations
     if free.size == 0:
         return pos
     index = np.arange(n)
-    x = pos + 0.05 * np.column_stack([np.cos(2.4 * index), np.sin(2.4 * index)]) * (~np.isin(index, list(pinned)))[:, None]
+    x = pos + (0.05 * np.column_stack([np.cos(2.4 * index), np.sin(2.4 * index)])
+               * (~np.isin(index, list(pinned)))[:, None])
     scale = 2 * math.sin(math.pi / max(len(pinned), 3))
     target = dist * scale
     weight = np.where(dist > 0, 1.0 / np.maximum(target, 1e-9) ** 2, 0.0)

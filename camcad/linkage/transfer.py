@@ -416,8 +416,8 @@ class WorkingLaw(_LawLike):
 
 class FollowerLaw(_LawLike):
     """The follower's law ψ(θ) = Π⁻¹(y(θ)) designed for a working member's law y(θ) (``scale``: Π's unit
-    per unit of that law, e.g. π/180 for a law in deg and Π in rad), then multiplied by ``out_scale`` (e.g. the arm length, to give the
-    roller's arc in mm that camcad's oscillating follower turns back into ψ).
+    per unit of that law, e.g. π/180 for a law in deg and Π in rad), then multiplied by ``out_scale`` (e.g. the arm
+    length, to give the roller's arc in mm that camcad's oscillating follower turns back into ψ).
 
     Examples
     --------

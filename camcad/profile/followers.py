@@ -83,7 +83,7 @@ class Follower:
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: follower: offset |e| = 60 mm is not less than Rb + Rr = 50 mm; reduce the offset or enlarge the base circle
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
 
     kind: str
     base_radius: float

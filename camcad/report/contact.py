@@ -47,7 +47,8 @@ def plot_contact_stress(item, *, title: str = "", check=None, force_check=None):
     ax_s.plot(theta_deg, result.sigma, color=_STRESS, label="σ_H")
     margin = result.allowable - result.sigma_max
     ax_s.axhline(result.allowable, color=COLOURS["limit"], linestyle="--",
-                 label=f"[σ_H] = {result.allowable:g} MPa: margin {margin:.4g} MPa ({100 * margin / result.allowable:.3g} %)")
+                 label=f"[σ_H] = {result.allowable:g} MPa: margin {margin:.4g} MPa "
+                       f"({100 * margin / result.allowable:.3g} %)")
     ax_s.plot(np.degrees(result.at), result.sigma_max, "o", color=COLOURS["limit"])
     ax_s.annotate(f"σ_max {result.sigma_max:.4g} MPa at {np.degrees(result.at):.1f}°",
                   (np.degrees(result.at), result.sigma_max), textcoords="offset points", xytext=(6, -14), fontsize=8)
@@ -163,5 +164,6 @@ def contact_command(command: ContactCommand):
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:
         report = run_contact(command.request)
-        written = [save_figure(fig, out.path(*parts)) for parts, fig in contact_figures(report)] if command.plots else []
+        written = ([save_figure(fig, out.path(*parts)) for parts, fig in contact_figures(report)]
+                   if command.plots else [])
         return finish(report, out, written, "contact.json", contact_lines)

@@ -895,8 +895,8 @@ def family_figure(result, members):
     Examples
     --------
     >>> import types
-    >>> r = types.SimpleNamespace(pivots=[1 + 0j, 1j, -1 + 0j], centre=0j, radius=1.0, settings=np.array([0.0, 1.5, 3.1]),
-    ...     q=0.0, max_error=[0.0, 0.0, 0.0], crank=1.0)
+    >>> r = types.SimpleNamespace(pivots=[1 + 0j, 1j, -1 + 0j], centre=0j, radius=1.0,
+    ...     settings=np.array([0.0, 1.5, 3.1]), q=0.0, max_error=[0.0, 0.0, 0.0], crank=1.0)
     >>> len(family_figure(r, [None] * 3).axes)
     2
     """

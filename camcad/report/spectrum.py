@@ -318,8 +318,9 @@ def spectrum_lines(run) -> list[str]:
         lines.append(f"least N with RMS error <= {result.tol:g} {unit}: {least if least is not None else 'not found'}")
     if "resonance" in data:
         r = data["resonance"]
-        lines.append(f"resonance: fn {r['fn_hz']:g} Hz, {r['rpm'][0]:g}..{r['rpm'][1]:g} rpm, band +-{100 * r['band']:g} "
-                     f"% -> k in [{r['k_band'][0]:.3f}, {r['k_band'][1]:.3f}]: resonant {r['resonant'] or 'none'}")
+        lines.append(f"resonance: fn {r['fn_hz']:g} Hz, {r['rpm'][0]:g}..{r['rpm'][1]:g} rpm, "
+                     f"band +-{100 * r['band']:g} % -> k in [{r['k_band'][0]:.3f}, {r['k_band'][1]:.3f}]: "
+                     f"resonant {r['resonant'] or 'none'}")
     if "removed" in data:
         lines.append(f"filtered: removed {_ranges(data['removed'])}")
     if "lead_in" in data:

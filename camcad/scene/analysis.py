@@ -353,7 +353,8 @@ def scene_phase_angles(scene, mech, law, request: LawRequest, speeds) -> tuple[P
 
     found = cyclogram_angles(scene, speeds, request.samples)
     if not found.result.feasible:
-        raise CamcadError(f"the scene's cyclogram is infeasible, so it has no phase angles ({found.result.explanation})",
+        raise CamcadError("the scene's cyclogram is infeasible, so it has no phase angles "
+                          f"({found.result.explanation})",
                           f"{scene.path} [cyclogram]", "run camcad cyclogram to see the conflict, or use "
                           "--phase-angles law")
     phases = found.phases.get(mech.name)

@@ -424,7 +424,8 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         in_unit = spec.values["input_unit"]
         if (in_unit == "mm") == rotary_in:
             raise CamcadError(f"input_unit {in_unit!r} does not fit a {follower.kind} follower", where,
-                              'use input_unit = "deg" (or "rad") for an oscillating follower, "mm" for a translating one')
+                              'use input_unit = "deg" (or "rad") for an oscillating follower, '
+                              '"mm" for a translating one')
         rows = np.array(spec.rows, dtype=float)
         transfer = TableTransfer(rows[:, 0] * unit_scale(in_unit), rows[:, 1] * out_scale, unit_in,
                                  "mm" if spec.output_unit == "mm" else "rad", where)
@@ -468,7 +469,8 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         psi_max = float(np.max(psi)) if psi_max is None or spec.type != "table" else psi_max
         if spec.type == "table" and float(np.max(psi)) > transfer.psi_max * (1 + 1e-12):
             raise CamcadError(f"the follower moves to {_fmt(float(np.max(psi)), unit_in)}, beyond the table's "
-                              f"{_fmt(transfer.psi_max, unit_in)}", where, "extend the table over the follower's stroke")
+                              f"{_fmt(transfer.psi_max, unit_in)}", where,
+                              "extend the table over the follower's stroke")
         if spec.type == "table":
             psi_max = float(np.max(psi))
         if spec.type in ("fourbar", "sixbar"):

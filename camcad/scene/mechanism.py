@@ -209,7 +209,8 @@ def stretched_phase(phases, index: int, width_deg: float):
     stretched = stretch_phase(phases, index, width_deg)
     kind = phases[index][2]
     start = phases[index][0]
-    candidates = [(a, b) for a, b, k in stretched if k == kind and abs((b - a) - width_deg) <= 1e-9 * max(1.0, width_deg)]
+    candidates = [(a, b) for a, b, k in stretched
+                  if k == kind and abs((b - a) - width_deg) <= 1e-9 * max(1.0, width_deg)]
     bounds = min(candidates, key=lambda ab: abs(ab[0] - start))
     return stretched, bounds
 

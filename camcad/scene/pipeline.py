@@ -168,7 +168,8 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
     say = progress or (lambda _text: None)
     if not scene.mechanisms:
         raise CamcadError("the scene has no mechanism to make a profile of", str(scene.path),
-                          "add [law] and [follower], or [mechanisms.NAME] tables (camcad cyclogram runs a bare network)")
+                          "add [law] and [follower], or [mechanisms.NAME] tables "
+                          "(camcad cyclogram runs a bare network)")
     group = bool(scene.mechanisms[0].prefix)
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
         from camcad.scene.cyclogram import parse_cyclogram
