@@ -90,7 +90,7 @@ class Check:
     def margin_ratio(self) -> float | None:
         """The margin as a fraction of |limit| (None without a limit or with a zero limit)."""
         margin = self.margin
-        if margin is None or self.limit == 0:
+        if margin is None or self.limit is None or self.limit == 0:
             return None
         return margin / abs(self.limit)
 

@@ -169,7 +169,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     data = np.tile([1.0, -1.0], m)
     a_ub = csr_matrix((data, (rows, cols)), shape=(m, n))
     b_ub = np.array([-c.weight for c in constraints])
-    bounds = [(None, None)] * n
+    bounds: list[tuple[float | None, float | None]] = [(None, None)] * n
     bounds[index[network.start]] = (network.start_deg, network.start_deg)
     objective = np.zeros(n)
     objective[index[network.end]] = 1.0
@@ -227,8 +227,8 @@ def _critical(network: Network, tight: list[Constraint]) -> tuple[list[Constrain
                 previous[c.head] = c
                 queue.append(c.head)
     path = [network.end]
-    while previous.get(path[-1]) is not None:
-        path.append(previous[path[-1]].tail)
+    while (step := previous.get(path[-1])) is not None:
+        path.append(step.tail)
     return active, path[::-1]
 
 

@@ -178,8 +178,8 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
     if cycle:
         raise CamcadError(f"the operations form a cycle: {' -> '.join(cycle)}", where,
                           "an event cannot come before itself; remove or reverse one of these operations")
-    successors = {e: [] for e in order}
-    predecessors = {e: [] for e in order}
+    successors: dict[str, list[str]] = {e: [] for e in order}
+    predecessors: dict[str, list[str]] = {e: [] for e in order}
     for op in ops:
         successors[op.tail].append(op.head)
         predecessors[op.head].append(op.tail)

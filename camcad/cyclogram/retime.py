@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from itertools import pairwise
+from typing import Any
 
 from camcad.cyclogram.lp import CyclogramResult
 from camcad.errors import CamcadError
@@ -21,7 +22,7 @@ def stretch_phase(phases_deg: list[tuple[float, float, str]], index: int, width_
     Phases are (start_deg, end_deg, kind) covering [0, cycle_deg]. Raises CamcadError when no
     neighbouring dwell is wide enough.
     """
-    phases = [list(p) for p in phases_deg]
+    phases: list[list[Any]] = [list(p) for p in phases_deg]
     change = width_deg - (phases[index][1] - phases[index][0])
     for neighbour in (index + 1, index - 1):
         if 0 <= neighbour < len(phases) and phases[neighbour][2] == "dwell":
@@ -33,7 +34,7 @@ def stretch_phase(phases_deg: list[tuple[float, float, str]], index: int, width_
             else:
                 phases[index][0] -= change
                 phases[neighbour][1] -= change
-            return [tuple(p) for p in phases if p[1] > p[0]]  # type: ignore[misc]
+            return [tuple(p) for p in phases if p[1] > p[0]]
     raise CamcadError(f"phase {index + 1} ({phases[index][2]}) cannot be made {width_deg:g} deg wide: "
                       "no neighbouring dwell is wide enough", "phases",
                       "give the law a longer dwell next to that phase")

@@ -4,10 +4,11 @@
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import numpy as np
 
-from camcad.fourier.exact import _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
+from camcad.fourier.exact import Piece, _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 
@@ -139,7 +140,7 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
         return Spectrum(cycle, r["mean"], r["coefficients"], r["accel_mean"], r["accel_coefficients"],
                         r["tail"], r["mean_square"], r["error"], r["accel_error"], "exact")
     if isinstance(law, CompositeLaw):
-        pieces = composite_pieces(law)
+        pieces = cast(list[Piece], composite_pieces(law))  # exact_available: every shape is known
         mean, c, tail, error = _pieces_coefficients(pieces, cycle, harmonics, 0, tail_to)
         accel_mean, ca, _, accel_error = _pieces_coefficients(pieces, cycle, harmonics, 2, harmonics)
         raw_square = math.fsum(p.integral_of_square() for p in pieces) / cycle

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -198,7 +199,7 @@ def _piece_jumps(pieces: list[Piece], orders: int, shift: int = 0) -> tuple[np.n
 def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int):
     w = np.arange(1, max(harmonics, tail_to) + 1) * (2.0 * np.pi / cycle)
     derived = [p.derivative(order) for p in pieces]
-    coefficients = sum(p.transform(w) for p in derived) / cycle
+    coefficients = cast(np.ndarray, sum(p.transform(w) for p in derived) / cycle)
     mean = float(np.real(sum(p.transform(np.zeros(1))[0] for p in derived))) / cycle
     positions, deltas = _piece_jumps(pieces, _TAIL_ORDERS, shift=order)
     tail = _remainder(coefficients, harmonics, positions, deltas, cycle)

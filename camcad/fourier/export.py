@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -123,7 +124,7 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
     from camcad import balance
 
     polyline = acceleration_polyline(law, step_deg)
-    kwargs = {} if tol is None else {"tol": tol}
+    kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     phases = tuple(law.phases)
     notes: list[str] = []
     if exact_dwells:

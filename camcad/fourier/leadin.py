@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -126,7 +127,7 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     held = np.zeros(len(xs), dtype=bool)
     for lo, hi, level in segments:
         held |= (xs >= lo) & (xs <= hi) & (as_ == level)
-    kwargs = {} if tol is None else {"tol": tol}
+    kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     corrected = balance.correct(unbalanced, "min-change", fixed=held, where=where, **kwargs)
     result = corrected.law
     grid = _evaluation_grid(result, 1 << 14)

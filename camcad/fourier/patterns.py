@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -59,7 +59,7 @@ def motion_pattern(shape, name: str | None = None) -> MotionPattern:
     f = piece.values(nodes)
     moments = (float(np.sum(weights * f)), float(np.sum(weights * f**2)))
     edges = np.array([[piece.values(0.0, m), piece.values(1.0, m)] for m in range(_TAIL_ORDERS)])
-    return MotionPattern(name or getattr(shape, "name", "shape"), shape, piece.derivative(1), moments, edges)
+    return MotionPattern(cast(str, name or getattr(shape, "name", "shape")), shape, piece.derivative(1), moments, edges)
 
 
 def pattern_database() -> dict[str, MotionPattern]:

@@ -122,7 +122,7 @@ def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 
     core = tuple(range(first, last + 1))
     if len(core) > 100000:
         raise CamcadError(f"the band covers {len(core)} harmonics", where, "narrow the band or the speed range")
-    removed = set()
+    removed: set[int] = set()
     for k in core:
         removed.update(j for j in range(k - neighbours, k + neighbours + 1) if j >= 1)
     gains = {k: 0.0 for k in removed}

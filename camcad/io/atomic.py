@@ -24,7 +24,7 @@ def _umask() -> int:
     return mask
 
 
-def write_atomic(path: str | Path, write: Callable[[Path], None]) -> Path:
+def write_atomic(path: str | Path, write: Callable[[Path], object]) -> Path:
     """Call ``write(tmp)`` on a fresh temporary file beside ``path``, then rename it over ``path``.
 
     Parameters

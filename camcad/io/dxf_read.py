@@ -19,11 +19,15 @@ from collections import Counter
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input, utf16_without_bom
+
+if TYPE_CHECKING:
+    from ezdxf.document import Drawing as EzdxfDocument
 
 #: entity types that can hold (a piece of) the law
 #: the block in which camcad fix keeps the original law (io.law_write.ORIGINAL_BLOCK)
@@ -164,7 +168,7 @@ class Drawing:
     """
 
     path: Path
-    doc: object
+    doc: EzdxfDocument
     binary: bool
     recovered: bool
     notes: tuple[str, ...] = ()

@@ -214,7 +214,7 @@ def find_baseline(curve: Curve, pieces: tuple[Piece, ...], law_pieces: set[int],
         for r in two_sided:
             by_level[round(r.level / (AGREE_FRACTION * height))] = by_level.get(
                 round(r.level / (AGREE_FRACTION * height)), 0.0) + r.length
-        key = max(by_level, key=by_level.get)
+        key = max(by_level, key=by_level.get)  # type: ignore[arg-type]  # typeshed: dict.get may give None
         longest = max((r for r in two_sided if round(r.level / (AGREE_FRACTION * height)) == key),
                       key=lambda r: r.length)
         dwell, dwell_how = longest.level, f"the flat stretch at x {longest.x_start:.6g}..{longest.x_end:.6g}"

@@ -26,7 +26,7 @@ def simple_cycles(n: int, edges) -> list[tuple[int, ...]]:
     >>> simple_cycles(4, [(0, 1), (1, 2), (2, 3), (3, 0)])
     [(0, 1, 2, 3)]
     """
-    adj = [[] for _ in range(n)]
+    adj: list[list[int]] = [[] for _ in range(n)]
     for u, v in edges:
         adj[u].append(v)
         adj[v].append(u)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -75,7 +76,7 @@ def _extrema(fg: FunctionGenerator, target: Target, work: Work) -> tuple[np.ndar
 
 def _alternating(xs: np.ndarray, es: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
     """Reduce extrema to an alternating sequence of ``count`` points (or fewer if there are fewer)."""
-    seq = []
+    seq: list[tuple[Any, Any]] = []
     for x, e in zip(xs, es):
         if seq and np.sign(seq[-1][1]) == np.sign(e):
             if abs(e) > abs(seq[-1][1]):

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -366,7 +367,7 @@ def inverse_chain_rule(d, y_kin: Kinematics, psi) -> Kinematics:
 class _LawLike:
     """Shared parts of the laws below: cycle, phases and breakpoints of the underlying law."""
 
-    base = None
+    base: Any = None
 
     @property
     def cycle(self) -> float:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import cast
 
 from camcad.errors import CamcadError
 from camcad.profile import defaults
@@ -215,7 +216,7 @@ def arm_angle_on_base_circle(follower: Follower) -> float:
     Law of cosines in the triangle cam centre O – pivot A – roller centre B:
         (Rb + Rr)² = C² + L² − 2 C L cos γ0.
     """
-    c, arm, rp = follower.pivot, follower.arm, follower.prime_radius
+    c, arm, rp = cast(float, follower.pivot), cast(float, follower.arm), follower.prime_radius
     return math.acos((c**2 + arm**2 - rp**2) / (2.0 * c * arm))
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -416,8 +417,9 @@ def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -
         return geometry.pitch(t, second)
 
     values = phi(analysis)
-    maximum = refine_max(phi, analysis, values)
-    minimum = refine_min(phi, analysis, values)
+    # φ is finite on the whole grid, so both extremes exist
+    maximum = cast(Extremum, refine_max(phi, analysis, values))
+    minimum = cast(Extremum, refine_min(phi, analysis, values))
     if geometry.follower.kind == "flat":
         return PressureAngleCheck(maximum, minimum, None, None, None, True)
 

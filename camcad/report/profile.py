@@ -264,7 +264,7 @@ def plot_profile(result):
     return fig
 
 
-def draw_profile(ax, result, legend: bool = True, title: str | None = None) -> None:
+def draw_profile(ax, result, legend: bool | float = True, title: str | None = None) -> None:
     """The cam profile, pitch curve, base circle and the follower at θ = 0, into ``ax``."""
     f = result.follower
     geometry = result.geometry

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -114,7 +115,7 @@ class PhaseStretch:
                           j=np.ravel(kin.j))
         f = self.cam.follower
         if f.kind == "oscillating":
-            track = oscillating_track(flat, f.pivot, f.arm, self.cam.gamma0)
+            track = oscillating_track(flat, cast(float, f.pivot), cast(float, f.arm), self.cam.gamma0)
         else:
             track = translating_track(flat, self.cam.height, f.offset)
         return pitch_geometry(flat.theta, track, self.cam.sigma)
