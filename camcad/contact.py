@@ -369,10 +369,10 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
         Form-closed cam: the radius of the surface that carries a negative force (a groove's outer
         wall, seen from the roller: −(ρ_pitch + Rr)), mm, same sign convention; without it
         ``rho_profile_mm`` is used for both signs.
-
     linkage_load : camcad.linkage.transfer.LinkageLoad, optional
         The working member behind a linkage, reduced to the roller's path on the same θ: F = A ω² + B (N),
         with A = J Π'(Π'ψ'' + Π''ψ'²)/L and B = Π'Q/L, added to the axial force; None (default): no linkage.
+
     Returns
     -------
     ContactResult

@@ -184,6 +184,16 @@ class Verdict:
                 "warnings": [w.to_dict() for w in self.warnings]}
 
 
+def note_line(note: str, indent: str = "  ") -> str:
+    """One printed line of a reader's or a model's note: ``warning: …`` for a note that is a warning (its
+    text starts with "warning: "), ``note: …`` otherwise.
+
+    >>> note_line("warning: 2 dwells are not at zero"), note_line("3 pieces joined end to end")
+    ('  warning: 2 dwells are not at zero', '  note: 3 pieces joined end to end')
+    """
+    return f"{indent}{note}" if note.startswith("warning: ") else f"{indent}note: {note}"
+
+
 def combine(verdicts: Iterable[Verdict]) -> Verdict:
     """One verdict of several (checks and warnings concatenated)."""
     checks: list[Check] = []

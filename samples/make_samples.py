@@ -125,7 +125,7 @@ def line_chain():
 
 
 def drawing_with_axes():
-    """A law inside a real-looking sheet: frame, axes, grid, tick text, title, a dimension. Modified sine, 3 % off."""
+    """A law inside a real-looking sheet: frame, axes, grid, tick text, title, a dimension. Cycloidal, 3 % off."""
     t, a = sampled([("dwell", 90), ("rise", 100), ("dwell", 70), ("return", 100)], 15.0, "cycloidal", 1.0)
     a = scale_lobe(t, a, 190, 260, 1.0)
     a = scale_lobe(t, a, 115, 140, 1.03)
@@ -146,6 +146,36 @@ def drawing_with_axes():
     dim = msp.add_linear_dim(base=(0, -130), p1=(90, 0), p2=(190, 0), dxfattribs={"layer": "TEXT"})
     dim.render()
     save(doc, "drawing_with_axes_grid_text.dxf")
+
+
+def press_feed_sheet():
+    """The README's worked example: a press-feed law drawn as a designer draws it on a sheet. The graph's
+    origin is at (50, 140) on the sheet, 1 drawing unit = 2 deg, axes and a title around it; the dwells are
+    LINEs and each motion is its own polyline (the law is the chain of its pieces); modified-sine rise and
+    return of 90 deg, the return's decelerating lobe drawn 6 % low, so the follower does not come back."""
+    t, a = sampled([("dwell", 60), ("rise", 90), ("dwell", 60), ("return", 90), ("dwell", 60)], 20.0,
+                   "modified_sine", 1.0)
+    a = scale_lobe(t, a, 255, 300, 0.94)
+    x0, y0, x_scale, y_scale = 50.0, 140.0, 0.5, 4.0
+    x, y = x0 + x_scale * t, y0 + y_scale * a
+    doc, msp = new_doc()
+    for name, color in (("LAW", 1), ("AXES", 7), ("NOTES", 3), ("FRAME", 7)):
+        doc.layers.add(name, color=color)
+    pieces = [(0, 60), (60, 150), (150, 210), (210, 300), (300, 360)]
+    for start, end in pieces:
+        inside = (t >= start - 1e-9) & (t <= end + 1e-9)
+        points = list(zip(x[inside], y[inside]))
+        if (start, end) in ((60, 150), (210, 300)):
+            msp.add_lwpolyline(points, dxfattribs={"layer": "LAW"})
+        else:
+            msp.add_line(points[0], points[-1], dxfattribs={"layer": "LAW"})
+    msp.add_line((x0 - 10, y0), (x0 + 190, y0), dxfattribs={"layer": "AXES"})
+    msp.add_line((x0, y0 - 60), (x0, y0 + 60), dxfattribs={"layer": "AXES"})
+    for deg in range(0, 361, 60):
+        msp.add_text(f"{deg}", dxfattribs={"layer": "NOTES", "height": 3}).set_placement((x0 + x_scale * deg - 3, y0 - 66))
+    msp.add_text("PRESS FEED  a(phi), 1 unit = 2 deg", dxfattribs={"layer": "NOTES", "height": 5}).set_placement((x0, y0 + 70))
+    msp.add_lwpolyline([(10, 40), (287, 40), (287, 240), (10, 240)], close=True, dxfattribs={"layer": "FRAME"})
+    save(doc, "press_feed_sheet.dxf")
 
 
 def right_to_left_duplicates():
@@ -172,7 +202,7 @@ def tables():
 def main():
     HERE.mkdir(parents=True, exist_ok=True)
     for make in (balanced_drdr, fig2_unbalanced, drrd_unbalanced, constant_acceleration_jumps, r12_polyline,
-                 spline_law, line_chain, drawing_with_axes, right_to_left_duplicates, tables):
+                 spline_law, line_chain, drawing_with_axes, press_feed_sheet, right_to_left_duplicates, tables):
         make()
     print(f"samples written to {HERE.parent}")
 

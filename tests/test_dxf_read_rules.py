@@ -435,3 +435,38 @@ def test_fit_point_spline_passes_through_its_fit_points(tmp_path):
     theta = np.radians([t for t, _ in fit])
     values = np.interp(theta, loaded.law.x, loaded.law.a)
     assert np.allclose(values, [a for _, a in fit], atol=1e-4)
+
+
+def test_a_piece_stopping_just_short_of_the_chain_is_warned_of(tmp_path):
+    # The law in three pieces; the last is drawn 0.5 units (0.14 % of the width) short of the middle one: the
+    # widest chain is then only part of the law, and the reader says which piece and how far. A tick mark at
+    # the chain's start that points inward (it would not carry the chain further) is not warned of.
+    def build(msp, doc, gap):
+        msp.add_lwpolyline(LAW[:6], dxfattribs={"layer": "LAW"})                   # 0..180
+        msp.add_line((180, 0), (210, 0), dxfattribs={"layer": "LAW"})               # the far dwell
+        tail = [(t + gap, a) for t, a in LAW[6:]]
+        msp.add_lwpolyline(tail, dxfattribs={"layer": "LAW"})                       # 210 + gap .. 360 + gap
+        msp.add_line((0.4, 0.3), (3, 0.3), dxfattribs={"layer": "LAW"})            # a tick mark near the start
+
+    # the widest part (0..210) holds a rise but no return: refused, and the reason given is the gap
+    with pytest.raises(CamcadError) as refused:
+        load_law(_save(tmp_path, lambda msp, doc: build(msp, doc, 0.5), "broken.dxf"))
+    assert refused.value.fix.startswith("the chain read stops at x = 210, 0.5 drawing units short of LWPOLYLINE")
+    assert refused.value.fix.endswith("close that gap in the drawing") and len(refused.value.fix) < 120
+    # the same law in two halves of equal width that do not meet: not "the same x-range", but the gap
+    def halves(msp, doc):
+        msp.add_lwpolyline(LAW[:6], dxfattribs={"layer": "LAW"})
+        msp.add_lwpolyline([(t + 0.5, a) for t, a in LAW[5:]], dxfattribs={"layer": "LAW"})
+    with pytest.raises(CamcadError) as refused:
+        load_law(_save(tmp_path, halves, "halves.dxf"))
+    assert "2 curves of the same width side by side (x 0..180, 180.5..360.5" in refused.value.what
+    assert refused.value.fix.startswith("the chain read stops at x = 180, 0.5 drawing units short of")
+    # a gap late in the return: the part before it (0..300) is read, with the warning
+    def late(msp, doc):
+        msp.add_lwpolyline(LAW[:10], dxfattribs={"layer": "LAW"})
+        msp.add_lwpolyline([(t + 0.5, a) for t, a in LAW[9:]], dxfattribs={"layer": "LAW"})
+    partial = load_law(_save(tmp_path, late, "late.dxf"))
+    warned = [n for n in partial.notes if n.startswith("warning: the law's chain ends")]
+    assert len(warned) == 1 and "x = 300, 0.5 drawing units short of LWPOLYLINE" in warned[0], partial.notes
+    whole = load_law(_save(tmp_path, lambda msp, doc: build(msp, doc, 0.0), "whole.dxf"))
+    assert not [n for n in whole.notes if "short of" in n] and np.degrees(whole.law.x[-1]) == pytest.approx(360)

@@ -74,6 +74,13 @@ def test_a_row_holds_the_figures_of_the_scene_written_by_hand(tmp_path, cli):
     assert row["feasible"] == (phi <= LIMIT_RISE) and row["governing"] == "pressure angle, rise"
 
 
+def without_least_phase_angles(figures):
+    """The checks of a phase angle against the least angle the design step solves for [sigma_H]: the
+    full pipeline has them, checks_only does not solve those angles (its contact stress check, at the
+    scene's own phase angles, decides the same pass or fail)."""
+    return [f for f in figures if not f.name.endswith(" phase angle")]
+
+
 def test_checks_only_gives_the_same_checks_as_the_full_pipeline():
     tables = default_tables()
     weft = tomllib.loads((SCENES / "loom_group1.toml").read_text())["mechanisms"]["weft_returner"]
@@ -90,7 +97,7 @@ def test_checks_only_gives_the_same_checks_as_the_full_pipeline():
         full = analyse_scene(scene, PipelineOptions(plots=())).report
         quick = analyse_scene(scene, PipelineOptions(plots=(), checks_only=True)).report
         assert quick["checks"] == full["checks"] and quick["passed"] == full["passed"]
-        assert design_checks(quick) == design_checks(full)
+        assert design_checks(quick) == without_least_phase_angles(design_checks(full))
         for model in ("dynamics", "impact"):
             if model in full:
                 assert quick[model] == full[model]
@@ -105,7 +112,9 @@ def test_checks_only_gives_the_same_figures_for_a_group_with_a_cyclogram():
     # so the retimed laws, and every figure after them, are the same to the last bit
     full = analyse_scene(SCENES / "loom_group1.toml", PipelineOptions(plots=())).report
     quick = analyse_scene(SCENES / "loom_group1.toml", PipelineOptions(plots=(), checks_only=True)).report
-    assert design_checks(quick) == design_checks(full) and len(design_checks(full)) == 4 * 6 + 2
+    # 4 mechanisms x 6 checks, less the spring's normal force of shuttle_lift (a groove: form-closed), + the
+    # cyclogram's own 11 (makespan and one phase angle per arc of the network)
+    assert design_checks(quick) == design_checks(full) and len(design_checks(full)) == 4 * 6 - 1 + 11
     assert quick["cyclogram"]["phase_angles_deg"] == full["cyclogram"]["phase_angles_deg"]
 
 

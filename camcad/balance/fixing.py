@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
+from camcad.verdict import note_line
 from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL
 from camcad.balance.correction import Correction, correct
@@ -54,7 +55,7 @@ class CheckReport:
     def to_text(self) -> str:
         """The human-readable report (plain text, no markup)."""
         b = self.balance
-        lines = [self.source, *(f"  note: {n}" for n in self.notes), "", "phases"]
+        lines = [self.source, *(note_line(n) for n in self.notes), "", "phases"]
         lines += _table(["phase", "from (deg)", "to (deg)", "area + (mm/rad)", "area - (mm/rad)",
                          "v at end (mm/rad)", "displacement (mm)"],
                         [[p["kind"], f"{p['start_deg']:.4f}", f"{p['end_deg']:.4f}", f"{p['area_positive']:.6g}",
@@ -159,7 +160,7 @@ class FixReport:
         """The human-readable report (plain text: a phase string such as 0:100:dwell stays as it is)."""
         c, scale = self.correction, self.y_scale
         b, a = c.before, c.after
-        lines = [self.source, *(f"  note: {n}" for n in (*self.notes, *c.notes, *self.write_notes))]
+        lines = [self.source, *(note_line(n) for n in (*self.notes, *c.notes, *self.write_notes))]
         if self.status == "already balanced":
             lines.append(f"already balanced within {b.tolerance:g} x rise ({b.tolerance_abs:.3g} mm): nothing to fix, "
                          "no file written (--force writes a copy)")

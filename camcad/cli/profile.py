@@ -268,8 +268,10 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
     follower = mech.get("follower") or {}
     law = mech.get("law") or {}
     if isinstance(law, dict):
-        for note in law.get("notes", []):
-            out.print(f"{indent}law        {note}")
+        for k, note in enumerate(law.get("notes", [])):
+            label = "warning" if note.startswith("warning: ") else ("law" if k == 0 else "")
+            text = note.removeprefix("warning: ").removeprefix("law: ")
+            out.print(f"{indent}{label:<10} {text}")
     if follower:
         out.print(f"{indent}follower   {follower.get('type')}, Rb {_fmt(follower.get('base_radius_mm'))} mm"
                   + (f", Rr {_fmt(follower.get('roller_radius_mm'))} mm" if follower.get("roller_radius_mm") else ""))

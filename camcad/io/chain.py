@@ -43,6 +43,10 @@ X_FRACTION = 1e-9
 AMBIGUITY_FRACTION = 1e-6
 #: rounds of leaving out straight lines before giving up
 MAX_ROUNDS = 200
+#: a piece that would extend the law's chain but ends this fraction of its width (or less) short of it
+#: is a gap the author did not mean: warned of
+NEAR_GAP_FRACTION = 0.02
+GAP_WARNING = "warning: the law's chain ends at"
 #: a wider chain going back in x by at most this fraction of its width is a law drawn a little wrong
 MISDRAWN_BACK_FRACTION = 0.25
 
@@ -100,6 +104,9 @@ class LawChain:
     graph: Graph
     candidates: int
     used: tuple[int, ...] = ()
+    #: how to close the nearest gap a piece stops short of the chain by ("" if none): the likelier cause
+    #: when the law read is refused
+    gap_fix: str = ""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -735,7 +742,10 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                      f"(tolerance {curve.flatten_tol:.3g} drawing units)")
     dropped = _dropped_notes(graph, base)
     notes.extend(dropped)
-    return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1, path.pieces)
+    gaps = _near_gaps(graph, base, path, excluded)
+    notes.extend(note for note, _ in gaps)
+    return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1, path.pieces,
+                    gaps[0][1] if gaps else "")
 
 
 def _group_paths(graph: Graph, mask: np.ndarray, through_set: list[int], name: str):
@@ -832,8 +842,18 @@ def _refuse_ambiguous(graph, base, path, excluded, single, chosen, where, layer)
     if rivals:
         names = ", ".join(graph.pieces[p.steps[0][0]].handle for p in [path] + rivals)
         scope = f"layer {layer}" if layer else "the drawing"
-        raise CamcadError(f"{scope} holds {len(rivals) + 1} curves spanning the same x-range (handles {names})",
-                          where, "pick one with --handle" + ("" if layer else " or --layer"))
+        ranges = [(float(pts[:, 0].min()), float(pts[:, 0].max()))
+                  for pts in (path_points(graph, p) for p in [path] + rivals)]
+        overlap = min(hi for _, hi in ranges) - max(lo for lo, _ in ranges)
+        if overlap > 2 * graph.x_tol:
+            raise CamcadError(f"{scope} holds {len(rivals) + 1} curves spanning the same x-range (handles {names})",
+                              where, "pick one with --handle" + ("" if layer else " or --layer"))
+        # side by side, not one over the other: most likely one law drawn in parts that do not meet
+        gaps = _near_gaps(graph, base, path, excluded)
+        spans = ", ".join(f"{lo:.6g}..{hi:.6g}" for lo, hi in ranges)
+        raise CamcadError(f"{scope} holds {len(rivals) + 1} curves of the same width side by side (x {spans}; "
+                          f"handles {names}) that do not join", where,
+                          gaps[0][1] if gaps else "join them into one curve, or pick one with --handle")
 
 
 def _dropped_notes(graph: Graph, mask: np.ndarray) -> list[str]:
@@ -846,6 +866,38 @@ def _dropped_notes(graph: Graph, mask: np.ndarray) -> list[str]:
     if len(twice):
         notes.append(f"{len(twice)} piece{'s' if len(twice) > 1 else ''} drawn twice over counted once "
                      f"({handles_text([graph.pieces[i].handle for i in twice], 4)})")
+    return notes
+
+
+def _near_gaps(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int]) -> list[tuple[str, str]]:
+    """(warning, how to fix) for each end of the chain that a piece would carry further in x but stops short
+    of by more than the join tolerance (and at most ``NEAR_GAP_FRACTION`` of the chain's width): most likely
+    a gap the author did not mean, so the law read is only part of the drawn one."""
+    pts = path_points(graph, path)
+    if len(pts) < 2:
+        return []
+    left, right = (pts[0], pts[-1]) if pts[-1][0] >= pts[0][0] else (pts[-1], pts[0])
+    limit = NEAR_GAP_FRACTION * max(path.span, graph.x_tol)
+    used = set(path.pieces) | excluded
+    candidates = np.array([i for i in np.flatnonzero(mask & graph.usable & ~graph.zero_length) if i not in used],
+                          dtype=int)
+    if len(candidates) == 0:
+        return []
+    ends = np.array([(graph.pieces[i].points[0], graph.pieces[i].points[-1]) for i in candidates])  # (n, 2, 2)
+    notes = []
+    for end, outward in ((left, -1.0), (right, 1.0)):
+        gaps = np.hypot(ends[..., 0] - end[0], ends[..., 1] - end[1]).min(axis=1)
+        near = np.flatnonzero((gaps > graph.join_tol) & (gaps <= limit))
+        # only a piece that would carry the chain past this end (not a tick mark pointing inward)
+        near = [k for k in near[np.argsort(gaps[near])]
+                if (outward * (graph.pieces[candidates[k]].points[:, 0] - end[0]) > graph.x_tol).any()]
+        if near:
+            piece, gap = graph.pieces[candidates[near[0]]], float(gaps[near[0]])
+            notes.append((f"{GAP_WARNING} x = {end[0]:.6g}, {gap:.3g} drawing units short of "
+                          f"{piece.kind} {piece.handle} (join tolerance {graph.join_tol:.3g}); if that piece is part "
+                          "of the law, close the gap in the drawing",
+                          f"the chain read stops at x = {end[0]:.6g}, {gap:.3g} drawing units short of "
+                          f"{piece.kind} {piece.handle}: close that gap in the drawing"))
     return notes
 
 

@@ -224,9 +224,15 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     notes.extend(baseline.notes)
     notes.append(units_note(drawing, scaled=lift is not None))
     x_tol = chain.graph.join_tol if len(curve.pieces) > 1 else 0.0
-    return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes, where=f"{path}, {curve.label}",
-                  curve=curve, drawing=drawing, candidates=chain.candidates, y0=baseline.y0, x0=baseline.x0,
-                  x_tol=x_tol, cycle_stated=cycle_stated, baseline=baseline)
+    try:
+        return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes, where=f"{path}, {curve.label}",
+                      curve=curve, drawing=drawing, candidates=chain.candidates, y0=baseline.y0, x0=baseline.x0,
+                      x_tol=x_tol, cycle_stated=cycle_stated, baseline=baseline)
+    except CamcadError as err:
+        if not chain.gap_fix:
+            raise
+        # the law read is only part of the drawn one: the gap is the likelier cause than what went wrong
+        raise CamcadError(err.what, err.where, chain.gap_fix) from None
 
 
 def _pieces_text(pieces) -> str:

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.io.atomic import write_atomic
-from camcad.report.figure import pyplot
+from camcad.report.figure import new_figure
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 
@@ -20,8 +20,7 @@ def _dense(law, samples: int = 4000) -> np.ndarray:
 def plot_balance(law, report, path: str | Path, *, corrected=None, after=None, title: str = "") -> Path:
     """Three stacked panels (a, v, s against θ in deg); with ``corrected`` (and its check ``after``), the
     corrected law on top."""
-    plt = pyplot()
-    fig, axes = plt.subplots(3, 1, figsize=(10, 8.5), sharex=True, constrained_layout=True)
+    fig, axes = new_figure(10, 8.5, rows=3, sharex=True)
     theta = _dense(law)
     kin = law.kinematics(theta)
     deg = np.degrees(theta)
@@ -53,22 +52,20 @@ def plot_balance(law, report, path: str | Path, *, corrected=None, after=None, t
             ax_v.plot([row["end_deg"]], [row["v_end"]], "o", color="#e76f51" if abs(row["v_end"]) > report.tolerance_abs
                       else "#2a9d8f")
     ax_s.plot([np.degrees(law.cycle)], [report.displacement_closure], "s",
-              color="#2a9d8f" if report.balanced else "#e76f51",
+              color="#2a9d8f" if report.balanced else "#e76f51", clip_on=False, zorder=5,
               label=f"closure gap {report.displacement_closure:.3g} mm")
     ax_a.set_ylabel("a (mm/rad²)")
     ax_v.set_ylabel("v (mm/rad)")
     ax_s.set_ylabel("s (mm)")
     ax_s.set_xlabel("cam angle θ (deg)")
-    ax_a.legend(loc="upper right", fontsize=8)
-    ax_s.legend(loc="upper right", fontsize=8)
+    handles = [h for ax in (ax_a, ax_s) for h in ax.get_legend_handles_labels()[0]]
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8, frameon=False)
     verdict = "balanced" if report.balanced else f"NOT balanced (closure gap {report.displacement_closure:.3g} mm)"
     if after is not None:
         verdict = (f"drawn: {verdict}; corrected: " + ("balanced" if after.balanced else "NOT balanced")
                    + f" (gap {after.displacement_closure:.2g} mm)")
     else:
         verdict += f", tolerance {report.tolerance_abs:.3g} mm"
-    fig.suptitle(f"{title}  —  {verdict}" if title else verdict)
+    fig.suptitle(f"{title}\n{verdict}" if title else verdict)
     ax_s.set_xlim(0, np.degrees(law.cycle))
-    out = write_atomic(Path(path), lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    plt.close(fig)
-    return out
+    return write_atomic(Path(path), lambda tmp: fig.savefig(tmp, dpi=120, format="png"))

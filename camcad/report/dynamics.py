@@ -16,6 +16,7 @@ import numpy as np
 
 from camcad.dynamics.model import OUTPUT_UNITS
 from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.verdict import note_line
 
 _PHASE_COLOURS = {"rise": "#e8f0fb", "return": "#fbeee8"}
 
@@ -353,7 +354,7 @@ def dynamics_lines(run) -> list[str]:
                      f"error {fmt(mm[unit_key('dynamic_error_max_mm', unit)])} {unit}, cam speed "
                      f"{fmt(mm['cam_speed_range_rpm'][0])}…{fmt(mm['cam_speed_range_rpm'][1])} rpm")
     for note in d.get("notes", []):
-        lines.append(f"  note: {note}")
+        lines.append(note_line(note))
     lines += verdict_lines(report.verdict, common_applies(report))
     return lines + output_lines(run.outputs)
 

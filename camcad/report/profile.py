@@ -31,15 +31,26 @@ def _shade_phases(ax, result) -> None:
                            color=colour, alpha=0.6, lw=0, zorder=0)
 
 
+def _label_point(ax, x: float, y: float, text: str, below: bool = False, fontsize: int = 8) -> None:
+    """Mark (x, y) (x in deg on a 0–360 axis) with a dot and ``text`` beside it, on its left near the
+    right-hand edge so that it is not cut off."""
+    ax.plot(x, y, "o", ms=4, color="black", zorder=5)
+    right_edge = x > 0.6 * 360.0
+    ax.annotate(text, (x, y), textcoords="offset points", xytext=(-6 if right_edge else 6, -4 if below else 4),
+                ha="right" if right_edge else "left", va="top" if below else "bottom", fontsize=fontsize)
+
+
 def _annotate_extrema(ax, x: np.ndarray, y: np.ndarray, unit: str) -> None:
+    """Label the largest and the smallest value, unless it is zero to round-off (a dwell at s = 0)."""
     finite = np.isfinite(y)
     if not finite.any():
         return
-    for index, va in ((int(np.nanargmax(np.where(finite, y, -np.inf))), "bottom"),
-                      (int(np.nanargmin(np.where(finite, y, np.inf))), "top")):
-        ax.plot(x[index], y[index], "o", ms=4, color="black", zorder=5)
-        ax.annotate(f"{y[index]:.4g} {unit}\n@ {x[index]:.1f}°", (x[index], y[index]),
-                    textcoords="offset points", xytext=(6, 4 if va == "bottom" else -4), va=va, fontsize=8)
+    scale = float(np.max(np.abs(y[finite])))
+    for index, below in ((int(np.nanargmax(np.where(finite, y, -np.inf))), False),
+                         (int(np.nanargmin(np.where(finite, y, np.inf))), True)):
+        if abs(y[index]) <= 1e-9 * scale:
+            continue
+        _label_point(ax, float(x[index]), float(y[index]), f"{y[index]:.4g} {unit}\n@ {x[index]:.1f}°", below)
 
 
 def _theta_axis(ax, step: int = 30) -> None:
@@ -154,11 +165,9 @@ def draw_pressure_angle(ax, result) -> None:
             ax.plot(deg, -limit, color="#b03a2e", lw=1.0, ls="--")
         ax.plot(deg, phi, lw=1.6, color="#1f4e79", label="pressure angle φ")
         pa = result.pressure_angle
-        for ext, va in ((pa.maximum, "bottom"), (pa.minimum, "top")):
+        for ext, below in ((pa.maximum, False), (pa.minimum, True)):
             x, y = math.degrees(ext.at), math.degrees(ext.value)
-            ax.plot(x, y, "o", color="black", ms=4)
-            ax.annotate(f"{y:.2f}° @ {x:.1f}°", (x, y), textcoords="offset points",
-                        xytext=(6, 4 if va == "bottom" else -4), va=va, fontsize=9)
+            _label_point(ax, x % 360.0, y, f"{y:.2f}° @ {x:.1f}°", below, fontsize=9)
         ax.set_ylim(-top, top)
         verdict = "within the limits" if pa.passed else "OVER THE LIMIT"
         ax.set_title(f"pressure angle — {verdict}" + (" (reversible)" if result.follower.reversible else ""),
@@ -223,15 +232,14 @@ def draw_curvature(ax, result) -> None:
     ax.plot(deg, shown_part(t.rho_profile), lw=1.6, color="#1f4e79", label="profile ρ")
     best = result.profile.rho_convex_min
     if best is not None:
-        ax.plot(math.degrees(best.at), best.value, "o", color="black", ms=4)
-        ax.annotate(f"smallest convex ρ {best.value:.4g} mm @ {math.degrees(best.at):.1f}°",
-                    (math.degrees(best.at), best.value), textcoords="offset points", xytext=(6, -12), fontsize=9)
+        _label_point(ax, math.degrees(best.at) % 360.0, best.value,
+                     f"smallest convex ρ {best.value:.4g} mm @ {math.degrees(best.at):.1f}°", below=True, fontsize=9)
     ax.axhline(0.0, color="black", lw=0.6)
     ax.set_ylim(bottom, top)
     ax.set_ylabel("radius of curvature ρ (mm), + convex, − concave")
     ax.set_xlabel("cam angle θ (deg)")
     ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10)
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="upper center", fontsize=8)
     _theta_axis(ax)
 
 

@@ -28,20 +28,19 @@ def _path(layer: str, curve: CurveResult, prefer_arcs: bool = True) -> DxfPath:
 
 
 def drawing_texts(result: ProfileResult) -> list[str]:
-    """The TEXT layer's lines (ASCII): law, follower (Rb, Rr, e), lift, phases, key figures."""
+    """The TEXT layer's lines (ASCII): law, phases, follower (Rb, Rr, e), lift or swing, key figures."""
     f = result.follower
     pa = result.pressure_angle
     if f.kind == "oscillating":
         size = f"swing {math.degrees(stroke(result)):.6g} deg"
     else:
         size = f"lift {stroke(result):.6g} mm"
-    rr = f"{f.roller_radius:.6g} mm" if f.has_roller else "- (flat face)"
     lines = [
         f"camcad profile: {result.name}",
         f"law: {describe_law(result.law)}",
         f"phases (deg): {describe_phases(result.law)}",
         f"follower: {f.describe()}",
-        f"Rb {f.base_radius:.6g} mm, Rr {rr}, e {f.offset:.6g} mm, {size}",
+        f"{size} (the follower's stroke)",
         (f"pressure angle max {math.degrees(pa.maximum.value):.3f} deg at {math.degrees(pa.maximum.at):.3f} deg, "
          f"min {math.degrees(pa.minimum.value):.3f} deg at {math.degrees(pa.minimum.at):.3f} deg"),
         f"units mm, cam turns {'CW' if f.cw else 'CCW'}, chord tolerance {result.settings.tol_mm:g} mm",

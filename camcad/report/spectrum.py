@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.verdict import note_line
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"
@@ -328,7 +329,7 @@ def spectrum_lines(run) -> list[str]:
         lines.append(f"lead-in: {lead['angle_deg']:g} deg at {lead['fraction']:g} of the peak acceleration before "
                      f"{len(lead['segments'])} motion(s)")
     for note in data.get("notes", []) + data.get("filter", {}).get("notes", []):
-        lines.append(f"  note: {note}")
+        lines.append(note_line(note))
     if report.verdict.checks:
         lines += verdict_lines(report.verdict, common_applies(report))
     lines += output_lines(run.outputs)

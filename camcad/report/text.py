@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
+from camcad.verdict import note_line
+
 
 def fmt(value, digits: int = 4) -> str:
     """A figure for a table: ``digits`` significant digits, "-" for None, "inf" for an unbounded one.
@@ -64,7 +66,7 @@ def header_lines(report) -> list[str]:
     elif isinstance(angles, str):
         lines.append(f"phase angles analysed: {angles}")
     for note in source.get("notes", []):
-        lines.append(f"  note: {note}")
+        lines.append(note_line(note))
     for what, why in report.skipped.items():
         lines.append(f"  skipped {what}: {why}")
     return lines

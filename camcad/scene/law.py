@@ -114,7 +114,7 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
         if "\x00" in values["file"] or not values["file"].strip():
             raise CamcadError(f"law file name {excerpt(values['file'])} is not a file name", where,
                               'write file = "accel.dxf" (relative to the scene file)')
-        file = (base_dir / values["file"]).resolve()
+        file = _as_shown((base_dir / values["file"]).resolve())
         if not file.exists():
             raise CamcadError(f"law file {excerpt(values['file'])} not found", where,
                               "give the path relative to the scene file")
@@ -123,6 +123,15 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                    handle=values["handle"], y0=values["y0"], x0=values["x0"], cycle=values["cycle"],
                    cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"],
                    law_of=values["law_of"])
+
+
+def _as_shown(path: Path) -> Path:
+    """``path`` relative to the working folder when it lies inside it (what the user typed, in messages
+    and reports), else absolute."""
+    try:
+        return path.relative_to(Path.cwd())
+    except ValueError:
+        return path
 
 
 def build_law(spec: LawSpec) -> BuiltLaw:

@@ -48,6 +48,9 @@ class PipelineOptions:
         "contact"); ("all",) every one; () none (no unit).
     contact_samples : int
         Cam-angle samples per phase for the contact-stress maxima and their phase limits (dimensionless).
+    checks_only : bool
+        Only what the checks need (no unit): no smallest base radius, no least phase angles of a mechanism
+        the cyclogram does not retime, no pitch curve sampled for writing — what ``camcad sweep`` runs.
 
     Examples
     --------
