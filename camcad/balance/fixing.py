@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
-from camcad.verdict import note_line
 from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL
 from camcad.balance.correction import Correction, correct
+from camcad.verdict import note_line
 
 # ---------------------------------------------------------------------------------------------
 # check
