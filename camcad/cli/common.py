@@ -169,7 +169,7 @@ def _given(name: str) -> bool:
     try:  # typer >= 0.16 runs its own copy of click
         from typer._click.globals import get_current_context
     except ImportError:  # pragma: no cover - older typer uses click itself
-        from click import get_current_context
+        from click import get_current_context  # type: ignore[no-redef]  # the same function of older typer
 
     ctx = get_current_context(silent=True)
     if ctx is None or name not in ctx.params:

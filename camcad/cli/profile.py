@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
@@ -31,6 +32,9 @@ from camcad.cli.common import (
 )
 from camcad.errors import CamcadError
 from camcad.profile import defaults
+
+if TYPE_CHECKING:
+    from camcad.scene.file import Scene
 
 LAW_SUFFIXES = (".dxf", ".csv", ".txt", ".tsv", ".dat", ".tab")
 FOLLOWER_KINDS = ("roller", "knife", "flat", "oscillating")
@@ -100,7 +104,7 @@ def profile(
         if given:
             raise CamcadError(f"{', '.join(given)} describe a law or a follower; a scene holds its own", str(target),
                               "change the scene's [law] and [follower] sections instead")
-        source: object = target
+        source: Path | Scene = target
     else:
         _name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
                                      pivot=pivot, arm=arm, swing=swing, lift=lift, cycle=cycle, phases=phases,

@@ -858,7 +858,7 @@ class EditSession:
             if mode == "segment" and segment is None:
                 rows.append(ModeRow(mode, None, None, None, "needs a range (select one)"))
                 continue
-            op = {"op": "correct", "mode": mode}
+            op: dict[str, Any] = {"op": "correct", "mode": mode}
             if segment is not None:
                 op["segment"] = [float(segment[0]), float(segment[1])]
             try:

@@ -887,9 +887,9 @@ def _near_gaps(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int]) -
     notes = []
     for end, outward in ((left, -1.0), (right, 1.0)):
         gaps = np.hypot(ends[..., 0] - end[0], ends[..., 1] - end[1]).min(axis=1)
-        near = np.flatnonzero((gaps > graph.join_tol) & (gaps <= limit))
+        close = np.flatnonzero((gaps > graph.join_tol) & (gaps <= limit))
         # only a piece that would carry the chain past this end (not a tick mark pointing inward)
-        near = [k for k in near[np.argsort(gaps[near])]
+        near = [k for k in close[np.argsort(gaps[close])]
                 if (outward * (graph.pieces[candidates[k]].points[:, 0] - end[0]) > graph.x_tol).any()]
         if near:
             piece, gap = graph.pieces[candidates[near[0]]], float(gaps[near[0]])

@@ -11,10 +11,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.report.figure import COLOURS, new_figure, save_figure
+
+if TYPE_CHECKING:
+    from camcad.scene.contact import ContactRequest
 
 _STRESS = "#2e86c1"
 
@@ -105,7 +109,7 @@ def contact_figures(report) -> list[tuple[tuple[str, ...], object]]:
     """((file name parts), Figure) of a contact report: per mechanism the stress along the profile and, with
     several speeds, the safety factor against speed."""
     checks = {c.name: c for c in report.verdict.checks}
-    figures = []
+    figures: list[tuple[tuple[str, ...], object]] = []
     for item in report.result:
         stress = checks.get(f"{item.name}: contact stress")
         force = checks.get(f"{item.name}: normal force (spring holds the follower)")
@@ -147,7 +151,7 @@ def contact_lines(run) -> list[str]:
 class ContactCommand:
     """``camcad contact``: the request (camcad.scene.contact.ContactRequest) and what to write."""
 
-    request: object
+    request: ContactRequest
     output: Path | None = None
     plots: bool = True
 

@@ -11,12 +11,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from camcad.dynamics.model import OUTPUT_UNITS
 from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
+
+if TYPE_CHECKING:
+    from camcad.scene.dynamics import DynamicsRequest
+    from camcad.scene.stops import ImpactRequest
 
 _PHASE_COLOURS = {"rise": "#e8f0fb", "return": "#fbeee8"}
 
@@ -399,7 +404,7 @@ class DynamicsCommand:
     """``camcad dynamics`` or ``camcad impact``: the request (camcad.scene.dynamics.DynamicsRequest or
     camcad.scene.stops.ImpactRequest) and what to write."""
 
-    request: object
+    request: DynamicsRequest | ImpactRequest
     output: Path | None = None
     plots: bool = True
 
@@ -411,12 +416,13 @@ def dynamics_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.dynamics import run_dynamics_report
 
-    require = () if command.request.fn is not None else (
+    request = cast("DynamicsRequest", command.request)  # camcad dynamics asks with a DynamicsRequest
+    require = () if request.fn is not None else (
         ("dynamics", "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta"),)
-    src = resolve_source(command.request.law, command="dynamics", require=require)
-    inputs = list(src.inputs) + ([command.request.compare] if command.request.compare is not None else [])
+    src = resolve_source(request.law, command="dynamics", require=require)
+    inputs = list(src.inputs) + ([request.compare] if request.compare is not None else [])
     with open_folder(command.output, src.name, inputs) as out:
-        report = run_dynamics_report(command.request, src, progress)
+        report = run_dynamics_report(request, src, progress)
         written = write_figures(dynamics_figures(report), out) if command.plots else []
         return finish(report, out, written, "dynamics.json", dynamics_lines)
 
@@ -428,9 +434,10 @@ def impact_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.stops import run_impact_report
 
-    src = resolve_source(command.request.law, command="impact", require=(
+    request = cast("ImpactRequest", command.request)  # camcad impact asks with an ImpactRequest
+    src = resolve_source(request.law, command="impact", require=(
         ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))
     with open_folder(command.output, src.name, src.inputs) as out:
-        report = run_impact_report(command.request, src, progress)
+        report = run_impact_report(request, src, progress)
         written = write_figures(impact_figures(report), out) if command.plots else []
         return finish(report, out, written, "impact.json", impact_lines)

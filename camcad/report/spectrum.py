@@ -15,11 +15,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
+
+if TYPE_CHECKING:
+    from camcad.scene.filter import SpectrumRequest
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"
@@ -340,7 +344,7 @@ def spectrum_lines(run) -> list[str]:
 class SpectrumCommand:
     """``camcad spectrum``: what to compute (camcad.scene.filter.SpectrumRequest) and what to write."""
 
-    request: object
+    request: SpectrumRequest
     output: Path | None = None
     plots: bool = True
     r12: bool = False

@@ -133,7 +133,7 @@ class AnalysisSource:
                           f"add [machine] rpm = ... to the scene or pass --rpm N1:N2[:STEP] to camcad {command}")
 
     def summary(self) -> dict:
-        out = {"name": self.name, "where": self.where, "unit": self.unit, "notes": list(self.notes)}
+        out: dict[str, Any] = {"name": self.name, "where": self.where, "unit": self.unit, "notes": list(self.notes)}
         if self.angles is not None:
             out["phase_angles"] = self.angles.to_dict()
         if self.mechanism is not None and self.scene is not None and len(self.scene.mechanisms) > 1:
