@@ -21,7 +21,6 @@ JSON form (SPEC.md): ``{"value", "limit", "margin", "passed", "why", ...}``.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -192,16 +191,6 @@ def note_line(note: str, indent: str = "  ") -> str:
     ('  warning: 2 dwells are not at zero', '  note: 3 pieces joined end to end')
     """
     return f"{indent}{note}" if note.startswith("warning: ") else f"{indent}note: {note}"
-
-
-def combine(verdicts: Iterable[Verdict]) -> Verdict:
-    """One verdict of several (checks and warnings concatenated)."""
-    checks: list[Check] = []
-    warnings: list[Warning] = []
-    for verdict in verdicts:
-        checks.extend(verdict.checks)
-        warnings.extend(verdict.warnings)
-    return Verdict(tuple(checks), tuple(warnings))
 
 
 def _fmt(value: float | None) -> str:

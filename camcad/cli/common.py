@@ -7,7 +7,6 @@ import json
 import shutil
 import sys
 import warnings
-from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
 
@@ -99,18 +98,6 @@ def echo(text: str = "") -> None:
 
 def print_json(payload: dict) -> None:
     print(json.dumps(to_jsonable(payload), indent=2))
-
-
-def finish(payload: dict, report_path: Path, as_json: bool, render: Callable[[dict], None], passed: bool) -> None:
-    """Write ``payload`` to ``report_path``, print it (JSON or ``render``), exit 0 when ``passed`` else 1."""
-    from camcad.io.jsonout import write_json
-
-    write_json(report_path, payload)
-    if as_json:
-        print_json(payload)
-    else:
-        render(payload)
-    raise typer.Exit(0 if passed else 1)
 
 
 # --- the law-choosing options (SPEC.md: the same meaning in every command) --------------------
@@ -232,23 +219,6 @@ class LawSource:
         self.mechanism = mechanism
         self.loaded = loaded
 
-    def section(self, name: str):
-        """The raw table of the mechanism's section ``name``, or None."""
-        return None if self.mechanism is None else self.mechanism.sections.get(name)
-
-    def section_where(self, name: str) -> str:
-        return self.mechanism.where(self.scene.path, name) if self.mechanism is not None else self.where
-
-    def speeds(self, rpm_option: str | None) -> list[float] | None:
-        """--rpm when given, else the scene's [machine] rpm, else None."""
-        from camcad.scene.fields import parse_speeds
-
-        if rpm_option is not None:
-            return parse_speeds(rpm_option, "--rpm")
-        if self.scene is not None and self.scene.speeds_rpm:
-            return list(self.scene.speeds_rpm)
-        return None
-
 
 def resolve_source(source: Path | None, standard: str | None, return_standard: str | None, phases: str | None,
                    lift: float | None, layer: str | None, handle: str | None, cycle: float, x_deg: bool,
@@ -295,16 +265,3 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
 def output_dir(output: Path | None, name: str) -> Path:
     """-o when given, else ./camcad-out/<name>/."""
     return output if output is not None else Path("camcad-out") / name
-
-
-def progress_bar(enabled: bool, total: int, label: str):
-    """A rich progress bar on stderr as a (callback(done, total), close) pair; a no-op when disabled."""
-    if not enabled or total < 2:
-        return None, lambda: None
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-    bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                   console=console(stderr=True), transient=True)
-    task = bar.add_task(label, total=total)
-    bar.start()
-    return (lambda done, _total=None: bar.update(task, completed=done)), bar.stop

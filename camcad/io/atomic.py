@@ -83,8 +83,3 @@ def write_atomic(path: str | Path, write: Callable[[Path], object]) -> Path:
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """``write_atomic`` of UTF-8 text with ``\\n`` line ends."""
     return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8", newline="\n"))
-
-
-def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
-    """``write_atomic`` of raw bytes."""
-    return write_atomic(path, lambda tmp: tmp.write_bytes(data))
