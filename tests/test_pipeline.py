@@ -137,6 +137,8 @@ BAD_SCENES = [
      "[cyclogram]\n[[cyclogram.operations]]\nfrom = 1\nto = 2\nbounds_deg = [10.0, 20.0]\n"
      "[[cyclogram.operations]]\nfrom = 2\nto = 1\nbounds_deg = [10.0, 20.0]\n", "cycle: 1 -> 2 -> 1"),
     ("[law\nstandard = 1\n", "not valid TOML"),
+    # found by the fuzz campaign: a 20 MB scene (a million speeds) took 10 s of CPU in the TOML parser
+    ("[machine]\nrpm = [" + ", ".join(["0.123456789012345"] * 70_000) + "]\n", "is too large (at most 1 MB)"),
 ]
 
 

@@ -99,7 +99,7 @@ def describe_law(law: MotionLaw) -> str:
     if describe is not None:
         return describe()
     if isinstance(law, PiecewiseLinearLaw):
-        return f"drawn acceleration polyline, {len(law.x)} knots, cycle {math.degrees(law.cycle):.6g} deg"
+        return f"drawn acceleration polyline, {len(law.x)} vertices, cycle {math.degrees(law.cycle):.6g} deg"
     return type(law).__name__
 
 

@@ -72,11 +72,20 @@ class Scene:
                           nearest_name(name, [m.name for m in self.mechanisms]).replace("valid keys", "mechanisms"))
 
 
+#: the largest scene file read (bytes): a scene is a page of settings, and Python's TOML parser takes
+#: about 0.5 s per MB, so a runaway file is refused before it is parsed
+MAX_SCENE_BYTES = 1 << 20
+
+
 def read_toml(path: Path) -> dict:
     """The TOML document; a missing file, bad encoding or a syntax error is a one-line CamcadError."""
     path = Path(path)
     if not path.is_file():
         raise CamcadError("no such scene file", str(path), "check the path")
+    size = path.stat().st_size
+    if size > MAX_SCENE_BYTES:
+        raise CamcadError(f"a scene file of {size / 1e6:.1f} MB is too large (at most {MAX_SCENE_BYTES >> 20} MB)",
+                          str(path), "put long tables in a law file (.csv) and name it with [law] file = \"...\"")
     try:
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as err:
