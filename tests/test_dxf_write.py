@@ -118,6 +118,15 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     # extents come from the content (LibreOffice collapses ±1e20)
     assert doc.header["$EXTMAX"][0] == pytest.approx(np.max(vertices[:, 0]), abs=60.0)
     assert abs(doc.header["$EXTMIN"][1]) < 1e3
+    # the text boxes are estimated without fonts: the extents hold ezdxf's font-measured box of every
+    # entity and exceed it by less than a third of its size on each side
+    from ezdxf import bbox
+
+    measured = bbox.extents(doc.modelspace(), fast=False)
+    low, high = np.array(doc.header["$EXTMIN"])[:2], np.array(doc.header["$EXTMAX"])[:2]
+    size = np.array(measured.size)[:2]
+    assert np.all(low <= np.array(measured.extmin)[:2] + 1e-9) and np.all(high >= np.array(measured.extmax)[:2] - 1e-9)
+    assert np.all(np.array(measured.extmin)[:2] - low < size / 3) and np.all(high - np.array(measured.extmax)[:2] < size / 3)
 
 
 def test_arcs_are_tangent_continuous_and_within_tolerance(tmp_path):

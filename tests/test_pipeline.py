@@ -172,3 +172,17 @@ def test_scene_doc_lists_every_key_of_every_section():
     from make_scene_doc import tables
 
     assert tables() in (SAMPLES.parent / "docs" / "SCENE.md").read_text()
+
+
+@pytest.mark.parametrize("command", ["profile", "contact", "dynamics"])
+def test_a_law_file_name_with_a_nul_byte_is_one_clear_line(cli, tmp_path, command):
+    # found by the fuzz campaign (case 490, seed 11): the output folder's input guard resolved the name
+    # before the law's reader could refuse it, and `contact` ended in an internal error
+    scene = tmp_path / "nul.toml"
+    scene.write_text('[law]\nfile = "law\\u0000.dxf"\nlift = 10\n[follower]\ntype = "roller"\nbase_radius = 50\n'
+                     'roller_radius = 10\n')
+    result = cli(command, scene, "-o", tmp_path / "out", "--no-plots", "--zeta", "0.05", "--fn", "300",
+                 "--rpm", "300") if command == "dynamics" else cli(command, scene, "-o", tmp_path / "out", "--no-plots")
+    assert result.code == 2, (result.out, result.err)
+    lines = result.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("camcad: error: ") and "internal error" not in lines[0], result.err

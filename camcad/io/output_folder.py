@@ -98,7 +98,8 @@ class OutputFolder:
                               "give a writable folder with -o") from None
         self.folder = folder
         self._root = folder.resolve()
-        self._inputs = [(Path(p), Path(p).resolve(), _identity(Path(p))) for p in inputs]
+        # a name with a NUL byte names no file (the law's own reader refuses it with a clear line)
+        self._inputs = [(Path(p), Path(p).resolve(), _identity(Path(p))) for p in inputs if "\x00" not in str(p)]
         self._lock: int | None = None
 
     # -- the lock ------------------------------------------------------------------------------

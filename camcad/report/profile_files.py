@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import io
 import math
+import re
 from pathlib import Path
 from typing import cast
 
@@ -98,6 +98,9 @@ def build_drawing(result: ProfileResult) -> Drawing:
     return Drawing(tuple(paths), tuple(splines), tuple(circles), tuple(lines), tuple(texts), LAYERS)
 
 
+_NAN_FIELD = re.compile(r"(?<![^,\n])nan(?![^,\n])")
+
+
 def law_csv_text(result: ProfileResult) -> str:
     """law.csv: θ, s, v, a, j, pressure angle (and its limit), radii of curvature; one row per step."""
     t = result.table
@@ -106,12 +109,12 @@ def law_csv_text(result: ProfileResult) -> str:
               "pressure_angle_deg", "pressure_angle_limit_deg", "rho_pitch_mm", "rho_profile_mm"]
     columns = [np.degrees(t.theta), t.s, t.v, t.a, t.j, np.degrees(t.pressure_angle),
                np.degrees(t.limit), t.rho_pitch, t.rho_profile]
-    out = io.StringIO()
-    out.write(",".join(header) + "\n")
-    for row in zip(*columns):
-        out.write(",".join("" if np.isnan(x) else ("inf" if x == np.inf else "-inf" if x == -np.inf
-                                                    else f"{x:.12g}") for x in row) + "\n")
-    return out.getvalue()
+    # one %-format per row (a Python-level format per value costs ~0.1 s on a 721-row table); NaN is written
+    # as an empty field, infinities as inf and -inf
+    row_format = ",".join(["%.12g"] * len(columns))
+    rows = "\n".join(row_format % row for row in zip(*(c.tolist() for c in columns)))
+    rows = _NAN_FIELD.sub("", rows)
+    return ",".join(header) + "\n" + rows + ("\n" if rows else "")
 
 
 def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, settings: ProfileSettings | None = None,
