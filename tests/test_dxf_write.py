@@ -126,7 +126,8 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     low, high = np.array(doc.header["$EXTMIN"])[:2], np.array(doc.header["$EXTMAX"])[:2]
     size = np.array(measured.size)[:2]
     assert np.all(low <= np.array(measured.extmin)[:2] + 1e-9) and np.all(high >= np.array(measured.extmax)[:2] - 1e-9)
-    assert np.all(np.array(measured.extmin)[:2] - low < size / 3) and np.all(high - np.array(measured.extmax)[:2] < size / 3)
+    assert (np.all(np.array(measured.extmin)[:2] - low < size / 3)
+            and np.all(high - np.array(measured.extmax)[:2] < size / 3))
 
 
 def test_arcs_are_tangent_continuous_and_within_tolerance(tmp_path):
