@@ -13,11 +13,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad import balance  # noqa: E402
-from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapezoid  # noqa: E402
-from camcad.law.phases import detect_phases  # noqa: E402
-from camcad.law.standard import compose  # noqa: E402
-from timing import median_time  # noqa: E402
+from timing import median_time
+
+from camcad import balance
+from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapezoid
+from camcad.law.phases import detect_phases
+from camcad.law.standard import compose
 
 
 def drawn_law(vertices: int, seed: int = 0) -> PiecewiseLinearLaw:
@@ -41,11 +42,12 @@ def run(quick: bool = False) -> list[dict]:
     law = drawn_law(10_000)
     lift = balance.check(law).rise
     # integration: reference is the exact piecewise-cubic integral itself; the error is s(T) vs it
-    t_exact, (v_ref, s_ref) = timed(lambda: integrate_exact(law.x, law.a), repeats)
+    t_exact, (_v_ref, s_ref) = timed(lambda: integrate_exact(law.x, law.a), repeats)
     rows.append({"kernel": "law integration (10k vertices)", "method": "exact piecewise cubic", "setting": "-",
                  "time_s": t_exact, "error": 0.0, "error_unit": "mm (s at cycle end)"})
     for step_deg in ((0.5, 0.1) if quick else (1.0, 0.5, 0.1, 0.05, 0.01)):
-        t_trap, (_, _, _, s) = timed(lambda: integrate_trapezoid(law.x, law.a, np.radians(step_deg)), repeats)
+        t_trap, (_, _, _, s) = timed(lambda step_deg=step_deg: integrate_trapezoid(law.x, law.a, np.radians(step_deg)),
+                                     repeats)
         rows.append({"kernel": "law integration (10k vertices)", "method": "trapezoid (source)",
                      "setting": f"step {step_deg} deg", "time_s": t_trap, "error": abs(s[-1] - s_ref[-1]),
                      "error_unit": "mm (s at cycle end)"})
@@ -55,7 +57,7 @@ def run(quick: bool = False) -> list[dict]:
                  "time_s": t_min, "error": float(np.max(np.abs(fixed.after.residuals)) / lift),
                  "error_unit": "closure / lift", "rms_change": fixed.rms_change})
     for tol in ((1e-4,) if quick else (1e-3, 1e-4, 1e-5)):
-        t_it, looped = timed(lambda: balance.correct(law, "keypoints", method="iterate", step_deg=0.1, tol=tol),
+        t_it, looped = timed(lambda tol=tol: balance.correct(law, "keypoints", method="iterate", step_deg=0.1, tol=tol),
                              max(1, repeats // 2))
         rows.append({"kernel": "balance fix (10k vertices)", "method": "iterative loop (source)",
                      "setting": f"step 0.1 deg, tol {tol:g}", "time_s": t_it,

@@ -71,14 +71,16 @@ def run(quick: bool) -> list[dict]:
         # closed cycle of constraints with positive excess (error 0 when it is, inf when not)
         capped = [c for c in constraints_of(network) if c.kind != "cycle"]
         capped.append(Constraint("cycle", "makespan", reference - 5.0, "cycle_deg", network.end, network.start))
-        elapsed, conflict = _median_time(lambda network=network, capped=capped: find_conflict(network.events, capped), 1)
+        elapsed, conflict = _median_time(lambda network=network, capped=capped: find_conflict(network.events, capped),
+                                         1)
         closed = bool(conflict) and all(a.head == b.tail for a, b in zip(conflict, conflict[1:] + conflict[:1]))
         valid = closed and sum(c.weight for c in conflict) > 0
         method = "conflict: max-plus (fewest)" if events <= 120 else "conflict: Bellman-Ford"
         rows.append({"kernel": "cyclogram", "method": method, "setting": f"{setting} arcs={len(conflict)}",
                          "time_s": elapsed, "error": 0.0 if valid else math.inf,
                          "error_unit": "0: a closed cycle of positive excess (checked here)",
-                         "reference": "the conflict checked to be a closed cycle of constraints with positive total weight"})
+                         "reference": "the conflict checked to be a closed cycle of constraints "
+                                      "with positive total weight"})
     return rows
 
 

@@ -72,8 +72,8 @@ def run(quick: bool) -> list[dict]:
     rows = []
 
     def row(method, setting, elapsed, error, unit="mm vs closed form"):
-        rows.append({"kernel": "fourier", "method": method, "setting": setting, "time_s": elapsed, "error": float(error),
-                         "error_unit": unit, "reference": REFERENCES.get(unit.split(",")[0], unit)})
+        rows.append({"kernel": "fourier", "method": method, "setting": setting, "time_s": elapsed,
+                     "error": float(error), "error_unit": unit, "reference": REFERENCES.get(unit.split(",")[0], unit)})
 
     def amplitude_error(spectrum):
         return np.max(np.abs(spectrum.amplitudes[:HARMONICS] - reference))
@@ -110,7 +110,8 @@ def run(quick: bool) -> list[dict]:
         elapsed, s_n = _median_time(lambda kept=kept: kept.kinematics(grid).s, repeats)
         rows.append({"kernel": "fourier truncation", "method": "series cut after N harmonics", "setting": f"N={n}",
                          "time_s": elapsed, "error": float(np.sqrt(np.mean((s_n - exact_s) ** 2))),
-                         "error_unit": "mm RMS vs the law's closed-form s", "reference": "the composite law's own s(θ)"})
+                         "error_unit": "mm RMS vs the law's closed-form s",
+                         "reference": "the composite law's own s(θ)"})
 
     # filtering the law sampled at 2^16 points
     count = 1 << 16

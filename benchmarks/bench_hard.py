@@ -39,10 +39,10 @@ from scipy.optimize import minimize_scalar
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad import balance  # noqa: E402
-from camcad.errors import CamcadError  # noqa: E402
-from camcad.law.source import load_law  # noqa: E402
-from camcad.law.standard import compose  # noqa: E402
+from camcad import balance
+from camcad.errors import CamcadError
+from camcad.law.source import load_law
+from camcad.law.standard import compose
 from camcad.profile.followers import Follower
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize

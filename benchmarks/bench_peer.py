@@ -62,7 +62,7 @@ from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from timing import median_time  # noqa: E402
+from timing import median_time
 
 HERE = Path(__file__).resolve().parent
 VENV_DIR = HERE / ".peer-venv"
@@ -377,7 +377,7 @@ def profile_errors(profile_points: np.ndarray, pitch_points: np.ndarray) -> dict
             "polyline_mm": polyline_deviation(profile_points, exact_profile),
             "pitch_mm": float(curve_distance(pitch_points, exact_pitch).max()),
             "pitch_polyline_mm": polyline_deviation(pitch_points, exact_pitch),
-            "points": int(len(profile_points))}
+            "points": len(profile_points)}
 
 
 def _row(kernel: str, method: str, setting: str, time_s, error, error_unit: str, **extra) -> dict:
@@ -388,16 +388,16 @@ def _row(kernel: str, method: str, setting: str, time_s, error, error_unit: str,
 def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, ...], extremes: dict) -> list[dict]:
     """camcad alone: synthesize at each chord tolerance (profile points, peak pressure angles) and
     min_base_radius at each grid for the exact peak pressure angle."""
+    from camcad.profile.design import min_base_radius
     from camcad.profile.summary import profile_report as report
     from camcad.profile.synth import ProfileSettings, synthesize
-    from camcad.profile.design import min_base_radius
 
     law, follower = camcad_case()
     rows = []
     for tol in tolerances:
         settings = ProfileSettings(tol_mm=tol, plots=False, design=False)
         synthesize(law, follower, settings)  # warm-up: the first call imports shapely
-        seconds, result = timed(lambda: synthesize(law, follower, settings), repeats)
+        seconds, result = timed(lambda settings=settings: synthesize(law, follower, settings), repeats)
         figures = report(result)
         figures_mm = profile_errors(result.profile.polyline.points, result.pitch.polyline.points)
         rows.append(_row(K_PROFILE, "camcad synthesize (chords)", f"tol {tol:g} mm", seconds, figures_mm.pop("error"),
@@ -411,7 +411,7 @@ def camcad_rows(repeats: int, tolerances: tuple[float, ...], grids: tuple[int, .
     limit_deg = math.degrees(max(extremes["max"], -extremes["min"]))
     law, sized = camcad_case(limit_deg)
     for grid in grids:
-        seconds, design = timed(lambda: min_base_radius(law, sized, grid=grid), repeats)
+        seconds, design = timed(lambda grid=grid: min_base_radius(law, sized, grid=grid), repeats)
         rb = design.rb_pressure_angle
         rows.append(_row(K_SIZING, "camcad min_base_radius", f"grid {grid}", seconds, abs(rb - BASE_RADIUS_MM),
                          "mm (Rb error; exact Rb = 40)", rb_mm=rb, rb_curvature_mm=design.rb_curvature))

@@ -22,9 +22,10 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from camcad.profile.synth import ProfileSettings, synthesize
+from timing import median_time
+
 from camcad.profile import default_design
-from timing import median_time  # noqa: E402
+from camcad.profile.synth import ProfileSettings, synthesize
 
 
 def timed(function, repeats: int):
@@ -89,7 +90,7 @@ def run(quick: bool = False) -> list[dict]:
     for arcs in (False, True):
         for tol in tolerances:
             settings = ProfileSettings(tol_mm=tol, arcs=arcs, design=False, plots=False)
-            seconds, result = timed(lambda: synthesize(law, follower, settings), repeats)
+            seconds, result = timed(lambda settings=settings: synthesize(law, follower, settings), repeats)
             written = result.profile.arcs.vertices if arcs else result.profile.polyline.points
             rows.append({"kernel": "profile synthesis (default cam)",
                          "method": "tangent arcs (--arcs)" if arcs else "chords (LWPOLYLINE)",
@@ -102,7 +103,8 @@ def run(quick: bool = False) -> list[dict]:
 def main() -> None:
     quick = "--quick" in sys.argv
     rows = run(quick)
-    print(f"{'kernel':32s} {'method':24s} {'setting':16s} {'time':>10s} {'error':>10s} {'err/tol':>8s} {'vertices':>9s}")
+    print(f"{'kernel':32s} {'method':24s} {'setting':16s} {'time':>10s} {'error':>10s} {'err/tol':>8s} "
+          f"{'vertices':>9s}")
     for row in rows:
         print(f"{row['kernel']:32s} {row['method']:24s} {row['setting']:16s} {row['time_s'] * 1e3:8.1f}ms "
               f"{row['error']:10.2e} {row['error'] / row['tol_mm']:8.3f} {row['vertices']:9d}")

@@ -18,9 +18,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from camcad import balance
-from camcad.errors import CamcadError
-from camcad.law.source import load_law
+from camcad import balance  # noqa: E402 - after the sys.path line
+from camcad.errors import CamcadError  # noqa: E402
+from camcad.law.source import load_law  # noqa: E402
 
 SAMPLES = ["dxf/fig2_rise_area_too_large.dxf", "dxf/drrd_return_short.dxf", "dxf/constant_accel_jumps.dxf",
            "dxf/r12_polyline_harmonic.dxf", "dxf/spline_law.dxf", "dxf/line_chain_trapezoid.dxf",

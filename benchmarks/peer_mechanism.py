@@ -37,7 +37,8 @@ import os
 import sys
 import tempfile
 import warnings
-from timing import median_time  # noqa: E402
+
+from timing import median_time
 
 
 def timed(function, repeats: int):
@@ -75,7 +76,7 @@ def main() -> None:
 
     runs = []
     for step in settings["steps_rad"]:
-        def build():
+        def build(step=step):
             cam = Cam(motion=motion, degrees=True, omega=1.0, rotation="ccw", h=step)
             x, y = cam.cycloidal.get_profile(rb, cam.thetas_r)
             return cam, x, y
@@ -85,7 +86,7 @@ def main() -> None:
                                        max_pressure_angle=phi_limit)
 
         time_profile, (cam, x, y) = timed(build, repeats)
-        time_base, _ = timed(lambda: size(cam), repeats)
+        time_base, _ = timed(lambda cam=cam: size(cam), repeats)
         with tempfile.TemporaryDirectory() as folder:
             path = os.path.join(folder, "cam.csv")
             cam.save_coordinates(path, kind="cycloidal", base=rb)

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import statistics
 import time
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 
 def median_time(function: Callable[[], Any], repeats: int, warm_up: bool = False) -> tuple[float, Any]:

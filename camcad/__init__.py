@@ -17,8 +17,9 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
-Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure): ``plot_summary``,
-``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``, ``plot_hodograph``.
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
+``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
+``plot_hodograph``.
 
 Every name loads on first use, so ``import camcad`` costs almost nothing (the command line's start-up
 depends on it).
@@ -53,14 +54,19 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
     from camcad.profile.summary import profile_report
-    from camcad.scene.pipeline import PipelineOptions
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
-    from camcad.report.profile import (plot_curvature, plot_hodograph, plot_kinematics, plot_pressure_angle,
-                                       plot_profile, plot_summary)
+    from camcad.report.profile import (
+        plot_curvature,
+        plot_hodograph,
+        plot_kinematics,
+        plot_pressure_angle,
+        plot_profile,
+        plot_summary,
+    )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
     from camcad.scene.file import read_scene
-    from camcad.scene.pipeline import analyse_scene
+    from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
 #: public name -> the module that defines it
 _EXPORTS: dict[str, str] = {
@@ -105,7 +111,6 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "__version__",
     "BalanceReport",
     "CamcadError",
     "ContactParams",
@@ -118,6 +123,7 @@ __all__ = [
     "ProfileResult",
     "ProfileSettings",
     "StopModel",
+    "__version__",
     "analyse",
     "analyse_scene",
     "check",

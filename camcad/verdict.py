@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any
 
 #: significant digits of figures in reports (text and JSON): 169.99999999999997 → 170
 REPORT_DIGITS = 10
@@ -89,7 +89,7 @@ class Check:
     def margin_ratio(self) -> float | None:
         """The margin as a fraction of |limit| (None without a limit or with a zero limit)."""
         margin = self.margin
-        if margin is None or self.limit == 0:
+        if margin is None or self.limit is None or self.limit == 0:
             return None
         return margin / abs(self.limit)
 
@@ -99,7 +99,7 @@ class Check:
             return self.passed_override
         if self.limit is None:
             return True
-        if self.value is None or not math.isfinite(self.value) and self.sense == "max" and self.value > 0:
+        if self.value is None or (not math.isfinite(self.value) and self.sense == "max" and self.value > 0):
             return False
         margin = self.margin
         return margin is not None and margin >= 0.0
@@ -191,16 +191,6 @@ def note_line(note: str, indent: str = "  ") -> str:
     ('  warning: 2 dwells are not at zero', '  note: 3 pieces joined end to end')
     """
     return f"{indent}{note}" if note.startswith("warning: ") else f"{indent}note: {note}"
-
-
-def combine(verdicts: Iterable[Verdict]) -> Verdict:
-    """One verdict of several (checks and warnings concatenated)."""
-    checks: list[Check] = []
-    warnings: list[Warning] = []
-    for verdict in verdicts:
-        checks.extend(verdict.checks)
-        warnings.extend(verdict.warnings)
-    return Verdict(tuple(checks), tuple(warnings))
 
 
 def _fmt(value: float | None) -> str:

@@ -55,7 +55,8 @@ def matches(expected: list[str], actual: list[str]) -> bool:
     return re.fullmatch(pattern, "\n".join(line.rstrip() for line in actual), flags=re.S) is not None
 
 
-def run(folder: Path, camcad: str = "camcad", skip: tuple[str, ...] = ()) -> list[tuple[Step, subprocess.CompletedProcess]]:
+def run(folder: Path, camcad: str = "camcad",
+        skip: tuple[str, ...] = ()) -> list[tuple[Step, subprocess.CompletedProcess]]:
     """Run every step in ``folder`` (the samples it names copied in), except those whose program is in
     ``skip``; return each step and its result."""
     for step in steps():

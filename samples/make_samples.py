@@ -8,6 +8,7 @@ Deterministic: the same files every run.
 
 from __future__ import annotations
 
+from itertools import pairwise
 from pathlib import Path
 
 import ezdxf
@@ -117,7 +118,7 @@ def line_chain():
     pts = [(0, 0), (40, 0), (55, 10), (85, 10), (100, 0), (115, -9.3), (145, -9.3), (160, 0), (200, 0),
            (215, -10), (245, -10), (260, 0), (275, 10), (305, 10), (320, 0), (360, 0)]
     doc, msp = new_doc()
-    for i, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
+    for i, (p, q) in enumerate(pairwise(pts)):
         if i % 3 == 1:
             p, q = q, p  # designers do not draw every line in the same direction
         msp.add_line(p, q, dxfattribs={"layer": "ACCEL"})
@@ -172,8 +173,10 @@ def press_feed_sheet():
     msp.add_line((x0 - 10, y0), (x0 + 190, y0), dxfattribs={"layer": "AXES"})
     msp.add_line((x0, y0 - 60), (x0, y0 + 60), dxfattribs={"layer": "AXES"})
     for deg in range(0, 361, 60):
-        msp.add_text(f"{deg}", dxfattribs={"layer": "NOTES", "height": 3}).set_placement((x0 + x_scale * deg - 3, y0 - 66))
-    msp.add_text("PRESS FEED  a(phi), 1 unit = 2 deg", dxfattribs={"layer": "NOTES", "height": 5}).set_placement((x0, y0 + 70))
+        msp.add_text(f"{deg}", dxfattribs={"layer": "NOTES", "height": 3}).set_placement(
+            (x0 + x_scale * deg - 3, y0 - 66))
+    msp.add_text("PRESS FEED  a(phi), 1 unit = 2 deg", dxfattribs={"layer": "NOTES", "height": 5}).set_placement(
+        (x0, y0 + 70))
     msp.add_lwpolyline([(10, 40), (287, 40), (287, 240), (10, 240)], close=True, dxfattribs={"layer": "FRAME"})
     save(doc, "press_feed_sheet.dxf")
 

@@ -619,7 +619,8 @@ def _preload():
     import scipy.sparse.linalg  # noqa: F401
     import typer.main
 
-    from camcad.cli import app, register_all as _register_commands
+    from camcad.cli import app
+    from camcad.cli import register_all as _register_commands
 
     _register_commands()
     # typer rebuilds the click command from the annotations on every call (~0.1 s): build it once here,

@@ -165,7 +165,8 @@ def test_a_filter_that_ruins_the_law_exits_1_with_the_figures(harsh):
 def test_the_band_left_in_the_written_law_by_an_fft_of_its_polyline(cli, tmp_path):
     # The filter's figure "amplitude left in the band" is measured here by another route: the written
     # polyline a(θ) (read with ezdxf) sampled on 2^18 points, one real FFT, A_k(s) = A_k(a)/k² (2π cycle).
-    result = cli("spectrum", "--standard", "cycloidal", "--phases", "0:70:dwell,70:170:rise,170:280:dwell,280:360:return",
+    result = cli("spectrum", "--standard", "cycloidal",
+                 "--phases", "0:70:dwell,70:170:rise,170:280:dwell,280:360:return",
                  "--lift", LIFT, "--fn", "100", "--rpm", "300:400", "--filter", "--json", "--no-plots", "-o", tmp_path)
     assert result.code == 0, result.out[-2000:]
     spectrum = result.json()["spectrum"]
@@ -205,7 +206,8 @@ def test_oscillating_law_in_rad_everywhere(cli, tmp_path):
 
 
 def test_dynamics_of_a_law_in_rad_says_rad(cli, tmp_path):
-    result = cli("dynamics", "--standard", "harmonic", "--phases", "0:100:dwell,100:164:rise,164:228:return,228:360:dwell",
+    result = cli("dynamics", "--standard", "harmonic",
+                 "--phases", "0:100:dwell,100:164:rise,164:228:return,228:360:dwell",
                  "--lift", "0.421", "--unit", "rad", "--fn", "113", "--zeta", "0.02", "--rpm", "420", "--json",
                  "-o", tmp_path)
     assert result.code == 0, result.err

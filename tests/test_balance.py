@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from conftest import SAMPLES
 from scipy.linalg import null_space
 
 from camcad import balance
@@ -9,7 +10,6 @@ from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
-from conftest import SAMPLES
 
 UNBALANCED = ["dxf/fig2_rise_area_too_large.dxf", "dxf/drrd_return_short.dxf", "dxf/constant_accel_jumps.dxf",
               "dxf/r12_polyline_harmonic.dxf", "dxf/spline_law.dxf", "dxf/line_chain_trapezoid.dxf",

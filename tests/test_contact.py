@@ -19,10 +19,10 @@ from scipy.integrate import quad
 
 from camcad import contact
 from camcad.contact import ContactParams
-from camcad.scene.contact import parse_contact
 from camcad.cyclogram.limits import least_phase_angle
 from camcad.errors import CamcadError
 from camcad.law.standard import Cycloidal
+from camcad.scene.contact import parse_contact
 
 STEEL_E, STEEL_NU = 2.1e5, 0.3
 
@@ -262,8 +262,8 @@ SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
     import tomllib
 
-    from camcad.scene.mechanism import phase_grid, phase_stress_function, phases_deg
     from camcad.scene.file import mechanism_law, read_scene
+    from camcad.scene.mechanism import phase_grid, phase_stress_function, phases_deg
 
     done = cli("contact", SAMPLE, "--json", "-o", tmp_path, "--rpm", "300:420:60", "--phase-angles", "law")
     assert done.code == 0, done.err
@@ -324,7 +324,8 @@ def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
 
 def test_cli_contact_bad_input(tmp_path, cli):
     text = SAMPLE.read_text()
-    for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"), "did you mean 'allowable_stress'"),
+    for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"),
+                           "did you mean 'allowable_stress'"),
                           (("mass = 0.9", "mass = \"heavy\""), "'mass' (kg) must be a number"),
                           (('rpm = [280.0, 420.0]', 'rpm = "fast"'), "rpm 'fast' is not N")):
         scene = tmp_path / "bad.toml"

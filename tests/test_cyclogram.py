@@ -11,20 +11,21 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
-from camcad.cyclogram.network import Operation, make_network
 from camcad.cyclogram.conflicts import find_conflict, longest_path_times
-from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
-from camcad.cyclogram.lp import optimise
-from camcad.scene.cyclogram import parse_cyclogram
 from camcad.cyclogram.constraints import constraints_of
+from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
+from camcad.cyclogram.lp import optimise
+from camcad.cyclogram.network import Operation, make_network
+from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
 from camcad.errors import CamcadError
+from camcad.scene.cyclogram import parse_cyclogram
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
@@ -166,7 +167,7 @@ def test_lp_equals_longest_path_on_precedence_networks(case):
     # tight to optimise()'s tight_tol_deg = 1e-6 deg
     path = result.critical_path
     assert path[0] == "0" and path[-1] == str(n - 1)
-    total = sum(weights[(int(a), int(b))] for a, b in zip(path[:-1], path[1:]))
+    total = sum(weights[(int(a), int(b))] for a, b in pairwise(path))
     assert total == pytest.approx(earliest[-1], rel=1e-9, abs=1e-6 * len(path))
 
 
@@ -175,7 +176,7 @@ def test_lp_equals_longest_path_on_precedence_networks(case):
 def test_lp_agrees_with_bellman_ford_with_upper_bounds(case, data):
     # with upper bounds the constraint graph has backward arcs; the LP (earliest schedule) must equal
     # Bellman–Ford longest paths, and be infeasible exactly when those find a positive cycle
-    n, weights = case
+    _n, weights = case
     ops = []
     for (i, j), w in weights.items():
         upper = data.draw(st.one_of(st.just(math.inf), st.floats(w, w + 80.0)))

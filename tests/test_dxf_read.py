@@ -7,11 +7,11 @@ import sys
 import ezdxf
 import numpy as np
 import pytest
+from conftest import SAMPLES, file_digest
 
 from camcad.errors import CamcadError
 from camcad.law.source import load_law
 from camcad.law.standard import compose
-from conftest import SAMPLES, file_digest
 
 CYCLE = [("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)]
 

@@ -12,10 +12,10 @@ from scipy.spatial import cKDTree
 from camcad.errors import CamcadError
 from camcad.io.dxf_write import Drawing, DxfSpline, ascii_text, build_document
 from camcad.law.standard import compose
-from camcad.profile.followers import Follower
-from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.profile import default_design
+from camcad.profile.followers import Follower
 from camcad.profile.scaled_law import swing_law
+from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.report.profile_files import write_outputs
 
 NAME, LAW, FOLLOWER = default_design()
@@ -112,7 +112,8 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     texts = [e.dxf.text for e in doc.modelspace() if e.dxftype() == "TEXT"]
     joined = "\n".join(texts)
     assert all(t.isascii() for t in texts)
-    for needed in ("law: rise cycloidal 0-120", "phases (deg): rise 0-120", "Rb 50 mm", "Rr 10 mm", "e 0 mm", "lift 25 mm"):
+    for needed in ("law: rise cycloidal 0-120", "phases (deg): rise 0-120", "Rb 50 mm", "Rr 10 mm", "e 0 mm",
+                   "lift 25 mm"):
         assert needed in joined
     # extents come from the content (LibreOffice collapses ±1e20)
     assert doc.header["$EXTMAX"][0] == pytest.approx(np.max(vertices[:, 0]), abs=60.0)
@@ -125,7 +126,8 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     low, high = np.array(doc.header["$EXTMIN"])[:2], np.array(doc.header["$EXTMAX"])[:2]
     size = np.array(measured.size)[:2]
     assert np.all(low <= np.array(measured.extmin)[:2] + 1e-9) and np.all(high >= np.array(measured.extmax)[:2] - 1e-9)
-    assert np.all(np.array(measured.extmin)[:2] - low < size / 3) and np.all(high - np.array(measured.extmax)[:2] < size / 3)
+    assert (np.all(np.array(measured.extmin)[:2] - low < size / 3)
+            and np.all(high - np.array(measured.extmax)[:2] < size / 3))
 
 
 def test_arcs_are_tangent_continuous_and_within_tolerance(tmp_path):

@@ -53,7 +53,10 @@ def test_move_undo_min_change_save_equals_fix(cli, tmp_path, name):
     assert np.max(np.abs(ours.law.a - theirs.law.a)) <= 1e-12 * scale
     # the drawings: the same entities, every other entity kept, the original curve kept
     doc_in, doc_ed, doc_fx = ezdxf.readfile(source), ezdxf.readfile(edited), ezdxf.readfile(fixed)
-    kinds = lambda doc: Counter((e.dxftype(), e.dxf.layer) for e in doc.modelspace())
+
+    def kinds(doc):
+        return Counter((e.dxftype(), e.dxf.layer) for e in doc.modelspace())
+
     assert kinds(doc_ed) == kinds(doc_fx)
     handle = ours.curve.handle
     in_other = Counter((e.dxftype(), e.dxf.layer) for e in doc_in.modelspace() if e.dxf.handle != handle)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -128,8 +129,8 @@ def test_monomial_moments_against_quadrature():
     moments = fourier.monomial_moments(z, 7)
     for m in (0, 3, 7):
         for zi, got in zip(z, moments[m]):
-            re = quad(lambda u: u**m * np.cos(zi * u), 0, 1, epsabs=1e-15, limit=400)[0]
-            im = -quad(lambda u: u**m * np.sin(zi * u), 0, 1, epsabs=1e-15, limit=400)[0]
+            re = quad(lambda u, m=m, zi=zi: u**m * np.cos(zi * u), 0, 1, epsabs=1e-15, limit=400)[0]
+            im = -quad(lambda u, m=m, zi=zi: u**m * np.sin(zi * u), 0, 1, epsabs=1e-15, limit=400)[0]
             assert abs(got - (re + 1j * im)) <= 1e-13, (m, zi)
 
 
@@ -161,14 +162,20 @@ def test_drawn_law_coefficients_against_quadrature(unbalance):
     breaks = np.unique(law.x)
 
     def integral(f):
-        return sum(quad(f, lo, hi, epsabs=1e-14, epsrel=1e-13, limit=200)[0] for lo, hi in zip(breaks[:-1], breaks[1:]))
+        return sum(quad(f, lo, hi, epsabs=1e-14, epsrel=1e-13, limit=200)[0] for lo, hi in pairwise(breaks))
+
+    def s(t):
+        return law.kinematics(np.array([t])).s[0]
+
+    def a(t):
+        return law.kinematics(np.array([t])).a[0]
 
     for k in (1, 2, 7, 23, 40):
-        s = lambda t: law.kinematics(np.array([t])).s[0]
-        expected = (integral(lambda t: s(t) * np.cos(k * t)) - 1j * integral(lambda t: s(t) * np.sin(k * t))) / TWO_PI
+        expected = (integral(lambda t, k=k: s(t) * np.cos(k * t))
+                    - 1j * integral(lambda t, k=k: s(t) * np.sin(k * t))) / TWO_PI
         assert abs(spectrum.coefficients[k - 1] - expected) <= 1e-11 * LIFT, k
-        a = lambda t: law.kinematics(np.array([t])).a[0]
-        expected_a = (integral(lambda t: a(t) * np.cos(k * t)) - 1j * integral(lambda t: a(t) * np.sin(k * t))) / TWO_PI
+        expected_a = (integral(lambda t, k=k: a(t) * np.cos(k * t))
+                      - 1j * integral(lambda t, k=k: a(t) * np.sin(k * t))) / TWO_PI
         assert abs(spectrum.accel_coefficients[k - 1] - expected_a) <= 1e-10 * LIFT, k
     mean = integral(lambda t: law.kinematics(np.array([t])).s[0]) / TWO_PI
     assert spectrum.mean == pytest.approx(mean, abs=1e-11 * LIFT)
@@ -283,10 +290,12 @@ def test_patterns_equal_their_closed_forms():
     harmonic = (np.pi / 2) * np.pi * (1 + np.exp(-1j * z)) / (np.pi**2 - z**2)
     assert np.max(np.abs(database["harmonic"].transform(z) - harmonic)) <= 1e-13
     # 3-4-5: against quadrature of f' = 30u² − 60u³ + 30u⁴
+    def fp(u):
+        return 30 * u**2 - 60 * u**3 + 30 * u**4
+
     for zi in (0.7, 9.0, 40.0):
-        fp = lambda u: 30 * u**2 - 60 * u**3 + 30 * u**4
-        expected = quad(lambda u: fp(u) * np.cos(zi * u), 0, 1, epsabs=1e-15)[0] - \
-            1j * quad(lambda u: fp(u) * np.sin(zi * u), 0, 1, epsabs=1e-15)[0]
+        expected = quad(lambda u, zi=zi: fp(u) * np.cos(zi * u), 0, 1, epsabs=1e-15)[0] - \
+            1j * quad(lambda u, zi=zi: fp(u) * np.sin(zi * u), 0, 1, epsabs=1e-15)[0]
         assert abs(database["poly345"].transform(zi)[0] - expected) <= 1e-13
     # moments ∫f and ∫f²: 1/2 for every symmetric rise; ∫f² of the 3-4-5 is 181/462 (integrate the polynomial)
     assert database["poly345"].moments[0] == pytest.approx(0.5, abs=1e-15)

@@ -2,12 +2,12 @@
 
 import ezdxf
 import numpy as np
+from fuzz_dxf import classify, fuzz
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from camcad.errors import CamcadError
 from camcad.law.source import load_law
-from fuzz_dxf import classify, fuzz
 
 
 def test_short_mutation_fuzz_run_has_no_findings():

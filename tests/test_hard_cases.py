@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import replace
+from itertools import pairwise
 from pathlib import Path
 
 import ezdxf
@@ -20,9 +21,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
+from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 
-from camcad import balance
-from camcad import dynamics
+from camcad import balance, dynamics
 from camcad.dynamics import impact
 from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.errors import CamcadError
@@ -33,7 +34,6 @@ from camcad.law.standard import compose
 from camcad.profile.followers import Follower
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 from camcad.scene import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
@@ -714,7 +714,7 @@ def test_stiff_stop_closed_form_matches_a_stiff_solver():
     edges = [0.0, tau, 2 * tau, 2 * tau + 1.0 / stop.f_free_hz]
     pieces, y = [], np.array([0.0, v0])
     peak = v0 / omega
-    for lo, hi in zip(edges[:-1], edges[1:]):
+    for lo, hi in pairwise(edges):
         sol = solve_ivp(rhs, (lo, hi), y, method="Radau", rtol=1e-8, atol=[1e-13 * peak, 1e-13 * v0],
                         dense_output=True, first_step=tau / 1000)
         assert sol.success

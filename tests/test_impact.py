@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -99,7 +100,7 @@ def test_triangular_pulse_closed_form_matches_solve_ivp(zeta, q0, v0):
     # march with restarts at the pulse's kinks (0, τ, 2τ), dense output per piece
     edges = [0.0, tau, 2 * tau, t[-1]]
     pieces, y = [], np.array([q0, v0])
-    for lo, hi in zip(edges[:-1], edges[1:]):
+    for lo, hi in pairwise(edges):
         sol = solve_ivp(rhs, (lo, hi), y, method="DOP853", rtol=1e-13, atol=1e-18, dense_output=True)
         pieces.append(sol.sol)
         y = sol.y[:, -1]
@@ -222,7 +223,7 @@ def test_linearised_relation_and_least_phase_angle():
     # the source's line gives (0.1 − 0.208)/(−0.003) = 36 deg; the exact relation 36.75 deg
     assert (0.1 - 0.208) / -0.003 == pytest.approx(36.0)
     assert limit == pytest.approx(36.75, abs=0.01)
-    lo_slope, lo_intercept = relation.fit(30.0, 40.0)
+    lo_slope, _lo_intercept = relation.fit(30.0, 40.0)
     assert lo_slope == pytest.approx(slope, rel=0.05)
 
 

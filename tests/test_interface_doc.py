@@ -22,11 +22,9 @@ from __future__ import annotations
 import json
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, SAMPLES
 
 DOC = ROOT / "docs" / "INTERFACE.md"
@@ -106,7 +104,7 @@ def test_every_command_is_documented_and_every_documented_command_exists(cli, do
 
 
 def test_every_option_of_every_command_is_documented(cli, doc):
-    root, tree = _command_tree()
+    _root, tree = _command_tree()
     assert len(tree) >= 18
     missing = []
     for option in ("--version", "--debug", "-h", "--help"):

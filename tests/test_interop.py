@@ -20,7 +20,6 @@ from pathlib import Path
 import ezdxf
 import numpy as np
 import pytest
-
 from conftest import SAMPLES
 
 INKSCAPE_DXF = Path("/usr/share/inkscape/extensions/dxf_input.py")
@@ -44,9 +43,9 @@ def written(tmp_path_factory):
     from camcad.io.law_write import write_law_dxf
     from camcad.law.standard import compose
     from camcad.profile.followers import Follower
+    from camcad.profile.geometry import CamGeometry
     from camcad.profile.synth import ProfileSettings, synthesize
     from camcad.report.profile_files import write_outputs
-    from camcad.profile.geometry import CamGeometry
 
     root = tmp_path_factory.mktemp("interop")
     law = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")
@@ -187,8 +186,8 @@ def test_inkscape_imports_every_layer(written, kind):
         if group.get(label) is not None:
             drawn[group.get(label)] = [c.tag.split("}")[1] for c in group]
     ours = _ezdxf_counts(path)
-    for (layer, entity), _ in ours.items():
-        expected = sum(n for (l, _e), n in ours.items() if l == layer)
+    for (layer, _entity), _ in ours.items():
+        expected = sum(n for (other, _e), n in ours.items() if other == layer)
         if kind == "fixed_drawing" and layer == "CAMCAD_ORIGINAL":
             continue  # a layer that is switched off is not imported as drawn geometry by every reader
         assert len(drawn.get(layer, [])) >= expected, (layer, drawn.get(layer))

@@ -77,12 +77,12 @@ def test_closure_errors_of_a_drawn_cycloidal_law_converge_at_second_order():
 
 
 def test_trapezoid_error_is_second_order_in_the_step_and_exact_on_the_knots():
-    law, drawn = _drawn_cycloidal(203)
+    _law, drawn = _drawn_cycloidal(203)
     exact_end = drawn.kinematics(np.array([2 * np.pi])).s[0]
     errs = []
     steps = np.radians([0.4, 0.2, 0.1, 0.05])
     for step in steps:
-        grid, _, v, s = integrate_trapezoid(drawn.x, drawn.a, step)
+        _grid, _, _v, s = integrate_trapezoid(drawn.x, drawn.a, step)
         errs.append(abs(s[-1] - exact_end))
     order = np.polyfit(np.log(steps), np.log(errs), 1)[0]
     assert 1.7 < order < 2.3, (order, errs)

@@ -52,7 +52,7 @@ def _fsolve_output(linkage: Linkage, psi: np.ndarray) -> np.ndarray:
     out = []
     order = np.argsort(psi)
     guesses = []
-    for loop, (theta, d) in zip(linkage.loops, linkage.angles(0.0)):
+    for _loop, (_theta, d) in zip(linkage.loops, linkage.angles(0.0)):
         guesses.append((float(d[4]), float(d[0])))
     values = {}
     for i in order:

@@ -133,7 +133,10 @@ def test_grashof_class_agrees_with_turning_the_input():
 
 def _four_bar_target(a, b, c, d, theta0_deg, span_deg, branch):
     theta0 = math.radians(theta0_deg)
-    f = lambda x: output_angle(a, b, c, d, theta0 + np.radians(x), branch)
+
+    def f(x):
+        return output_angle(a, b, c, d, theta0 + np.radians(x), branch)
+
     swing = math.degrees(f(span_deg) - f(0.0))
     return make_target(f, 0.0, span_deg, span_deg, swing, "four-bar"), output_angle(a, b, c, d, theta0, branch)
 

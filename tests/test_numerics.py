@@ -66,7 +66,7 @@ def test_many_random_quadratics_match_scipy():
     for _ in range(50):
         c, k = rng.uniform(-3, 3), rng.uniform(0.1, 10)
         a, b = c - rng.uniform(0.1, 4), c + rng.uniform(0.1, 4)
-        x, _ = bounded_minimum(lambda t: k * (t - c) ** 2, a, b, xatol=1e-12)
+        x, _ = bounded_minimum(lambda t, k=k, c=c: k * (t - c) ** 2, a, b, xatol=1e-12)
         assert abs(x - c) <= 1e-7
-        root = brent_root(lambda t: k * (t - c), a, b, xtol=1e-14)
+        root = brent_root(lambda t, k=k, c=c: k * (t - c), a, b, xtol=1e-14)
         assert abs(root - c) <= 1e-13 * max(1, abs(c))

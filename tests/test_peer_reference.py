@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from camcad.profile.geometry import CamGeometry
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from camcad.profile.geometry import CamGeometry
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_peer.py"
 

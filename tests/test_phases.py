@@ -26,7 +26,7 @@ def _as_deg(phases):
 ])
 def test_detected_phases_equal_the_composed_ones(layout):
     # Reference: the phase boundaries the law was composed with (exact, whole degrees on the grid).
-    law, theta, a = _drawn(layout)
+    _law, theta, a = _drawn(layout)
     found = detect_phases(theta, a, 2 * np.pi)
     expected = []
     start = 0.0
@@ -55,7 +55,7 @@ def test_constant_velocity_stretch_is_part_of_the_motion_not_a_dwell():
 
 
 def test_rise_return_split_is_where_the_velocity_is_zero():
-    law, theta, a = _drawn([("dwell", 80), ("rise", 100), ("return", 100), ("dwell", 80)], "poly345", 0.5)
+    _law, theta, a = _drawn([("dwell", 80), ("rise", 100), ("return", 100), ("dwell", 80)], "poly345", 0.5)
     found = detect_phases(theta, a, 2 * np.pi)
     from camcad.law.law import PiecewiseLinearLaw
 

@@ -8,10 +8,10 @@ import re
 import ezdxf
 import numpy as np
 import pytest
+from conftest import SAMPLES
 
 from camcad.report.scene import run_scene
 from camcad.scene.pipeline import PipelineOptions
-from conftest import SAMPLES
 
 SCENES = SAMPLES / "scenes"
 
@@ -123,7 +123,8 @@ roller_radius = 10.0
 
 
 BAD_SCENES = [
-    ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = 10\n[folower]\ntype = \"roller\"\n",
+    ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = 10\n"
+     "[folower]\ntype = \"roller\"\n",
      "did you mean 'follower'"),
     ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\n", "missing value 'lift'"),
     ("[law]\nstandard = \"cycloidal\"\nphases = \"0:180:rise,180:360:return\"\nlift = \"ten\"\n",

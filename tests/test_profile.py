@@ -13,13 +13,13 @@ import shapely
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.standard import compose
-from camcad.scene.follower import FOLLOWER_FIELDS, parse_follower
+from camcad.profile.design import min_base_radius
 from camcad.profile.followers import Follower
+from camcad.profile.geometry import CamGeometry, rotate
+from camcad.profile.scaled_law import swing_law
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from camcad.profile.design import min_base_radius
-from camcad.profile.scaled_law import swing_law
-from camcad.profile.geometry import CamGeometry, rotate
+from camcad.scene.follower import FOLLOWER_FIELDS, parse_follower
 
 LAW = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")
 FAST = ProfileSettings(design=False, plots=False, analysis_step_deg=0.5)
@@ -80,7 +80,7 @@ def test_pressure_angle_and_curvature_match_numerical_methods(key):
     # radius of curvature: closed form against circumradii of triples of generated points
     for curve in (cam.profile, cam.pitch):
         rho = curve(theta).rho
-        numeric = circumradius(lambda t: curve(t).points, theta, 2e-3, sigma)
+        numeric = circumradius(lambda t, curve=curve: curve(t).points, theta, 2e-3, sigma)
         assert np.max(np.abs(numeric - rho) / np.abs(rho)) < 1e-6, curve.__name__
 
     # pressure angle: the profile's normal comes from differences of its generated points (turned
@@ -354,7 +354,8 @@ def test_parse_follower_table():
     # oscillating with initial_angle: Rb + Rr = √(C² + L² − 2CL cos γ0) (law of cosines)
     osc = parse_follower({"type": "oscillating", "roller_radius": 10, "pivot": 120, "arm": 100,
                           "initial_angle": 25}, "w")
-    assert osc.base_radius + 10 == pytest.approx(math.sqrt(120**2 + 100**2 - 2 * 120 * 100 * math.cos(math.radians(25))))
+    assert osc.base_radius + 10 == pytest.approx(
+        math.sqrt(120**2 + 100**2 - 2 * 120 * 100 * math.cos(math.radians(25))))
     assert {field.name for field in FOLLOWER_FIELDS} >= {
         "type", "base_radius", "roller_radius", "offset", "pivot", "arm", "initial_angle",
         "pressure_angle_limit_rise", "pressure_angle_limit_return", "reversible", "cw"}

@@ -96,7 +96,8 @@ def moments(segment: tuple) -> tuple[float, float]:
     nodes, weights = np.polynomial.legendre.leggauss(6)
     t = (nodes + 1) / 2
     xy = bezier(p, t)
-    dxdt = 3 * ((1 - t) ** 2 * (p[1, 0] - p[0, 0]) + 2 * (1 - t) * t * (p[2, 0] - p[1, 0]) + t ** 2 * (p[3, 0] - p[2, 0]))
+    dxdt = 3 * ((1 - t) ** 2 * (p[1, 0] - p[0, 0]) + 2 * (1 - t) * t * (p[2, 0] - p[1, 0])
+                + t ** 2 * (p[3, 0] - p[2, 0]))
     w = weights / 2
     return float(np.sum(w * xy[:, 1] * dxdt)), float(np.sum(w * xy[:, 0] * xy[:, 1] * dxdt))
 
@@ -557,7 +558,8 @@ def test_interpolating_spline_through_dwell_points_is_warned_of(generated, cli):
 def test_committed_interpolating_spline_is_warned_of(cli):
     payload = _check(cli, FIXTURES / "freecad_interpolated.dxf")
     warning = [n for n in payload["notes"] if "overshoots" in n]
-    assert warning and warning[0].startswith("warning: SPLINE ") and "leaves the zero between the dwell points" in warning[0]
+    assert warning and warning[0].startswith("warning: SPLINE ")
+    assert "leaves the zero between the dwell points" in warning[0]
 
 
 def test_gdal_inches_are_reported_not_converted(cli):
@@ -570,7 +572,7 @@ def regenerate() -> None:
     import tempfile
 
     FIXTURES.mkdir(parents=True, exist_ok=True)
-    for name, path in make_byte_level(FIXTURES).items():
+    for _name, path in make_byte_level(FIXTURES).items():
         print("wrote", path)
     with tempfile.TemporaryDirectory() as tmp:
         for program, maker in (("inkscape", make_inkscape), ("gdal", make_gdal), ("freecad", make_freecad)):

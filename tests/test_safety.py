@@ -13,11 +13,11 @@ import shutil
 from pathlib import Path
 
 import pytest
+from conftest import SAMPLES, file_digest
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_text_atomic
 from camcad.io.output_folder import OutputFolder, safe_name
-from conftest import SAMPLES, file_digest
 
 LAW_TABLE = SAMPLES / "law_table.csv"
 DEFAULT_SCENE = """

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -116,7 +117,7 @@ def test_scca_integrates_to_a_unit_rise(b, fraction):
         def integrand(u):
             return weight(u) * float(shape.evaluate(np.array([u]), 2)[0])
         return sum(quad(integrand, lo, min(hi, upper), epsabs=1e-14, epsrel=1e-13)[0]
-                   for lo, hi in zip(edges, edges[1:]) if lo < upper)
+                   for lo, hi in pairwise(edges) if lo < upper)
 
     assert integral(lambda u: 1.0, 1.0) == pytest.approx(0.0, abs=1e-11)
     assert integral(lambda u: 1.0, 0.5) == pytest.approx(shape.peaks().cv, rel=1e-10)

@@ -11,7 +11,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-
 ROOT = Path(__file__).resolve().parents[1]
 
 PROBE = """
@@ -56,8 +55,9 @@ def test_a_command_imports_only_its_own_command_module(tmp_path):
 
 
 def test_the_command_list_in_help_is_each_command_s_own_first_line():
-    from camcad.cli import COMMANDS, app, register_all
     import typer
+
+    from camcad.cli import COMMANDS, app, register_all
 
     register_all()
     group = typer.main.get_group(app)

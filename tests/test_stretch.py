@@ -19,8 +19,13 @@ import pytest
 from camcad.contact import ContactParams
 from camcad.cyclogram.limits import least_phase_angle
 from camcad.law.standard import compose
-from camcad.scene.mechanism import (phase_pressure_function, phase_stress_function, phases_deg, pressure_relation,
-                                    stress_relation)
+from camcad.scene.mechanism import (
+    phase_pressure_function,
+    phase_stress_function,
+    phases_deg,
+    pressure_relation,
+    stress_relation,
+)
 from camcad.scene.stretch import least_angle
 
 LAW = compose([("dwell", 40), ("rise", 70), ("dwell", 60), ("return", 70), ("dwell", 120)], 30.0, "cycloidal")
@@ -64,8 +69,8 @@ def test_least_angle_equals_the_scalar_root_finder():
         start, end, _ = phases_deg(LAW)[index]
         relation = stress_relation(LAW, table, PARAMS, SPEEDS, index, "x", 2000)
         fast = least_angle(relation, 900.0, 0.1 * (end - start), 150.0, source="contact")
-        scalar = least_phase_angle(lambda t: float(relation(np.array([t]))[0]), 900.0, 0.1 * (end - start), 150.0,
-                                   source="contact")
+        scalar = least_phase_angle(lambda t, relation=relation: float(relation(np.array([t]))[0]), 900.0,
+                                   0.1 * (end - start), 150.0, source="contact")
         assert fast.binding == scalar.binding
         assert fast.angle_deg == pytest.approx(scalar.angle_deg, abs=1e-8)
         assert fast.value <= 900.0 + 1e-6

@@ -187,7 +187,8 @@ def test_values_are_written_into_a_copy_of_the_scene():
     assert out["law"]["phases"] == "0:90:rise,90:180:dwell,180:300:return,300:360:dwell"
     assert t == default_tables()   # the scene itself is untouched
     group = loom()
-    space = build_space(group, ["mechanisms.shuttle_lift.law.phases.rise=40", "mechanisms.shuttle_lift.contact.width=12"])
+    space = build_space(group, ["mechanisms.shuttle_lift.law.phases.rise=40",
+                                "mechanisms.shuttle_lift.contact.width=12"])
     out = apply_values(group, {s.key.path: s.key for s in space.specs}, space.values(0))
     lift = out["mechanisms"]["shuttle_lift"]
     assert lift["law"]["phases"] == "0:50:dwell,50:90:rise,90:160:dwell,160:220:return,220:360:dwell"
@@ -237,7 +238,7 @@ def test_boundary_and_objective_parsing():
         [(32.0, 31.0, True), (31.0, 30.0, False), (30.0, None, True)]
     names = ["follower.base_radius", "pressure angle, rise.value", "pressure angle, rise.margin", "min_margin_ratio"]
     assert parse_objective("max:pressure angle, rise", names).column == "pressure angle, rise.margin"
-    with pytest.raises(CamcadError, match="did you mean 'follower.base_radius'"):
+    with pytest.raises(CamcadError, match=r"did you mean 'follower\.base_radius'"):
         parse_objective("min:follower.base_radis", names)
     with pytest.raises(CamcadError, match="min:COLUMN"):
         parse_objective("smallest:follower.base_radius", names)

@@ -17,11 +17,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
-from camcad.verdict import note_line
 from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL
 from camcad.balance.correction import Correction, correct
+from camcad.verdict import note_line
 
 # ---------------------------------------------------------------------------------------------
 # check
@@ -272,7 +273,7 @@ def _moves_text(c: Correction, scale: float) -> list[str]:
         request = f"--move #{number} {m.theta_deg:g}:{m.value / scale:g}"
         if m.honoured:
             lines.append(f"{request}: honoured: vertex {m.vertex} at {m.vertex_deg:.6g} deg set from "
-                         f"{m.old_value / scale:.6g} to {m.value / scale:.6g} and held")
+                         f"{cast(float, m.old_value) / scale:.6g} to {m.value / scale:.6g} and held")
         else:
             lines.append(f"{request}: REFUSED: {m.reason}")
     return lines

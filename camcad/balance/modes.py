@@ -126,19 +126,27 @@ def _extrema_columns(law: PiecewiseLinearLaw, free: np.ndarray):
             xi = x[i]
             for k, (lo, hi) in enumerate(spans):
                 if lo <= xi <= hi:
-                    rows.append(i), cols.append(col + k), vals.append(1.0)
+                    rows.append(i)
+                    cols.append(col + k)
+                    vals.append(1.0)
                     break
             else:
                 k = int(np.searchsorted([lo for lo, _ in spans], xi))  # first group to the right
                 if k == 0:
                     t = 1.0 if left is None else (xi - left) / (spans[0][0] - left)
-                    rows.append(i), cols.append(col), vals.append(t)
+                    rows.append(i)
+                    cols.append(col)
+                    vals.append(t)
                 elif k == len(spans):
                     t = 1.0 if right is None else (right - xi) / (right - spans[-1][1])
-                    rows.append(i), cols.append(col + k - 1), vals.append(t)
+                    rows.append(i)
+                    cols.append(col + k - 1)
+                    vals.append(t)
                 else:
                     t = (xi - spans[k - 1][1]) / (spans[k][0] - spans[k - 1][1])
-                    rows.extend((i, i)), cols.extend((col + k - 1, col + k)), vals.extend((1.0 - t, t))
+                    rows.extend((i, i))
+                    cols.extend((col + k - 1, col + k))
+                    vals.extend((1.0 - t, t))
         col += len(groups)
     keep = np.asarray(vals) != 0.0
     basis = sparse.csc_matrix((np.asarray(vals)[keep], (np.asarray(rows, dtype=int)[keep],
@@ -166,7 +174,9 @@ def _basis(law: PiecewiseLinearLaw, mode: str, free: np.ndarray, segment_deg, wh
         basis, idx = _extrema_columns(law, free)
         return basis, True, idx
     groups = lobe_groups(law.a, free)
-    rows, cols, vals = [], [], []
+    rows: list[int] = []
+    cols: list[int] = []
+    vals: list[float] = []
     for col, group in enumerate(groups):
         rows.extend(group)
         cols.extend([col] * len(group))

@@ -12,7 +12,6 @@ import importlib
 import importlib.util
 import sys
 
-
 import typer
 from typer.core import TyperGroup
 
@@ -21,7 +20,8 @@ from camcad.version import __version__
 #: command name -> (module that defines it, one-line help shown by ``camcad --help``); a test checks that
 #: each line opens as the command's own help does
 COMMANDS: dict[str, tuple[str, str]] = {
-    "check": ("camcad.cli.check", "Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."),
+    "check": ("camcad.cli.check",
+              "Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."),
     "fix": ("camcad.cli.check", "Correct an unbalanced law with the smallest change and write a corrected copy."),
     "profile": ("camcad.cli.profile", "Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots."),
     "spectrum": ("camcad.cli.spectrum", "Harmonics of a law, the resonance band over a speed range, filtering."),
@@ -29,7 +29,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
-    "linkage": ("camcad.cli.linkage", "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),
+    "linkage": ("camcad.cli.linkage",
+                "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
     "sweep": ("camcad.cli.sweep", "Explore a design space: a scene's keys over ranges and draws, on a pool or Dask."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),

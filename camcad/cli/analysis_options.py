@@ -45,7 +45,7 @@ def progress(enabled: bool, label: str):
     bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                    console=console(stderr=True), transient=True)
     task = bar.add_task(label, total=None)
-    started = []
+    started: list[bool] = []
 
     def callback(done: int, total: int) -> None:
         if not started and total > 1:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
@@ -13,17 +13,18 @@ from camcad.cli.common import JsonOpt, NoPlotsOpt, OutOpt, console, output_dir, 
 
 @app.command()
 def bench(quick: Annotated[bool, typer.Option("--quick", help="Fewer settings and repeats (under a minute).")] = False,
-          only: Annotated[Optional[str], typer.Option("--only", help="Comma-separated benchmark names, e.g. balance,profile.")] = None,
+          only: Annotated[str | None, typer.Option(
+              "--only", help="Comma-separated benchmark names, e.g. balance,profile.")] = None,
           output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Time and error of every kernel (method, setting, median time, error against a reference); writes
     bench.md, bench.json and bench.png."""
     import contextlib
     import io
 
-    from camcad.report.bench import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
     from camcad.errors import CamcadError
     from camcad.io.atomic import write_text_atomic
     from camcad.io.jsonout import write_json
+    from camcad.report.bench import find_benchmarks, load_benchmark, markdown_table, plot_speed_error
 
     found = find_benchmarks()
     if only:

@@ -8,8 +8,22 @@ from typing import Annotated
 import typer
 
 from camcad.cli import app
-from camcad.cli.common import (CycleOpt, HandleOpt, JsonOpt, LawArg, LayerOpt, LiftOpt, OriginOpt, PhasesOpt, X0Opt,
-                               XDegOpt, Y0Opt, load_law_from_options, parse_pair, print_json)
+from camcad.cli.common import (
+    CycleOpt,
+    HandleOpt,
+    JsonOpt,
+    LawArg,
+    LayerOpt,
+    LiftOpt,
+    OriginOpt,
+    PhasesOpt,
+    X0Opt,
+    XDegOpt,
+    Y0Opt,
+    load_law_from_options,
+    parse_pair,
+    print_json,
+)
 
 TolOpt = Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")]
 
@@ -27,7 +41,9 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
           lift: LiftOpt = None, phases: PhasesOpt = None, x_deg: XDegOpt = False, y0: Y0Opt = None, x0: X0Opt = None,
           origin: OriginOpt = None, tol: TolOpt = 1e-5,
           plot: Annotated[Path | None, typer.Option("--plot", help="Write a PNG of a, v, s with the areas.")] = None,
-          trapezoid: Annotated[bool, typer.Option("--trapezoid", help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
+          trapezoid: Annotated[bool, typer.Option(
+              "--trapezoid",
+              help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
           step: Annotated[float, typer.Option("--step", help="Resampling step of --trapezoid (deg).")] = 0.1,
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
@@ -45,16 +61,26 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
 
 @app.command()
 def fix(law_file: LawArg,
-        output: Annotated[Path | None, typer.Option("-o", "--output", help="Corrected file (default <name>.fixed.dxf).")] = None,
+        output: Annotated[Path | None, typer.Option(
+            "-o", "--output", help="Corrected file (default <name>.fixed.dxf).")] = None,
         mode: Annotated[str, typer.Option("--mode", help="min-change | extrema | extrema-resample | keypoints | "
                                                          "segment | phase | phase-keypoints")] = "min-change",
-        method: Annotated[str, typer.Option("--method", help="exact (linear solve) or iterate (the source's loop).")] = "exact",
-        step: Annotated[float, typer.Option("--step", help="Resampling step of iterate and extrema-resample (deg).")] = 0.1,
-        segment: Annotated[str | None, typer.Option("--segment", help="A:B, the angle range mode segment may change (deg).")] = None,
-        move: Annotated[list[str] | None, typer.Option("--move", help="X:Y, set the point at X deg to a = Y (input units) and rebalance the rest; repeat for several points.")] = None,
-        max_stretch: Annotated[float, typer.Option("--max-stretch", help="Largest phase stretch of phase-keypoints (fraction).")] = 0.05,
-        free_lift: Annotated[bool, typer.Option("--free-lift", help="Let the rise change (by default the drawn rise, or --lift, is kept).")] = False,
-        force: Annotated[bool, typer.Option("--force", help="Write a copy even when the law is already balanced.")] = False,
+        method: Annotated[str, typer.Option(
+            "--method", help="exact (linear solve) or iterate (the source's loop).")] = "exact",
+        step: Annotated[float, typer.Option(
+            "--step", help="Resampling step of iterate and extrema-resample (deg).")] = 0.1,
+        segment: Annotated[str | None, typer.Option(
+            "--segment", help="A:B, the angle range mode segment may change (deg).")] = None,
+        move: Annotated[list[str] | None, typer.Option(
+            "--move",
+            help="X:Y, set the point at X deg to a = Y (input units) and rebalance the rest; repeat for several "
+                 "points.")] = None,
+        max_stretch: Annotated[float, typer.Option(
+            "--max-stretch", help="Largest phase stretch of phase-keypoints (fraction).")] = 0.05,
+        free_lift: Annotated[bool, typer.Option(
+            "--free-lift", help="Let the rise change (by default the drawn rise, or --lift, is kept).")] = False,
+        force: Annotated[bool, typer.Option(
+            "--force", help="Write a copy even when the law is already balanced.")] = False,
         layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0, lift: LiftOpt = None,
         phases: PhasesOpt = None, x_deg: XDegOpt = False, y0: Y0Opt = None, x0: X0Opt = None,
         origin: OriginOpt = None, tol: TolOpt = 1e-5,

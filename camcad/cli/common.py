@@ -8,12 +8,12 @@ import shutil
 import sys
 import warnings
 from pathlib import Path
-from typing import Annotated, Callable, Optional
+from typing import Annotated
 
 import typer
 
 from camcad.errors import CamcadError
-from camcad.io.jsonout import to_jsonable  # noqa: F401 - commands import it from here
+from camcad.io.jsonout import to_jsonable
 
 #: exit codes (SPEC.md)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -100,30 +100,19 @@ def print_json(payload: dict) -> None:
     print(json.dumps(to_jsonable(payload), indent=2))
 
 
-def finish(payload: dict, report_path: Path, as_json: bool, render: Callable[[dict], None], passed: bool) -> None:
-    """Write ``payload`` to ``report_path``, print it (JSON or ``render``), exit 0 when ``passed`` else 1."""
-    from camcad.io.jsonout import write_json
-
-    write_json(report_path, payload)
-    if as_json:
-        print_json(payload)
-    else:
-        render(payload)
-    raise typer.Exit(0 if passed else 1)
-
-
 # --- the law-choosing options (SPEC.md: the same meaning in every command) --------------------
 
 LawArg = Annotated[Path, typer.Argument(help="Acceleration law: a DXF drawing or a .csv/.txt table (θ deg, a).",
                                         show_default=False)]
-LayerOpt = Annotated[Optional[str], typer.Option("--layer", help="Layer holding the law's curve.")]
-HandleOpt = Annotated[Optional[str], typer.Option("--handle", help="Handle of the law's curve.")]
-Y0Opt = Annotated[Optional[float], typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
-X0Opt = Annotated[Optional[float], typer.Option("--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
-OriginOpt = Annotated[Optional[str], typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
+LayerOpt = Annotated[str | None, typer.Option("--layer", help="Layer holding the law's curve.")]
+HandleOpt = Annotated[str | None, typer.Option("--handle", help="Handle of the law's curve.")]
+Y0Opt = Annotated[float | None, typer.Option("--y0", help="Drawing y of zero acceleration (overrides the axis found).")]
+X0Opt = Annotated[float | None, typer.Option(
+    "--x0", help="Drawing x of the cycle's start, theta = 0 (overrides the curve's start).")]
+OriginOpt = Annotated[str | None, typer.Option("--origin", help="X,Y: --x0 and --y0 at once (drawing units).")]
 CycleOpt = Annotated[float, typer.Option("--cycle", help="Working angle the curve spans (deg).")]
-LiftOpt = Annotated[Optional[float], typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
-PhasesOpt = Annotated[Optional[str], typer.Option(
+LiftOpt = Annotated[float | None, typer.Option("--lift", help="Scale the law so the rise is this (mm).")]
+PhasesOpt = Annotated[str | None, typer.Option(
     "--phases", help='Override detected phases: "0:90:rise,90:180:dwell,180:270:return,270:360:dwell" (deg).')]
 XDegOpt = Annotated[bool, typer.Option("--x-deg", help="The drawing's x is already the cam angle in deg.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object on stdout, nothing else.")]
@@ -157,8 +146,8 @@ def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, 
             raise ValueError
         return float(parts[0]), float(parts[1])
     except ValueError:
-        raise CamcadError(f"{text[:40]!r} is not two numbers", "--origin", "write --origin X,Y, e.g. --origin 10,104.5") \
-            from None
+        raise CamcadError(f"{text[:40]!r} is not two numbers", "--origin",
+                          "write --origin X,Y, e.g. --origin 10,104.5") from None
 
 
 def _given(name: str) -> bool:
@@ -167,7 +156,7 @@ def _given(name: str) -> bool:
     try:  # typer >= 0.16 runs its own copy of click
         from typer._click.globals import get_current_context
     except ImportError:  # pragma: no cover - older typer uses click itself
-        from click import get_current_context
+        from click import get_current_context  # type: ignore[no-redef]  # the same function of older typer
 
     ctx = get_current_context(silent=True)
     if ctx is None or name not in ctx.params:
@@ -201,19 +190,20 @@ def console(stderr: bool = False):
 
 # --- a law from a file, a scene or a standard shape (the commands that analyse a law) ----------
 
-SourceArg = Annotated[Optional[Path], typer.Argument(
+SourceArg = Annotated[Path | None, typer.Argument(
     help="A scene (.toml), or an acceleration law (DXF or .csv/.txt table); omit it with --standard.",
     show_default=False)]
 SceneArg = Annotated[Path, typer.Argument(help="Scene file (TOML): one mechanism or a group with [cyclogram].",
                                           show_default=False)]
-StandardOpt = Annotated[Optional[str], typer.Option(
+StandardOpt = Annotated[str | None, typer.Option(
     "--standard", help="A standard law instead of a file: cycloidal, harmonic, poly345, ... (needs --phases, --lift).")]
-ReturnStandardOpt = Annotated[Optional[str], typer.Option("--return-standard",
+ReturnStandardOpt = Annotated[str | None, typer.Option("--return-standard",
                                                           help="Shape of the returns (default: --standard).")]
-RpmOpt = Annotated[Optional[str], typer.Option("--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
-OutOpt = Annotated[Optional[Path], typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
+RpmOpt = Annotated[str | None, typer.Option(
+    "--rpm", help="Speed N or range N1:N2[:STEP] (rpm); overrides the scene's machine rpm.")]
+OutOpt = Annotated[Path | None, typer.Option("-o", "--output", help="Output folder (default ./camcad-out/<name>/).")]
 NoPlotsOpt = Annotated[bool, typer.Option("--no-plots", help="Do not write PNG plots.")]
-MechanismOpt = Annotated[Optional[str], typer.Option("--mechanism", help="The mechanism of a group scene.")]
+MechanismOpt = Annotated[str | None, typer.Option("--mechanism", help="The mechanism of a group scene.")]
 
 
 class LawSource:
@@ -228,23 +218,6 @@ class LawSource:
         self.scene = scene
         self.mechanism = mechanism
         self.loaded = loaded
-
-    def section(self, name: str):
-        """The raw table of the mechanism's section ``name``, or None."""
-        return None if self.mechanism is None else self.mechanism.sections.get(name)
-
-    def section_where(self, name: str) -> str:
-        return self.mechanism.where(self.scene.path, name) if self.mechanism is not None else self.where
-
-    def speeds(self, rpm_option: str | None) -> list[float] | None:
-        """--rpm when given, else the scene's [machine] rpm, else None."""
-        from camcad.scene.fields import parse_speeds
-
-        if rpm_option is not None:
-            return parse_speeds(rpm_option, "--rpm")
-        if self.scene is not None and self.scene.speeds_rpm:
-            return list(self.scene.speeds_rpm)
-        return None
 
 
 def resolve_source(source: Path | None, standard: str | None, return_standard: str | None, phases: str | None,
@@ -292,16 +265,3 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
 def output_dir(output: Path | None, name: str) -> Path:
     """-o when given, else ./camcad-out/<name>/."""
     return output if output is not None else Path("camcad-out") / name
-
-
-def progress_bar(enabled: bool, total: int, label: str):
-    """A rich progress bar on stderr as a (callback(done, total), close) pair; a no-op when disabled."""
-    if not enabled or total < 2:
-        return None, lambda: None
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-    bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                   console=console(stderr=True), transient=True)
-    task = bar.add_task(label, total=total)
-    bar.start()
-    return (lambda done, _total=None: bar.update(task, completed=done)), bar.stop

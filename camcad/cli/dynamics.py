@@ -37,21 +37,36 @@ ZetaOpt = Annotated[float | None, typer.Option("--zeta", help="Damping ratio ζ 
 
 @app.command()
 def dynamics(source: SourceArg = None,
-             fn: Annotated[float | None, typer.Option("--fn", help="Natural frequency of the follower system (Hz).")] = None,
+             fn: Annotated[float | None, typer.Option(
+                 "--fn", help="Natural frequency of the follower system (Hz).")] = None,
              zeta: ZetaOpt = None,
-             psi: Annotated[float | None, typer.Option("--psi", help="Dissipation coefficient ψ (= 4πζ) instead of --zeta.")] = None,
-             mass: Annotated[float | None, typer.Option("--mass", help="Reduced follower mass (kg), for forces.")] = None,
+             psi: Annotated[float | None, typer.Option(
+                 "--psi", help="Dissipation coefficient ψ (= 4πζ) instead of --zeta.")] = None,
+             mass: Annotated[float | None, typer.Option(
+                 "--mass", help="Reduced follower mass (kg), for forces.")] = None,
              rpm: RpmOpt = None,
-             method: Annotated[str | None, typer.Option("--method", help="frequency | time | auto (frequency for constant stiffness).")] = None,
-             solver: Annotated[str | None, typer.Option("--solver", help="solve_ivp method of the time path: RK45, DOP853, Radau, LSODA, ...")] = None,
+             method: Annotated[str | None, typer.Option(
+                 "--method", help="frequency | time | auto (frequency for constant stiffness).")] = None,
+             solver: Annotated[str | None, typer.Option(
+                 "--solver", help="solve_ivp method of the time path: RK45, DOP853, Radau, LSODA, ...")] = None,
              rtol: Annotated[float | None, typer.Option("--rtol", help="Relative tolerance of the time path.")] = None,
-             samples: Annotated[int | None, typer.Option("--samples", help="Samples per cycle (frequency path: the accuracy knob).")] = None,
-             start_pulse: Annotated[float | None, typer.Option("--start-pulse", help="Summary load at the start of motion, × the phase's peak acceleration.")] = None,
-             compare: Annotated[Path | None, typer.Option("--compare", help="A second law (e.g. a filtered one) whose start-of-motion load is compared.")] = None,
-             lead_in: Annotated[str | None, typer.Option("--lead-in", help="Compare with lead-in segments DEG[:FRACTION] before each motion (default fraction 0.1), e.g. 14:0.1; a scene's [filter] lead-in is used when present.")] = None,
-             max_ratio: Annotated[float | None, typer.Option("--max-ratio", help="Allowed peak acceleration ratio elastic/rigid.")] = None,
-             max_error: Annotated[float | None, typer.Option("--max-error", help="Allowed dynamic error (law unit: mm, or rad).")] = None,
-             max_residual: Annotated[float | None, typer.Option("--max-residual", help="Allowed residual vibration (law unit).")] = None,
+             samples: Annotated[int | None, typer.Option(
+                 "--samples", help="Samples per cycle (frequency path: the accuracy knob).")] = None,
+             start_pulse: Annotated[float | None, typer.Option(
+                 "--start-pulse", help="Summary load at the start of motion, × the phase's peak acceleration.")] = None,
+             compare: Annotated[Path | None, typer.Option(
+                 "--compare",
+                 help="A second law (e.g. a filtered one) whose start-of-motion load is compared.")] = None,
+             lead_in: Annotated[str | None, typer.Option(
+                 "--lead-in",
+                 help="Compare with lead-in segments DEG[:FRACTION] before each motion (default fraction 0.1), e.g. "
+                      "14:0.1; a scene's [filter] lead-in is used when present.")] = None,
+             max_ratio: Annotated[float | None, typer.Option(
+                 "--max-ratio", help="Allowed peak acceleration ratio elastic/rigid.")] = None,
+             max_error: Annotated[float | None, typer.Option(
+                 "--max-error", help="Allowed dynamic error (law unit: mm, or rad).")] = None,
+             max_residual: Annotated[float | None, typer.Option(
+                 "--max-residual", help="Allowed residual vibration (law unit).")] = None,
              unit: UnitOpt = None, phase_angles: PhaseAnglesOpt = "auto",
              standard: StandardOpt = None, return_standard: ReturnStandardOpt = None, phases: PhasesOpt = None,
              lift: LiftOpt = None, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
@@ -79,14 +94,20 @@ def dynamics(source: SourceArg = None,
 
 @app.command()
 def impact(source: SourceArg = None, rpm: RpmOpt = None,
-           mass: Annotated[float | None, typer.Option("--mass", help="Reduced mass of the lever at the contact point (kg).")] = None,
-           f_free: Annotated[float | None, typer.Option("--f-free", help="Natural frequency without the stop (Hz).")] = None,
+           mass: Annotated[float | None, typer.Option(
+               "--mass", help="Reduced mass of the lever at the contact point (kg).")] = None,
+           f_free: Annotated[float | None, typer.Option(
+               "--f-free", help="Natural frequency without the stop (Hz).")] = None,
            f_stop: Annotated[float | None, typer.Option("--f-stop", help="Natural frequency on the stop (Hz).")] = None,
-           restitution: Annotated[float | None, typer.Option("--restitution", help="Coefficient of restitution k (5/9 for steel).")] = None,
+           restitution: Annotated[float | None, typer.Option(
+               "--restitution", help="Coefficient of restitution k (5/9 for steel).")] = None,
            zeta: ZetaOpt = None,
-           preload: Annotated[float | None, typer.Option("--preload", help="Preload of the stop (mm at the contact point).")] = None,
-           stop: Annotated[str | None, typer.Option("--stop", help="upper (end of rise) or lower (end of return).")] = None,
-           ratio: Annotated[float | None, typer.Option("--ratio", help="Contact-point displacement per unit of the law's.")] = None,
+           preload: Annotated[float | None, typer.Option(
+               "--preload", help="Preload of the stop (mm at the contact point).")] = None,
+           stop: Annotated[str | None, typer.Option(
+               "--stop", help="upper (end of rise) or lower (end of return).")] = None,
+           ratio: Annotated[float | None, typer.Option(
+               "--ratio", help="Contact-point displacement per unit of the law's.")] = None,
            allowed: Annotated[float | None, typer.Option("--allowed", help="Allowed rebound amplitude (mm).")] = None,
            phase_angles: PhaseAnglesOpt = "auto",
            standard: StandardOpt = None, return_standard: ReturnStandardOpt = None, phases: PhasesOpt = None,

@@ -27,11 +27,16 @@ from camcad.cli.common import (
 
 @app.command()
 def edit(law_file: SourceArg = None,
-         web: Annotated[bool, typer.Option("--web", help="Open the editor in a browser (served on 127.0.0.1 only).")] = False,
+         web: Annotated[bool, typer.Option(
+             "--web", help="Open the editor in a browser (served on 127.0.0.1 only).")] = False,
          port: Annotated[int, typer.Option("--port", help="Port of the browser editor (0: a free one).")] = 0,
-         no_browser: Annotated[bool, typer.Option("--no-browser", help="Print the URL, do not open a browser.")] = False,
-         output: Annotated[Path | None, typer.Option("-o", "--output", help="Where to save (.dxf drawing, .csv table, .json script); default <name>.edited.dxf.")] = None,
-         script: Annotated[Path | None, typer.Option("--script", help="Replay this JSON list of operations headless, then save.")] = None,
+         no_browser: Annotated[bool, typer.Option(
+             "--no-browser", help="Print the URL, do not open a browser.")] = False,
+         output: Annotated[Path | None, typer.Option(
+             "-o", "--output",
+             help="Where to save (.dxf drawing, .csv table, .json script); default <name>.edited.dxf.")] = None,
+         script: Annotated[Path | None, typer.Option(
+             "--script", help="Replay this JSON list of operations headless, then save.")] = None,
          tol: Annotated[float, typer.Option("--tol", help="Closure tolerance, as a fraction of the rise.")] = 1e-5,
          step: Annotated[float, typer.Option("--step", help="Sampling step of a --standard law (deg).")] = 0.5,
          standard: StandardOpt = None, return_standard: ReturnStandardOpt = None,

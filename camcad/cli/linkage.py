@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, cast
 
 import numpy as np
 import typer
@@ -93,7 +93,8 @@ def _fgen_summary(payload: dict) -> None:
             f"{payload['method']}")
     lines = [head, _fgen_table([payload])]
     lines.append(f"  offsets        phi0 {payload['offsets_deg']['phi0']:.4f} deg, psi0 "
-                 f"{payload['offsets_deg']['psi0']:.4f} deg, branch {payload['branch']:+d}, {payload['grashof']['class']}")
+                 f"{payload['offsets_deg']['psi0']:.4f} deg, branch {payload['branch']:+d}, "
+                 f"{payload['grashof']['class']}")
     lines.append("  nodes (deg)    " + ", ".join(f"{v:.4f}" for v in payload["nodes_deg"][:12])
                  + (" ..." if len(payload["nodes_deg"]) > 12 else ""))
     lines.append("  positions      " + ", ".join(f"{k} {v}" for k, v in payload["position_breakdown"].items())
@@ -163,9 +164,12 @@ def fgen(
     for option, value in (("--input-range", input_range), ("--output-range", output_range)):
         if value is None:
             raise CamcadError("missing", option, f"give {option} DEG (the link's turn over the interval)")
+    assert input_range is not None and output_range is not None  # refused above when missing
     methods = list(METHODS) if method == "all" else [method]
     if method != "all" and method not in METHODS:
         raise CamcadError(f"unknown method {method!r}", "--method", f"use one of {', '.join(METHODS)} or all")
+    x0: float | None
+    x1: float | None
     if function is not None:
         if x is None:
             raise CamcadError("missing", "--x", "give the interval of x, e.g. --x 1:2")
@@ -173,6 +177,7 @@ def fgen(
         expression = parse_expression(function)
         target = make_target(expression, x0, x1, input_range, output_range, function, expression.derivative)
     else:
+        assert table is not None  # exactly one of --function and --table
         if table.exists() and table.is_dir():
             raise CamcadError("is a folder", str(table), "give a .csv/.txt table of x, y")
         x0, x1 = parse_pair(x, "--x", "1:2") if x is not None else (None, None)
@@ -640,7 +645,8 @@ def adjust(
         verdict = {{"psi1": "psi2", "psi2": "psi1"}.get(k, k): v for k, v in verdict.items()}
     checks_ok = all(r["branch_continuous"] and r["mu_min_deg"] >= mu_min for r in rows)
     adj = result.adjustment
-    payload.update({"element": adj.describe(), "arc_centre_mm": [adj.centre.real, adj.centre.imag],
+    arc_centre = cast(complex, adj.centre)  # every task of Table 3 moves joint A on an arc
+    payload.update({"element": adj.describe(), "arc_centre_mm": [arc_centre.real, arc_centre.imag],
                     "arc_radius_mm": result.radius, "rows": rows, "deviation_deg": {k: math.degrees(v) for k, v in
                                                                                    result.deviation.items()},
                     "monotone": result.monotone, "requirements": verdict, "notes": list(result.notes),
@@ -654,7 +660,8 @@ def adjust(
         "diagram.png": lambda: diagram_figure(lk, psi_max, settings_links, arc, f"task {task}: every setting")}
     drawing = kinematic_drawing(lk, psi_max, settings_links, arc, title=(
         f"camcad linkage adjust: Table 3 task {task}", adj.describe(),
-        f"arc radius {result.radius:.4f} mm, lock angles {rows[0]['setting_deg']:.3f} .. {rows[-1]['setting_deg']:.3f} deg"))
+        f"arc radius {result.radius:.4f} mm, lock angles {rows[0]['setting_deg']:.3f} .. "
+        f"{rows[-1]['setting_deg']:.3f} deg"))
     folder = output_dir(output, f"adjust-{command.name}")
     _refuse_inputs(command, folder)
     write_linkage_outputs(folder, "adjust", payload, {"adjust.csv": rows_csv(rows, "u: the regulating variable "
@@ -721,6 +728,7 @@ def family(
                 raise CamcadError(err.what, f"--member {k}", err.fix) from None
             members.append(Member(_in_radians(expr, True), math.radians(a), math.radians(b), text))
     else:
+        assert table is not None  # exactly one of --member and --table
         members = _table_members(table, a, b)
     result = synthesize_family(members, nodes, crank, math.radians(phi0), spacing, ratio_max=ratio_max)
     rows = [{"member": m.label or str(k + 1), "setting_deg": math.degrees(x), "pivot_x_mm": p.real,

@@ -12,15 +12,29 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING
 
 import typer
 
 from camcad.cli import app
-from camcad.cli.common import (JsonOpt, NoPlotsOpt, OriginOpt, X0Opt, XDegOpt, Y0Opt, _given, echo, parse_origin,
-                               print_json, progress_line)
+from camcad.cli.common import (
+    JsonOpt,
+    NoPlotsOpt,
+    OriginOpt,
+    X0Opt,
+    XDegOpt,
+    Y0Opt,
+    _given,
+    echo,
+    parse_origin,
+    print_json,
+    progress_line,
+)
 from camcad.errors import CamcadError
 from camcad.profile import defaults
+
+if TYPE_CHECKING:
+    from camcad.scene.file import Scene
 
 LAW_SUFFIXES = (".dxf", ".csv", ".txt", ".tsv", ".dat", ".tab")
 FOLLOWER_KINDS = ("roller", "knife", "flat", "oscillating")
@@ -28,48 +42,48 @@ FOLLOWER_KINDS = ("roller", "knife", "flat", "oscillating")
 
 @app.command()
 def profile(
-    target: Optional[Path] = typer.Argument(
+    target: Path | None = typer.Argument(
         None, help="SCENE.toml, or a drawn law LAW.dxf / LAW.csv / LAW.txt; none: the built-in default design.",
         show_default=False),
-    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Output folder (default ./camcad-out/<name>/)."),
-    rb: Optional[float] = typer.Option(None, "--rb", help="Base-circle radius Rb of the profile (mm)."),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Output folder (default ./camcad-out/<name>/)."),
+    rb: float | None = typer.Option(None, "--rb", help="Base-circle radius Rb of the profile (mm)."),
     auto_rb: bool = typer.Option(False, "--auto-rb", help="Use the smallest Rb that meets the limits."),
-    rr: Optional[float] = typer.Option(None, "--rr", help="Roller radius Rr (mm); 0 = knife edge."),
+    rr: float | None = typer.Option(None, "--rr", help="Roller radius Rr (mm); 0 = knife edge."),
     offset: float = typer.Option(0.0, "--offset", help="Offset e of a translating follower's axis (mm)."),
     follower: str = typer.Option("roller", "--follower", help="roller, knife, flat or oscillating."),
-    pivot: Optional[float] = typer.Option(None, "--pivot", help="Pivot distance C, oscillating follower (mm)."),
-    arm: Optional[float] = typer.Option(None, "--arm", help="Arm length L, oscillating follower (mm)."),
-    swing: Optional[float] = typer.Option(
+    pivot: float | None = typer.Option(None, "--pivot", help="Pivot distance C, oscillating follower (mm)."),
+    arm: float | None = typer.Option(None, "--arm", help="Arm length L, oscillating follower (mm)."),
+    swing: float | None = typer.Option(
         None, "--swing", help="Total swing of an oscillating follower (deg); without it the lift is the roller's arc."),
-    lift: Optional[float] = typer.Option(None, "--lift", help="Scale the law so the rise is this many mm."),
+    lift: float | None = typer.Option(None, "--lift", help="Scale the law so the rise is this many mm."),
     cycle: float = typer.Option(360.0, "--cycle", help="Cam angle the law spans (deg)."),
-    phases: Optional[str] = typer.Option(None, "--phases", help='Phases, e.g. "0:120:rise,120:180:dwell,...".'),
-    layer: Optional[str] = typer.Option(None, "--layer", help="DXF layer holding the law."),
-    handle: Optional[str] = typer.Option(None, "--handle", help="DXF handle of the law's curve."),
+    phases: str | None = typer.Option(None, "--phases", help='Phases, e.g. "0:120:rise,120:180:dwell,...".'),
+    layer: str | None = typer.Option(None, "--layer", help="DXF layer holding the law."),
+    handle: str | None = typer.Option(None, "--handle", help="DXF handle of the law's curve."),
     y0: Y0Opt = None,
     x0: X0Opt = None,
     origin: OriginOpt = None,
     x_deg: XDegOpt = False,
-    rise_law: Optional[str] = typer.Option(
+    rise_law: str | None = typer.Option(
         None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, "
                                  "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d)."),
-    return_law: Optional[str] = typer.Option(None, "--return-law", help="Built-in law: return shape."),
+    return_law: str | None = typer.Option(None, "--return-law", help="Built-in law: return shape."),
     cw: bool = typer.Option(False, "--cw", help="The cam turns clockwise."),
     reversible: bool = typer.Option(False, "--reversible", help="The cam runs both ways."),
-    pa_rise: Optional[float] = typer.Option(None, "--pa-rise", help="Pressure-angle limit on the rise (deg; 0 = none)."),
-    pa_return: Optional[float] = typer.Option(
+    pa_rise: float | None = typer.Option(None, "--pa-rise", help="Pressure-angle limit on the rise (deg; 0 = none)."),
+    pa_return: float | None = typer.Option(
         None, "--pa-return", help="Pressure-angle limit on the return (deg; 0 = none)."),
-    rho_min: Optional[float] = typer.Option(None, "--rho-min", help="Smallest convex radius of the profile (mm)."),
+    rho_min: float | None = typer.Option(None, "--rho-min", help="Smallest convex radius of the profile (mm)."),
     groove: bool = typer.Option(False, "--groove", help="Also write the outer flank of a groove cam."),
-    pair_distance: Optional[float] = typer.Option(
+    pair_distance: float | None = typer.Option(
         None, "--pair-distance", help="Conjugate cam for a second roller this far below the first (mm)."),
-    pair_angle: Optional[float] = typer.Option(
+    pair_angle: float | None = typer.Option(
         None, "--pair-angle", help="Conjugate cam for a second arm at this angle (oscillating, deg)."),
     tol_mm: float = typer.Option(0.001, "--tol-mm", help="Chord tolerance of the written curves (mm)."),
     r12: bool = typer.Option(False, "--r12", help="Write DXF R12 instead of R2000."),
     spline: bool = typer.Option(False, "--spline", help="Also write a closed control-point SPLINE."),
     arcs: bool = typer.Option(False, "--arcs", help="Write the profile as lines and tangent arcs (for CNC)."),
-    plots: Optional[str] = typer.Option(
+    plots: str | None = typer.Option(
         None, "--plots", help="Plots to draw: summary (the default: one page per mechanism), all, or a list of "
                               "summary, kinematics, pressure_angle, curvature, profile, hodograph, dynamics, impact, "
                               "contact."),
@@ -90,9 +104,9 @@ def profile(
         if given:
             raise CamcadError(f"{', '.join(given)} describe a law or a follower; a scene holds its own", str(target),
                               "change the scene's [law] and [follower] sections instead")
-        source: object = target
+        source: Path | Scene = target
     else:
-        name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
+        _name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
                                      pivot=pivot, arm=arm, swing=swing, lift=lift, cycle=cycle, phases=phases,
                                      layer=layer, handle=handle, y0=y0, x0=x0, origin=origin, x_deg=x_deg,
                                      rise_law=rise_law, return_law=return_law, cw=cw,
@@ -198,7 +212,8 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
     if swing is not None and kind != "oscillating":
         raise CamcadError("--swing is for an oscillating follower", "--swing", "drop it or use --follower oscillating")
     follower: dict = {"type": kind, "offset": offset, "cw": cw, "reversible": reversible, "groove": groove,
-                      "pressure_angle_limit_rise": defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG if pa_rise is None else pa_rise,
+                      "pressure_angle_limit_rise": (defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG if pa_rise is None
+                                                    else pa_rise),
                       "pressure_angle_limit_return": (defaults.PRESSURE_ANGLE_LIMIT_RETURN_DEG if pa_return is None
                                                       else pa_return)}
     for key, value in (("base_radius", rb), ("roller_radius", rr if kind in ("roller", "oscillating") else None),
@@ -299,7 +314,8 @@ def _print_group(out, report: dict) -> None:
     if cyclogram:
         if cyclogram.get("feasible"):
             out.print(f"cyclogram: makespan {cyclogram['makespan_deg']:.4f} deg, critical path "
-                      f"{' -> '.join(cyclogram['critical_path'])}, active bounds {', '.join(cyclogram['active_bounds'])}")
+                      f"{' -> '.join(cyclogram['critical_path'])}, "
+                      f"active bounds {', '.join(cyclogram['active_bounds'])}")
             for name, text in cyclogram.get("phases", {}).items():
                 out.print(f"  {name}: phases {text}")
         else:

@@ -26,11 +26,11 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
-    from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
-    from camcad.cyclogram.lp import CyclogramResult, optimise
-    from camcad.cyclogram.limits import INADMISSIBLE, LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
-    from camcad.cyclogram.network import Network, Operation, find_cycle, make_network
     from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+    from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
+    from camcad.cyclogram.limits import INADMISSIBLE, LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
+    from camcad.cyclogram.lp import CyclogramResult, optimise
+    from camcad.cyclogram.network import Network, Operation, find_cycle, make_network
     from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
@@ -72,9 +72,9 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "INADMISSIBLE",
     "Constraint",
     "CyclogramResult",
-    "INADMISSIBLE",
     "LinearRelation",
     "Network",
     "Operation",

@@ -3,18 +3,15 @@
 
 from __future__ import annotations
 
-
-
 import math
 from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from camcad.errors import CamcadError
-from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.constraints import Constraint, constraints_of
+from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.network import Network
-
+from camcad.errors import CamcadError
 
 
 def find_conflict(events: Iterable[str], constraints: list[Constraint], tol_deg: float = 1e-9,

@@ -5,10 +5,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from camcad.errors import CamcadError
-from camcad.errors import nearest_name
+
 from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.network import Network
+from camcad.errors import CamcadError, nearest_name
 
 
 @dataclass(frozen=True)

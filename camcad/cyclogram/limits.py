@@ -3,17 +3,12 @@
 
 from __future__ import annotations
 
-
-
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-
-from camcad.errors import CamcadError
 from camcad.cyclogram.network import Network
-
-
+from camcad.errors import CamcadError
 
 # --------------------------------------------------------------------------------------------
 # Phase-angle limits: the least t with relation(t) <= limit, by root finding

@@ -3,21 +3,17 @@
 
 from __future__ import annotations
 
-
-
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from camcad.errors import CamcadError
 from camcad.cyclogram.conflicts import find_conflict
+from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
 from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.network import Network, _reachable
-from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
-
-
+from camcad.errors import CamcadError
 
 # --------------------------------------------------------------------------------------------
 # Constraints and the LP
@@ -78,7 +74,7 @@ class CyclogramResult:
             out["explanation"] = self.explanation
         return out
 
-    def raise_if_infeasible(self, where: str = "[cyclogram]") -> "CyclogramResult":
+    def raise_if_infeasible(self, where: str = "[cyclogram]") -> CyclogramResult:
         if not self.feasible:
             raise CamcadError(self.explanation, where, _conflict_fix(self.conflict))
         return self
@@ -158,7 +154,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     ...                              camcad.Operation("a", "c", 0.0, 60.0)])
     >>> camcad.optimise(tight, strict=False).explanation
     'the cyclogram is infeasible: t(a->b) >= 30 deg (bounds_deg); t(b->c) >= 45 deg (bounds_deg); t(a->c) <= 60 deg (bounds_deg) cannot all hold (together they overrun by 15 deg)'
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     from scipy.optimize import linprog
     from scipy.sparse import csr_matrix
 
@@ -173,7 +169,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     data = np.tile([1.0, -1.0], m)
     a_ub = csr_matrix((data, (rows, cols)), shape=(m, n))
     b_ub = np.array([-c.weight for c in constraints])
-    bounds = [(None, None)] * n
+    bounds: list[tuple[float | None, float | None]] = [(None, None)] * n
     bounds[index[network.start]] = (network.start_deg, network.start_deg)
     objective = np.zeros(n)
     objective[index[network.end]] = 1.0
@@ -231,8 +227,8 @@ def _critical(network: Network, tight: list[Constraint]) -> tuple[list[Constrain
                 previous[c.head] = c
                 queue.append(c.head)
     path = [network.end]
-    while previous.get(path[-1]) is not None:
-        path.append(previous[path[-1]].tail)
+    while (step := previous.get(path[-1])) is not None:
+        path.append(step.tail)
     return active, path[::-1]
 
 

@@ -3,17 +3,11 @@
 
 from __future__ import annotations
 
-
-
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 
-
-from camcad.errors import CamcadError
-from camcad.errors import nearest_name
-
-
+from camcad.errors import CamcadError, nearest_name
 
 # --------------------------------------------------------------------------------------------
 # The network
@@ -146,7 +140,7 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: [cyclogram]: the operations form a cycle: a -> b -> a; an event cannot come before itself; remove or reverse one of these operations
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     ops = tuple(operations)
     if not ops:
         raise CamcadError("the cyclogram has no operations", where, "add [[cyclogram.operations]] tables")
@@ -184,8 +178,8 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
     if cycle:
         raise CamcadError(f"the operations form a cycle: {' -> '.join(cycle)}", where,
                           "an event cannot come before itself; remove or reverse one of these operations")
-    successors = {e: [] for e in order}
-    predecessors = {e: [] for e in order}
+    successors: dict[str, list[str]] = {e: [] for e in order}
+    predecessors: dict[str, list[str]] = {e: [] for e in order}
     for op in ops:
         successors[op.tail].append(op.head)
         predecessors[op.head].append(op.tail)

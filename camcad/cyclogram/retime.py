@@ -3,15 +3,12 @@
 
 from __future__ import annotations
 
-
-
 from collections.abc import Mapping
+from itertools import pairwise
+from typing import Any
 
-
-from camcad.errors import CamcadError
 from camcad.cyclogram.lp import CyclogramResult
-
-
+from camcad.errors import CamcadError
 
 # --------------------------------------------------------------------------------------------
 # Feeding the optimal angles back into a mechanism's phases
@@ -25,7 +22,7 @@ def stretch_phase(phases_deg: list[tuple[float, float, str]], index: int, width_
     Phases are (start_deg, end_deg, kind) covering [0, cycle_deg]. Raises CamcadError when no
     neighbouring dwell is wide enough.
     """
-    phases = [list(p) for p in phases_deg]
+    phases: list[list[Any]] = [list(p) for p in phases_deg]
     change = width_deg - (phases[index][1] - phases[index][0])
     for neighbour in (index + 1, index - 1):
         if 0 <= neighbour < len(phases) and phases[neighbour][2] == "dwell":
@@ -37,7 +34,7 @@ def stretch_phase(phases_deg: list[tuple[float, float, str]], index: int, width_
             else:
                 phases[index][0] -= change
                 phases[neighbour][1] -= change
-            return [tuple(p) for p in phases if p[1] > p[0]]  # type: ignore[misc]
+            return [tuple(p) for p in phases if p[1] > p[0]]
     raise CamcadError(f"phase {index + 1} ({phases[index][2]}) cannot be made {width_deg:g} deg wide: "
                       "no neighbouring dwell is wide enough", "phases",
                       "give the law a longer dwell next to that phase")
@@ -78,7 +75,7 @@ def retime_phases(phases_deg: list[tuple[float, float, str]],
             raise CamcadError(f"the {kind} would run over {start:.6g}..{end:.6g} deg, across the cycle's "
                               f"start", where, "shift the cyclogram's start_deg so every motion lies in 0..360")
     motions.sort()
-    for (s0, e0, k0), (s1, e1, k1) in zip(motions[:-1], motions[1:]):
+    for (s0, e0, k0), (s1, e1, k1) in pairwise(motions):
         if s1 < e0 - tol:
             raise CamcadError(f"the {k0} {s0:.6g}..{e0:.6g} deg and the {k1} {s1:.6g}..{e1:.6g} deg overlap",
                               where, "give the mechanism's operations consecutive events in the cyclogram")

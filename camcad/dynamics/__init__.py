@@ -21,13 +21,6 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
-    from camcad.dynamics.model import (
-        ElasticFollower,
-        HalfSinePulse,
-        StiffnessTable,
-        damping_ratio_from_psi,
-        rpm_to_rad_s,
-    )
     from camcad.dynamics.impact import (
         Impact,
         ImpactSweep,
@@ -45,9 +38,17 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
         triangular_pulse,
         triangular_pulse_response,
     )
-    from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+    from camcad.dynamics.model import (
+        ElasticFollower,
+        HalfSinePulse,
+        StiffnessTable,
+        damping_ratio_from_psi,
+        rpm_to_rad_s,
+    )
     from camcad.dynamics.multimass import MotorDrive, MultiMassModel, MultiMassResult, SpeedDrive, simulate
     from camcad.dynamics.residual import Residual, cycloidal_residual_amplitude, residual_vibration
+    from camcad.dynamics.spectrum import LawSpectrum, check_closure, law_spectrum
+    from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
     from camcad.dynamics.steady import (
         ResonanceError,
         Response,
@@ -58,7 +59,6 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
         sweep,
         transient_time,
     )
-    from camcad.dynamics.startload import StartLoad, start_loads, start_pulse
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
 _EXPORTS: dict[str, str] = {

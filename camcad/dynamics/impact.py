@@ -48,9 +48,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from camcad.dynamics.model import rpm_to_rad_s
 from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw, Phase
-from camcad.dynamics.model import rpm_to_rad_s
 
 STOP_SIDES = ("upper", "lower")
 
@@ -378,7 +378,7 @@ class ImpactSweep:
     impacts: tuple[Impact, ...]
     contact: Contact
     phase_deg: float
-    relation: "ReboundRelation"
+    relation: ReboundRelation
 
     @property
     def speeds_rpm(self) -> np.ndarray:

@@ -55,8 +55,8 @@ summary dynamic load at the start of motion lasting about half the free period).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -150,6 +150,9 @@ class StiffnessTable:
     theta: np.ndarray
     factor: np.ndarray
     cycle: float = 2.0 * math.pi
+    if TYPE_CHECKING:  # set in __post_init__, not fields of the dataclass
+        _xs: np.ndarray = field(init=False)
+        _ys: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
         theta = np.asarray(self.theta, dtype=float)

@@ -45,14 +45,14 @@ Machines (2015), ch. 1–3.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
+from camcad.dynamics.model import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
 from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw
-from camcad.dynamics.model import SOLVERS, ElasticFollower, StiffnessTable, rpm_to_rad_s
 
 
 @dataclass(frozen=True)
@@ -78,7 +78,7 @@ class MultiMassModel:
     @classmethod
     def from_follower(cls, follower: ElasticFollower, flywheel_inertia: float, cam_inertia: float,
                       shaft_stiffness: float = math.inf, shaft_damping_ratio: float | None = None,
-                      position_scale: float = 1e-3) -> "MultiMassModel":
+                      position_scale: float = 1e-3) -> MultiMassModel:
         """The chain of a single-DOF follower (its mass, fn, ζ and stiffness variation) on a shaft."""
         if follower.mass_kg is None:
             raise CamcadError("the multi-mass model needs the driven mass", "dynamics", "give mass_kg")

@@ -108,7 +108,10 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
         by_kind[item.phase.kind] = max(by_kind[item.phase.kind], item.amplitude)
     worst_residual = max(((item.amplitude, rpm, item) for rpm, items in residuals.items() for item in items),
                          key=lambda entry: entry[0], default=(0.0, speeds[0], None))
-    key = lambda name: unit_key(name, unit.name)
+
+    def key(name: str) -> str:
+        return unit_key(name, unit.name)
+
     report: dict[str, Any] = {
         "natural_frequency_hz": follower.natural_frequency_hz, "damping_ratio": follower.damping_ratio,
         "mass_kg": follower.mass_kg, "variable_stiffness": not follower.constant_stiffness,
@@ -124,7 +127,8 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
                                        "end_deg": math.degrees(r.phase.end), key("amplitude_mm"): r.amplitude,
                                        "rpm": r.rpm} for r in first],
         key("residual_vibration_max_mm"): {"value": worst_residual[0], "rpm": worst_residual[1],
-                                           "phase": None if worst_residual[2] is None else worst_residual[2].phase.kind},
+                                           "phase": (None if worst_residual[2] is None
+                                                     else worst_residual[2].phase.kind)},
         "method": result.method,
         "accuracy": ({"samples": settings.samples} if result.method == "frequency"
                      else {"solver": settings.solver, "rtol": settings.rtol, "samples": settings.samples}),

@@ -9,10 +9,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
-from camcad.law.law import MotionLaw, Phase
 from camcad.dynamics.model import ElasticFollower, HalfSinePulse, rpm_to_rad_s
 from camcad.dynamics.residual import motion_phases
 from camcad.dynamics.steady import Response
+from camcad.law.law import MotionLaw, Phase
 
 #: a law whose displacement or velocity does not return to its start within this fraction of the
 #: lift (per rad for the velocity) has a break: its periodic response is meaningless. The same

@@ -8,6 +8,7 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -156,14 +157,14 @@ def steady_state_frequency(law_or_spectrum: MotionLaw | LawSpectrum, follower: E
     # the Nyquist term (the last) is dropped below, so its denominator does not matter
     resonant = np.flatnonzero(np.abs(denominator[:-1]) <= RESONANCE_DETUNING * wn**2)
     notes = []
-    for k in resonant:
-        k = int(k)
+    for index in resonant:
+        k = int(index)
         amplitude = 2.0 * abs(forcing[k]) / big_omega[k]**2
         if amplitude > ZERO_HARMONIC * spectrum.lift:
             raise ResonanceError(
                 f"the follower (fn {follower.natural_frequency_hz:g} Hz, damping ratio {zeta:g}) is in resonance "
-                f"with harmonic {k} of the law (amplitude {amplitude:.3g}, law units) at {rpm:g} rpm: no bounded periodic "
-                "steady state", rpm, k, float(amplitude))
+                f"with harmonic {k} of the law (amplitude {amplitude:.3g}, law units) at {rpm:g} rpm: "
+                "no bounded periodic steady state", rpm, k, float(amplitude))
         denominator[k] = 1.0
         forcing[k] = 0.0
         notes.append(f"harmonic {k} is in exact resonance at {rpm:g} rpm but its amplitude is zero "
@@ -454,7 +455,7 @@ def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str 
         external = external_at(rpm) if external_at else None
         try:
             if method == "frequency":
-                response = steady_state_frequency(spectrum, follower, rpm, external=external)
+                response = steady_state_frequency(cast(LawSpectrum, spectrum), follower, rpm, external=external)
             else:
                 response = steady_state(law, follower, rpm, method=method, samples=samples, solver=solver,
                                         rtol=rtol, external=external)

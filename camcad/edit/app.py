@@ -13,9 +13,8 @@ import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
-from camcad.law.law import PiecewiseLinearLaw
-from camcad.law.source import LoadedLaw
 from camcad.edit.session import (
     DEFAULT_TOL,
     EditSession,
@@ -24,6 +23,11 @@ from camcad.edit.session import (
     loaded_from_law,
     sampled_law,
 )
+from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.source import LoadedLaw
+
+if TYPE_CHECKING:
+    from matplotlib.backend_bases import FigureManagerBase
 
 
 @dataclass
@@ -122,9 +126,9 @@ def _desktop(session: EditSession, output: Path | None) -> None:
     except Exception as err:  # noqa: BLE001 - e.g. TclError: no display name
         raise _NoDesktop(f"{type(err).__name__}: {err}") from None
     title = f"camcad edit — {session.where}"
-    figure.canvas.manager.set_window_title(title)
+    cast("FigureManagerBase", figure.canvas.manager).set_window_title(title)  # a pyplot figure has a manager
     view = EditorView(session, figure, blit=True, output=output)
-    figure._camcad_view = view  # keep the view alive as long as the window
+    figure._camcad_view = view  # type: ignore[attr-defined]  # keep the view alive as long as the window
     plt.show(block=True)
     plt.close(figure)
 

@@ -441,10 +441,6 @@ class EditSession:
         return bool(self._redo)
 
     @property
-    def in_gesture(self) -> bool:
-        return self._gesture is not None
-
-    @property
     def cycle_deg(self) -> float:
         return math.degrees(self.law.cycle)
 
@@ -452,10 +448,6 @@ class EditSession:
     def y_scale(self) -> float:
         """law units (mm/rad²) per input y unit."""
         return float(self.loaded.y_scale)
-
-    def to_input(self, a) -> np.ndarray | float:
-        """Law ordinates (mm/rad²) in input y units."""
-        return np.asarray(a) / self.y_scale if np.ndim(a) else float(a) / self.y_scale
 
     def to_law(self, y: float) -> float:
         """Input y units in law units (mm/rad²)."""
@@ -858,7 +850,7 @@ class EditSession:
             if mode == "segment" and segment is None:
                 rows.append(ModeRow(mode, None, None, None, "needs a range (select one)"))
                 continue
-            op = {"op": "correct", "mode": mode}
+            op: dict[str, Any] = {"op": "correct", "mode": mode}
             if segment is not None:
                 op["segment"] = [float(segment[0]), float(segment[1])]
             try:

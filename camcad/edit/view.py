@@ -20,16 +20,16 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Polygon, Rectangle
+from matplotlib.patches import FancyBboxPatch, Polygon, Rectangle
 from matplotlib.transforms import blended_transform_factory
 
 from camcad.balance import MODES
-from camcad.errors import CamcadError
 from camcad.edit.session import (
     EditSession,
     default_output,
@@ -37,6 +37,7 @@ from camcad.edit.session import (
     extremum_group,
     lobe_of,
 )
+from camcad.errors import CamcadError
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 ABOVE, BELOW = "#2a9d8f", "#e76f51"
@@ -127,7 +128,7 @@ class EditorView:
         self.status = ""
         self._drag: _Drag | None = None
         self._background = None
-        self._phase_key = None
+        self._phase_key: tuple | None = None
         self._phase_artists: list = []
         self._area_texts: list = []
         self._curve_cache: dict = {}
@@ -169,14 +170,16 @@ class EditorView:
             return artist
 
         a = self.ax_a
-        self.pos_fill = a.add_patch(Polygon(np.zeros((3, 2)), closed=True, facecolor=ABOVE, alpha=0.35, lw=0,
-                                            animated=True, zorder=2))
-        self.neg_fill = a.add_patch(Polygon(np.zeros((3, 2)), closed=True, facecolor=BELOW, alpha=0.35, lw=0,
-                                            animated=True, zorder=2))
-        self.range_patch = a.add_patch(Rectangle((0, 0), 0, 1, transform=blended_transform_factory(a.transData,
-                                                                                                    a.transAxes),
-                                                 facecolor="#a78bfa", alpha=0.10, edgecolor="#7c3aed", lw=1.2,
-                                                 animated=True, visible=False, zorder=1.5))
+        self.pos_fill = Polygon(np.zeros((3, 2)), closed=True, facecolor=ABOVE, alpha=0.35, lw=0, animated=True,
+                                zorder=2)
+        a.add_patch(self.pos_fill)
+        self.neg_fill = Polygon(np.zeros((3, 2)), closed=True, facecolor=BELOW, alpha=0.35, lw=0, animated=True,
+                                zorder=2)
+        a.add_patch(self.neg_fill)
+        self.range_patch = Rectangle((0, 0), 0, 1, transform=blended_transform_factory(a.transData, a.transAxes),
+                                     facecolor="#a78bfa", alpha=0.10, edgecolor="#7c3aed", lw=1.2,
+                                     animated=True, visible=False, zorder=1.5)
+        a.add_patch(self.range_patch)
         self.ghost_a = line(a, color="0.45", lw=1.2, ls="--", zorder=3, visible=False)
         self.a_line = line(a, color="k", lw=1.3, zorder=4)
         self.a_marks = line(a, color="k", lw=0, marker="o", ms=3.0, zorder=5)
@@ -449,15 +452,18 @@ class EditorView:
         session = self.session
         report = session.report_of(law)
         self.title_text.set_text(f"camcad edit — {self.title}")
-        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} operation{'s' if session.applied != 1 else ''} · "
-                                  f"undo {'yes' if session.can_undo else 'no'} · redo {'yes' if session.can_redo else 'no'}"
+        self.status_text.set_text(f"{len(law.x)} vertices · {session.applied} "
+                                  f"operation{'s' if session.applied != 1 else ''} · "
+                                  f"undo {'yes' if session.can_undo else 'no'} · "
+                                  f"redo {'yes' if session.can_redo else 'no'}"
                                   f" · saves to {self.output.name}")
         self.badge.set_text("\n".join(self.badge_lines(law, report)))
         preview = session.preview is not None
         closes = report.balanced
         face, edge = ("#dbeafe", PREVIEW) if preview else (("#dcfce7", ABOVE) if closes else ("#fde2e2", BELOW))
-        self.badge.get_bbox_patch().set_facecolor(face)
-        self.badge.get_bbox_patch().set_edgecolor(edge)
+        bbox = cast(FancyBboxPatch, self.badge.get_bbox_patch())  # the badge is drawn with a bbox
+        bbox.set_facecolor(face)
+        bbox.set_edgecolor(edge)
         self.table.set_text("\n".join(self.table_lines(law, report)))
         self.readout.set_text(self.readout_line(law))
         self.msg_text.set_text(self.message)
@@ -770,7 +776,7 @@ class EditorView:
                 self.range = None
                 self._set_message("range cleared" if self.compare is None else "")
             else:
-                lo, hi = sorted(self.range)
+                lo, hi = sorted(cast(tuple[float, float], self.range))  # the drag has set it
                 self._set_message(f"range {lo:.4g}..{hi:.4g} deg: press 1..7 to preview a mode on it")
                 if self.compare is not None:
                     self.compare = session.compare_modes(self._segment())
@@ -948,12 +954,12 @@ class EditorView:
             self.typing = None
             self._set_message("typing cancelled")
         elif key == "enter":
-            text, self.typing = self.typing, None
+            text, self.typing = cast(str, self.typing), None  # called while typing
             self._typed(text)
         elif key == "backspace":
-            self.typing = self.typing[:-1]
+            self.typing = cast(str, self.typing)[:-1]
         elif len(key) == 1 and key in "0123456789.-+eE:":
-            self.typing += key
+            self.typing = cast(str, self.typing) + key
         self.refresh()
 
     def _typed(self, text: str) -> None:
@@ -1009,7 +1015,7 @@ class _StaticBlock(Artist):
         self._parent = figure
         self._rect = rect
         self._build = build
-        self._cache = None
+        self._cache: tuple[tuple[int, int, float], np.ndarray] | None = None
         self.last_figure: Figure | None = None
 
     def render(self, dpi: float) -> np.ndarray:
@@ -1026,7 +1032,7 @@ class _StaticBlock(Artist):
             self._build(block)
             block.canvas.draw()
             self.last_figure = block
-            self._cache = (key, np.asarray(block.canvas.buffer_rgba())[::-1].copy())
+            self._cache = (key, np.asarray(cast(FigureCanvasAgg, block.canvas).buffer_rgba())[::-1].copy())
         return self._cache[1]
 
     def draw(self, renderer) -> None:

@@ -112,7 +112,7 @@ class EditorServer:
         from camcad.edit.view import EditorView, new_figure
 
         class _Manager(FigureManagerWebAgg):
-            _toolbar2_class = NavigationToolbar2WebAgg
+            _toolbar2_class = NavigationToolbar2WebAgg  # type: ignore[assignment]  # matplotlib types it as None
 
         if not (isinstance(port, int) and 0 <= port <= 65535):
             raise CamcadError(f"port {port!r} is not a TCP port", "--port", "give 0..65535 (0 picks a free one)")

@@ -46,17 +46,7 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
-    from camcad.fourier.series import (
-        CorrectedLaw,
-        FourierLaw,
-        Spectrum,
-        amplitudes_of,
-        coefficients_from,
-        evaluate_series,
-        evaluate_series_orders,
-        initial_phases_of,
-        series_on_grid,
-    )
+    from camcad.fourier.analysis import HEADROOM, analyse, analyse_samples, exact_available, least_harmonics, max_errors
     from camcad.fourier.exact import (
         EPS,
         Piece,
@@ -69,12 +59,11 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     )
     from camcad.fourier.export import ExportedLaw, acceleration_polyline, export_polyline
     from camcad.fourier.filter import FilterResult, dwell_grid, filter_law, motion_starts, start_accelerations
-    from camcad.fourier.analysis import HEADROOM, analyse, analyse_samples, exact_available, least_harmonics, max_errors
     from camcad.fourier.leadin import LeadInResult, add_lead_in
     from camcad.fourier.patterns import (
+        TACHOGRAMS,
         MotionPattern,
         Synthesis,
-        TACHOGRAMS,
         motion_pattern,
         pattern_coefficients,
         pattern_database,
@@ -82,6 +71,17 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
         tachogram,
     )
     from camcad.fourier.resonance import ResonanceBand, resonant_harmonics, speed_range
+    from camcad.fourier.series import (
+        CorrectedLaw,
+        FourierLaw,
+        Spectrum,
+        amplitudes_of,
+        coefficients_from,
+        evaluate_series,
+        evaluate_series_orders,
+        initial_phases_of,
+        series_on_grid,
+    )
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
 _EXPORTS: dict[str, str] = {
@@ -146,19 +146,19 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "CorrectedLaw",
     "EPS",
+    "HEADROOM",
+    "TACHOGRAMS",
+    "CorrectedLaw",
     "ExportedLaw",
     "FilterResult",
     "FourierLaw",
-    "HEADROOM",
     "LeadInResult",
     "MotionPattern",
     "Piece",
     "ResonanceBand",
     "Spectrum",
     "Synthesis",
-    "TACHOGRAMS",
     "acceleration_polyline",
     "add_lead_in",
     "amplitudes_of",

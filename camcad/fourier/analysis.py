@@ -3,15 +3,14 @@
 
 from __future__ import annotations
 
-
 import math
+from typing import cast
 
 import numpy as np
 
-from camcad.law.law import MotionLaw, PiecewiseLinearLaw
-from camcad.fourier.exact import _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
+from camcad.fourier.exact import Piece, _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
-
+from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 
 # =============================================================================================
 # Analysis entry points
@@ -141,7 +140,7 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
         return Spectrum(cycle, r["mean"], r["coefficients"], r["accel_mean"], r["accel_coefficients"],
                         r["tail"], r["mean_square"], r["error"], r["accel_error"], "exact")
     if isinstance(law, CompositeLaw):
-        pieces = composite_pieces(law)
+        pieces = cast(list[Piece], composite_pieces(law))  # exact_available: every shape is known
         mean, c, tail, error = _pieces_coefficients(pieces, cycle, harmonics, 0, tail_to)
         accel_mean, ca, _, accel_error = _pieces_coefficients(pieces, cycle, harmonics, 2, harmonics)
         raw_square = math.fsum(p.integral_of_square() for p in pieces) / cycle
@@ -151,7 +150,7 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
 
 def _fft_analysis(law, harmonics: int, tol: float, max_samples: int) -> Spectrum:
     cycle = law.cycle
-    samples = max(1024, 1 << int(math.ceil(math.log2(8 * (harmonics + 1)))))
+    samples = max(1024, 1 << math.ceil(math.log2(8 * (harmonics + 1))))
     end = law.kinematics(np.array([cycle]))
     previous = None
     while True:
@@ -212,7 +211,7 @@ def max_errors(law: MotionLaw, spectrum: Spectrum, ns, samples: int | None = Non
     """
     ns = np.atleast_1d(np.asarray(ns, dtype=int))
     if samples is None:
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (int(ns.max()) + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (int(ns.max()) + 1))))
     theta = np.arange(samples) * (law.cycle / samples)
     s = law.kinematics(theta).s
     out = []

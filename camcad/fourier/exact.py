@@ -4,14 +4,13 @@ laws (piecewise-linear acceleration), by integration by parts over the pieces (s
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from camcad.law.law import PiecewiseLinearLaw
-
 
 EPS = float(np.finfo(float).eps)
 #: below this |z| the monomial moments E_m(z) are integrated by Gauss–Legendre, above by recurrence
@@ -70,7 +69,7 @@ class Piece:
     rates: np.ndarray = field(default_factory=lambda: np.zeros(0))
     amps: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=complex))
 
-    def derivative(self, order: int) -> "Piece":
+    def derivative(self, order: int) -> Piece:
         if order == 0:
             return self
         poly = np.polynomial.polynomial.polyder(self.poly, order) if len(self.poly) > order else np.zeros(1)
@@ -200,7 +199,7 @@ def _piece_jumps(pieces: list[Piece], orders: int, shift: int = 0) -> tuple[np.n
 def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int):
     w = np.arange(1, max(harmonics, tail_to) + 1) * (2.0 * np.pi / cycle)
     derived = [p.derivative(order) for p in pieces]
-    coefficients = sum(p.transform(w) for p in derived) / cycle
+    coefficients = cast(np.ndarray, sum(p.transform(w) for p in derived) / cycle)
     mean = float(np.real(sum(p.transform(np.zeros(1))[0] for p in derived))) / cycle
     positions, deltas = _piece_jumps(pieces, _TAIL_ORDERS, shift=order)
     tail = _remainder(coefficients, harmonics, positions, deltas, cycle)
@@ -271,7 +270,7 @@ def uniform_grid_size(positions: np.ndarray, cycle: float, limit: int = 1 << 22)
         return None
     gaps = np.diff(np.sort(positions))
     smallest = float(gaps[gaps > 0].min()) if np.any(gaps > 0) else cycle
-    size = int(round(cycle / smallest))
+    size = int(round(cycle / smallest))  # noqa: RUF046 - round() of a numpy float is a float on numpy < 2
     if size < 1 or size > limit or size > 64 * len(positions):
         return None
     index = positions * size / cycle
@@ -319,7 +318,7 @@ def _polyline_analysis(law: PiecewiseLinearLaw, harmonics: int, tail_to: int):
     extended = _jump_coefficients(positions, deltas, cycle, max(harmonics, tail_to))
     coefficients = extended[:harmonics]
     accel = _jump_coefficients(positions, deltas[2:], cycle, harmonics)
-    start, length, s0, v0, a0, slope = _polyline_segments(law)
+    _start, length, s0, v0, a0, slope = _polyline_segments(law)
     # numpy's pairwise summation: round-off ~ eps·log2(n) of the sum of |terms|
     integral = s0 * length + v0 * length**2 / 2 + a0 * length**3 / 6 + slope * length**4 / 24
     mean = float(np.sum(integral)) / cycle

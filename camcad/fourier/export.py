@@ -3,17 +3,16 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.analysis import analyse
 from camcad.fourier.filter import _evaluation_grid, _jumps_and_phase_ends, _knots_of
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 # =============================================================================================
 # Polylines of the acceleration: export, lead-in segments
@@ -30,7 +29,7 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
     if not (np.isfinite(step_deg) and 0 < step_deg <= 30):
         raise CamcadError(f"step {step_deg!r} deg must be in (0, 30]", "polyline", "give e.g. 0.1 deg")
     cycle = law.cycle
-    count = max(8, int(math.ceil(cycle / np.radians(step_deg) - 1e-9)))
+    count = max(8, math.ceil(cycle / np.radians(step_deg) - 1e-9))
     grid = np.linspace(0.0, cycle, count + 1)
     breaks = _knots_of(law)
     if len(breaks) > 4 * count:
@@ -125,7 +124,7 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
     from camcad import balance
 
     polyline = acceleration_polyline(law, step_deg)
-    kwargs = {} if tol is None else {"tol": tol}
+    kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     phases = tuple(law.phases)
     notes: list[str] = []
     if exact_dwells:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -104,7 +104,7 @@ class FilterResult:
     def start_accel_ratio(self) -> float | None:
         if self.start_accel_original is None or self.start_accel_original == 0:
             return None
-        return self.start_accel_filtered / self.start_accel_original
+        return cast(float, self.start_accel_filtered) / self.start_accel_original
 
     def report(self) -> dict:
         """SPEC.md ``spectrum`` filter keys and the further figures."""
@@ -373,7 +373,7 @@ def _compensate(removal: FourierLaw, points: np.ndarray, check_points: np.ndarra
         if deviation <= tol:
             chosen = (deviation, x, lam)
             break
-    deviation, x, lam = chosen or best
+    deviation, x, lam = cast(tuple[float, np.ndarray, float], chosen or best)  # 109 steps: best is set
     coefficients = np.zeros(highest, dtype=complex)
     for index, k in enumerate(allowed):
         coefficients[k - 1] = x[1 + 2 * index] + 1j * x[2 + 2 * index]

@@ -3,16 +3,15 @@
 
 from __future__ import annotations
 
-
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 from camcad.fourier.export import _left_value, _right_value, acceleration_polyline
 from camcad.fourier.filter import _evaluation_grid, motion_starts
-
+from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 
 @dataclass(frozen=True)
@@ -128,7 +127,7 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     held = np.zeros(len(xs), dtype=bool)
     for lo, hi, level in segments:
         held |= (xs >= lo) & (xs <= hi) & (as_ == level)
-    kwargs = {} if tol is None else {"tol": tol}
+    kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     corrected = balance.correct(unbalanced, "min-change", fixed=held, where=where, **kwargs)
     result = corrected.law
     grid = _evaluation_grid(result, 1 << 14)

@@ -3,18 +3,16 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import _grow_until_found
-from camcad.fourier.exact import EPS, Piece, _TAIL_ORDERS, _gauss_legendre, shape_terms, tail_mean_square
+from camcad.fourier.exact import _TAIL_ORDERS, EPS, Piece, _gauss_legendre, shape_terms, tail_mean_square
 from camcad.fourier.series import FourierLaw, Spectrum, series_on_grid
-
 
 # =============================================================================================
 # The database of harmonic patterns of the standard laws, and synthesis from it
@@ -61,7 +59,7 @@ def motion_pattern(shape, name: str | None = None) -> MotionPattern:
     f = piece.values(nodes)
     moments = (float(np.sum(weights * f)), float(np.sum(weights * f**2)))
     edges = np.array([[piece.values(0.0, m), piece.values(1.0, m)] for m in range(_TAIL_ORDERS)])
-    return MotionPattern(name or getattr(shape, "name", "shape"), shape, piece.derivative(1), moments, edges)
+    return MotionPattern(cast(str, name or getattr(shape, "name", "shape")), shape, piece.derivative(1), moments, edges)
 
 
 def pattern_database() -> dict[str, MotionPattern]:
@@ -194,7 +192,7 @@ def synthesise_standard(phases_deg, lift: float, tol: float, *, shape: str = "cy
         n = len(spectrum.coefficients)
     law = spectrum.truncated(n, exact.phases)
     if samples is None:
-        samples = max(1 << 14, 1 << int(math.ceil(math.log2(64 * (n + 1)))))
+        samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (n + 1))))
     theta = np.arange(samples) * (exact.cycle / samples)
     difference = exact.kinematics(theta).s - series_on_grid(law.mean, law.coefficients, samples, 0, exact.cycle)
     measured = float(np.sqrt(np.mean(difference**2)))

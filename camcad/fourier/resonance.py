@@ -3,14 +3,12 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camcad.errors import CamcadError
-
 
 # =============================================================================================
 # Resonance filtering
@@ -119,12 +117,12 @@ def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 
     k_low = 60.0 * fn_hz * (1.0 - band) / high
     k_high = 60.0 * fn_hz * (1.0 + band) / low
     slack = 1e-9
-    first = max(1, int(math.ceil(k_low * (1 - slack))))
-    last = int(math.floor(k_high * (1 + slack)))
+    first = max(1, math.ceil(k_low * (1 - slack)))
+    last = math.floor(k_high * (1 + slack))
     core = tuple(range(first, last + 1))
     if len(core) > 100000:
         raise CamcadError(f"the band covers {len(core)} harmonics", where, "narrow the band or the speed range")
-    removed = set()
+    removed: set[int] = set()
     for k in core:
         removed.update(j for j in range(k - neighbours, k + neighbours + 1) if j >= 1)
     gains = {k: 0.0 for k in removed}

@@ -6,15 +6,12 @@ c_k = (1/T) ∫ s e^{−ikω0θ} dθ, A_k = 2|c_k|, φ_k = arg c_k + π/2.
 
 from __future__ import annotations
 
-
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from camcad.law.law import Kinematics, Phase
-
-
 
 # =============================================================================================
 # The series and its spectrum
@@ -101,7 +98,7 @@ class FourierLaw:
 
     @classmethod
     def from_amplitudes(cls, amplitudes, phases_rad, mean: float, cycle: float,
-                        phases: tuple[Phase, ...] = ()) -> "FourierLaw":
+                        phases: tuple[Phase, ...] = ()) -> FourierLaw:
         """From A_k (mm) and initial phases φ_k (rad) of s = mean + Σ A_k sin(kω0θ + φ_k)."""
         return cls(cycle, float(mean), coefficients_from(amplitudes, phases_rad), tuple(phases))
 

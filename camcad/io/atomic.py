@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from camcad.errors import CamcadError
 
@@ -24,7 +24,7 @@ def _umask() -> int:
     return mask
 
 
-def write_atomic(path: str | Path, write: Callable[[Path], None]) -> Path:
+def write_atomic(path: str | Path, write: Callable[[Path], object]) -> Path:
     """Call ``write(tmp)`` on a fresh temporary file beside ``path``, then rename it over ``path``.
 
     Parameters
@@ -83,8 +83,3 @@ def write_atomic(path: str | Path, write: Callable[[Path], None]) -> Path:
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """``write_atomic`` of UTF-8 text with ``\\n`` line ends."""
     return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8", newline="\n"))
-
-
-def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
-    """``write_atomic`` of raw bytes."""
-    return write_atomic(path, lambda tmp: tmp.write_bytes(data))

@@ -28,6 +28,7 @@ The rules (docs/reading.md):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -373,7 +374,7 @@ def _dp(graph: Graph, edges: np.ndarray, reverse: bool = False):
     for col in sorted(nodes_in_column, reverse=reverse):
         nodes = nodes_in_column[col]
         for n in nodes:
-            best = ((-sign * col, 0.0, 0), None)
+            best: tuple[tuple[float, float, int], tuple[str, int, int] | None] = ((-sign * col, 0.0, 0), None)
             for e in incoming.get(n, ()):
                 m = int(graph.right[e]) if reverse else int(graph.left[e])
                 key = final[m][0]
@@ -468,8 +469,8 @@ def best_path(graph: Graph, mask: np.ndarray, through: int | None = None) -> Pat
     if len(edges) == 0:
         return None
     final, inn, states = _dp(graph, edges)
+    best: tuple[Any, ...] | None = None
     if through is None:
-        best = None
         for node, state in final.items():
             if state[1] is None:
                 continue
@@ -488,13 +489,13 @@ def best_path(graph: Graph, mask: np.ndarray, through: int | None = None) -> Pat
         options = [(inn[lower], back_inn[upper], True), (inn[upper], back_inn[lower], False)]
     else:
         options = [(final[int(graph.left[e])], back_final[int(graph.right[e])], True)]
-    best = None
     for before, after, run_forward in options:
         start_col, end_col = -before[0][0], after[0][0]
         span = abs(float(graph.column_x[end_col] - graph.column_x[start_col]))
         key = (span, before[0][1] + after[0][1] + graph.variation[e], before[0][2] + after[0][2] - 1)
         if best is None or key > best[0]:
             best = (key, before, after, run_forward)
+    assert best is not None  # options is never empty
     key, before, after, run_forward = best
     head = _unwind(before, states, graph, False)
     tail = [(i, not own) for i, own in _unwind(after, back_states, graph, True)]  # run the other way
@@ -759,8 +760,8 @@ def _group_paths(graph: Graph, mask: np.ndarray, through_set: list[int], name: s
     return [(path, excluded, name)]
 
 
-def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set: list[int]) -> None:
-    candidates = [i for i in np.flatnonzero(mask)] if not through_set else through_set
+def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set: list[int]) -> NoReturn:
+    candidates: list[Any] = [i for i in np.flatnonzero(mask)] if not through_set else through_set
     if not candidates:
         candidates = list(range(len(graph.pieces)))
     # the widest open piece or chain explains best why there is no law
@@ -886,9 +887,9 @@ def _near_gaps(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int]) -
     notes = []
     for end, outward in ((left, -1.0), (right, 1.0)):
         gaps = np.hypot(ends[..., 0] - end[0], ends[..., 1] - end[1]).min(axis=1)
-        near = np.flatnonzero((gaps > graph.join_tol) & (gaps <= limit))
+        close = np.flatnonzero((gaps > graph.join_tol) & (gaps <= limit))
         # only a piece that would carry the chain past this end (not a tick mark pointing inward)
-        near = [k for k in near[np.argsort(gaps[near])]
+        near = [k for k in close[np.argsort(gaps[close])]
                 if (outward * (graph.pieces[candidates[k]].points[:, 0] - end[0]) > graph.x_tol).any()]
         if near:
             piece, gap = graph.pieces[candidates[near[0]]], float(gaps[near[0]])
@@ -951,7 +952,7 @@ def make_curve(graph: Graph, path: Path) -> Curve:
         kind = "chain"
     refs: list[list[tuple[str, str | int]]] = []
     if exact:
-        for k, ((i, own), piece) in enumerate(zip(steps, pieces)):
+        for k, ((_i, own), piece) in enumerate(zip(steps, pieces)):
             n = len(piece.points)
             order = range(n) if own else range(n - 1, -1, -1)
             names = ["start", "end"] if piece.kind == "LINE" else list(range(n))

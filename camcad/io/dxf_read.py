@@ -19,11 +19,15 @@ from collections import Counter
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input, utf16_without_bom
+
+if TYPE_CHECKING:
+    from ezdxf.document import Drawing as EzdxfDocument
 
 #: entity types that can hold (a piece of) the law
 #: the block in which camcad fix keeps the original law (io.law_write.ORIGINAL_BLOCK)
@@ -164,7 +168,7 @@ class Drawing:
     """
 
     path: Path
-    doc: object
+    doc: EzdxfDocument
     binary: bool
     recovered: bool
     notes: tuple[str, ...] = ()
@@ -811,7 +815,7 @@ def curve_entities(doc, curve: Curve) -> list:
     """
     msp = list(doc.modelspace())
     found = []
-    for position, (handle, index) in enumerate(zip(curve.handles, curve.entity_indices)):
+    for handle, index in zip(curve.handles, curve.entity_indices):
         entity = msp[index] if 0 <= index < len(msp) else None
         if entity is not None and str(entity.dxf.get("handle", "")).upper() != handle.upper():
             entity = None

@@ -30,6 +30,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -147,9 +148,11 @@ def build_document(drawing: Drawing, version: str = "R2000"):
         raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline", "drop --spline or --r12")
     doc = new_document(DXF_VERSIONS[version], setup=True, units=4)  # $INSUNITS 4 = mm, $MEASUREMENT metric
     used = list(drawing.layers)
+    item: Any
     for item in (*drawing.paths, *drawing.splines, *drawing.circles, *drawing.lines, *drawing.texts):
         if item.layer not in used:
             used.append(item.layer)
+    attribs: dict[str, Any]
     for name in used:
         attribs = {"color": LAYER_COLOURS.get(name, 7)}
         linetype = LAYER_LINETYPES.get(name)
@@ -296,7 +299,8 @@ class HeaderKeep:
     values: dict
 
 
-_HEADER_SECTION = re.compile(rb"(?s)0\s*\r?\n\s*SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER\s*\r?\n(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
+_HEADER_SECTION = re.compile(rb"(?s)0\s*\r?\n\s*SECTION\s*\r?\n\s*2\s*\r?\n\s*HEADER\s*\r?\n"
+                             rb"(.*?)\n\s*0\s*\r?\n\s*ENDSEC")
 
 
 def header_snapshot(doc, raw: bytes | None) -> HeaderKeep:

@@ -22,7 +22,7 @@ def to_jsonable(value: Any) -> Any:
     return value
 
 
-def write_json(path, payload) -> "Path":
+def write_json(path, payload) -> Path:
     """``payload`` as indented JSON, written atomically (camcad.io.atomic)."""
     import json
 

@@ -103,7 +103,7 @@ class OutputFolder:
         self._lock: int | None = None
 
     # -- the lock ------------------------------------------------------------------------------
-    def __enter__(self) -> "OutputFolder":
+    def __enter__(self) -> OutputFolder:
         self.lock()
         return self
 

@@ -133,8 +133,9 @@ def _refuse_ambiguous_commas(split: list[tuple[int, list[str]]], where: str) -> 
     for number, fields in numeric:
         if len(fields) > width:
             raise CamcadError(f"line {number} has {len(fields)} comma-separated fields "
-                              f"({_excerpt(','.join(fields))}): decimal commas and comma separators cannot be told apart",
-                              where, "save the table with ';' as separator, or with decimal points, or quote the values")
+                              f"({_excerpt(','.join(fields))}): decimal commas and comma separators "
+                              "cannot be told apart", where,
+                              "save the table with ';' as separator, or with decimal points, or quote the values")
 
 
 def _excerpt(text: str, limit: int = 24) -> str:

@@ -131,7 +131,8 @@ def _x_order(points: np.ndarray) -> np.ndarray:
     return points[::-1] if len(points) > 1 and points[-1, 0] < points[0, 0] else points
 
 
-def _horizontal_runs(pieces: tuple[Piece, ...], candidates: list[int], tol: float) -> list[tuple[float, float, float, list[int]]]:
+def _horizontal_runs(pieces: tuple[Piece, ...], candidates: list[int],
+                     tol: float) -> list[tuple[float, float, float, list[int]]]:
     """Horizontal straight pieces merged into collinear runs: (level, x_min, x_max, piece indices)."""
     lines = []
     for i in candidates:
@@ -213,7 +214,7 @@ def find_baseline(curve: Curve, pieces: tuple[Piece, ...], law_pieces: set[int],
         for r in two_sided:
             by_level[round(r.level / (AGREE_FRACTION * height))] = by_level.get(
                 round(r.level / (AGREE_FRACTION * height)), 0.0) + r.length
-        key = max(by_level, key=by_level.get)
+        key = max(by_level, key=by_level.get)  # type: ignore[arg-type]  # typeshed: dict.get may give None
         longest = max((r for r in two_sided if round(r.level / (AGREE_FRACTION * height)) == key),
                       key=lambda r: r.length)
         dwell, dwell_how = longest.level, f"the flat stretch at x {longest.x_start:.6g}..{longest.x_end:.6g}"
@@ -331,7 +332,8 @@ def _dwell_warnings(curve: Curve, pts: np.ndarray, runs: list[_Run], y0: float, 
     for piece in curve.pieces:
         if piece.exact or piece.breakpoints is None:
             continue
-        found = _overshoot(_x_order(piece.points), _x_order(piece.breakpoints), y0, level_tol, DWELL_MIN_FRACTION * span)
+        found = _overshoot(_x_order(piece.points), _x_order(piece.breakpoints), y0, level_tol,
+                           DWELL_MIN_FRACTION * span)
         if found is not None and found[0] < LOBE_FRACTION * peak and (worst is None or found[0] > worst[0]):
             worst = found + (piece,)
     if worst is not None:

@@ -239,9 +239,9 @@ class PiecewiseLinearLaw:
             return float(self.a[k + 1])
         return float(self.a[k] + (t - x[k]) / length * (self.a[k + 1] - self.a[k]))
 
-    def with_ordinates(self, a: np.ndarray) -> "PiecewiseLinearLaw":
+    def with_ordinates(self, a: np.ndarray) -> PiecewiseLinearLaw:
         """The same knots and phases with new acceleration ordinates."""
         return PiecewiseLinearLaw(self.x, a, self.cycle, self.phases, self.v0, self.s0)
 
-    def with_phases(self, phases: tuple[Phase, ...]) -> "PiecewiseLinearLaw":
+    def with_phases(self, phases: tuple[Phase, ...]) -> PiecewiseLinearLaw:
         return PiecewiseLinearLaw(self.x, self.a, self.cycle, tuple(phases), self.v0, self.s0)

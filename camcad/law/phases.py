@@ -14,11 +14,13 @@ a return the reverse.
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.numerics import brent_root
 from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.numerics import brent_root
 
 #: |a| at or below this fraction of max|a| counts as zero acceleration
 ZERO_FRACTION = 1e-6
@@ -72,7 +74,7 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
         raise CamcadError("the acceleration is zero everywhere: there is no motion", where,
                           "pick the curve that holds the law (--layer/--handle)")
     dwell_flags = []
-    for index, (sign, start, end) in enumerate(runs):
+    for index, (sign, _start, _end) in enumerate(runs):
         if sign != 0:
             dwell_flags.append(False)
             continue
@@ -81,7 +83,7 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
         dwell_flags.append(before is None or after is None or before == after)
     phases: list[Phase] = []
     motion_start = None
-    for (sign, start, end), is_dwell in zip(runs, dwell_flags):
+    for (_sign, start, end), is_dwell in zip(runs, dwell_flags):
         if is_dwell:
             if motion_start is not None:
                 phases.extend(_split_motion(x, a, motion_start, start, runs))
@@ -216,7 +218,7 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: --phases: gap or overlap between phases at 90 and 100 deg; make each phase start where the previous ends
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
     phases = []
     items = [item.strip() for item in text.split(",") if item.strip()]
     if not items:
@@ -241,10 +243,11 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     if abs(np.degrees(phases[0].start)) > tol or abs(np.degrees(phases[-1].end) - cycle_deg) > tol:
         raise CamcadError(f"phases cover {np.degrees(phases[0].start):g}..{np.degrees(phases[-1].end):g} deg, "
                           f"not the cycle 0..{cycle_deg:g}", where, "make the first start 0 and the last end the cycle")
-    for before, after in zip(phases[:-1], phases[1:]):
+    for before, after in pairwise(phases):
         if abs(np.degrees(after.start - before.end)) > tol:
             raise CamcadError(f"gap or overlap between phases at {np.degrees(before.end):g} and "
-                              f"{np.degrees(after.start):g} deg", where, "make each phase start where the previous ends")
+                              f"{np.degrees(after.start):g} deg", where,
+                              "make each phase start where the previous ends")
     return tuple(phases)
 
 

@@ -33,7 +33,8 @@ from camcad.law.law import Kinematics, Phase, wrap
 class RiseShape(Protocol):
     """A normalised rise f(u) on u ∈ [0, 1] with f(0) = 0 and f(1) = 1."""
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def evaluate(self, u: np.ndarray, order: int) -> np.ndarray:
         """f (order 0), f' (1), f'' (2) or f''' (3) at u ∈ [0, 1]."""
@@ -151,7 +152,8 @@ class Polynomial:
         for order in (1, 2, 3):
             candidates = [0.0, 1.0]
             for root in poly.deriv(order + 1).roots():
-                if abs(root.imag) < 1e-12 and -1e-12 <= root.real <= 1.0 + 1e-12:
+                # numpy types the roots as object_ as well: they are float or complex
+                if abs(root.imag) < 1e-12 and -1e-12 <= root.real <= 1.0 + 1e-12:  # type: ignore[operator]
                     candidates.append(min(max(float(root.real), 0.0), 1.0))
             found.append(float(np.max(np.abs(poly.deriv(order)(np.array(candidates))))))
         second = poly.deriv(2)
@@ -351,6 +353,7 @@ class CompositeLaw:
         beta = seg.end - seg.start
         u = min(max((t - seg.start) / beta, 0.0), 1.0)
         h = seg.lift if seg.kind == "rise" else -seg.lift
+        assert seg.shape is not None  # a rise or return has its shape
         return float(h * seg.shape.evaluate(np.array([u]), 2)[0] / beta**2)
 
     @functools.cached_property

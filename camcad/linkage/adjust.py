@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any, cast
 
 import numpy as np
 
@@ -96,7 +97,8 @@ class Adjustment:
     def describe(self) -> str:
         if self.element == "link_angle":
             return "input link locked at angles to the follower's arm"
-        where = (f"an arc, centre ({self.centre.real:.6g}, {self.centre.imag:.6g}) mm" if self.path == "arc"
+        centre = cast(complex, self.centre)  # an arc has its centre
+        where = (f"an arc, centre ({centre.real:.6g}, {centre.imag:.6g}) mm" if self.path == "arc"
                  else f"a slot at {math.degrees(self.direction):.6g} deg")
         return f"{self.element} {self.joint} on {where}"
 
@@ -120,7 +122,7 @@ def radius(linkage: Linkage, adj: Adjustment) -> float:
     >>> radius(lk, Adjustment("pivot", "C", "arc", 100 + 10j))
     10.0
     """
-    return abs(_base_point(linkage, adj.joint) - adj.centre)
+    return abs(_base_point(linkage, adj.joint) - cast(complex, adj.centre))
 
 
 def base_setting(linkage: Linkage, adj: Adjustment) -> float:
@@ -135,7 +137,7 @@ def base_setting(linkage: Linkage, adj: Adjustment) -> float:
     """
     if adj.element == "link_angle" or adj.path == "slot":
         return 0.0
-    d = _base_point(linkage, adj.joint) - adj.centre
+    d = _base_point(linkage, adj.joint) - cast(complex, adj.centre)
     return math.atan2(d.imag, d.real)
 
 
@@ -143,7 +145,8 @@ def _place(linkage: Linkage, adj: Adjustment, x: float) -> complex:
     p0 = _base_point(linkage, adj.joint)
     if adj.path == "slot":
         return p0 + x * complex(math.cos(adj.direction), math.sin(adj.direction))
-    return adj.centre + abs(p0 - adj.centre) * complex(math.cos(x), math.sin(x))
+    centre = cast(complex, adj.centre)
+    return centre + abs(p0 - centre) * complex(math.cos(x), math.sin(x))
 
 
 def adjusted(linkage: Linkage, adj: Adjustment, x: float) -> Linkage:
@@ -402,20 +405,22 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
     adj = task1_adjustment(linkage, psi_max, keep)
     lo, hi = swing_range
     targets = np.linspace(lo, hi, count)
-    xs = settings_for(linkage, adj, psi_max, "swing", targets, mu_min=mu_min)
-    missing = [math.degrees(t) for t, x in zip(targets, xs) if x is None]
+    found = settings_for(linkage, adj, psi_max, "swing", targets, mu_min=mu_min)
+    missing = [math.degrees(t) for t, x in zip(targets, found) if x is None]
     if missing:
         interval = working_interval(linkage, adj, psi_max, mu_min=mu_min)
         swings = [characteristics(linkage, adj, x, psi_max).swing for x in interval]
         raise CamcadError(f"no setting of the arc gives a swing of {missing[0]:.6g} deg: over the settings where the "
-                          f"linkage works (mu >= {math.degrees(mu_min):.4g} deg) the swing runs {math.degrees(min(swings)):.6g} to "
+                          f"linkage works (mu >= {math.degrees(mu_min):.4g} deg) the swing runs "
+                          f"{math.degrees(min(swings)):.6g} to "
                           f"{math.degrees(max(swings)):.6g} deg", "--swing-range",
                           "ask for a swing range inside that, or change the linkage")
-    xs = np.array(xs, dtype=float)
+    xs = np.array(found, dtype=float)
     rows = [characteristics(linkage, adj, float(x), psi_max) for x in xs]
     dense = np.linspace(xs.min(), xs.max(), 201)
-    swings = np.array([characteristics(linkage, adj, float(x), psi_max, points=9, quick=True).swing for x in dense])
-    monotone = bool(np.all(np.diff(swings) > 0) or np.all(np.diff(swings) < 0))
+    dense_swings = np.array([characteristics(linkage, adj, float(x), psi_max, points=9, quick=True).swing
+                             for x in dense])
+    monotone = bool(np.all(np.diff(dense_swings) > 0) or np.all(np.diff(dense_swings) < 0))
     fixed = "psi1" if keep == "psi1" else "psi2"
     spread = max(abs(getattr(r, fixed) - getattr(rows[0], fixed)) for r in rows)
     deviation = {f"{fixed}_spread": spread,
@@ -469,8 +474,8 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
             out += _task_residual(task, r, uk, functions)
         return np.array(out)
 
-    best = None
-    centre = base.centre
+    best: Any = None
+    centre = cast(complex, base.centre)
     for k in range(starts):
         width = math.radians(10.0 + 10.0 * k)
         for sign in (1.0, -1.0):

@@ -526,17 +526,17 @@ def analyse(linkage: Linkage, psi_max: float, points: int = ANALYSIS_POINTS) -> 
                 hit = _angle_in(angle, float(theta[i]), float(theta[j]))
                 if hit is not None:
                     dead.append(_swing_at(linkage, len(mus) - 1, hit, psi[:count], theta[:count]))
-    dead = sorted({round(x, 15) for x in dead if x is not None})
+    dead_at = sorted({round(x, 15) for x in dead if x is not None})
     limits = []
     if closes:
         def first(x):
             return float(linkage.position(np.array([x]))[1][0])
 
         limits = [x for x in _roots(first, psi, d1) if 0.0 < x < psi_max]
-    inner_dead = [x for x in dead if 0.0 < x < psi_max]
+    inner_dead = [x for x in dead_at if 0.0 < x < psi_max]
     continuous = closes and not inner_dead and _no_jumps(pi, d1, psi)
     monotone = closes and not limits and bool(np.all(d1 > 0) or np.all(d1 < 0))
-    return LinkageAnalysis(linkage, psi_max, psi, pi, d1, d2, d3, mus, worst, dead, limits, closes, continuous,
+    return LinkageAnalysis(linkage, psi_max, psi, pi, d1, d2, d3, mus, worst, dead_at, limits, closes, continuous,
                            monotone, linkage.joints(psi))
 
 

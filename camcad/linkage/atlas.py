@@ -23,6 +23,7 @@ n' = 8, m = 1; see ``docs/linkage.md`` and ``table1_rows``.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from itertools import combinations, pairwise
 
@@ -181,7 +182,7 @@ def _distributions(contracted: list[tuple[int, int]], binaries: int):
 
 
 def _expand(h: int, contracted: list[tuple[int, int]], counts: list[int]) -> tuple[int, list[tuple[int, int]]]:
-    edges = []
+    edges: list[tuple[int, int]] = []
     nxt = h
     for (i, j), k in zip(contracted, counts):
         path = [i] + list(range(nxt, nxt + k)) + [j]
@@ -235,6 +236,7 @@ def ordinary_chains(links: int, dof: int) -> OrdinaryAtlas:
         label = " ".join(f"n{i}={k}" for i, k in assortment.items())
         binaries = assortment.get(2, 0)
         degrees = [i for i, k in sorted(assortment.items(), reverse=True) if i > 2 for _ in range(k)]
+        graphs: Iterable[tuple[int, list[tuple[int, int]]]]
         if not degrees:
             graphs = [(links, [(min(a, (a + 1) % links), max(a, (a + 1) % links)) for a in range(links)])]
         else:
@@ -446,6 +448,7 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
     """
     from camcad.linkage.graphs import is_connected
 
+    result: OrdinaryAtlas | AdjustableAtlas
     if adjustable is None:
         result = ordinary_chains(links, dof)
         chains = result.chains

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,7 @@ def compare_objectives(target: Target, limits: Limits, starts: int = 20, seed: i
     rng = np.random.default_rng(seed)
     node_phi = nodes(count, target.dphi, spacing)
     lo, hi = 1.0 / limits.ratio_max, limits.ratio_max
-    rows = []
+    rows: list[dict[str, Any]] = []
     tries = 0
     while len(rows) < starts and tries < 50 * starts:
         tries += 1
@@ -69,7 +70,7 @@ def compare_objectives(target: Target, limits: Limits, starts: int = 20, seed: i
         initial = probe.state(*start).mechanism
         if initial is None:
             continue
-        row = {"start_b": start[0], "start_alpha_deg": math.degrees(start[1]),
+        row: dict[str, Any] = {"start_b": start[0], "start_alpha_deg": math.degrees(start[1]),
                "start_error_deg": evaluate(initial, target).max_error_deg}
         work = Work()
         problem = QProblem(target, node_phi, limits, work)
@@ -112,7 +113,7 @@ def summarise(rows: list[dict]) -> dict:
     >>> s["q_more_accurate_than_max_deviation"], s["q_more_accurate_than_least_squares"]
     (1, 0)
     """
-    out = {"starts": len(rows)}
+    out: dict[str, Any] = {"starts": len(rows)}
     for name in ("q", "max_deviation", "least_squares"):
         ok = [r[name]["max_error_deg"] for r in rows if r[name]["admissible"]]
         out[name] = {"admissible": len(ok),

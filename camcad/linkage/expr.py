@@ -165,7 +165,8 @@ class _Parser:
             self.depth -= 1
             close = self.take()
             if close.kind != "rpar":
-                raise _error(self.text, close.pos, "missing ')'" if close.kind == "end" else f"unexpected {close.text!r}",
+                raise _error(self.text, close.pos,
+                             "missing ')'" if close.kind == "end" else f"unexpected {close.text!r}",
                              f"close the '(' opened at position {token.pos}")
             return node
         if token.kind == "name":
@@ -242,7 +243,10 @@ class Expression:
                 h = 1e-30
                 return np.asarray(np.imag(_evaluate(self.tree, x + 1j * h)) / h, dtype=float)
             h = 1e-4 * np.maximum(1.0, np.abs(x))
-            f = lambda t: np.asarray(_evaluate(self.tree, t), dtype=float)
+
+            def f(t):
+                return np.asarray(_evaluate(self.tree, t), dtype=float)
+
             return (f(x - 2 * h) - 8 * f(x - h) + 8 * f(x + h) - f(x + 2 * h)) / (12 * h)
 
 

@@ -29,8 +29,10 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import product
+from typing import Any, cast
 
 import numpy as np
 
@@ -43,7 +45,7 @@ from camcad.linkage.qmethod import circle_intersections, node_subsets, pivot_cir
 class Member:
     """One member of the family: ψ(φ) (rad → rad) on [φ_start, φ_end] (rad, the common input scale)."""
 
-    function: object
+    function: Callable[[float], float]
     phi_start: float
     phi_end: float
     label: str = ""
@@ -293,7 +295,7 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
         raise CamcadError("no coupler length gives output pivots for every member (the Q method's circles never "
                           "meet)", "family", "check the members: they may be beyond one adjustable four-bar")
     rows.sort(key=lambda r: r[0])
-    best = None
+    best: tuple[Any, ...] | None = None
     for _, b, alphas in rows[:keep]:
         def residual(p):
             sts = states(math.exp(p[0]), p[1:])
@@ -311,7 +313,7 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
         value = objective(sts)
         if best is None or value < best[0]:
             best = (value, fit.x, sts)
-    value, x, sts = best
+    value, x, sts = cast(tuple[Any, ...], best)
     if not math.isfinite(value):
         raise CamcadError("the family synthesis found no admissible mechanism", "family",
                           "change the members or the number of nodes")

@@ -73,7 +73,8 @@ def pairs_for(links: int, dof: int, where: str = "--links/--dof") -> int:
     if twice % 2:
         raise CamcadError(f"no planar chain with revolute pairs has n={links} links and W={dof}: "
                           f"3(n-1)-W = {twice} is odd, so the pair count (3(n-1)-W)/2 is not whole",
-                          where, f"n + W must be odd: try --links {links + 1} or --links {links - 1}, or --dof {dof + 1}")
+                          where,
+                          f"n + W must be odd: try --links {links + 1} or --links {links - 1}, or --dof {dof + 1}")
     pairs = twice // 2
     if pairs < links:
         raise CamcadError(f"n={links} links with W={dof} would have p={pairs} pairs, fewer than the {links} "
@@ -298,7 +299,7 @@ def canonical_form(n: int, edges, colours=None, vertex_colours=None) -> tuple[tu
 
     def search(partition: list[list[int]]) -> None:
         partition = _refine(partition, n, nbrs)
-        for index, cell in enumerate(partition):
+        for index, cell in enumerate(partition):  # noqa: B007 - index and cell are used after the break
             if len(cell) > 1:
                 break
         else:

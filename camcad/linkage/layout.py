@@ -26,7 +26,7 @@ def simple_cycles(n: int, edges) -> list[tuple[int, ...]]:
     >>> simple_cycles(4, [(0, 1), (1, 2), (2, 3), (3, 0)])
     [(0, 1, 2, 3)]
     """
-    adj = [[] for _ in range(n)]
+    adj: list[list[int]] = [[] for _ in range(n)]
     for u, v in edges:
         adj[u].append(v)
         adj[v].append(u)
@@ -176,7 +176,8 @@ def _relax_inner(pos: np.ndarray, dist: np.ndarray, pinned: set[int], iterations
     if free.size == 0:
         return pos
     index = np.arange(n)
-    x = pos + 0.05 * np.column_stack([np.cos(2.4 * index), np.sin(2.4 * index)]) * (~np.isin(index, list(pinned)))[:, None]
+    x = pos + (0.05 * np.column_stack([np.cos(2.4 * index), np.sin(2.4 * index)])
+               * (~np.isin(index, list(pinned)))[:, None])
     scale = 2 * math.sin(math.pi / max(len(pinned), 3))
     target = dist * scale
     weight = np.where(dist > 0, 1.0 / np.maximum(target, 1e-9) ** 2, 0.0)
@@ -220,7 +221,7 @@ def layout(n: int, edges) -> np.ndarray:
     if not np.all(np.isfinite(dist)):
         return best
     # relax the inner vertices of the best few, the outer cycle fixed (spreads twins and near-collinear paths)
-    for key, k, pos in scored[:6]:
+    for _key, k, _pos in scored[:6]:
         relaxed = _normalise(_relax_inner(_tutte(n, edges, outers[k]), dist, set(outers[k])))
         relaxed_key = score(relaxed)
         if relaxed_key < best_key:
@@ -228,7 +229,7 @@ def layout(n: int, edges) -> np.ndarray:
     if not best_key[0] and best_key[1] == 0:
         return best
     # relax the best few by stress majorisation (separates the blocks of fractionated chains)
-    for key, k, pos in scored[:4]:
+    for _key, _k, pos in scored[:4]:
         k_index = np.arange(n)
         nudge = 0.05 * np.column_stack([np.cos(2.4 * k_index), np.sin(2.4 * k_index)])  # split coincident points
         relaxed = _normalise(_smacof(pos + nudge, dist))

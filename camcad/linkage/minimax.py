@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -75,7 +76,7 @@ def _extrema(fg: FunctionGenerator, target: Target, work: Work) -> tuple[np.ndar
 
 def _alternating(xs: np.ndarray, es: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
     """Reduce extrema to an alternating sequence of ``count`` points (or fewer if there are fewer)."""
-    seq = []
+    seq: list[tuple[Any, Any]] = []
     for x, e in zip(xs, es):
         if seq and np.sign(seq[-1][1]) == np.sign(e):
             if abs(e) > abs(seq[-1][1]):
@@ -131,7 +132,7 @@ def minimax_synthesis(target: Target, start: FunctionGenerator, work: Work, max_
     if len(es) and float(np.max(np.abs(es))) < 1e-13:
         max_iterations = 0                   # the start reproduces the target: nothing to equalise
         message, converged = "the start reproduces the target (zero error)", True
-    for iteration in range(1, max_iterations + 1):
+    for iteration in range(1, max_iterations + 1):  # noqa: B007 - the count is reported after the loop
         signs = (-1.0) ** np.arange(count)
 
         def equations(y, refs=refs, signs=signs):

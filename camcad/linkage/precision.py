@@ -18,6 +18,7 @@ the offsets).
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import numpy as np
 
@@ -103,7 +104,7 @@ def precision_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, p
                           "add the missing one, or drop both to let camcad scan them")
     check = np.linspace(0.0, target.dphi, SCAN_POINTS)
     if phi0_deg is not None:
-        fg = three_point(target, nodes_phi, math.radians(phi0_deg), math.radians(psi0_deg), work)
+        fg = three_point(target, nodes_phi, math.radians(phi0_deg), math.radians(cast(float, psi0_deg)), work)
         if fg is None:
             raise CamcadError(f"no four-bar passes the three nodes with phi0 = {phi0_deg:g} deg and psi0 = "
                               f"{psi0_deg:g} deg (b^2 <= 0, singular, or the nodes on different branches)",

@@ -44,6 +44,7 @@ import cmath
 import math
 from dataclasses import dataclass
 from itertools import product
+from typing import Any
 
 import numpy as np
 
@@ -149,8 +150,8 @@ class QProblem:
         self.limits = limits
         self.work = work
         self.a_points = [cmath.exp(1j * (p - self.phi[0])) for p in self.phi]
-        self._last = None
-        self._margins = None
+        self._last: tuple[tuple[float, float], QState] | None = None
+        self._margins: tuple[QState, list[float]] | None = None
 
     def state(self, b: float, alpha: float) -> QState:
         """Q and its pivots for free parameters b (crank lengths) and α (rad). S positions (a repeated
@@ -165,7 +166,7 @@ class QProblem:
         self.work.positions += self.count
         self.work.objective_evaluations += 1
         b_1 = self.a_points[0] + b * cmath.exp(1j * alpha)
-        circles = [None] + [pivot_circle(self.a_points[k], b_1, self.psi[k] - self.psi[0], b)
+        circles: list[Any] = [None] + [pivot_circle(self.a_points[k], b_1, self.psi[k] - self.psi[0], b)
                             for k in range(1, self.count)]
         rotations = [cmath.exp(1j * (self.psi[k] - self.psi[0])) for k in range(self.count)]
 
@@ -477,7 +478,7 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
                           "--method q", "loosen --ratio-max, change the ranges, or see the best deviation fit with "
                                         "--method lsq")
     runs = []
-    best = None
+    best: tuple[Any, ...] | None = None
     check = np.linspace(0.0, target.dphi, 41)
     for start in chosen:
         x, value = local_minimum(problem, start)
@@ -492,6 +493,7 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
         key = (value, dev)
         if best is None or key[0] < best[0][0] - 1e-9 or (abs(key[0] - best[0][0]) <= 1e-9 and key[1] < best[0][1]):
             best = (key, x, state)
+    assert best is not None  # chosen is not empty
     (value, _), x, state = best
     if state.mechanism is None:
         raise CamcadError("the Q method found no admissible mechanism", "--method q",

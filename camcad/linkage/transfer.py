@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -111,7 +112,7 @@ class Transfer:
             raise CamcadError(f"the linkage does not close at swing {_show(bad, self.unit_in)}", where,
                               "change the link lengths or the follower's swing")
         roots = self.limit_positions(psi_max)
-        if roots or np.any(d1 == 0.0) and not (np.all(d1 >= 0) or np.all(d1 <= 0)):
+        if roots or (np.any(d1 == 0.0) and not (np.all(d1 >= 0) or np.all(d1 <= 0))):
             at = roots[0] if roots else float(grid[np.argmax(d1 == 0.0)])
             raise CamcadError(f"the position function is not monotone on the swing: the working member has a "
                               f"dead point (limit position, Pi' = 0) at swing {_show(at, self.unit_in)}", where,
@@ -366,7 +367,7 @@ def inverse_chain_rule(d, y_kin: Kinematics, psi) -> Kinematics:
 class _LawLike:
     """Shared parts of the laws below: cycle, phases and breakpoints of the underlying law."""
 
-    base = None
+    base: Any = None
 
     @property
     def cycle(self) -> float:
@@ -416,8 +417,8 @@ class WorkingLaw(_LawLike):
 
 class FollowerLaw(_LawLike):
     """The follower's law ψ(θ) = Π⁻¹(y(θ)) designed for a working member's law y(θ) (``scale``: Π's unit
-    per unit of that law, e.g. π/180 for a law in deg and Π in rad), then multiplied by ``out_scale`` (e.g. the arm length, to give the
-    roller's arc in mm that camcad's oscillating follower turns back into ψ).
+    per unit of that law, e.g. π/180 for a law in deg and Π in rad), then multiplied by ``out_scale`` (e.g. the arm
+    length, to give the roller's arc in mm that camcad's oscillating follower turns back into ψ).
 
     Examples
     --------

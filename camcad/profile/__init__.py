@@ -19,13 +19,13 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
-    from camcad.profile.design import BaseRadiusDesign, min_base_radius
-    from camcad.profile.geometry import CamGeometry
     from camcad.profile.defaults import DEFAULT_NAME
+    from camcad.profile.design import BaseRadiusDesign, min_base_radius
     from camcad.profile.followers import FOLLOWER_KINDS, Follower
-    from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.profile.geometry import CamGeometry
     from camcad.profile.scaled_law import ScaledLaw, swing_law
     from camcad.profile.summary import profile_report
+    from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
 _EXPORTS: dict[str, str] = {
@@ -76,10 +76,10 @@ def default_design():
 
 
 __all__ = [
-    "BaseRadiusDesign",
-    "CamGeometry",
     "DEFAULT_NAME",
     "FOLLOWER_KINDS",
+    "BaseRadiusDesign",
+    "CamGeometry",
     "Follower",
     "ProfileResult",
     "ProfileSettings",

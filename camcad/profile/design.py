@@ -28,11 +28,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
-from camcad.numerics import bounded_minimum, brent_root
 from camcad.law.law import MotionLaw
+from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
 
 
@@ -167,7 +168,7 @@ def _bounds(follower: Follower, law: MotionLaw) -> tuple[float, float, float]:
     stroke = float(np.ptp(law.kinematics(theta).s))
     rr = follower.roller_radius
     if follower.kind == "oscillating":
-        c, arm = follower.pivot, follower.arm
+        c, arm = cast(float, follower.pivot), cast(float, follower.arm)
         span = c + arm - abs(c - arm)
         lo = max(abs(c - arm) - rr, 0.0) + 1e-7 * span
         hi = c + arm - rr - 1e-7 * span
@@ -264,6 +265,7 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
 
     one_lobe = np.union1d(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
     notes: list[str] = []
+    rb_rho: float | None
 
     if follower.kind == "flat":
         # ρ = Rb + s + a ≥ ρ_min  ⇔  Rb ≥ ρ_min − min(s + a)
@@ -279,7 +281,7 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     xtol = 1e-11 * size if xtol is None else xtol
     limits_given = (follower.pressure_angle_limit_rise_deg is not None
                     or follower.pressure_angle_limit_return_deg is not None)
-    rb_pa = None
+    rb_pa: float | None = None
     if limits_given and follower.kind in ("roller", "knife"):
         # rounded up by the tolerance, as the root finder's result is: the design must meet its limits
         rb_pa = max(_translating_pressure_angle_rb(law, follower, one_lobe) + 2.0 * xtol, lo)

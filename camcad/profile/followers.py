@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-
+from typing import cast
 
 from camcad.errors import CamcadError
 from camcad.profile import defaults
@@ -84,7 +84,7 @@ class Follower:
     Traceback (most recent call last):
     ...
     camcad.errors.CamcadError: follower: offset |e| = 60 mm is not less than Rb + Rr = 50 mm; reduce the offset or enlarge the base circle
-    """
+    """  # noqa: E501 - a doctest's expected output is one line
 
     kind: str
     base_radius: float
@@ -119,7 +119,7 @@ class Follower:
     def has_pair(self) -> bool:
         return self.pair_distance is not None or self.pair_angle_deg is not None
 
-    def with_base_radius(self, base_radius: float) -> "Follower":
+    def with_base_radius(self, base_radius: float) -> Follower:
         return replace(self, base_radius=float(base_radius))
 
     def describe(self) -> str:
@@ -137,7 +137,7 @@ class Follower:
                     f"e {self.offset:.6g} mm")
         return f"{text}, {turn}"
 
-    def validate(self, where: str = "follower") -> "Follower":
+    def validate(self, where: str = "follower") -> Follower:
         """Raise CamcadError for a follower that cannot work; return self."""
         if self.kind not in FOLLOWER_KINDS:
             raise CamcadError(f"follower type {self.kind!r} is unknown", where,
@@ -216,7 +216,7 @@ def arm_angle_on_base_circle(follower: Follower) -> float:
     Law of cosines in the triangle cam centre O – pivot A – roller centre B:
         (Rb + Rr)² = C² + L² − 2 C L cos γ0.
     """
-    c, arm, rp = follower.pivot, follower.arm, follower.prime_radius
+    c, arm, rp = cast(float, follower.pivot), cast(float, follower.arm), follower.prime_radius
     return math.acos((c**2 + arm**2 - rp**2) / (2.0 * c * arm))
 
 

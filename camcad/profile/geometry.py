@@ -46,6 +46,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -153,10 +154,10 @@ class PitchGeometry(CurveGeometry):
     centre:          (N, 2) roller centre in the fixed frame.
     """
 
-    normal: np.ndarray = field(default=None)
-    pressure_angle: np.ndarray = field(default=None)
-    outward_speed: np.ndarray = field(default=None)
-    centre: np.ndarray = field(default=None)
+    normal: np.ndarray
+    pressure_angle: np.ndarray
+    outward_speed: np.ndarray
+    centre: np.ndarray
 
 
 def pitch_geometry(theta: np.ndarray, track: Track, sigma: float) -> PitchGeometry:
@@ -248,7 +249,8 @@ class CamGeometry:
     @functools.cached_property
     def dwell_speed(self) -> float:
         """|outward speed| (mm/rad) below which the follower counts as dwelling: 1e-9 of its peak speed."""
-        return 1e-9 * peak_speed(self.law) * (self.follower.arm if self.follower.kind == "oscillating" else 1.0)
+        return 1e-9 * peak_speed(self.law) * (cast(float, self.follower.arm) if self.follower.kind == "oscillating"
+                                              else 1.0)
 
     def breakpoints(self) -> np.ndarray:
         """θ (rad) in [0, 2π] where curvature may jump: the law's breakpoints on every lobe."""
@@ -264,9 +266,9 @@ class CamGeometry:
         kin = self.kinematics(theta)
         f = self.follower
         if f.kind == "oscillating":
-            turn = math.radians(f.pair_angle_deg) if second else 0.0
-            return oscillating_track(kin, f.pivot, f.arm, self.gamma0, turn)
-        shift = f.pair_distance if second else 0.0
+            turn = math.radians(cast(float, f.pair_angle_deg)) if second else 0.0
+            return oscillating_track(kin, cast(float, f.pivot), cast(float, f.arm), self.gamma0, turn)
+        shift = cast(float, f.pair_distance) if second else 0.0
         return translating_track(kin, self.height, f.offset, shift)
 
     def pitch(self, theta: np.ndarray, second: bool = False) -> PitchGeometry:
@@ -325,6 +327,6 @@ def _peak_speed_cached(law: MotionLaw) -> float:
 def peak_speed(law: MotionLaw) -> float:
     """max |v| of ``law`` on 4097 samples of its cycle (mm/rad or rad/rad); cached for hashable laws."""
     try:
-        return _peak_speed_cached(law)
+        return _peak_speed_cached(law)  # type: ignore[arg-type]  # an unhashable law raises TypeError
     except TypeError:  # a law holding arrays is not hashable: sample it each time
         return _peak_speed_cached.__wrapped__(law)

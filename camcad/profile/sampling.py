@@ -31,8 +31,9 @@ points per interval used for the check.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
+from itertools import pairwise
 
 import numpy as np
 
@@ -96,7 +97,7 @@ def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=
 def _peak(samples: np.ndarray) -> np.ndarray:
     """Largest value along axis 1 of samples taken at equal steps, refined by a parabola
     through the largest sample and its two neighbours (the ends are zero by construction)."""
-    n, m = samples.shape
+    n, _m = samples.shape
     padded = np.concatenate((np.zeros((n, 1)), samples, np.zeros((n, 1))), axis=1)
     k = np.argmax(padded[:, 1:-1], axis=1) + 1
     rows = np.arange(n)
@@ -267,7 +268,7 @@ def _redistribute(nodes: np.ndarray, intervals_wanted: np.ndarray, edges: np.nda
     cumulative = np.concatenate(([0.0], np.cumsum(intervals_wanted)))
     at_edges = np.interp(edges, nodes, cumulative)
     out = [edges[:1]]
-    for c0, c1 in zip(at_edges[:-1], at_edges[1:]):
+    for c0, c1 in pairwise(at_edges):
         count = max(1, int(np.ceil(c1 - c0)))
         out.append(np.interp(np.linspace(c0, c1, count + 1)[1:], cumulative, nodes))
     merged = np.unique(np.concatenate(out))

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-
 import math
 from dataclasses import dataclass
 
@@ -11,7 +10,6 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
-
 
 # --------------------------------------------------------------------------------------------
 # Laws in follower units

@@ -6,6 +6,7 @@ Angles in degrees, lengths in mm; figures rounded to their meaningful digits by 
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import numpy as np
 
@@ -153,7 +154,8 @@ def profile_report(result: ProfileResult, phases: str = "the law's own phase ang
         out["groove"] = _curve_dict(result.outer)
     if result.counter is not None:
         counter = _curve_dict(result.counter)
-        counter["pressure_angle"] = _pressure_dict(result.counter_pressure_angle, f)
-        counter["rho_pitch_min_mm"] = _value(result.counter_pitch.rho_convex_min)
+        # a counter-cam comes with its pitch curve and pressure angles
+        counter["pressure_angle"] = _pressure_dict(cast(PressureAngleCheck, result.counter_pressure_angle), f)
+        counter["rho_pitch_min_mm"] = _value(cast(CurveResult, result.counter_pitch).rho_convex_min)
         out["counter_cam"] = counter
     return out

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.numerics import bounded_minimum
 from camcad.law.law import MotionLaw
+from camcad.numerics import bounded_minimum
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import Follower
@@ -77,7 +78,7 @@ class ProfileSettings:
     name: str = "profile"
     checks_only: bool = False
 
-    def validate(self) -> "ProfileSettings":
+    def validate(self) -> ProfileSettings:
         if not (math.isfinite(self.tol_mm) and self.tol_mm > 0.0):
             raise CamcadError(f"chord tolerance must be a positive number of mm, got {self.tol_mm!r}",
                               "--tol-mm", "give e.g. --tol-mm 0.001")
@@ -416,8 +417,9 @@ def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -
         return geometry.pitch(t, second)
 
     values = phi(analysis)
-    maximum = refine_max(phi, analysis, values)
-    minimum = refine_min(phi, analysis, values)
+    # φ is finite on the whole grid, so both extremes exist
+    maximum = cast(Extremum, refine_max(phi, analysis, values))
+    minimum = cast(Extremum, refine_min(phi, analysis, values))
     if geometry.follower.kind == "flat":
         return PressureAngleCheck(maximum, minimum, None, None, None, True)
 
@@ -449,12 +451,12 @@ def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -
 
 def analysis_grid(geometry: CamGeometry, step_deg: float) -> np.ndarray:
     """Uniform θ over the cam's turn (rad) with the law's breakpoints added."""
-    count = int(math.ceil(360.0 / step_deg))
+    count = math.ceil(360.0 / step_deg)
     return np.union1d(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
 
 
 def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:
-    count = int(round(360.0 / step_deg))
+    count = int(round(360.0 / step_deg))  # noqa: RUF046 - round() of a numpy float is a float on numpy < 2
     theta = np.linspace(0.0, 2.0 * math.pi, count + 1)
     kin = geometry.kinematics(theta)
     if geometry.follower.kind == "flat":

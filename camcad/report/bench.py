@@ -9,9 +9,14 @@ from __future__ import annotations
 import importlib.util
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic
+
+if TYPE_CHECKING:
+    from importlib.abc import Loader
+    from importlib.machinery import ModuleSpec
 
 
 def benchmarks_dir() -> Path:
@@ -34,9 +39,9 @@ def load_benchmark(name: str, path: Path):
     folder = str(path.parent)
     if folder not in sys.path:
         sys.path.insert(0, folder)
-    spec = importlib.util.spec_from_file_location(f"camcad_bench_{name}", path)
+    spec = cast("ModuleSpec", importlib.util.spec_from_file_location(f"camcad_bench_{name}", path))  # a .py file
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    cast("Loader", spec.loader).exec_module(module)
     if not hasattr(module, "run"):
         raise CamcadError(f"benchmark {name} has no run(quick) function", str(path), "add one returning its rows")
     return module

@@ -11,10 +11,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.report.figure import COLOURS, new_figure, save_figure
+
+if TYPE_CHECKING:
+    from camcad.scene.contact import ContactRequest
 
 _STRESS = "#2e86c1"
 
@@ -47,7 +51,8 @@ def plot_contact_stress(item, *, title: str = "", check=None, force_check=None):
     ax_s.plot(theta_deg, result.sigma, color=_STRESS, label="σ_H")
     margin = result.allowable - result.sigma_max
     ax_s.axhline(result.allowable, color=COLOURS["limit"], linestyle="--",
-                 label=f"[σ_H] = {result.allowable:g} MPa: margin {margin:.4g} MPa ({100 * margin / result.allowable:.3g} %)")
+                 label=f"[σ_H] = {result.allowable:g} MPa: margin {margin:.4g} MPa "
+                       f"({100 * margin / result.allowable:.3g} %)")
     ax_s.plot(np.degrees(result.at), result.sigma_max, "o", color=COLOURS["limit"])
     ax_s.annotate(f"σ_max {result.sigma_max:.4g} MPa at {np.degrees(result.at):.1f}°",
                   (np.degrees(result.at), result.sigma_max), textcoords="offset points", xytext=(6, -14), fontsize=8)
@@ -104,7 +109,7 @@ def contact_figures(report) -> list[tuple[tuple[str, ...], object]]:
     """((file name parts), Figure) of a contact report: per mechanism the stress along the profile and, with
     several speeds, the safety factor against speed."""
     checks = {c.name: c for c in report.verdict.checks}
-    figures = []
+    figures: list[tuple[tuple[str, ...], object]] = []
     for item in report.result:
         stress = checks.get(f"{item.name}: contact stress")
         force = checks.get(f"{item.name}: normal force (spring holds the follower)")
@@ -146,7 +151,7 @@ def contact_lines(run) -> list[str]:
 class ContactCommand:
     """``camcad contact``: the request (camcad.scene.contact.ContactRequest) and what to write."""
 
-    request: object
+    request: ContactRequest
     output: Path | None = None
     plots: bool = True
 
@@ -163,5 +168,6 @@ def contact_command(command: ContactCommand):
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:
         report = run_contact(command.request)
-        written = [save_figure(fig, out.path(*parts)) for parts, fig in contact_figures(report)] if command.plots else []
+        written = ([save_figure(fig, out.path(*parts)) for parts, fig in contact_figures(report)]
+                   if command.plots else [])
         return finish(report, out, written, "contact.json", contact_lines)

@@ -15,10 +15,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.report.figure import new_figure, save_figure
+
+if TYPE_CHECKING:
+    from camcad.cyclogram.network import Network
+    from camcad.scene.cyclogram import CyclogramRequest
 
 ACTIVE_COLOUR = "#c0392b"
 SLACK_COLOUR = "#2e86c1"
@@ -29,7 +34,7 @@ MARGIN_ALPHA = 0.35
 class CyclogramView:
     """What the plots need of an optimised cyclogram (from a CyclogramResult or its report dict)."""
 
-    network: object
+    network: Network
     makespan_deg: float
     event_times_deg: dict
     phase_angles_deg: dict
@@ -290,7 +295,7 @@ def cyclogram_lines(run) -> list[str]:
 class CyclogramCommand:
     """``camcad cyclogram``: the request (camcad.scene.cyclogram.CyclogramRequest) and what to write."""
 
-    request: object
+    request: CyclogramRequest
     output: Path | None = None
     plots: bool = True
 

@@ -11,12 +11,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from camcad.dynamics.model import OUTPUT_UNITS
 from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
+
+if TYPE_CHECKING:
+    from camcad.scene.dynamics import DynamicsRequest
+    from camcad.scene.stops import ImpactRequest
 
 _PHASE_COLOURS = {"rise": "#e8f0fb", "return": "#fbeee8"}
 
@@ -40,7 +45,8 @@ def _warnings_footer(fig, verdict) -> None:
     if warnings:
         text = "\n".join(f"WARNING: {w.what}" for w in warnings[:3])
         fig.text(0.01, 0.005, text, fontsize=7.5, color=COLOURS["fail"], ha="left", va="bottom", wrap=True)
-        fig.get_layout_engine().set(rect=(0, 0.03 + 0.025 * min(len(warnings), 3), 1, 1 - 0.03 - 0.025 * min(len(warnings), 3)))
+        fig.get_layout_engine().set(rect=(0, 0.03 + 0.025 * min(len(warnings), 3),
+                                          1, 1 - 0.03 - 0.025 * min(len(warnings), 3)))
 
 
 def _limit_label(check, scale: float = 1.0, unit: str = "") -> str:
@@ -140,8 +146,8 @@ def plot_speed_sweep(run, *, title: str = "", verdict=None):
         middle.axhline(ratio.limit, color=COLOURS["limit"], ls="--", lw=0.9, label=f"ratio {_limit_label(ratio)}")
     if finite.any():
         i = int(np.argmax(np.where(finite, sweep.peak_accel_ratio, -np.inf)))
-        middle.annotate(f"×{sweep.peak_accel_ratio[i]:.3g} at {speeds[i]:g} rpm", (speeds[i], sweep.peak_accel_ratio[i]),
-                        textcoords="offset points", xytext=(5, -12), fontsize=8)
+        middle.annotate(f"×{sweep.peak_accel_ratio[i]:.3g} at {speeds[i]:g} rpm",
+                        (speeds[i], sweep.peak_accel_ratio[i]), textcoords="offset points", xytext=(5, -12), fontsize=8)
     middle.set_ylabel("elastic / rigid")
     for kind, colour, style in (("rise", "tab:blue", "-"), ("return", "tab:orange", "--")):
         values = [max((r.amplitude for r in run.residuals[float(s)] if r.phase.kind == kind), default=np.nan)
@@ -236,7 +242,8 @@ def plot_rebound(sweep, model, *, title: str = "", verdict=None):
     right.plot(t, relation(t), color="tab:red", label=f"A(t) = A0·t0/t at {relation.rpm:g} rpm")
     slope, intercept = relation.tangent
     right.plot(t, slope * t + intercept, color="grey", ls="--", label=f"tangent a = {slope:.4g}·t + {intercept:.4g}")
-    right.plot([t0], [relation.amplitude_mm], "ko", ms=4, label=f"this law: {t0:.4g} deg, {relation.amplitude_mm:.4g} mm")
+    right.plot([t0], [relation.amplitude_mm], "ko", ms=4,
+               label=f"this law: {t0:.4g} deg, {relation.amplitude_mm:.4g} mm")
     angle = _check(verdict, f"approach phase angle ({sweep.contact.phase.kind})")
     if model.allowed_amplitude_mm:
         right.axhline(model.allowed_amplitude_mm, color=COLOURS["limit"], ls=":", lw=0.9,
@@ -339,11 +346,13 @@ def dynamics_lines(run) -> list[str]:
             line += f"; with the summary pulse ×{fmt(entry['with_pulse']['increase'])}"
         lines.append(line)
     if "compare" in d:
-        lines.append("start-of-motion load, this law / compared law: " + ", ".join(fmt(r) for r in d["compare"]["reduction"]))
+        lines.append("start-of-motion load, this law / compared law: "
+                     + ", ".join(fmt(r) for r in d["compare"]["reduction"]))
     if "lead_in" in d:
         lead = d["lead_in"]
         lines.append(f"lead-in {fmt(lead['angle_deg'])} deg at {fmt(lead['fraction'])} of the peak: start-of-motion "
-                     "load reduced " + ", ".join(f"{fmt(r)}x" for r in lead["reduction"]) + f" ({fmt(lead['rpm'])} rpm)")
+                     "load reduced " + ", ".join(f"{fmt(r)}x" for r in lead["reduction"])
+                     + f" ({fmt(lead['rpm'])} rpm)")
     if "multimass" in d:
         mm = d["multimass"]
         lines.append(f"multi-mass model at {fmt(mm['rpm'])} rpm: elastic/rigid {fmt(mm['peak_accel_ratio'])}, dynamic "
@@ -381,8 +390,8 @@ def impact_lines(run) -> list[str]:
                      fmt(item.rebound_mm)])
     lines += table(["speed rpm", "v0 mm/s", "impulse N·s", "force N", "rebound mm"], rows)
     lin = d["linear"]
-    lines.append(f"linearised at {fmt(lin['at_deg'])} deg, {fmt(lin['at_rpm'])} rpm: a = {fmt(lin['slope_mm_per_deg'])}·t + "
-                 f"{fmt(lin['intercept_mm'])} (mm, t deg)")
+    lines.append(f"linearised at {fmt(lin['at_deg'])} deg, {fmt(lin['at_rpm'])} rpm: "
+                 f"a = {fmt(lin['slope_mm_per_deg'])}·t + {fmt(lin['intercept_mm'])} (mm, t deg)")
     if d["phase_limit_deg"] is not None:
         lines.append(f"least phase angle for {fmt(d['allowed_amplitude_mm'])} mm: {fmt(d['phase_limit_deg'], 6)} deg "
                      f"(linearised {fmt(d['phase_limit_linear_deg'], 6)} deg)")
@@ -395,7 +404,7 @@ class DynamicsCommand:
     """``camcad dynamics`` or ``camcad impact``: the request (camcad.scene.dynamics.DynamicsRequest or
     camcad.scene.stops.ImpactRequest) and what to write."""
 
-    request: object
+    request: DynamicsRequest | ImpactRequest
     output: Path | None = None
     plots: bool = True
 
@@ -407,12 +416,13 @@ def dynamics_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.dynamics import run_dynamics_report
 
-    require = () if command.request.fn is not None else (
+    request = cast("DynamicsRequest", command.request)  # camcad dynamics asks with a DynamicsRequest
+    require = () if request.fn is not None else (
         ("dynamics", "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta"),)
-    src = resolve_source(command.request.law, command="dynamics", require=require)
-    inputs = list(src.inputs) + ([command.request.compare] if command.request.compare is not None else [])
+    src = resolve_source(request.law, command="dynamics", require=require)
+    inputs = list(src.inputs) + ([request.compare] if request.compare is not None else [])
     with open_folder(command.output, src.name, inputs) as out:
-        report = run_dynamics_report(command.request, src, progress)
+        report = run_dynamics_report(request, src, progress)
         written = write_figures(dynamics_figures(report), out) if command.plots else []
         return finish(report, out, written, "dynamics.json", dynamics_lines)
 
@@ -424,9 +434,10 @@ def impact_command(command: DynamicsCommand, progress=None):
     from camcad.scene.analysis import resolve_source
     from camcad.scene.stops import run_impact_report
 
-    src = resolve_source(command.request.law, command="impact", require=(
+    request = cast("ImpactRequest", command.request)  # camcad impact asks with an ImpactRequest
+    src = resolve_source(request.law, command="impact", require=(
         ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))
     with open_folder(command.output, src.name, src.inputs) as out:
-        report = run_impact_report(command.request, src, progress)
+        report = run_impact_report(request, src, progress)
         written = write_figures(impact_figures(report), out) if command.plots else []
         return finish(report, out, written, "impact.json", impact_lines)

@@ -14,7 +14,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from camcad.io.atomic import write_atomic
 
@@ -26,7 +26,8 @@ COLOURS = {"rise": "#d9ead3", "return": "#f4cccc", "dwell": "#eeeeee", "limit": 
 
 
 def new_figure(width_in: float = 10.0, height_in: float = 5.0, *, rows: int = 1, cols: int = 1,
-               layout: str | None = "constrained", **subplot_kw: Any):
+               layout: Literal["constrained", "compressed", "tight"] | None = "constrained",
+               **subplot_kw: Any):
     """A Figure with an Agg canvas and its axes (an array when ``rows`` or ``cols`` > 1).
 
     Parameters

@@ -73,7 +73,9 @@ def atlas_figure(chains, layouts, title: str, adjustable: bool):
     ax = fig.add_axes((0.005, 0.005, 0.99, 1 - (head - 0.1) / (rows * cell + head)))
     ax.set_axis_off()
     ax.set_aspect("equal")
-    thin, thick, points, fills = [], [], [], []
+    thin: list[list[np.ndarray]] = []
+    thick: list[list[np.ndarray]] = []
+    points, fills = [], []
     for k, (chain, pos) in enumerate(zip(chains, layouts)):
         r, c = divmod(k, cols)
         origin = np.array([c * 3.0, -r * 3.0])
@@ -479,7 +481,7 @@ def fgen_drawing(result) -> Drawing:
             lines.append(DxfLine("FRAME", (xa, -1.6 * r), (xa - 0.7 * r, -2.3 * r)))
     for layer, theta in (("LINKS", fg.phi0), ("EXTREME_POSITIONS", fg.phi0 + t.dphi)):
         j = _positions(fg, theta)
-        pts = [tuple(map(float, j[name])) for name in ("O", "A", "B", "C")]
+        pts = [(float(j[name][0]), float(j[name][1])) for name in ("O", "A", "B", "C")]
         for p, q in pairwise(pts):
             lines.append(trimmed(layer, p, q))
         for p in pts:
@@ -653,7 +655,7 @@ def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=No
         circles.append(DxfCircle("JOINTS", (z.real, z.imag), r))
         _ground(lines, z, r)
         texts.append(DxfText("TEXT", name, (z.real - 3.5 * r, z.imag + 1.5 * r), h))
-    for label, lk in settings:
+    for _label, lk in settings:
         for psi in (0.0, psi_max):
             add_chain("SETTINGS", lk, psi, names=False)
     grid = np.linspace(0.0, psi_max, 61)
@@ -895,8 +897,8 @@ def family_figure(result, members):
     Examples
     --------
     >>> import types
-    >>> r = types.SimpleNamespace(pivots=[1 + 0j, 1j, -1 + 0j], centre=0j, radius=1.0, settings=np.array([0.0, 1.5, 3.1]),
-    ...     q=0.0, max_error=[0.0, 0.0, 0.0], crank=1.0)
+    >>> r = types.SimpleNamespace(pivots=[1 + 0j, 1j, -1 + 0j], centre=0j, radius=1.0,
+    ...     settings=np.array([0.0, 1.5, 3.1]), q=0.0, max_error=[0.0, 0.0, 0.0], crank=1.0)
     >>> len(family_figure(r, [None] * 3).axes)
     2
     """

@@ -70,7 +70,8 @@ def plot_kinematics(result):
     Returns
     -------
     matplotlib.figure.Figure
-        Four axes sharing the cam angle θ (deg): s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³); for an oscillating follower rad of swing instead of mm.
+        Four axes sharing the cam angle θ (deg): s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³); for an oscillating
+        follower rad of swing instead of mm.
         Saving it (``fig.savefig``) is the caller's choice.
 
     Examples
@@ -223,7 +224,8 @@ def draw_curvature(ax, result) -> None:
 
     _shade_phases(ax, result)
     if f.kind != "flat" and f.roller_radius > 0.0:
-        ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0, label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
+        ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0,
+                   label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
         ax.plot(deg, shown_part(t.rho_pitch), lw=1.2, color="#7f7f7f", ls="--", label="pitch curve ρ")
     if f.rho_min is not None:
         ax.axhline(f.rho_min, color="#b03a2e", lw=1.0, ls=":", label=f"limit ρ_min = {f.rho_min:g} mm")
@@ -270,7 +272,7 @@ def plot_profile(result):
     return fig
 
 
-def draw_profile(ax, result, legend: bool = True, title: str | None = None) -> None:
+def draw_profile(ax, result, legend: bool | float = True, title: str | None = None) -> None:
     """The cam profile, pitch curve, base circle and the follower at θ = 0, into ``ax``."""
     f = result.follower
     geometry = result.geometry
@@ -316,7 +318,8 @@ def draw_profile(ax, result, legend: bool = True, title: str | None = None) -> N
             p = at.points[0]
             ax.plot(p[0] + f.roller_radius * np.cos(circle), p[1] + f.roller_radius * np.sin(circle),
                     color="#b03a2e", lw=0.8, ls="--",
-                    label=f"roller at the largest pressure angle ({math.degrees(worst.value):.1f}° @ {math.degrees(worst.at):.0f}°)")
+                    label=f"roller at the largest pressure angle ({math.degrees(worst.value):.1f}° "
+                          f"@ {math.degrees(worst.at):.0f}°)")
     turn = "clockwise" if f.cw else "counter-clockwise"
     ax.set_title(title or f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10)
     ax.set_aspect("equal")

@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
-from camcad.io.jsonout import write_json
-from camcad.io.output_folder import OutputFolder
 from camcad.io.atomic import write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
+from camcad.io.jsonout import write_json
+from camcad.io.output_folder import OutputFolder
 from camcad.profile.scaled_law import describe_law, describe_phases
 from camcad.profile.summary import profile_report as report
 from camcad.profile.summary import stroke
@@ -60,7 +61,7 @@ def build_drawing(result: ProfileResult) -> Drawing:
         paths.append(_path("GROOVE_OUTER", result.outer))
     if result.counter is not None:
         paths.append(_path("COUNTER_PROFILE", result.counter))
-        paths.append(_path("COUNTER_PITCH", result.counter_pitch, prefer_arcs=False))
+        paths.append(_path("COUNTER_PITCH", cast(CurveResult, result.counter_pitch), prefer_arcs=False))
     extent = max(float(np.max(np.hypot(*p.points.T))) for p in paths)
     cross = max(5.0, 0.15 * f.base_radius)
     circles = [DxfCircle("BASE_CIRCLE", (0.0, 0.0), f.base_radius)]
@@ -70,7 +71,7 @@ def build_drawing(result: ProfileResult) -> Drawing:
     if f.kind == "flat":
         kin = geometry.kinematics(zero)
         height = f.base_radius + float(kin.s[0])
-        left, right = result.face_extent
+        left, right = cast(tuple[float, float], result.face_extent)  # a flat face has its extent
         margin = 0.1 * (right - left) + 2.0
         lines.append(DxfLine("ROLLER", (f.offset + left - margin, height), (f.offset + right + margin, height)))
         lines.append(DxfLine("ROLLER", (f.offset, height), (f.offset, height + 0.5 * f.base_radius)))
@@ -81,14 +82,15 @@ def build_drawing(result: ProfileResult) -> Drawing:
             lines.append(DxfLine("ROLLER", (float(centre[0]), float(centre[1])),
                                  (float(centre[0]), float(centre[1]) + 0.3 * f.base_radius)))
         if f.kind == "oscillating":
-            lines.append(DxfLine("ROLLER", (f.pivot, 0.0), (float(centre[0]), float(centre[1]))))
-            circles.append(DxfCircle("ROLLER", (f.pivot, 0.0), max(1.0, 0.04 * f.arm)))
+            pivot, arm = cast(float, f.pivot), cast(float, f.arm)
+            lines.append(DxfLine("ROLLER", (pivot, 0.0), (float(centre[0]), float(centre[1]))))
+            circles.append(DxfCircle("ROLLER", (pivot, 0.0), max(1.0, 0.04 * arm)))
         if f.has_pair:
             second = geometry.pitch(zero, second=True).centre[0]
             if f.roller_radius > 0.0:
                 circles.append(DxfCircle("ROLLER", (float(second[0]), float(second[1])), f.roller_radius))
             if f.kind == "oscillating":
-                lines.append(DxfLine("ROLLER", (f.pivot, 0.0), (float(second[0]), float(second[1]))))
+                lines.append(DxfLine("ROLLER", (cast(float, f.pivot), 0.0), (float(second[0]), float(second[1]))))
     height = max(2.5, round(extent / 40.0, 1))
     top = -extent - 3.0 * height
     texts = [DxfText("TEXT", line, (-extent, top - 1.6 * height * k), height)

@@ -14,8 +14,8 @@ mechanisms have plots and the machine has several cores, their plots are drawn i
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 

@@ -15,11 +15,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
+
+if TYPE_CHECKING:
+    from camcad.scene.filter import SpectrumRequest
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"
@@ -319,8 +323,9 @@ def spectrum_lines(run) -> list[str]:
         lines.append(f"least N with RMS error <= {result.tol:g} {unit}: {least if least is not None else 'not found'}")
     if "resonance" in data:
         r = data["resonance"]
-        lines.append(f"resonance: fn {r['fn_hz']:g} Hz, {r['rpm'][0]:g}..{r['rpm'][1]:g} rpm, band +-{100 * r['band']:g} "
-                     f"% -> k in [{r['k_band'][0]:.3f}, {r['k_band'][1]:.3f}]: resonant {r['resonant'] or 'none'}")
+        lines.append(f"resonance: fn {r['fn_hz']:g} Hz, {r['rpm'][0]:g}..{r['rpm'][1]:g} rpm, "
+                     f"band +-{100 * r['band']:g} % -> k in [{r['k_band'][0]:.3f}, {r['k_band'][1]:.3f}]: "
+                     f"resonant {r['resonant'] or 'none'}")
     if "removed" in data:
         lines.append(f"filtered: removed {_ranges(data['removed'])}")
     if "lead_in" in data:
@@ -339,7 +344,7 @@ def spectrum_lines(run) -> list[str]:
 class SpectrumCommand:
     """``camcad spectrum``: what to compute (camcad.scene.filter.SpectrumRequest) and what to write."""
 
-    request: object
+    request: SpectrumRequest
     output: Path | None = None
     plots: bool = True
     r12: bool = False

@@ -373,8 +373,8 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
     # Pareto front and best design
     front = np.array([], dtype=np.int64)
     if objectives and len(feasible_rows):
-        values = np.column_stack([np.asarray(points[o.column], dtype=float)[feasible_rows] for o in objectives])
-        front = feasible_rows[analysis.pareto_front(values, [o.sense for o in objectives])]
+        scores = np.column_stack([np.asarray(points[o.column], dtype=float)[feasible_rows] for o in objectives])
+        front = feasible_rows[analysis.pareto_front(scores, [o.sense for o in objectives])]
     best = analysis.best_index(points, objectives)
     report["pareto"] = {"designs": len(front)}
     if len(front):

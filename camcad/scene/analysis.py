@@ -133,7 +133,7 @@ class AnalysisSource:
                           f"add [machine] rpm = ... to the scene or pass --rpm N1:N2[:STEP] to camcad {command}")
 
     def summary(self) -> dict:
-        out = {"name": self.name, "where": self.where, "unit": self.unit, "notes": list(self.notes)}
+        out: dict[str, Any] = {"name": self.name, "where": self.where, "unit": self.unit, "notes": list(self.notes)}
         if self.angles is not None:
             out["phase_angles"] = self.angles.to_dict()
         if self.mechanism is not None and self.scene is not None and len(self.scene.mechanisms) > 1:
@@ -353,7 +353,8 @@ def scene_phase_angles(scene, mech, law, request: LawRequest, speeds) -> tuple[P
 
     found = cyclogram_angles(scene, speeds, request.samples)
     if not found.result.feasible:
-        raise CamcadError(f"the scene's cyclogram is infeasible, so it has no phase angles ({found.result.explanation})",
+        raise CamcadError("the scene's cyclogram is infeasible, so it has no phase angles "
+                          f"({found.result.explanation})",
                           f"{scene.path} [cyclogram]", "run camcad cyclogram to see the conflict, or use "
                           "--phase-angles law")
     phases = found.phases.get(mech.name)

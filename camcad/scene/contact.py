@@ -200,7 +200,7 @@ def contact_step(scene, mech, law, speeds: list[float], samples: int, angles=Non
     return MechanismContact(mech.name, report, at_worst, sweep, angles, least)
 
 
-def _min_force(scene, mech, law, speeds, samples, params) -> dict:
+def _min_force(scene, mech, law, speeds, samples, params) -> dict | None:
     """The smallest normal force (N) over the speeds and where: the force-closed follower's hold on the cam."""
     from camcad.contact import contact_stress
     from camcad.scene.mechanism import contact_geometry, phase_grid, phases_deg

@@ -18,10 +18,7 @@ pressure-angle limits (camcad.profile.defaults). As TOML::
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from camcad.profile import defaults
-from camcad.scene.file import Scene, scene_from_dict
 
 
 def default_phases() -> str:
@@ -44,8 +41,3 @@ def default_tables() -> dict:
                      "pressure_angle_limit_rise": defaults.PRESSURE_ANGLE_LIMIT_RISE_DEG,
                      "pressure_angle_limit_return": defaults.PRESSURE_ANGLE_LIMIT_RETURN_DEG},
     }
-
-
-def default_scene() -> Scene:
-    """The default design as a ``Scene`` (built in memory, not read from a file)."""
-    return scene_from_dict(default_tables(), Path("built-in default"), from_file=False)

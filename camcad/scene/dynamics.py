@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -249,7 +249,7 @@ def lead_in_request(option: str | None, src) -> tuple[float, float] | None:
         from camcad.scene.filter import parse_filter
 
         settings = parse_filter(table, src.section_where("filter"))
-        return settings.lead_in_deg, settings.lead_in_fraction
+        return cast(float, settings.lead_in_deg), settings.lead_in_fraction  # the table states lead_in_deg
     return None
 
 

@@ -182,7 +182,7 @@ def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
     if step is not None:
         if not (math.isfinite(step) and step > 0):
             raise CamcadError(f"the speed step must be positive, got {step:g}", where, fix)
-        count = int(math.floor((high - low) / step + 1e-9))
+        count = math.floor((high - low) / step + 1e-9)
         if count > 100_000:
             raise CamcadError(f"{count} speeds is too many", where, "use a larger step")
         speeds = [low + step * i for i in range(count + 1)]

@@ -12,7 +12,6 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
@@ -205,13 +204,6 @@ def _mechanisms(raw: dict, path: Path) -> tuple[Mechanism, ...]:
                           "add a [law] section (and [follower]), or [mechanisms.NAME] tables")
     name = raw.get("name", path.stem)
     return (Mechanism(str(name), {key: raw[key] for key in top}, ""),)
-
-
-def speeds_or_option(scene: Scene, rpm_option: Any = None) -> list[float] | None:
-    """The speeds of a ``--rpm`` option when given, else the scene's [machine] rpm (None when neither)."""
-    if rpm_option is not None:
-        return parse_speeds(rpm_option, "--rpm")
-    return list(scene.speeds_rpm) if scene.speeds_rpm else None
 
 
 def mechanism_law(scene: Scene, mech: Mechanism, phases=None):

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -39,6 +39,7 @@ from camcad.fourier.export import ExportedLaw, export_polyline
 from camcad.fourier.filter import FilterResult, filter_law
 from camcad.fourier.leadin import LeadInResult, add_lead_in
 from camcad.fourier.resonance import resonant_harmonics
+from camcad.fourier.series import Spectrum
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 from camcad.scene.fields import Field, parse_rpm, read_table
 from camcad.verdict import Check, Verdict, Warning
@@ -521,6 +522,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
         from camcad.scene.dynamics import parse_dynamics
 
         natural = parse_dynamics(src.section("dynamics"), src.section_where("dynamics")).follower.natural_frequency_hz
+    speeds: tuple[float, float] | None
     if request.law.rpm is not None:
         speeds = parse_rpm(request.law.rpm, "--rpm")
     else:
@@ -554,7 +556,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
                                                                   else [])))
     max_err = dict(zip(shown, fourier.max_errors(law, result, shown))) if shown else {}
     if least is not None and least > count:
-        max_err[least] = float(fourier.max_errors(law, grown, [least])[0])
+        max_err[least] = float(fourier.max_errors(law, cast(Spectrum, grown), [least])[0])  # set with least
     lift = float(np.ptp(law.kinematics(np.linspace(0.0, law.cycle, 4097)).s))
     rows = result.table() if resonance is not None else result.table()[:settings.harmonics]
     for row in rows:
@@ -578,7 +580,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
         body[unit_key("tol_mm", unit)] = tol
         body["least_harmonics"] = least
         if least is not None:
-            body["rms_error_at_least_harmonics"] = float(grown.rms_error(least))
+            body["rms_error_at_least_harmonics"] = float(cast(Spectrum, grown).rms_error(least))
     if resonance is not None:
         body["resonance"] = {"fn_hz": resonance.fn_hz, "rpm": list(resonance.rpm), "band": resonance.band,
                              "k_band": [resonance.k_low, resonance.k_high], "resonant": list(resonance.core),

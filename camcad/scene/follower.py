@@ -3,15 +3,13 @@
 
 from __future__ import annotations
 
-
 import math
-
+from typing import cast
 
 from camcad.errors import CamcadError
-from camcad.scene.fields import Field, read_table
 from camcad.profile import defaults
 from camcad.profile.followers import FOLLOWER_KINDS, Follower
-
+from camcad.scene.fields import Field, read_table
 
 # --------------------------------------------------------------------------------------------
 # Scene section [follower]
@@ -142,8 +140,9 @@ def follower_for_law(table, where: str, law):
     notes: list[str] = []
     scale = 1.0
     if follower.kind == "oscillating":
-        law = swing_law(law, arm_mm=follower.arm, swing_deg=swing_of(table, where))
-        scale = follower.arm      # ψ (rad) → arc of the roller centre (mm)
+        arm = cast(float, follower.arm)  # parse_follower validated it
+        law = swing_law(law, arm_mm=arm, swing_deg=swing_of(table, where))
+        scale = arm      # ψ (rad) → arc of the roller centre (mm)
     if read_table(table, FOLLOWER_FIELDS, where)["auto_base_radius"]:
         design = min_base_radius(law, follower)
         if design.rb_min is None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 from camcad.errors import CamcadError, excerpt
 from camcad.scene.fields import Field, read_table
@@ -139,10 +140,11 @@ def build_law(spec: LawSpec) -> BuiltLaw:
     from camcad.law.standard import compose
 
     if spec.standard is not None:
-        phases = parse_phases(spec.phases, spec.cycle, where=f"{spec.where} phases")
+        # parse_law refuses a standard law without phases and lift
+        phases = parse_phases(cast(str, spec.phases), spec.cycle, where=f"{spec.where} phases")
         widths = [(p.kind, (p.end - p.start) * 180.0 / 3.141592653589793) for p in phases]
         try:
-            law = compose(widths, spec.lift, spec.standard, spec.return_standard, cycle_deg=spec.cycle)
+            law = compose(widths, cast(float, spec.lift), spec.standard, spec.return_standard, cycle_deg=spec.cycle)
         except ValueError as err:
             raise CamcadError(str(err), spec.where, "give as many returns as rises, covering the cycle") from None
         name = spec.standard + (f"/{spec.return_standard}" if spec.return_standard else "")
@@ -151,7 +153,7 @@ def build_law(spec: LawSpec) -> BuiltLaw:
     from camcad.balance.correction import correct
     from camcad.law.source import load_law
 
-    loaded = load_law(spec.file, layer=spec.layer, handle=spec.handle,
+    loaded = load_law(cast(Path, spec.file), layer=spec.layer, handle=spec.handle,
                       cycle_deg=spec.cycle if spec.cycle_stated else None, lift=spec.lift,
                       phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
     report = check(loaded.law, spec.tol)

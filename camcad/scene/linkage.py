@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -272,7 +272,8 @@ def build_linkage(spec: LinkageSpec, pivot_xy: tuple[float, float], arm_angle0: 
             raise CamcadError("input_offset needs the follower's arm angle on the base circle", spec.where,
                               "give input_angle (deg, absolute) instead")
         theta0 = arm_angle0 + math.radians(v["input_offset"])
-    loops = [Loop(tuple(pivot_xy), v["output_pivot"], v["input_link"], v["coupler"], v["output_link"], v["branch"])]
+    loops = [Loop((pivot_xy[0], pivot_xy[1]), v["output_pivot"], v["input_link"], v["coupler"], v["output_link"],
+                  v["branch"])]
     couplings: tuple[float, ...] = ()
     if spec.type == "sixbar":
         loops.append(Loop(v["output_pivot"], v["output_pivot_2"], v["input_link_2"], v["coupler_2"],
@@ -353,8 +354,9 @@ class LinkageContext:
         from camcad.linkage.adjust import Adjustment, adjusted
         from camcad.linkage.transfer import LinkageTransfer
 
-        adj = adjustment_of(self.spec.adjust)
-        lk = adjusted(self.linkage, adj, setting_value(self.spec.adjust, value))
+        adj_spec = cast(AdjustSpec, self.spec.adjust)  # asked only of a linkage with [linkage.adjust]
+        adj = adjustment_of(adj_spec)
+        lk = adjusted(self.linkage, adj, setting_value(adj_spec, value))
         return replace(self, transfer=LinkageTransfer(lk, self.psi_max), linkage=lk, setting=value, notes=[]) \
             if isinstance(adj, Adjustment) else self
 
@@ -411,7 +413,10 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         return swing_law(follower_law, arm_mm=follower.arm, swing_deg=follower_values["swing"])
 
     notes: list[str] = []
-    transfer, linkage, psi_max = None, None, None
+    # by spec.type: a RatioTransfer, TableTransfer or LinkageTransfer; the Linkage of a four/six-bar; ψ_max
+    transfer: Any = None
+    linkage: Any = None
+    psi_max: Any = None
     out_scale = unit_scale(spec.output_unit)
     if spec.type == "ratio":
         from camcad.linkage.transfer import RatioTransfer
@@ -424,7 +429,8 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         in_unit = spec.values["input_unit"]
         if (in_unit == "mm") == rotary_in:
             raise CamcadError(f"input_unit {in_unit!r} does not fit a {follower.kind} follower", where,
-                              'use input_unit = "deg" (or "rad") for an oscillating follower, "mm" for a translating one')
+                              'use input_unit = "deg" (or "rad") for an oscillating follower, '
+                              '"mm" for a translating one')
         rows = np.array(spec.rows, dtype=float)
         transfer = TableTransfer(rows[:, 0] * unit_scale(in_unit), rows[:, 1] * out_scale, unit_in,
                                  "mm" if spec.output_unit == "mm" else "rad", where)
@@ -440,8 +446,8 @@ def linkage_context(scene, mech, law) -> LinkageContext:
             from camcad.profile.followers import arm_angle_on_base_circle
 
             arm_angle0 = math.pi - arm_angle_on_base_circle(sized)
-        linkage = orient(build_linkage(spec, (follower.pivot, 0.0), arm_angle0), spec.values["output_direction"],
-                         where)
+        pivot = cast(float, follower.pivot)  # a four/six-bar has an oscillating follower (refused above)
+        linkage = orient(build_linkage(spec, (pivot, 0.0), arm_angle0), spec.values["output_direction"], where)
     if law_of == "output":
         y_max = _law_extreme(law) * out_scale
         if spec.type in ("fourbar", "sixbar"):
@@ -468,7 +474,8 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         psi_max = float(np.max(psi)) if psi_max is None or spec.type != "table" else psi_max
         if spec.type == "table" and float(np.max(psi)) > transfer.psi_max * (1 + 1e-12):
             raise CamcadError(f"the follower moves to {_fmt(float(np.max(psi)), unit_in)}, beyond the table's "
-                              f"{_fmt(transfer.psi_max, unit_in)}", where, "extend the table over the follower's stroke")
+                              f"{_fmt(transfer.psi_max, unit_in)}", where,
+                              "extend the table over the follower's stroke")
         if spec.type == "table":
             psi_max = float(np.max(psi))
         if spec.type in ("fourbar", "sixbar"):
@@ -637,7 +644,7 @@ MODEL_FIGURES = {"dynamics": ("peak_accel_ratio", max), "impact": ("rebound_mm",
 def _settings_report(scene, mech, run, speeds, options, steps, context: LinkageContext, mu_limit) -> dict:
     from camcad.linkage.adjust import characteristics
 
-    adj_spec = context.spec.adjust
+    adj_spec = cast(AdjustSpec, context.spec.adjust)  # reported only for a linkage with [linkage.adjust]
     adj = adjustment_of(adj_spec)
     rows = []
     for value in adj_spec.settings:

@@ -12,14 +12,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.scene.stretch import PhaseStretch, least_angle
 from camcad.law.law import Phase
 from camcad.scene.file import Mechanism, Scene, mechanism_law
+from camcad.scene.stretch import PhaseStretch, least_angle
 
 #: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
 PRESSURE_SAMPLES = 361
@@ -59,7 +59,7 @@ class ContactGeometry:
     follower_radius: float
     kind: str
 
-    def arrays(self) -> tuple:
+    def arrays(self) -> tuple[Any, Any, Any, Any, Any, Any, float, Any]:
         return (self.theta, self.s, self.v, self.a, self.pressure_angle, self.rho, self.follower_radius,
                 self.rho_back)
 
@@ -108,7 +108,7 @@ def pressure_angle_limit_of(follower, kind: str) -> float | None:
 def phase_pressure_function(law, follower_table: dict, index: int, where: str, samples: int):
     """φ_max(t): the largest |pressure angle| (deg) over phase ``index`` of ``law`` stretched to t deg;
     +inf when the stretched cam undercuts (no pressure angle is meaningful there)."""
-    from camcad.profile.synth import refine_max
+    from camcad.profile.synth import Extremum, refine_max
 
     phases = phases_deg(law)
 
@@ -121,7 +121,8 @@ def phase_pressure_function(law, follower_table: dict, index: int, where: str, s
             return np.abs(cam.pressure_angle(t))
 
         # the grid's best point refined by a bounded Brent search, as the profile's own check does
-        return float(np.degrees(refine_max(magnitude, theta, magnitude(theta)).value))
+        # |φ| is finite on the grid, so the refined maximum exists
+        return float(np.degrees(cast(Extremum, refine_max(magnitude, theta, magnitude(theta))).value))
 
     return phi_max
 
@@ -183,7 +184,7 @@ class LimitMemo:
         return found
 
 
-def _solve(memo: "LimitMemo | None", key: tuple, relation, limit, lower, upper, **kwargs):
+def _solve(memo: LimitMemo | None, key: tuple, relation, limit, lower, upper, **kwargs):
     if memo is None:
         return least_angle(relation, limit, lower, upper, **kwargs)
     return memo.solve(key, relation, limit, lower, upper, **kwargs)
@@ -209,7 +210,8 @@ def stretched_phase(phases, index: int, width_deg: float):
     stretched = stretch_phase(phases, index, width_deg)
     kind = phases[index][2]
     start = phases[index][0]
-    candidates = [(a, b) for a, b, k in stretched if k == kind and abs((b - a) - width_deg) <= 1e-9 * max(1.0, width_deg)]
+    candidates = [(a, b) for a, b, k in stretched
+                  if k == kind and abs((b - a) - width_deg) <= 1e-9 * max(1.0, width_deg)]
     bounds = min(candidates, key=lambda ab: abs(ab[0] - start))
     return stretched, bounds
 

@@ -13,13 +13,14 @@ no step fills in a physical quantity the scene did not give.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from camcad.errors import CamcadError
-from camcad.scene.mechanism import LimitMemo
 from camcad.scene.file import Mechanism, Scene, mechanism_law, read_scene
+from camcad.scene.mechanism import LimitMemo
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
 CONTACT_SAMPLES = 2000
@@ -170,7 +171,8 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
     say = progress or (lambda _text: None)
     if not scene.mechanisms:
         raise CamcadError("the scene has no mechanism to make a profile of", str(scene.path),
-                          "add [law] and [follower], or [mechanisms.NAME] tables (camcad cyclogram runs a bare network)")
+                          "add [law] and [follower], or [mechanisms.NAME] tables "
+                          "(camcad cyclogram runs a bare network)")
     group = bool(scene.mechanisms[0].prefix)
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
         from camcad.scene.cyclogram import parse_cyclogram
@@ -276,7 +278,7 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     else:
         run.skipped["profile"] = "no [follower] in scene"
     # 5 dynamics, 6 impact, 7 contact
-    for section, step, needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
+    for section, step, _needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
                                  ("contact", _contact, "materials and loads")):
         key = "impact" if section == "stops" else section
         if not mech.has(section):

@@ -133,7 +133,8 @@ def stop_model(request: ImpactRequest, src) -> StopModel:
         ratio = _option(request.ratio, "--ratio", by_name["ratio"]) or 1.0
         if not f_stop > f_free:
             raise CamcadError(f"f_free {f_free:g} Hz must be below f_stop {f_stop:g} Hz (need f_free < f_stop: the "
-                              "stop adds stiffness)", "--f-free/--f-stop", "give the frequency on the stop above the free one")
+                              "stop adds stiffness)", "--f-free/--f-stop",
+                              "give the frequency on the stop above the free one")
         c = mass * (2.0 * math.pi * f_free)**2
         model = StopModel(mass, c, mass * (2.0 * math.pi * f_stop)**2 - c, restitution, zeta, preload, stop, ratio,
                           allowed)

@@ -21,14 +21,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
 from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
-from camcad.numerics import brent_root
 from camcad.law.law import Kinematics
+from camcad.numerics import brent_root
 from camcad.profile.geometry import CamGeometry, oscillating_track, pitch_geometry, translating_track
 from camcad.profile.scaled_law import law_breakpoints
 
@@ -64,7 +65,7 @@ class PhaseStretch:
     u: np.ndarray
 
     @classmethod
-    def sample(cls, cam: CamGeometry, scale: float, phases_deg, index: int, samples: int) -> "PhaseStretch":
+    def sample(cls, cam: CamGeometry, scale: float, phases_deg, index: int, samples: int) -> PhaseStretch:
         """Uniform samples on the phase (``samples`` points, ends included) plus its inner breakpoints."""
         start, end, _ = phases_deg[index]
         width = math.radians(end - start)
@@ -114,7 +115,7 @@ class PhaseStretch:
                           j=np.ravel(kin.j))
         f = self.cam.follower
         if f.kind == "oscillating":
-            track = oscillating_track(flat, f.pivot, f.arm, self.cam.gamma0)
+            track = oscillating_track(flat, cast(float, f.pivot), cast(float, f.arm), self.cam.gamma0)
         else:
             track = translating_track(flat, self.cam.height, f.offset)
         return pitch_geometry(flat.theta, track, self.cam.sigma)

@@ -132,7 +132,7 @@ def default_objectives(keys: dict[str, str]) -> list[Objective]:
     largest least margin ratio (the design farthest from every limit)."""
     numeric = [k for k, kind in keys.items() if kind in ("float", "int")]
     radii = [k for k in numeric if k.endswith("base_radius")]
-    first = (radii or numeric or [None])[0]
+    first = next(iter(radii or numeric), None)
     out = [Objective("min", first)] if first else []
     return out + [Objective("max", "min_margin_ratio")]
 
@@ -149,6 +149,7 @@ def per_grid_point(cols: dict[str, np.ndarray], samples: int, grid_keys: list[st
     ``yield`` (fraction of feasible draws), ``governing`` (the check that failed worst most often, else the
     tightest), ``min_margin_ratio`` (worst), and each objective's column (worst over the draws).
     """
+    out: dict[str, Any]
     if samples <= 1:
         out = {name: cols[name] for name in ["design", *grid_keys, "feasible", "governing", "min_margin_ratio"]}
         out["feasible"] = cols["feasible"] & (cols["status"] == STATUS_OK)
@@ -161,7 +162,7 @@ def per_grid_point(cols: dict[str, np.ndarray], samples: int, grid_keys: list[st
     points, starts = np.unique(grid[order], return_index=True)
     ends = np.append(starts[1:], len(order))
     feasible_draw = cols["feasible"] & (cols["status"] == STATUS_OK)
-    out: dict[str, Any] = {"design": points * samples}
+    out = {"design": points * samples}
     for key in grid_keys:
         out[key] = cols[key][order][starts]
     out["feasible"] = np.array([feasible_draw[order[a:b]].all() and b - a == samples for a, b in zip(starts, ends)])

@@ -140,7 +140,8 @@ class Prepared:
     def clean(self, text: str) -> str:
         """A message with the worker's own folder replaced by the scene's name: the same text on any worker."""
         if self.folder is not None:
-            text = text.replace(str(self.folder.resolve()), "<scene folder>").replace(str(self.folder), "<scene folder>")
+            text = text.replace(str(self.folder.resolve()), "<scene folder>")
+            text = text.replace(str(self.folder), "<scene folder>")
         return text
 
 

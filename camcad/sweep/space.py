@@ -409,10 +409,6 @@ class DesignSpace:
         return tuple(s for s in self.specs if not s.random)
 
     @property
-    def random_specs(self) -> tuple[Spec, ...]:
-        return tuple(s for s in self.specs if s.random)
-
-    @property
     def grid_size(self) -> int:
         return int(math.prod(self.shape)) if self.shape else 1
 
@@ -446,10 +442,6 @@ class DesignSpace:
                 s, i = next(grid_specs)
                 out[spec.key.path] = s.values[int(i)]
         return out
-
-    def grid_point(self, design: int) -> int:
-        """The grid index of a design (designs of one grid point differ only in their draws)."""
-        return int(design) // self.samples
 
 
 def build_space(tables: dict, vary: list[str], samples: int | None = None, seed: int = 0) -> DesignSpace:

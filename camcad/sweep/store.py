@@ -21,7 +21,6 @@ import json
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
 
 from camcad.errors import CamcadError
 
@@ -208,10 +207,3 @@ def write_manifest(path: Path, data: dict) -> Path:
     from camcad.io.jsonout import write_json
 
     return write_json(path, data)
-
-
-def json_safe(value: Any) -> Any:
-    """NaN and inf become None (JSON has neither)."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

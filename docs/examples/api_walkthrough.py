@@ -61,7 +61,8 @@ print("== fourier")
 harmonic = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")
 spectrum = camcad.analyse(harmonic, 8)
 print(f"s = 10 - 10 cos θ: mean {spectrum.mean:.9f} mm, A1 {spectrum.amplitudes[0]:.9f} mm, "
-      f"phase {math.degrees(spectrum.phases[0]):.6f} deg, A2..A8 < 1e-12: {bool(spectrum.amplitudes[1:].max() < 1e-12)}")
+      f"phase {math.degrees(spectrum.phases[0]):.6f} deg, "
+      f"A2..A8 < 1e-12: {bool(spectrum.amplitudes[1:].max() < 1e-12)}")
 band = camcad.resonant_harmonics(100.0, (300.0, 400.0))
 print(f"fn 100 Hz over 300-400 rpm, ±5 %: k in [{band.k_low:g}, {band.k_high:g}], resonant {list(band.core)}")
 filtered = camcad.filter_law(law, band, harmonics=32)
