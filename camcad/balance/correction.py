@@ -1,4 +1,4 @@
-"""Area balance of a drawn acceleration law: the check, and every way of correcting it.
+"""Correcting the area balance: one entry point (``correct``) for every mode, the least change solved exactly.
 
 The conditions (Dupliak & Kotsiyba 2018, seed 003, eqs. 1–3; θ in rad, the law starts from rest
 at s = 0): the velocity is zero at the end of every rise and every return (the accelerating and
