@@ -345,3 +345,19 @@ def test_real_drawings_and_singular_laws_give_a_result_or_one_clear_line(cli, tm
         assert file_digest(source) == digest
     if name == "jumps.csv":
         assert result.code == 0 and (tmp_path / "out.csv").exists()
+
+
+@pytest.mark.parametrize("tol", ["-1", "0", "nan", "2"])
+def test_a_tolerance_that_is_not_a_fraction_of_the_rise_is_refused(cli, tol):
+    for command in ("check", "fix"):
+        drawing = SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf"
+        extra = ("-o", "/dev/null/x.dxf") if command == "fix" else ()
+        result = cli(command, drawing, f"--tol={tol}", *extra)
+        assert result.code == 2, (command, result.out, result.err)
+        assert "is not a fraction of the rise" in result.err and len(result.err.strip().splitlines()) == 1
+
+
+def test_check_on_a_scene_file_says_it_is_a_scene(cli):
+    result = cli("check", SAMPLES / "scenes" / "loom_group1.toml")
+    assert result.code == 2
+    assert "this is a scene file, not a drawn law" in result.err and "camcad profile SCENE" in result.err

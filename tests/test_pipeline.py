@@ -186,3 +186,13 @@ def test_a_law_file_name_with_a_nul_byte_is_one_clear_line(cli, tmp_path, comman
     assert result.code == 2, (result.out, result.err)
     lines = result.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("camcad: error: ") and "internal error" not in lines[0], result.err
+
+
+def test_the_verdict_line_counts_the_warnings_a_signer_must_weigh(cli, tmp_path):
+    # loom group 1 passes every check, but a profile radius of 1.43 mm and a contact safety factor of 1
+    # are warned of: the last line must not read as a clean pass
+    result = cli("profile", SCENES / "loom_group1.toml", "-o", tmp_path, "--no-plots")
+    warned = [line for line in result.out.splitlines() if line.strip().startswith("WARN")]
+    assert any("1.43 mm" in line for line in warned)
+    last = result.out.strip().splitlines()[-1]
+    assert last == f"verdict: all checks passed; {len(warned)} warnings (WARN above) to weigh before signing", last

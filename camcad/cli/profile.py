@@ -265,7 +265,18 @@ def _print_report(report: dict) -> None:
     if report.get("outputs"):
         folder = Path(report["outputs"][-1]).parent
         out.print(f"wrote {len(report['outputs'])} files into {folder}/")
-    out.print("verdict: all checks passed" if report["passed"] else "verdict: FAILED (see the checks above)")
+    warnings = _warning_count(report)
+    plural = "s" if warnings > 1 else ""
+    noted = f"; {warnings} warning{plural} (WARN above) to weigh before signing" if warnings else ""
+    out.print(("verdict: all checks passed" if report["passed"] else "verdict: FAILED (see the checks above)") + noted)
+
+
+def _warning_count(report: dict) -> int:
+    """The WARN lines printed for the mechanisms of ``report``."""
+    from camcad.report.verdict_text import verdict_lines
+
+    mechanisms = report.get("mechanisms") or {"": report}
+    return sum(status == "warn" for mech in mechanisms.values() for status, _ in verdict_lines(mech))
 
 
 def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) -> None:

@@ -208,6 +208,9 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     for name, value in (("--y0", y0), ("--x0", x0)):
         if value is not None and not (np.isfinite(value) and abs(value) < 1e100):
             raise CamcadError(f"{name} {value:g} is not a finite coordinate", name, "give the drawing coordinate")
+    if path.suffix.lower() == ".toml":
+        raise CamcadError("this is a scene file, not a drawn law", str(path),
+                          "give a drawing (.dxf) or a table (.csv, .txt); a scene runs with camcad profile SCENE")
     if _is_table(path):
         return _from_table(path, cycle_deg, lift, phases, y0, x0)
     drawing = open_drawing(path)

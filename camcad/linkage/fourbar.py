@@ -196,9 +196,10 @@ def output_derivatives(a: float, b: float, c: float, d: float, theta, branch: in
     beta = output_angle(a, b, c, d, theta, branch)
     lam = coupler_angle(a, b, c, d, theta, beta)
     s = np.sin(beta - lam)
-    d_beta = a * np.sin(theta - lam) / (c * s)
-    d_lam = a * np.sin(theta - beta) / (b * s)
-    dd_beta = (a * np.cos(theta - lam) + b * d_lam ** 2 - c * d_beta ** 2 * np.cos(beta - lam)) / (c * s)
+    with np.errstate(divide="ignore", invalid="ignore"):  # inf/nan at a dead point, as documented: no warning
+        d_beta = a * np.sin(theta - lam) / (c * s)
+        d_lam = a * np.sin(theta - beta) / (b * s)
+        dd_beta = (a * np.cos(theta - lam) + b * d_lam ** 2 - c * d_beta ** 2 * np.cos(beta - lam)) / (c * s)
     return beta, d_beta, dd_beta
 
 
