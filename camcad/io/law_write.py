@@ -229,16 +229,37 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     Parameters
     ----------
     loaded : camcad.law.source.LoadedLaw
+        The law as read (``camcad.load_law``): its file, curve and mapping to the input's units.
     law : PiecewiseLinearLaw
-        The corrected law.
+        The corrected law (θ in rad, a in mm/rad²).
     out : str or Path
+        The file to write (.dxf, or a table); written atomically, never over the input.
     resampled : bool
         The corrected law has other vertices than the drawn one.
 
     Returns
     -------
     (Path, list of str)
-        The written path and notes saying what was written.
+        The written path and notes saying what was written (θ in deg, a in the input's y units; no
+        unit of its own).
+
+    Examples
+    --------
+    The corrected law of ``camcad.correct``'s example, saved as a table in the input's dialect: θ in deg
+    and a in the table's own units, which read back as the balanced law:
+
+    >>> import math, tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> rows = [(0, 0), (45, 1), (90, 0), (135, -1), (180, 0), (225, -1), (270, 0), (315, 1.2), (360, 0)]
+    >>> _ = (folder / "law.csv").write_text("".join(f"{t},{a}\\n" for t, a in rows))
+    >>> loaded = camcad.load_law(folder / "law.csv", lift=10.0)
+    >>> fixed = camcad.correct(loaded.law)
+    >>> path, notes = camcad.write_corrected(loaded, fixed.law, folder / "law.fixed.csv")
+    >>> notes
+    ['the corrected law is written as a table of 9 rows']
+    >>> camcad.check(camcad.load_law(path, lift=10.0).law).balanced
+    True
     """
     from camcad.io.table_read import write_table
 
