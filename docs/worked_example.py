@@ -59,14 +59,15 @@ def run(folder: Path, camcad: str = "camcad",
         skip: tuple[str, ...] = ()) -> list[tuple[Step, subprocess.CompletedProcess]]:
     """Run every step in ``folder`` (the samples it names copied in), except those whose program is in
     ``skip``; return each step and its result."""
-    for step in steps():
+    found = steps()
+    for step in found:
         for word in shlex.split(step.command):
             if word.startswith("samples/"):
                 (folder / word).parent.mkdir(parents=True, exist_ok=True)
                 shutil.copy2(ROOT / word, folder / word)
     env = {**os.environ, "COLUMNS": "200", "QT_QPA_PLATFORM": "offscreen"}
     out = []
-    for step in steps():
+    for step in found:
         words = shlex.split(step.command)
         if words[0] in skip:
             continue

@@ -13,6 +13,7 @@ from camcad.balance.conditions import (
     Condition,
     conditions,
     functional_rows,
+    valid_tol,
 )
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
@@ -109,6 +110,7 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
     >>> round(report.velocity_closure["return"] - 4 / math.pi, 12)
     0.0
     """
+    tol = valid_tol(tol)
     x, a = law.x, law.a
     areas = {"rise_accel": 0.0, "rise_decel": 0.0, "return_accel": 0.0, "return_decel": 0.0}
     closure = {"rise": 0.0, "return": 0.0}

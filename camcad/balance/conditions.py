@@ -8,15 +8,25 @@ keeps the value it had as drawn — linear in the ordinates too, with a non-zero
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw
 
 MODES = ("min-change", "extrema", "extrema-resample", "keypoints", "segment", "phase", "phase-keypoints")
 METHODS = ("exact", "iterate")
 DEFAULT_TOL = 1e-5       # of the rise displacement
+
+
+def valid_tol(tol: float) -> float:
+    """The closure tolerance, a fraction of the rise: finite, positive and below 1 (else a CamcadError)."""
+    if not (math.isfinite(tol) and 0.0 < tol < 1.0):
+        raise CamcadError(f"tolerance {tol:g} is not a fraction of the rise in (0, 1)", "--tol",
+                          "give e.g. --tol 1e-5 (the default)")
+    return float(tol)
 DEFAULT_STEP_DEG = 0.1   # the source's resampling step
 DEFAULT_MAX_STRETCH = 0.05
 QUANTITIES = ("v", "s", "rise")

@@ -1,33 +1,10 @@
 """Correcting the area balance: one entry point (``correct``) for every mode, the least change solved exactly.
 
-The conditions (Dupliak & Kotsiyba 2018, seed 003, eqs. 1–3; θ in rad, the law starts from rest
-at s = 0): the velocity is zero at the end of every rise and every return (the accelerating and
-decelerating areas of each phase balance), and the displacement comes back to its start at the
-end of the cycle (rise = −return, the profile closes). With v(0) = s(0) = 0,
-
-    v(θc) = ∫₀^θc a dθ,        s(θc) = ∫₀^θc (θc − τ) a(τ) dτ,
-
-both *linear* in the ordinates a_i of the drawn polyline. So every condition is a row of a small
-matrix C (one row per condition, one column per vertex), computed exactly from the piecewise-linear
-shape functions, and a correction δ that restores balance solves C δ = −C a.
-
-Correction modes (SPEC.md; the source's list (a)–(g)):
-- ``min-change``: the δ of least ∫ δa(θ)² dθ — the smallest change of the drawn curve as a function —
-  over all vertices that are off the axis, solved exactly with the polyline's mass matrix M
-  (δ = −M⁻¹Cᵀ (C M⁻¹ Cᵀ)⁻¹ C a); vertices on the axis (dwells, phase boundaries) stay put.
-- ``extrema``: only the local maximum and minimum points move, equal neighbours together (b).
-- ``extrema-resample``: the curve is resampled with the step and each lobe is scaled as a whole so its
-  extremum takes the new value, every point recomputed from it (c).
-- ``keypoints``: every vertex off the axis moves, least sum of squared vertex changes (d).
-- ``segment``: only the vertices in a chosen angle range move (e).
-- ``phase``: the decelerating part of each phase and then the whole last return are stretched in
-  angle with the ordinates kept (closed form: a stretch f scales an area by f and a displacement
-  by f²); a neighbouring dwell takes up the change (f).
-- ``phase-keypoints``: a phase stretch limited to ``max_stretch``, then key points for the rest (g).
-- ``move``: the user's point is set where they put it and held; the mode rebalances the rest (a).
-Each vertex mode can also run the source's own loop, ``method="iterate"``: resample with ``step_deg``,
-integrate with the trapezoidal rule, raise or lower the points by trial steps until the areas agree
-within the tolerance.
+The balance conditions and what each mode moves are described once, in the package docstring
+(``camcad.balance``). Here every mode meets the same path: the conditions as rows of C
+(``balance.conditions``), the columns a mode may use (``balance.modes``, ``balance.phase``), the least
+change δ solving C δ = −C a (or the source's loop, ``balance.iterate``), the user's ``--move`` edits held,
+and the balance checked again, exactly, before and after.
 """
 
 from __future__ import annotations
@@ -45,6 +22,7 @@ from camcad.balance.conditions import (
     MODES,
     conditions,
     lift_conditions,
+    valid_tol,
 )
 from camcad.balance.modes import _resample, _vertex_mode
 from camcad.balance.phase import _phase_mode
@@ -203,8 +181,7 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
         raise CamcadError(f"unknown method {method!r}", where or "--method", "use exact or iterate")
     if mode == "segment" and segment_deg is None:
         raise CamcadError("mode segment needs the angle range", where or "--segment", "add --segment A:B (deg)")
-    if not (np.isfinite(tol) and tol > 0):
-        raise CamcadError(f"tolerance {tol!r} must be a positive number", "--tol", "give e.g. --tol 1e-5")
+    valid_tol(tol)
     before = check(law, tol)
     peak = float(np.max(np.abs(law.a)))
     notes: list[str] = []

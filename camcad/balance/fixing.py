@@ -15,15 +15,13 @@ What ``fix_law`` promises (docs/fix.md):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
 from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
-from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL
+from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL, valid_tol
 from camcad.balance.correction import Correction, correct
-from camcad.errors import CamcadError
 from camcad.verdict import note_line
 
 # ---------------------------------------------------------------------------------------------
@@ -97,17 +95,9 @@ def check_law(loaded, tol: float = DEFAULT_TOL, *, trapezoid: bool = False,
     -------
     CheckReport
     """
-    _valid_tol(tol)
     report = check(loaded.law, tol)
     extra = check_by_trapezoid(loaded.law, tol, step_deg) if trapezoid else None
     return CheckReport(loaded.source, tuple(loaded.notes), report, extra)
-
-
-def _valid_tol(tol: float) -> None:
-    """The closure tolerance is a fraction of the rise: positive, finite and below 1."""
-    if not (math.isfinite(tol) and 0.0 < tol < 1.0):
-        raise CamcadError(f"tolerance {tol:g} is not a fraction of the rise in (0, 1)", "--tol",
-                          "give e.g. --tol 1e-5 (the default)")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -258,7 +248,7 @@ def fix_law(loaded, mode: str = "min-change", *, output: str | Path | None = Non
     from camcad.io.law_write import write_corrected
     from camcad.io.output_folder import refuse_input
 
-    _valid_tol(tol)
+    valid_tol(tol)   # before anything is written
     out = Path(output) if output is not None else default_output(loaded)
     refuse_input(out, [loaded.path], "-o")
     law_moves = [(float(theta), float(value) * loaded.y_scale) for theta, value in moves]

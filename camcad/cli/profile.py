@@ -259,27 +259,19 @@ def _print_report(report: dict) -> None:
     out.print(title)
     mechanisms = report.get("mechanisms")
     if mechanisms:
-        _print_group(out, report)
+        warnings = _print_group(out, report)
     else:
-        _print_mechanism(out, report, "  ", show_skipped=report.get("scene") != "command line")
+        warnings = _print_mechanism(out, report, "  ", show_skipped=report.get("scene") != "command line")
     if report.get("outputs"):
         folder = Path(report["outputs"][-1]).parent
         out.print(f"wrote {len(report['outputs'])} files into {folder}/")
-    warnings = _warning_count(report)
     plural = "s" if warnings > 1 else ""
     noted = f"; {warnings} warning{plural} (WARN above) to weigh before signing" if warnings else ""
     out.print(("verdict: all checks passed" if report["passed"] else "verdict: FAILED (see the checks above)") + noted)
 
 
-def _warning_count(report: dict) -> int:
-    """The WARN lines printed for the mechanisms of ``report``."""
-    from camcad.report.verdict_text import verdict_lines
-
-    mechanisms = report.get("mechanisms") or {"": report}
-    return sum(status == "warn" for mech in mechanisms.values() for status, _ in verdict_lines(mech))
-
-
-def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) -> None:
+def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) -> int:
+    """Print one mechanism's lines; return how many WARN lines were printed."""
     follower = mech.get("follower") or {}
     law = mech.get("law") or {}
     if isinstance(law, dict):
@@ -315,12 +307,15 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
         out.print(f"{indent}skipped    {key}: {why}")
     for note in mech.get("notes", []):
         out.print(f"{indent}note       {note}")
+    return sum(status == "warn" for status, _ in lines)
 
 
-def _print_group(out, report: dict) -> None:
+def _print_group(out, report: dict) -> int:
+    """Print every mechanism and the cyclogram; return how many WARN lines were printed."""
+    warnings = 0
     for name, mech in report["mechanisms"].items():
         out.print(f"{name}:")
-        _print_mechanism(out, mech, "  ")
+        warnings += _print_mechanism(out, mech, "  ")
     cyclogram = report.get("cyclogram")
     if cyclogram:
         if cyclogram.get("feasible"):
@@ -333,3 +328,4 @@ def _print_group(out, report: dict) -> None:
             out.print(f"cyclogram infeasible: {cyclogram.get('explanation', '')}")
     elif "cyclogram" in report.get("skipped", {}):
         out.print(f"cyclogram skipped ({report['skipped']['cyclogram']})")
+    return warnings

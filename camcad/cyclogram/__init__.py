@@ -22,8 +22,9 @@ Angles are degrees throughout this module (the cyclogram is an interface quantit
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from camcad.lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
     from camcad.cyclogram.conflicts import find_conflict, longest_path_times
@@ -58,17 +59,7 @@ _EXPORTS: dict[str, str] = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 __all__ = [

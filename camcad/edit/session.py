@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 from camcad.balance import MODES, BalanceReport, Correction, check, correct, difference_norms
+from camcad.balance.conditions import DEFAULT_TOL, valid_tol
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_text_atomic
 from camcad.io.law_write import write_corrected
@@ -62,8 +63,6 @@ from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import detect_phases, zero_threshold
 from camcad.law.source import LoadedLaw, VertexMap
 
-#: default closure tolerance, a fraction of the rise (the same as ``camcad check``/``fix``)
-DEFAULT_TOL = 1e-5
 #: how many undo steps are kept (each a law; laws that differ only in ordinates share their angles)
 MAX_UNDO = 200
 #: a phase keeps at least this width when its boundary is dragged (deg)
@@ -360,10 +359,8 @@ class EditSession:
 
     def __init__(self, loaded: LoadedLaw, *, tol: float = DEFAULT_TOL, input_path: Path | None = None,
                  where: str = "") -> None:
-        if not (math.isfinite(tol) and tol > 0):
-            raise CamcadError(f"tolerance {tol!r} must be a positive number", "--tol", "give e.g. --tol 1e-5")
         self.loaded = loaded
-        self.tol = float(tol)
+        self.tol = valid_tol(tol)
         self.input_path = Path(input_path) if input_path is not None else None
         self.where = where or str(loaded.path)
         problems = law_problems(loaded.law)

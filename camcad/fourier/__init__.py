@@ -42,8 +42,9 @@ Recipes, 3rd ed. (2007), §13.9 (Fourier integrals of piecewise polynomials).
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from camcad.lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
     from camcad.fourier.analysis import HEADROOM, analyse, analyse_samples, exact_available, least_harmonics, max_errors
@@ -132,17 +133,7 @@ _EXPORTS: dict[str, str] = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 __all__ = [

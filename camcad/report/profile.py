@@ -215,7 +215,7 @@ def draw_curvature(ax, result) -> None:
     cap = 3.0 * (f.prime_radius + float(np.ptp(t.s)) * (f.arm if f.kind == "oscillating" else 1.0))
     shown = np.concatenate((t.rho_profile, t.rho_pitch if f.kind != "flat" else t.rho_profile))
     shown = shown[np.isfinite(shown) & (np.abs(shown) <= cap)]
-    top = max(1.15 * float(shown.max(initial=0.0)), 2.0 * f.roller_radius, 10.0)
+    top = max(1.35 * float(shown.max(initial=0.0)), 2.0 * f.roller_radius, 10.0)   # headroom for the legend
     bottom = min(1.15 * float(shown.min(initial=0.0)), -0.15 * top)
 
     def shown_part(rho: np.ndarray) -> np.ndarray:
@@ -225,8 +225,8 @@ def draw_curvature(ax, result) -> None:
     _shade_phases(ax, result)
     if f.kind != "flat" and f.roller_radius > 0.0:
         ax.axhspan(0.0, f.roller_radius, color=FORBIDDEN, lw=0,
-                   label=f"undercut zone: convex pitch ρ ≤ Rr = {f.roller_radius:g} mm")
-        ax.plot(deg, shown_part(t.rho_pitch), lw=1.2, color="#7f7f7f", ls="--", label="pitch curve ρ")
+                   label=f"undercut: pitch ρ ≤ Rr {f.roller_radius:g} mm")
+        ax.plot(deg, shown_part(t.rho_pitch), lw=1.2, color="#7f7f7f", ls="--", label="pitch ρ")
     if f.rho_min is not None:
         ax.axhline(f.rho_min, color="#b03a2e", lw=1.0, ls=":", label=f"limit ρ_min = {f.rho_min:g} mm")
     ax.plot(deg, shown_part(t.rho_profile), lw=1.6, color="#1f4e79", label="profile ρ")
@@ -239,7 +239,7 @@ def draw_curvature(ax, result) -> None:
     ax.set_ylabel("radius of curvature ρ (mm), + convex, − concave")
     ax.set_xlabel("cam angle θ (deg)")
     ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10)
-    ax.legend(loc="upper center", fontsize=8)
+    ax.legend(loc="upper center", fontsize=8, ncol=3)   # one row, in the headroom left above the curves
     _theta_axis(ax)
 
 
