@@ -9,12 +9,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from camcad.scene.contact import CONTACT_FIELDS
 from camcad.scene.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
-from camcad.scene.stops import STOPS_FIELDS
 from camcad.scene.dynamics import DYNAMICS_FIELDS
 from camcad.scene.filter import FILTER_FIELDS
-from camcad.scene.law import law_fields
 from camcad.scene.follower import FOLLOWER_FIELDS
+from camcad.scene.law import law_fields
 from camcad.scene.linkage import ADJUST_FIELDS, LINKAGE_FIELDS
+from camcad.scene.stops import STOPS_FIELDS
 
 SECTIONS = [("law", law_fields(), "camcad.scene.law"), ("follower", FOLLOWER_FIELDS, "camcad.scene.follower"),
             ("linkage", LINKAGE_FIELDS, "camcad.scene.linkage"),

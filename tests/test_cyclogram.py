@@ -1,7 +1,9 @@
 """Cyclogram network, LP optimisation, conflicts, phase-angle limits and phase feedback.
 
 Independent references: a longest-path dynamic programme over a topological order written here
-(for precedence-only networks, the LP optimum must equal it), hand-worked networks (comments give
+(for precedence-only networks, the optimum must equal it), the source's linear programme solved by
+scipy's HiGHS (``lp_reference``, written here: optimise() finds the same schedule by longest paths),
+hand-worked networks (comments give
 the arithmetic), and the source's linear rebound relation a = −0.003 t + 0.208 (Podgorny et al.
 2018), whose limit a ≤ 0.1 mm gives t ≥ (0.208 − 0.1)/0.003 = 36 deg in closed form.
 """
@@ -18,7 +20,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+from camcad.cyclogram.conflicts import find_conflict
 from camcad.cyclogram.constraints import constraints_of
 from camcad.cyclogram.limits import LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
 from camcad.cyclogram.lp import optimise
@@ -171,21 +173,47 @@ def test_lp_equals_longest_path_on_precedence_networks(case):
     assert total == pytest.approx(earliest[-1], rel=1e-9, abs=1e-6 * len(path))
 
 
+def lp_reference(network):
+    """The source's LP (minimise p(end) − p(start) s.t. p(head) − p(tail) ≥ weight), then the earliest
+    schedule with that makespan (minimise Σ p), by scipy's HiGHS: event times, or None when infeasible."""
+    import numpy as np
+    from scipy.optimize import linprog
+
+    constraints = constraints_of(network)
+    index = {event: k for k, event in enumerate(network.events)}
+    n = len(index)
+    a_ub = np.zeros((len(constraints), n))
+    for row, c in enumerate(constraints):    # p(tail) − p(head) ≤ −weight
+        a_ub[row, index[c.tail]] += 1.0
+        a_ub[row, index[c.head]] -= 1.0
+    b_ub = np.array([-c.weight for c in constraints])
+    bounds = [(None, None)] * n
+    bounds[index[network.start]] = (network.start_deg, network.start_deg)
+    options = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+    goal = np.zeros(n)
+    goal[index[network.end]] = 1.0
+    first = linprog(goal, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
+    if first.status == 2:
+        return None
+    assert first.status == 0, first.message
+    bounds[index[network.end]] = (None, first.x[index[network.end]] + 1e-9)
+    second = linprog(np.ones(n), A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
+    assert second.status == 0, second.message
+    return {event: float(second.x[index[event]]) for event in network.events}
+
+
 @settings(max_examples=60, deadline=None)
 @given(precedence_networks(), st.data())
-def test_lp_agrees_with_bellman_ford_with_upper_bounds(case, data):
-    # with upper bounds the constraint graph has backward arcs; the LP (earliest schedule) must equal
-    # Bellman–Ford longest paths, and be infeasible exactly when those find a positive cycle
+def test_longest_paths_agree_with_the_lp_with_upper_bounds(case, data):
+    # with upper bounds the constraint graph has backward arcs; optimise() (longest paths) must give the
+    # LP's earliest schedule, and be infeasible exactly when the LP is
     _n, weights = case
     ops = []
     for (i, j), w in weights.items():
         upper = data.draw(st.one_of(st.just(math.inf), st.floats(w, w + 80.0)))
         ops.append(Operation(str(i), str(j), w, upper))
     network = make_network(ops, cycle_deg=1e6)
-    try:
-        reference = longest_path_times(network)
-    except CamcadError:
-        reference = None
+    reference = lp_reference(network)
     result = optimise(network, strict=False)
     assert result.feasible == (reference is not None)
     if reference is None:

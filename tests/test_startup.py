@@ -20,8 +20,9 @@ try:
     main(sys.argv[1:])
 except SystemExit:
     pass
+SUB = ('scipy.', 'camcad.', 'numpy.ma', 'numpy.polynomial')
 print("\\nMODULES" + json.dumps(sorted({name.split('.')[0] for name in sys.modules} |
-                                      {name for name in sys.modules if name.startswith(('scipy.', 'camcad.'))})))
+                                      {name for name in sys.modules if name.startswith(SUB)})))
 """
 
 
@@ -44,7 +45,7 @@ def test_the_default_profile_without_plots_needs_no_optimiser_and_no_plotting(tm
     modules = imported("profile", "--no-plots", "-o", str(tmp_path / "out"), cwd=tmp_path)
     assert "numpy" in modules and "ezdxf" in modules
     for unneeded in ("scipy.optimize", "matplotlib", "pydantic", "rich", "camcad.fourier", "camcad.dynamics",
-                     "camcad.cyclogram.lp", "scipy.sparse"):
+                     "camcad.cyclogram.lp", "scipy.sparse", "numpy.ma", "numpy.polynomial"):
         assert unneeded not in modules, unneeded
 
 

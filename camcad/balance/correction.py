@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.balance.checking import BalanceReport, check
 from camcad.balance.conditions import (
     DEFAULT_MAX_STRETCH,
@@ -331,7 +332,7 @@ def _zero_dwells(law: PiecewiseLinearLaw, notes: list[str]) -> PiecewiseLinearLa
 
 def difference_norms(first: PiecewiseLinearLaw, second: PiecewiseLinearLaw) -> tuple[float, float]:
     """(max |Δa|, RMS of Δa over the cycle) between two piecewise-linear laws, exact (mm/rad²)."""
-    breaks = np.unique(np.concatenate((first.x, second.x)))
+    breaks = unique(np.concatenate((first.x, second.x)))
     left = breaks[:-1]
     right = breaks[1:]
     length = right - left

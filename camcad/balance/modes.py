@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.balance.checking import _scale
 from camcad.balance.conditions import (
     Condition,
@@ -79,7 +80,7 @@ def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
     jumps = law.x[:-1][np.diff(law.x) == 0]
     boundaries = np.array([p.start for p in law.phases] + [p.end for p in law.phases])
     held = law.x[hold]
-    knots = np.unique(np.concatenate((grid, jumps, boundaries, held)))
+    knots = unique(np.concatenate((grid, jumps, boundaries, held)))
     x_parts, a_parts = [], []
     for t in knots:
         at = np.flatnonzero(law.x == t)
@@ -151,7 +152,7 @@ def _extrema_columns(law: PiecewiseLinearLaw, free: np.ndarray):
     keep = np.asarray(vals) != 0.0
     basis = sparse.csc_matrix((np.asarray(vals)[keep], (np.asarray(rows, dtype=int)[keep],
                                                         np.asarray(cols, dtype=int)[keep])), shape=(n, col))
-    return basis, np.unique(np.asarray(rows, dtype=int)[keep])
+    return basis, unique(np.asarray(rows, dtype=int)[keep])
 
 
 def _basis(law: PiecewiseLinearLaw, mode: str, free: np.ndarray, segment_deg, where: str):
@@ -182,7 +183,7 @@ def _basis(law: PiecewiseLinearLaw, mode: str, free: np.ndarray, segment_deg, wh
         cols.extend([col] * len(group))
         vals.extend(list(law.a[group]))  # a lobe scales: every point moves in proportion
     return sparse.csc_matrix((vals, (rows, cols)), shape=(n, len(groups))), True, \
-        np.unique(np.concatenate(groups)) if groups else np.array([], dtype=int)
+        unique(np.concatenate(groups)) if groups else np.array([], dtype=int)
 
 
 def lobes(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:

@@ -1,4 +1,4 @@
-"""Cyclogram of a group of mechanisms: a network of events and operations, optimised by LP.
+"""Cyclogram of a group of mechanisms: a network of events and operations, its least makespan by longest paths.
 
 Model (Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) 2018 44–54, seed 000,
 after Hendrickson & Janson, Civil Engineering Systems 1 (1984) 195–203):
@@ -13,7 +13,8 @@ finding on a monotone relation (``least_phase_angle``).
 
 Every constraint is a difference constraint p(head) ≥ p(tail) + weight: a lower bound is an arc
 x → y of weight [φ], an upper bound an arc y → x of weight −φ_max, the cycle an arc N → 1 of
-weight −cycle. The LP optimum is therefore a longest path from 1 to N in that graph, and the
+weight −cycle. The LP optimum is therefore a longest path from 1 to N in that graph (which is how
+``optimise`` finds it: Bellman–Ford, no LP solver), and the
 system is infeasible exactly when the graph has a cycle of positive weight; such a simple cycle is
 an irreducible conflicting set (drop any one of its constraints and the rest can be met).
 
@@ -27,7 +28,7 @@ from typing import TYPE_CHECKING
 from camcad.lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
-    from camcad.cyclogram.conflicts import find_conflict, longest_path_times
+    from camcad.cyclogram.conflicts import find_conflict
     from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
     from camcad.cyclogram.limits import INADMISSIBLE, LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
     from camcad.cyclogram.lp import CyclogramResult, optimise
@@ -49,7 +50,6 @@ _EXPORTS: dict[str, str] = {
     "find_cycle": "camcad.cyclogram.network",
     "format_phases": "camcad.cyclogram.retime",
     "least_phase_angle": "camcad.cyclogram.limits",
-    "longest_path_times": "camcad.cyclogram.conflicts",
     "make_network": "camcad.cyclogram.network",
     "operation_timing": "camcad.cyclogram.retime",
     "optimise": "camcad.cyclogram.lp",
@@ -76,7 +76,6 @@ __all__ = [
     "find_cycle",
     "format_phases",
     "least_phase_angle",
-    "longest_path_times",
     "make_network",
     "operation_timing",
     "optimise",

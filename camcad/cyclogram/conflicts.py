@@ -3,15 +3,11 @@
 
 from __future__ import annotations
 
-import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 
 import numpy as np
 
-from camcad.cyclogram.constraints import Constraint, constraints_of
-from camcad.cyclogram.limits import PhaseLimit
-from camcad.cyclogram.network import Network
-from camcad.errors import CamcadError
+from camcad.cyclogram.constraints import Constraint
 
 
 def find_conflict(events: Iterable[str], constraints: list[Constraint], tol_deg: float = 1e-9,
@@ -113,27 +109,3 @@ def _predecessor_cycle(pred: np.ndarray) -> list[tuple[int, int]]:
         v = int(pred[v])
     # cycle lists v, pred(v), pred(pred(v)), ...: the arcs run the other way
     return [(cycle[k + 1] if k + 1 < len(cycle) else cycle[0], cycle[k]) for k in range(len(cycle))][::-1]
-
-
-def longest_path_times(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None
-                       ) -> dict[str, float]:
-    """Earliest event times (deg) by Bellman–Ford longest paths from the first event, ignoring the
-    cycle constraint: the second method the LP is checked against. Raises CamcadError on a positive
-    cycle (infeasible bounds)."""
-    constraints = [c for c in constraints_of(network, limits) if c.kind != "cycle"]
-    times = {e: -math.inf for e in network.events}
-    times[network.start] = network.start_deg
-    for _ in range(len(network.events)):
-        changed = False
-        for c in constraints:
-            if times[c.tail] + c.weight > times[c.head] + 1e-12:
-                times[c.head] = times[c.tail] + c.weight
-                changed = True
-        if not changed:
-            return times
-    raise CamcadError("the bounds contradict each other (a positive cycle)", "cyclogram",
-                      "see the conflict reported by optimise()")
-
-
-
-

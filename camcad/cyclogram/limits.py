@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from camcad.cyclogram.network import Network
 from camcad.errors import CamcadError
+from camcad.numerics import brent_root
 
 # --------------------------------------------------------------------------------------------
 # Phase-angle limits: the least t with relation(t) <= limit, by root finding
@@ -66,15 +67,14 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
 
     Bracket check: if relation(lower) ≤ limit the lower end is returned (not binding); if
     relation(upper) > limit no phase angle in the interval is admissible and a CamcadError says so.
-    Otherwise scipy's brentq finds the crossing relation(t) = limit to ``xtol_deg`` (absolute, deg),
+    Otherwise Brent's method (``camcad.numerics.brent_root``: no scipy import for this) finds the
+    crossing relation(t) = limit to ``xtol_deg`` (absolute, deg),
     in a handful of evaluations — no scan. For a monotone relation the crossing is the least
     admissible t; for a non-monotone one it is *a* crossing inside the bracket.
 
     The relation may return +inf for an inadmissible t (e.g. the profile undercuts); NaN is an error.
     Units: t deg; relation and limit in the same unit (MPa, mm, ...).
     """
-    from scipy.optimize import brentq
-
     count = 0
 
     def excess(t: float) -> float:
@@ -101,8 +101,8 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
             f"{label}even the longest phase angle {upper_deg:g} deg gives {source} {reached} "
             f"> the limit {limit:g}", what or source,
             "raise the operation's upper bound, or change the law, materials or loads")
-    root = brentq(excess, lower_deg, upper_deg, xtol=xtol_deg, maxiter=max_iter)
-    # brentq returns a point within xtol of the sign change, on either side; at a jump to an
+    root = brent_root(excess, lower_deg, upper_deg, xtol=xtol_deg, maxiter=max_iter)
+    # Brent's method returns a point within xtol of the sign change, on either side; at a jump to an
     # inadmissible value (e.g. an undercut) step to the admissible side
     step = xtol_deg
     while excess(root) >= INADMISSIBLE and root < upper_deg:

@@ -1,13 +1,20 @@
-"""The cyclogram optimisation: minimise the makespan by LP (HiGHS) over difference constraints.
+"""The cyclogram optimisation: the least makespan over difference constraints, by longest paths.
+
+Every constraint of a cyclogram is a difference constraint p(head) − p(tail) ≥ weight (lower bounds,
+upper bounds as backward arcs, the cycle). The least makespan and the earliest schedule are then the
+longest-path distances from the first event (Bellman–Ford), and the bounds are infeasible exactly when
+the constraint graph has a positive cycle. This is the linear programme of the source (minimise
+p(N) − p(1)) solved exactly by its combinatorial structure, without scipy.optimize (0.6 s of CPU to
+import, which a scene run otherwise does not need); tests/test_cyclogram.py checks it against scipy's
+LP (HiGHS) and against a dynamic programme over a topological order.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
-
-import numpy as np
 
 from camcad.cyclogram.conflicts import find_conflict
 from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
@@ -88,14 +95,15 @@ def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
 
 
 def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
-             strict: bool = True, tight_tol_deg: float = 1e-6, lp_tol: float = 1e-10,
+             strict: bool = True, tight_tol_deg: float = 1e-6,
              where: str = "[cyclogram]") -> CyclogramResult:
-    """The cyclogram of least makespan p(end) − p(start), by linear programming (scipy linprog, HiGHS).
+    """The cyclogram of least makespan p(end) − p(start) under the difference constraints.
 
-    Stage 1 minimises p(end) with p(start) = start_deg under all difference constraints
-    p(head) − p(tail) ≥ min, ≤ max; stage 2 minimises Σ p with the makespan held, which picks the
-    earliest schedule (the least element of the feasible set, unique) so that the event times do not
-    depend on the solver's path. A constraint is tight when its slack ≤ ``tight_tol_deg``; the active
+    The linear programme — minimise p(end) with p(start) = start_deg under p(head) − p(tail) ≥ min,
+    ≤ max, then the earliest schedule with that makespan (the least element of the feasible set,
+    unique) — is solved exactly by its structure: the earliest times are the longest-path distances
+    from the first event over the constraint arcs (Bellman–Ford), and there is no schedule exactly when
+    the arcs hold a positive cycle. A constraint is tight when its slack ≤ ``tight_tol_deg``; the active
     bounds are the tight ones on a start→end path of tight constraints (a longest path).
 
     Parameters
@@ -109,10 +117,6 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
         Raise CamcadError when infeasible; otherwise return a result with ``feasible`` False.
     tight_tol_deg : float
         Slack below which a constraint counts as tight, deg.
-    lp_tol : float
-        HiGHS's primal and dual feasibility tolerance, deg (the accuracy knob: the times are exact to
-        about that times the number of operations on a path; HiGHS's own default, 1e-7, would round
-        away bounds that small).
     where : str
         What to name in an error message.
 
@@ -133,8 +137,8 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     ----------
     Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): minimise p(N) − p(1) subject to
     p(x) ≤ p(y) − t(x, y), t(x, y) ≥ [φ(x, y)].
-    Q. Huangfu, J. A. J. Hall, "Parallelizing the dual revised simplex method", Mathematical
-    Programming Computation 10 (2018) 119–142 (HiGHS).
+    T. H. Cormen et al., Introduction to Algorithms, 3rd ed. (2009), §24.4 (difference constraints and
+    shortest paths; longest paths are the same with the signs turned).
 
     Examples
     --------
@@ -155,56 +159,75 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     >>> camcad.optimise(tight, strict=False).explanation
     'the cyclogram is infeasible: t(a->b) >= 30 deg (bounds_deg); t(b->c) >= 45 deg (bounds_deg); t(a->c) <= 60 deg (bounds_deg) cannot all hold (together they overrun by 15 deg)'
     """  # noqa: E501 - a doctest's expected output is one line
-    from scipy.optimize import linprog
-    from scipy.sparse import csr_matrix
-
     constraints = constraints_of(network, limits)
     lower = effective_lower_bounds(network, limits)
-    index = {event: k for k, event in enumerate(network.events)}
-    n = len(network.events)
-    m = len(constraints)
-    # p(tail) − p(head) ≤ −weight
-    rows = np.repeat(np.arange(m), 2)
-    cols = np.array([[index[c.tail], index[c.head]] for c in constraints]).ravel()
-    data = np.tile([1.0, -1.0], m)
-    a_ub = csr_matrix((data, (rows, cols)), shape=(m, n))
-    b_ub = np.array([-c.weight for c in constraints])
-    bounds: list[tuple[float | None, float | None]] = [(None, None)] * n
-    bounds[index[network.start]] = (network.start_deg, network.start_deg)
-    objective = np.zeros(n)
-    objective[index[network.end]] = 1.0
-    options = {"primal_feasibility_tolerance": lp_tol, "dual_feasibility_tolerance": lp_tol}
-    first = linprog(objective, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
-    if first.status == 2:
-        conflict = find_conflict(network.events, constraints)
+    times, settled = _longest_paths(network, constraints)
+    # a cycle that keeps lengthening the paths is a contradiction when it overruns by more than
+    # find_conflict's tolerance (1e-9 deg); below that the schedule holds to round-off
+    conflict = [] if settled else find_conflict(network.events, constraints)
+    if conflict:
         # read the cycle from the first event when it passes there
         lead = next((k for k, c in enumerate(conflict) if c.tail == network.start), 0)
         conflict = conflict[lead:] + conflict[:lead]
-        explanation = _explain(conflict, first.message)
+        explanation = _explain(conflict, "a positive cycle of the constraints")
         result = CyclogramResult(network, False, lower_bounds_deg=lower, conflict=tuple(conflict),
-                                 explanation=explanation, solver_message=first.message)
+                                 explanation=explanation, solver_message="infeasible (a positive cycle)")
         if strict:
             result.raise_if_infeasible(where)
         return result
-    if first.status != 0:
-        raise CamcadError(f"the LP solver failed: {first.message}", where,
-                          "check the bounds for extreme values; report it if they are sensible")
-    makespan = float(first.x[index[network.end]]) - network.start_deg
-    # stage 2: hold the makespan (with the solver's tolerance) and take the earliest times
-    hold = network.start_deg + makespan + 10.0 * lp_tol * max(1.0, abs(makespan))
-    bounds[index[network.end]] = (None, hold)
-    second = linprog(np.ones(n), A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs", options=options)
-    if second.status != 0:
-        raise CamcadError(f"the LP solver failed on the earliest schedule: {second.message}", where,
-                          "report it with the scene")
-    times = {event: float(second.x[index[event]]) for event in network.events}
+    makespan = times[network.end] - network.start_deg
     phase_angles = {op.label: times[op.head] - times[op.tail] for op in network.operations}
     slack = [times[c.head] - times[c.tail] - c.weight for c in constraints]
     tight = [c for c, gap in zip(constraints, slack) if gap <= tight_tol_deg and c.kind != "cycle"]
     active, path = _critical(network, tight)
     cycle_slack = network.cycle_deg - makespan
     return CyclogramResult(network, True, makespan, times, phase_angles, tuple(path), tuple(active),
-                           lower, cycle_slack_deg=cycle_slack, solver_message=second.message)
+                           lower, cycle_slack_deg=cycle_slack, solver_message="optimal (longest paths)")
+
+
+def _longest_paths(network: Network, constraints: list[Constraint], tol: float = 1e-12
+                   ) -> tuple[dict[str, float], bool]:
+    """Longest-path distances from the first event (held at ``start_deg``) over the constraint arcs
+    tail → head of length weight (Bellman–Ford: at most one pass per event), and whether they settled;
+    they do not when a positive cycle keeps lengthening them. An arc is relaxed only when it lengthens
+    a distance by more than ``tol`` relative, so a cycle that closes to round-off (an upper bound equal
+    to a sum of lower bounds) is not taken for a positive one."""
+    rank = _topological_rank(network)
+    # the operations' arcs in topological order settle in one pass; the backward arcs (upper bounds,
+    # the cycle) after them, each may need one more
+    constraints = sorted(constraints, key=lambda c: (c.kind != "min", rank[c.tail]))
+    times = {e: -math.inf for e in network.events}
+    times[network.start] = network.start_deg
+    for _ in range(len(network.events) + 1):
+        changed = False
+        for c in constraints:
+            reach = times[c.tail] + c.weight
+            if reach > times[c.head] + tol * max(1.0, abs(reach)):
+                if c.head == network.start:    # the first event is held: a cycle through it is positive
+                    return times, False
+                times[c.head] = reach
+                changed = True
+        if not changed:
+            return times, True
+    return times, False
+
+
+def _topological_rank(network: Network) -> dict[str, int]:
+    """Each event's place in a topological order of the operations (Kahn; the network is acyclic)."""
+    successors: dict[str, list[str]] = {e: [] for e in network.events}
+    waiting = dict.fromkeys(network.events, 0)
+    for op in network.operations:
+        successors[op.tail].append(op.head)
+        waiting[op.head] += 1
+    ready = [e for e in network.events if waiting[e] == 0]
+    rank: dict[str, int] = {}
+    for event in ready:              # the list grows as events become ready
+        rank[event] = len(rank)
+        for nxt in successors[event]:
+            waiting[nxt] -= 1
+            if waiting[nxt] == 0:
+                ready.append(nxt)
+    return rank
 
 
 def _critical(network: Network, tight: list[Constraint]) -> tuple[list[Constraint], list[str]]:

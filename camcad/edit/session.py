@@ -53,6 +53,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.balance import MODES, BalanceReport, Correction, check, correct, difference_norms
 from camcad.balance.conditions import DEFAULT_TOL, valid_tol
 from camcad.errors import CamcadError
@@ -211,7 +212,7 @@ def sampled_law(law, step_deg: float = 0.5) -> PiecewiseLinearLaw:
     count = max(round(math.degrees(cycle) / step_deg), 8)
     grid = np.linspace(0.0, cycle, count + 1)
     bounds = sorted({float(p.start) for p in law.phases} | {float(p.end) for p in law.phases})
-    knots = np.unique(np.concatenate((grid, bounds)))
+    knots = unique(np.concatenate((grid, bounds)))
     a = law.kinematics(knots).a
     a[-1] = law.kinematics(np.array([cycle - 1e-12 * cycle])).a[0]
     peak = max(float(np.max(np.abs(a))), 1e-300)

@@ -29,6 +29,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import FancyBboxPatch, Polygon, Rectangle
 from matplotlib.transforms import blended_transform_factory
 
+from camcad.arrays import union
 from camcad.balance import MODES
 from camcad.edit.session import (
     EditSession,
@@ -309,7 +310,7 @@ class EditorView:
         if len(law.x) > DENSE:
             theta = law.x
         else:
-            theta = np.union1d(law.x, np.linspace(0.0, law.cycle, 1441))
+            theta = union(law.x, np.linspace(0.0, law.cycle, 1441))
         kin = law.kinematics(theta)
         return deg, y, np.degrees(theta), kin.v, kin.s
 

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import analyse
 from camcad.fourier.filter import _evaluation_grid, _jumps_and_phase_ends, _knots_of
@@ -36,7 +37,7 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
         # a densely drawn base: keep its jumps and the phase ends, sample the rest on the grid
         breaks = _jumps_and_phase_ends(law)
     knots = np.concatenate((grid, breaks, np.asarray(extra_knots, dtype=float)))
-    knots = np.unique(knots[(knots >= 0.0) & (knots <= cycle)])
+    knots = unique(knots[(knots >= 0.0) & (knots <= cycle)])
     right = law.kinematics(knots).a
     left = law.kinematics(np.nextafter(knots, -np.inf).clip(0.0)).a
     left[0] = right[0]

@@ -9,6 +9,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.fourier.analysis import analyse
 from camcad.fourier.resonance import ResonanceBand
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, evaluate_series
@@ -38,7 +39,7 @@ def _knots_of(law) -> np.ndarray:
         points += list(law.x)
     if isinstance(law, CorrectedLaw):
         points += list(_knots_of(law.base))
-    return np.unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
+    return unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
 
 
 def _jumps_and_phase_ends(law) -> np.ndarray:
@@ -49,7 +50,7 @@ def _jumps_and_phase_ends(law) -> np.ndarray:
         base = base.base
     if isinstance(base, PiecewiseLinearLaw):
         points += list(base.x[:-1][np.diff(base.x) == 0])
-    return np.unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
+    return unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
 
 
 def _evaluation_grid(law, samples: int) -> np.ndarray:
@@ -58,7 +59,7 @@ def _evaluation_grid(law, samples: int) -> np.ndarray:
     knots = _knots_of(law)
     knots = knots[(knots >= 0) & (knots <= law.cycle)]
     left = np.nextafter(knots, -np.inf)
-    return np.unique(np.concatenate((grid, knots, left[left >= 0])))
+    return unique(np.concatenate((grid, knots, left[left >= 0])))
 
 
 def start_accelerations(law, window: float, samples: int = 512) -> list[float]:

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.fourier.export import _left_value, _right_value, acceleration_polyline
 from camcad.fourier.filter import _evaluation_grid, motion_starts
@@ -115,7 +116,7 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
         a_right = _right_value(base, start)
         jumps_before.append(abs(a_right - _left_value(base, start)))
         outside = (xs < lo) | (xs > start)
-        inside_grid = np.unique(xs[(xs > lo) & (xs < start)])
+        inside_grid = unique(xs[(xs > lo) & (xs < start)])
         x_new = np.concatenate((xs[outside], [lo, lo], inside_grid, [start, start]))
         a_new = np.concatenate((as_[outside], [a_left, level], np.full(len(inside_grid), level), [level, a_right]))
         order = np.argsort(x_new, kind="stable")

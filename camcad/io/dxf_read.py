@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input, utf16_without_bom
 
@@ -787,7 +788,7 @@ def _knot_points(entity, points: np.ndarray) -> np.ndarray:
         tool = entity.construction_tool()
         knots = np.asarray(tool.knots(), dtype=float)
         order = int(tool.order)
-        inner = np.unique(knots[order - 1: len(knots) - order + 1])
+        inner = unique(knots[order - 1: len(knots) - order + 1])
         return _checked(np.array([[p.x, p.y] for p in (tool.point(float(t)) for t in inner)], dtype=float))
     except Exception:  # noqa: BLE001 - the flattening's ends then stand for the spline's points
         return points[[0, -1]]

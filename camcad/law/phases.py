@@ -18,6 +18,7 @@ from itertools import pairwise
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.numerics import brent_root
@@ -113,10 +114,10 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
     ``runs`` are the law's ``sign_runs``.
     """
     law = _motion_law(x, a, start, end)
-    grid = np.unique(np.concatenate(([start, end], x[(x > start) & (x < end)])))
+    grid = unique(np.concatenate(([start, end], x[(x > start) & (x < end)])))
     # velocity is quadratic on each segment: a few interior samples catch every sign change
     fraction = np.linspace(0.0, 1.0, 9)
-    fine = np.unique(np.append(grid[:-1, None] + np.diff(grid)[:, None] * fraction[None, :-1], grid[-1]))
+    fine = unique(np.append(grid[:-1, None] + np.diff(grid)[:, None] * fraction[None, :-1], grid[-1]))
     v = law.kinematics(fine - start).v
     peak = float(np.max(np.abs(v)))
     first_sign = 1 if _first_lobe_sign(runs, start, end) > 0 else -1

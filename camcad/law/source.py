@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.io.chain import find_law
 from camcad.io.dxf_read import Curve, Drawing, collect_pieces, open_drawing, units_note
@@ -400,7 +401,7 @@ def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: floa
     if ("rise" in kinds) == ("return" in kinds):
         return
     theta = np.linspace(0.0, law.cycle, 2049)
-    v = law.kinematics(np.unique(np.concatenate((theta, law.x)))).v
+    v = law.kinematics(unique(np.concatenate((theta, law.x)))).v
     if abs(v[-1]) > PART_CYCLE_REST_FRACTION * float(np.max(np.abs(v))):
         return
     has, lacks = ("rise", "return") if "rise" in kinds else ("return", "rise")

@@ -27,6 +27,7 @@ from typing import Protocol
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.law.law import Kinematics, Phase, wrap
 
 
@@ -131,14 +132,21 @@ class Polynomial:
     coefficients: tuple[float, ...]  # c_0, c_1, … (powers of u)
 
     def evaluate(self, u: np.ndarray, order: int) -> np.ndarray:
-        return np.polynomial.polynomial.polyval(u, self._derivatives[order])
+        coefficients = self._derivatives[order]
+        out = np.full_like(u, coefficients[-1], dtype=float)
+        for c in reversed(coefficients[:-1]):  # Horner's rule, highest power first
+            out *= u
+            out += c
+        return out
 
     @functools.cached_property
-    def _derivatives(self) -> tuple[np.ndarray, ...]:
-        """Coefficients of f and its first three derivatives (computed once; evaluated by Horner's rule)."""
-        coefficients = np.asarray(self.coefficients, dtype=float)
-        return tuple(np.polynomial.polynomial.polyder(coefficients, order) if order else coefficients
-                     for order in range(4))
+    def _derivatives(self) -> tuple[tuple[float, ...], ...]:
+        """Coefficients of f and its first three derivatives (computed once): d/du Σ c_k u^k = Σ k c_k u^(k−1)."""
+        out = [tuple(float(c) for c in self.coefficients)]
+        for _ in range(3):
+            previous = out[-1]
+            out.append(tuple(k * previous[k] for k in range(1, len(previous))) or (0.0,))
+        return tuple(out)
 
     def peaks(self) -> PeakCoefficients:
         """sup |f^(k)|, k = 1..3, taken at the real roots of f^(k+1) in [0, 1] and at the ends.
@@ -326,7 +334,7 @@ class CompositeLaw:
         # each θ belongs to one segment, [start, end) (the last one closed at the cycle's end); a
         # zero-width segment holds no θ
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in np.unique(index):
+        for k in unique(index):
             seg = self.segments[k]
             inside = index == k
             level = self._levels[k]

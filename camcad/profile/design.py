@@ -32,6 +32,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.arrays import union
 from camcad.law.law import MotionLaw
 from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
@@ -263,7 +264,7 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     """
     from camcad.profile.scaled_law import law_breakpoints
 
-    one_lobe = np.union1d(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
+    one_lobe = union(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
     notes: list[str] = []
     rb_rho: float | None
 

@@ -50,6 +50,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.law.law import Kinematics, MotionLaw
 from camcad.profile.followers import Follower, arm_angle_on_base_circle
@@ -257,7 +258,7 @@ class CamGeometry:
         one = law_breakpoints(self.law)
         cycle = float(self.law.cycle)
         points = np.concatenate([one + k * cycle for k in range(self.lobes)])
-        return merge_close(np.unique(np.clip(points, 0.0, 2.0 * math.pi)), 0.0, 2.0 * math.pi)
+        return merge_close(unique(np.clip(points, 0.0, 2.0 * math.pi)), 0.0, 2.0 * math.pi)
 
     def kinematics(self, theta: np.ndarray) -> Kinematics:
         return self.law.kinematics(np.asarray(theta, dtype=float))

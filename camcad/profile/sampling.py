@@ -37,6 +37,7 @@ from itertools import pairwise
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.profile.geometry import CurveGeometry, cross, dot, perp
 
@@ -51,7 +52,7 @@ MAX_NODES = 3_000_000
 
 def _pieces(lo: float, hi: float, breakpoints) -> np.ndarray:
     inner = np.asarray([b for b in np.asarray(breakpoints, dtype=float) if lo < b < hi])
-    return np.unique(np.concatenate(([lo], inner, [hi])))
+    return unique(np.concatenate(([lo], inner, [hi])))
 
 
 def _density(curve: CurveFn, theta: np.ndarray, tol: float) -> np.ndarray:
@@ -91,7 +92,7 @@ def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=
             nodes.append(np.linspace(grid[0], grid[-1], chords + 1)[1:])
     out = np.concatenate(nodes)
     out[-1] = hi
-    return np.unique(out)
+    return unique(out)
 
 
 def _peak(samples: np.ndarray) -> np.ndarray:
@@ -271,7 +272,7 @@ def _redistribute(nodes: np.ndarray, intervals_wanted: np.ndarray, edges: np.nda
     for c0, c1 in pairwise(at_edges):
         count = max(1, int(np.ceil(c1 - c0)))
         out.append(np.interp(np.linspace(c0, c1, count + 1)[1:], cumulative, nodes))
-    merged = np.unique(np.concatenate(out))
+    merged = unique(np.concatenate(out))
     merged[-1] = nodes[-1]
     return merged
 

@@ -17,6 +17,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.arrays import union
 from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw
 from camcad.numerics import bounded_minimum
@@ -452,7 +453,7 @@ def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -
 def analysis_grid(geometry: CamGeometry, step_deg: float) -> np.ndarray:
     """Uniform θ over the cam's turn (rad) with the law's breakpoints added."""
     count = math.ceil(360.0 / step_deg)
-    return np.union1d(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
+    return union(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
 
 
 def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:

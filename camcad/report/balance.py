@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.io.atomic import write_atomic
 from camcad.report.figure import new_figure
 
@@ -14,7 +15,7 @@ PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 
 def _dense(law, samples: int = 4000) -> np.ndarray:
     theta = np.linspace(0.0, law.cycle, samples)
-    return np.unique(np.concatenate((theta, law.x)))
+    return unique(np.concatenate((theta, law.x)))
 
 
 def plot_balance(law, report, path: str | Path, *, corrected=None, after=None, title: str = "") -> Path:

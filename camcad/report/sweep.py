@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.report.figure import COLOURS, new_figure
 
 #: colours of the failing checks, in order of their counts (the feasible cells are pale green)
@@ -74,7 +75,7 @@ def region_figure(x: np.ndarray, y: np.ndarray, labels: np.ndarray, x_label: str
 
     from matplotlib.patches import Patch
 
-    xs, ys = np.unique(x), np.unique(y)
+    xs, ys = unique(x), unique(y)
     failing = [name for name, _ in sorted(_counts(labels).items(), key=lambda kv: -kv[1])
                if name not in ("feasible", "bad input", "internal error")]
     names = ["feasible", *failing] + [n for n in ("bad input", "internal error") if n in set(labels)]

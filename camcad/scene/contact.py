@@ -243,7 +243,7 @@ def contact_verdict(found: list[MechanismContact], speeds) -> Verdict:
             width = float(end) - float(start)
             note = "" if binding else f"[sigma_H] is met down to {least:.4g} deg, where the search stopped: not binding"
             if abs(width - least) <= HELD_TOL_DEG * max(1.0, least):
-                # the cyclogram's event times carry the LP's round-off: a phase held at its least angle is
+                # the cyclogram's event times carry round-off: a phase held at its least angle is
                 # at it, not 1e-14 deg under it
                 width = least
                 if angles.source == "cyclogram" and binding:

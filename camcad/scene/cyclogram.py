@@ -147,7 +147,7 @@ def cyclogram_verdict(found) -> Verdict:
     for op in network.operations:
         angle = float(result.phase_angles_deg[op.label])
         least, source = result.lower_bounds_deg[op.label]
-        # the LP's times carry its round-off (about lp_tol per operation): an angle that close to a bound is on it
+        # the times are sums of bounds and carry their round-off: an angle that close to a bound is on it
         for bound in (float(least), float(op.max_deg)):
             if math.isfinite(bound) and abs(angle - bound) <= HELD_TOL_DEG * max(1.0, abs(bound)):
                 angle = bound

@@ -10,6 +10,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.dynamics.model import (
     ElasticFollower,
     StiffnessTable,
@@ -129,7 +130,7 @@ def _stiffness_table(raw: list, where: str, cycle_deg: float) -> StiffnessTable:
         raise CamcadError("stiffness_variation factors must be positive", where, fix)
     if np.any(pairs[:, 0] < 0) or np.any(pairs[:, 0] >= cycle_deg):
         raise CamcadError(f"stiffness_variation angles must lie in [0, {cycle_deg:g}) deg", where, fix)
-    if len(np.unique(pairs[:, 0])) != len(pairs):
+    if len(unique(pairs[:, 0])) != len(pairs):
         raise CamcadError("stiffness_variation repeats an angle", where, fix)
     return StiffnessTable.from_degrees(pairs, cycle_deg)
 

@@ -32,6 +32,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.balance.conditions import DEFAULT_TOL as BALANCE_TOLERANCE
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import analyse
@@ -237,7 +238,7 @@ def _sided_grid(laws, samples: int, cycle: float) -> np.ndarray:
             points.append(np.asarray(law.x, dtype=float))
     knots = np.concatenate(points)
     knots = knots[(knots >= 0.0) & (knots <= cycle)]
-    return np.unique(np.concatenate((knots, np.nextafter(knots, -np.inf).clip(0.0))))
+    return unique(np.concatenate((knots, np.nextafter(knots, -np.inf).clip(0.0))))
 
 
 def written_figures(original: MotionLaw, written: MotionLaw, samples: int = 1 << 15) -> WrittenFigures:

@@ -34,6 +34,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.arrays import union
 from camcad.errors import CamcadError, excerpt
 from camcad.scene.fields import Field, read_table
 
@@ -495,7 +496,7 @@ def _law_extreme(law) -> float:
     """The law's largest displacement: sampled (phase ends included), refined by a bounded search."""
     from scipy.optimize import minimize_scalar
 
-    theta = np.union1d(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
+    theta = union(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
     s = law.kinematics(theta).s
     i = int(np.argmax(s))
     lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, len(theta) - 1)]

@@ -16,6 +16,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.law.law import Phase
 from camcad.scene.file import Mechanism, Scene, mechanism_law
@@ -219,7 +220,7 @@ def stretched_phase(phases, index: int, width_deg: float):
 def phase_grid(phases: list[tuple[float, float, str]], samples: int) -> np.ndarray:
     """θ (rad): ``samples`` points in every phase, ends included (a phase end is sampled once)."""
     pieces = [np.linspace(np.radians(start), np.radians(end), samples) for start, end, _ in phases]
-    return np.unique(np.concatenate(pieces))
+    return unique(np.concatenate(pieces))
 
 
 def stretch_room(phases: list[tuple[float, float, str]], index: int) -> float:

@@ -25,6 +25,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.arrays import union
 from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
@@ -71,7 +72,7 @@ class PhaseStretch:
         width = math.radians(end - start)
         u = np.linspace(0.0, 1.0, samples)
         inner = (law_breakpoints(cam.law) - math.radians(start)) / width
-        u = np.union1d(u, inner[(inner > 0.0) & (inner < 1.0)])
+        u = union(u, inner[(inner > 0.0) & (inner < 1.0)])
         return cls(cam, float(scale), tuple(tuple(p) for p in phases_deg), index, u)
 
     @property

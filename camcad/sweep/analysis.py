@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.errors import CamcadError, nearest_name
 from camcad.sweep.evaluate import STATUS_BAD, STATUS_BUG, STATUS_OK
 
@@ -206,7 +207,7 @@ def feasible_boundary(x: np.ndarray, y: np.ndarray, feasible: np.ndarray) -> lis
     [(1.0, 11.0, True), (2.0, 12.0, True)]
     """
     out = []
-    for value in np.unique(x):
+    for value in unique(x):
         at = x == value
         ys, ok = y[at], feasible[at]
         order = np.argsort(ys)
