@@ -25,6 +25,12 @@ BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_peer.py"
 
 @pytest.fixture(scope="module")
 def bench():
+    # the benchmarks import their shared helpers (benchmarks/timing.py) as top-level modules, as
+    # camcad.report.bench.load_benchmark arranges
+    import sys
+
+    if str(BENCH.parent) not in sys.path:
+        sys.path.insert(0, str(BENCH.parent))
     spec = importlib.util.spec_from_file_location("bench_peer", BENCH)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

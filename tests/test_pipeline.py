@@ -4,6 +4,7 @@ into the laws and profiles, every output written, bad scene files answered in on
 import json
 import math
 import re
+from pathlib import Path
 
 import ezdxf
 import numpy as np
@@ -196,3 +197,26 @@ def test_the_verdict_line_counts_the_warnings_a_signer_must_weigh(cli, tmp_path)
     assert any("1.43 mm" in line for line in warned)
     last = result.out.strip().splitlines()[-1]
     assert last == f"verdict: all checks passed; {len(warned)} warnings (WARN above) to weigh before signing", last
+
+
+def test_a_group_s_plots_are_drawn_in_parallel_and_every_one_is_listed(tmp_path):
+    # the loom group's default plots: a summary page per mechanism and the cyclogram's two pages, drawn by
+    # forked workers; every PNG on disk is listed in the report's outputs and is one of the names the
+    # writer checks against the run's inputs before drawing
+    from camcad.report.profile import PLOTS
+    from camcad.report.scene import CYCLOGRAM_PLOT_FILES, MECHANISM_PLOT_FILES
+
+    assert {f"{name}.png" for name in PLOTS} <= set(MECHANISM_PLOT_FILES)
+    out = tmp_path / "loom"
+    report = run_scene(SCENES / "loom_group1.toml", PipelineOptions(output=out)).report
+    on_disk = {p for p in out.rglob("*.png")}
+    assert on_disk == {p for p in map(Path, report["outputs"]) if p.suffix == ".png"}
+    assert {p.name for p in on_disk if p.parent == out} == set(CYCLOGRAM_PLOT_FILES)
+    for name, mechanism in report["mechanisms"].items():
+        assert {Path(p).name for p in mechanism["outputs"] if p.endswith(".png")} == {"summary.png"}, name
+        assert (out / name / "summary.png").stat().st_size > 10_000
+    # the models' plots of a scene with dynamics and stops: their names are among the checked ones
+    shuttle = run_scene(SCENES / "shuttle_lift.toml",
+                        PipelineOptions(output=tmp_path / "s", plots=("dynamics", "impact"))).report
+    drawn = {Path(p).name for p in shuttle["outputs"] if p.endswith(".png")}
+    assert drawn and drawn <= set(MECHANISM_PLOT_FILES)

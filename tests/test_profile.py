@@ -446,3 +446,30 @@ def test_cli_json_failures_and_errors(cli, tmp_path):
     osc = cli("profile", "--follower", "oscillating", "--pivot", "120", "--arm", "100", "--rb", "40",
               "--swing", "15", "--no-plots", "-o", tmp_path / "g", "--json")
     assert osc.code == 0 and osc.json()["swing_deg"] == pytest.approx(15.0, rel=1e-9)
+
+
+def test_the_star_shaped_shortcut_never_calls_a_self_intersecting_ring_simple():
+    # synth._is_simple skips shapely for rings that turn once about the cam axis; shapely (an
+    # independent implementation) must find every such ring simple and valid, also when the axis is
+    # off-centre or a vertex is thrown far out of place
+    import shapely
+
+    from camcad.profile.synth import _is_simple, _star_shaped
+
+    rng = np.random.default_rng(7)
+    star_count = 0
+    for _ in range(2000):
+        n = int(rng.integers(3, 60))
+        theta = np.sort(rng.uniform(0.0, 2.0 * np.pi, n))[:: 1 if rng.random() < 0.5 else -1]
+        radius = rng.uniform(0.5, 2.0, n)
+        shift = rng.normal(0.0, 0.6, 2) * (rng.random() < 0.5)
+        points = np.c_[radius * np.cos(theta), radius * np.sin(theta)] + shift
+        if rng.random() < 0.3:
+            points[rng.integers(0, n)] = rng.normal(0.0, 2.0, 2)
+        ring = shapely.LinearRing(points)
+        truth = bool(ring.is_simple and shapely.Polygon(ring).is_valid)
+        if _star_shaped(points):
+            star_count += 1
+            assert truth
+        assert _is_simple(points) == (truth and len(points) >= 4)
+    assert 500 < star_count < 1900   # both branches are exercised

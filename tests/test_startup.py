@@ -45,7 +45,7 @@ def test_the_default_profile_without_plots_needs_no_optimiser_and_no_plotting(tm
     modules = imported("profile", "--no-plots", "-o", str(tmp_path / "out"), cwd=tmp_path)
     assert "numpy" in modules and "ezdxf" in modules
     for unneeded in ("scipy.optimize", "matplotlib", "pydantic", "rich", "camcad.fourier", "camcad.dynamics",
-                     "camcad.cyclogram.lp", "scipy.sparse", "numpy.ma", "numpy.polynomial"):
+                     "camcad.cyclogram.lp", "scipy.sparse", "numpy.ma", "numpy.polynomial", "shapely"):
         assert unneeded not in modules, unneeded
 
 

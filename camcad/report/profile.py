@@ -476,7 +476,7 @@ def plot_summary(result, report: dict | None = None):
     lines = _verdict_lines(report)
     wrapped = []
     for line, colour in lines:
-        for k, piece in enumerate(textwrap.wrap(line, 66) or [""]):
+        for k, piece in enumerate(textwrap.wrap(line, 60) or [""]):
             wrapped.append(("    " + piece if k else piece, colour))
     height_in = text_ax.get_position().height * fig.get_figheight()
     step = 1.3 * 8.0 / 72.0 / height_in            # one line of 8 pt text, in axes fractions

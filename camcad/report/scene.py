@@ -52,21 +52,24 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             written[name] = _write_data(run, out, sub, options)
             target = result.report["mechanisms"][name] if result.group else result.report
             if options.plots:
+                for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
+                    out.path(*sub, file)
                 jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
+        cyclogram_plots = bool(options.plots and result.report.get("cyclogram", {}).get("feasible"))
+        if cyclogram_plots:
+            for file in CYCLOGRAM_PLOT_FILES:
+                out.path(file)
+            jobs.append((CYCLOGRAM_JOB, result.scene, out.folder, (), result.report["cyclogram"]))
+        drawn: list[Path] = []
         if jobs:
             say("plots")
             for name, paths in _draw_all(jobs):
-                written[name].extend(paths)
+                (drawn if name == CYCLOGRAM_JOB else written[name]).extend(paths)
         for name, paths in written.items():
             target = result.report["mechanisms"][name] if result.group else result.report
             target["outputs"] = [str(p) for p in paths]
             outputs.extend(paths)
-        if options.plots and result.report.get("cyclogram"):
-            from camcad.report.cyclogram import scene_cyclogram_figures
-            from camcad.report.figure import save_figure
-
-            for name, fig in scene_cyclogram_figures(result.scene, result.report["cyclogram"]):
-                outputs.append(save_figure(fig, out.path(name)))
+        outputs.extend(drawn)
         report_path = out.path("report.json")
         outputs.append(report_path)
         result.report["outputs"] = [str(p) for p in outputs]
@@ -180,23 +183,56 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
     return written
 
 
+#: every file a mechanism's plots may write (``mechanism_plots``), and the cyclogram's: each is checked
+#: against the run's inputs before any plot is drawn
+MECHANISM_PLOT_FILES = ("summary.png", "kinematics.png", "pressure_angle.png", "curvature.png", "profile.png",
+                        "hodograph.png", "dynamics_cycle.png", "dynamics_speed.png", "impact_rebound.png",
+                        "impact_response.png", "contact.png", "contact_speed.png")
+CYCLOGRAM_PLOT_FILES = ("cyclogram.png", "network.png")
+#: the name of the job that draws the scene's cyclogram (Gantt chart and network) beside the mechanisms'
+CYCLOGRAM_JOB = "[cyclogram]"
+
+
 def _plot_job(job) -> tuple[str, list[Path]]:
     name, run, folder, plots, report = job
+    if name == CYCLOGRAM_JOB:          # run is the scene, report its cyclogram object
+        from camcad.report.cyclogram import scene_cyclogram_figures
+        from camcad.report.figure import save_figure
+
+        return name, [save_figure(fig, folder / file) for file, fig in scene_cyclogram_figures(run, report)]
     return name, mechanism_plots(run, folder, plots, report)
 
 
 def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
-    """Every mechanism's plots: in parallel processes (fork) when there are several and several cores."""
+    """Every mechanism's plots and the cyclogram's: in parallel processes (fork) when there are several
+    jobs and several cores. matplotlib and the plot modules are imported here, once, before the fork,
+    so that no worker imports them again (0.6 s of CPU each)."""
     workers = min(len(jobs), os.cpu_count() or 1)
     if workers < 2 or not hasattr(os, "fork"):
         return [_plot_job(job) for job in jobs]
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
+    _preload_plotting()
     # MechanismRun.memo holds the pipeline's solved limits: not needed to draw, and not worth pickling
-    light = [(name, _without_memo(run), folder, plots, report) for name, run, folder, plots, report in jobs]
+    light = [(name, run if name == CYCLOGRAM_JOB else _without_memo(run), folder, plots, report)
+             for name, run, folder, plots, report in jobs]
     with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork")) as pool:
         return list(pool.map(_plot_job, light))
+
+
+def _preload_plotting() -> None:
+    """Import the plotting stack and open the fonts the plots use, in this process (see ``_draw_all``)."""
+    from matplotlib import font_manager
+    from matplotlib.backends import backend_agg  # noqa: F401 - imported for the workers to inherit
+
+    import camcad.report.contact
+    import camcad.report.cyclogram
+    import camcad.report.dynamics
+    import camcad.report.profile  # noqa: F401
+
+    for family in ("sans-serif", "monospace"):
+        font_manager.get_font(font_manager.findfont(font_manager.FontProperties(family=[family])))
 
 
 def _without_memo(run: MechanismRun) -> MechanismRun:
