@@ -146,7 +146,10 @@ def build_document(drawing: Drawing, version: str = "R2000"):
     r12 = version == "R12"
     if r12 and drawing.splines:
         raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline", "drop --spline or --r12")
-    doc = new_document(DXF_VERSIONS[version], setup=True, units=4)  # $INSUNITS 4 = mm, $MEASUREMENT metric
+    # $INSUNITS 4 = mm, $MEASUREMENT metric; of ezdxf's standard resources only the linetypes the layers
+    # use (ezdxf's full set of text and dimension styles would be 60 % of the file and of its writing time)
+    doc = new_document(DXF_VERSIONS[version], setup=False, units=4)
+    _add_linetypes(doc, sorted(set(LAYER_LINETYPES.values())))
     used = list(drawing.layers)
     item: Any
     for item in (*drawing.paths, *drawing.splines, *drawing.circles, *drawing.lines, *drawing.texts):
@@ -185,6 +188,17 @@ def build_document(drawing: Drawing, version: str = "R2000"):
                               dxfattribs={"layer": text.layer})
         entity.set_placement((float(text.insert[0]), float(text.insert[1])))
     return doc
+
+
+def _add_linetypes(doc, names: list[str]) -> None:
+    """ezdxf's standard definitions of the linetypes ``names`` (those it knows), added to ``doc`` as
+    ``ezdxf.new(setup=True)`` adds them (ISO-scaled in a metric drawing)."""
+    from ezdxf.tools.standards import ISO_LTYPE_FACTOR, linetypes
+
+    factor = ISO_LTYPE_FACTOR if doc.header.get("$MEASUREMENT", 1) else 1.0
+    for name, description, pattern in linetypes(scale=factor):
+        if name in names and name not in doc.linetypes:
+            doc.linetypes.new(name, dxfattribs={"description": description, "pattern": pattern})
 
 
 def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000") -> Path:

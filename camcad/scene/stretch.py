@@ -136,6 +136,21 @@ class PhaseStretch:
 
         return np.degrees(_refined_row_max(values, self.u, len(widths)))
 
+    def pressure_inverse(self, limit_deg: float) -> float | None:
+        """The width (deg) at which the largest |pressure angle| reaches ``limit_deg``, in closed form where
+        one exists, else None.
+
+        A translating roller (or knife-edge) follower without offset has tan φ = v/(Rp + s): stretched to
+        t the phase keeps s and scales v by β/t, so the worst sample is the same at every width and
+        tan φ_max(t) = (β/t)·tan φ_max(β), hence t = β·tan φ_max(β)/tan(limit) — exact, and exactly the
+        inverse of ``pressure_max_deg`` (the same samples and refinement at β).
+        """
+        f = self.cam.follower
+        if f.kind in ("flat", "oscillating") or f.offset != 0.0 or not 0.0 < limit_deg < 90.0:
+            return None
+        own = float(self.pressure_max_deg(np.array([self.width_deg]))[0])
+        return self.width_deg * math.tan(math.radians(own)) / math.tan(math.radians(limit_deg))
+
     # -- contact stress -----------------------------------------------------------------------
     def stress_max(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm) -> np.ndarray:
         """σ_max (MPa) over the phase and the speeds, for each width; +inf where the stretched cam is not
@@ -217,7 +232,7 @@ def _refined_row_max(values, u: np.ndarray, rows: int) -> np.ndarray:
 
 
 def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, source: str = "limit",
-                what: str = "", xtol_deg: float = 1e-10) -> PhaseLimit:
+                what: str = "", xtol_deg: float = 1e-10, inverse=None) -> PhaseLimit:
     """The least phase angle t in [lower, upper] (deg) with relation(t) <= limit, for a relation that is
     non-increasing in t and evaluates many widths at once (``relation(widths) -> values``).
 
@@ -225,7 +240,9 @@ def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, s
     lower end when it already meets the limit (not binding), a CamcadError when even the upper end does
     not; otherwise the crossing to ``xtol_deg``. One pass over ``BRACKET_WIDTHS`` widths brackets the
     crossing, then Brent's method on single widths narrows it. +inf marks an inadmissible width (e.g. an
-    undercut); when the crossing is such a jump rather than the limit, the note says so.
+    undercut); when the crossing is such a jump rather than the limit, the note says so. ``inverse``
+    (limit → width, or None) gives the crossing in closed form where the relation has one
+    (``PhaseStretch.pressure_inverse``); the ends are checked as for any relation.
     """
     count = 0
 
@@ -249,6 +266,9 @@ def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, s
         raise CamcadError(f"{label}even the longest phase angle {upper_deg:g} deg gives {source} {reached} "
                           f"> the limit {limit:g}", what or source,
                           "raise the operation's upper bound, or change the law, materials or loads")
+    exact = inverse(limit) if inverse is not None else None
+    if exact is not None and lower_deg < exact <= upper_deg:
+        return PhaseLimit(float(exact), float(many([exact])[0]), limit, True, source, count)
     grid = np.linspace(lower_deg, upper_deg, BRACKET_WIDTHS + 2)[1:-1]
     values = many(grid)
     below = np.flatnonzero(values <= limit)
