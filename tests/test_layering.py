@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "camcad"
 
 #: layer of each top-level part of the package; a module imports only from layers <= its own
 LAYERS = {
-    "errors": 0, "verdict": 0, "version": 0, "numerics": 0, "lazy": 0, "arrays": 0, "io": 0,
+    "errors": 0, "verdict": 0, "version": 0, "numerics": 0, "lazy": 0, "arrays": 0, "extrema": 0, "io": 0,
     "law": 1,
     "balance": 2,
     "fourier": 3, "profile": 3, "dynamics": 3, "contact": 3, "cyclogram": 3, "linkage": 3,

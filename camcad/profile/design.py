@@ -10,7 +10,7 @@ through inflections, so g_ρ is continuous. For a groove the outer flank adds
 
 The smallest Rb is the root of g = 0, found with Brent's method (camcad.numerics.brent_root) on a
 bracket [geometric lower bound, an upper bound found by doubling]; the inner minimum over θ is
-taken on a grid and refined with a bounded Brent search around the worst grid point. For a
+taken on a grid and refined by zooming grids around the worst grid point (``camcad.extrema``). For a
 translating follower |φ| = atan(|v − σe|/(d + s)) falls as d = √(Rp² − e²) grows at every θ,
 so g_φ is increasing and its root unique; the tests compare it with the per-θ closed form
 d ≥ |v − σe|/tan(limit) − s. For the oscillating follower Rb is bounded (|C − L| < Rb + Rr <
@@ -33,6 +33,7 @@ from typing import cast
 import numpy as np
 
 from camcad.arrays import union
+from camcad.extrema import zoom_max
 from camcad.law.law import MotionLaw
 from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
@@ -62,25 +63,12 @@ class BaseRadiusDesign:
 
 
 def _worst(values_fn, theta: np.ndarray) -> float:
-    """min over θ of values_fn(θ): grid minimum refined by a bounded Brent search."""
-    values = values_fn(theta)
-    finite = np.where(np.isfinite(values), values, np.inf)
-    k = int(np.argmin(finite))
-    best = float(finite[k])
-    if not math.isfinite(best):
-        return math.inf
-    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
-    penalty = abs(best) * 10.0 + 1e6  # Brent's parabolas need finite values where none applies
+    """min over θ of values_fn(θ): grid minimum refined by zooming grids (``camcad.extrema.zoom_max``)."""
+    def negated(t: np.ndarray) -> np.ndarray:
+        return -np.asarray(values_fn(np.ravel(t)), dtype=float).reshape(1, -1)
 
-    def finite_fn(t: float) -> float:
-        value = float(values_fn(np.array([t]))[0])
-        return value if math.isfinite(value) else penalty
-
-    if hi > lo:
-        _, value = bounded_minimum(finite_fn, lo, hi, xatol=1e-12)
-        if np.isfinite(value):
-            best = min(best, float(value))
-    return best
+    peak, _ = zoom_max(negated, theta, 1)
+    return -float(peak[0]) if np.isfinite(peak[0]) else math.inf
 
 
 def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
@@ -101,7 +89,7 @@ def _translating_pressure_angle_rb(law: MotionLaw, follower: Follower, theta: np
     """The smallest Rb (mm) meeting the pressure-angle limits of a translating roller or knife, in closed form.
 
     tan|φ| = |v − σe|/(d + s) with d = √(Rp² − e²), so |φ| ≤ limit(θ) ⇔ d ≥ |v − σe|/tan(limit) − s at
-    every θ; d_min is the largest right-hand side (grid maximum refined by a bounded Brent search) and
+    every θ; d_min is the largest right-hand side (grid maximum refined by zooming grids) and
     Rb = √(d_min² + e²) − Rr. The limit in force at each θ (rise, return, reversible) is the one the
     profile's own check applies (``CamGeometry.pressure_angle_limit``).
     """

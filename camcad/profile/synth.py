@@ -2,7 +2,7 @@
 
 ``synthesize(law, follower, settings)`` builds the exact geometry (``geometry.CamGeometry``),
 places the written points by the chord tolerance (``sampling``), finds the extrema of the
-pressure angle and of the radii of curvature (grid search refined by a bounded Brent search),
+pressure angle and of the radii of curvature (grid search refined by zooming grids, ``camcad.extrema``),
 and runs the checks: pressure angle against its limits per phase, undercut (a convex pitch
 radius ≤ Rr, a flat-face radius ≤ 0, or a loop or cusp, which shapely sees as a profile
 polygon that is not valid and simple), the curvature limit, and closure. ``report(result)``
@@ -19,8 +19,8 @@ import numpy as np
 
 from camcad.arrays import union
 from camcad.errors import CamcadError
+from camcad.extrema import zoom_max
 from camcad.law.law import MotionLaw
-from camcad.numerics import bounded_minimum
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import Follower
@@ -47,7 +47,7 @@ class ProfileSettings:
     csv_step_deg : float
         Step of the law.csv table, deg (0 < step ≤ 10).
     analysis_step_deg : float
-        Grid step of the extremum search before its refinement by Brent's method, deg.
+        Grid step of the extremum search before its refinement by zooming grids, deg.
     design : bool
         Also compute the smallest base radius meeting the limits (``min_base_radius``).
     name : str
@@ -262,26 +262,16 @@ class ProfileResult:
 # --------------------------------------------------------------------------------------------
 
 def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
-    """Smallest finite value of ``fn`` (θ → array): best grid point, then a bounded Brent
-    search between its neighbours. ``values`` = fn(theta); non-finite entries are excluded."""
-    finite = np.where(np.isfinite(values), values, np.inf)
-    if not np.isfinite(finite).any():
+    """Smallest finite value of ``fn`` (θ → array): best grid point, refined by zooming grids between its
+    neighbours (``camcad.extrema.zoom_max``). ``values`` = fn(theta); non-finite entries are excluded."""
+    if not np.isfinite(values).any():
         return None
-    k = int(np.argmin(finite))
-    best = Extremum(float(finite[k]), float(theta[k]))
-    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
-    # outside the masked region fn is +inf; Brent's parabolas need finite values
-    penalty = abs(best.value) * 10.0 + 1e6
 
-    def finite_fn(t: float) -> float:
-        value = float(fn(np.array([t]))[0])
-        return value if math.isfinite(value) else penalty
+    def negated(t: np.ndarray) -> np.ndarray:
+        return -np.asarray(fn(np.ravel(t)), dtype=float).reshape(1, -1)
 
-    if hi > lo:
-        at, value = bounded_minimum(finite_fn, lo, hi, xatol=1e-13)
-        if np.isfinite(value) and value < best.value:
-            best = Extremum(float(value), float(at))
-    return best
+    peak, at = zoom_max(negated, theta, 1, first=-np.asarray(values, dtype=float))
+    return Extremum(float(-peak[0]), float(at[0]))
 
 
 def refine_max(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
@@ -502,7 +492,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     """Synthesise the cam profile for a law and a follower, and check it.
 
     Builds the exact geometry, places the written points by the chord tolerance, finds the extrema of
-    the pressure angle and of the radii of curvature (grid search refined by a bounded Brent search)
+    the pressure angle and of the radii of curvature (grid search refined by zooming grids)
     and runs the checks: pressure angle within its limits per phase; no undercut (convex pitch
     radius ≤ Rr, flat-face radius ≤ 0, or a profile polygon that shapely finds not valid and simple);
     convex profile radius ≥ ``follower.rho_min`` when given; the profile closes within ``tol_mm``.
@@ -538,7 +528,6 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 7–8 (pressure angle and
     radius of curvature of roller and flat followers).
     J. Angeles, C. S. López-Cajún, Optimization of Cam Mechanisms (1991), ch. 2.
-    R. P. Brent, Algorithms for Minimization without Derivatives (1973) (the refinement of extrema).
 
     Examples
     --------

@@ -6,7 +6,7 @@
 - No pyplot: figures are plain ``Figure`` objects with an Agg canvas, so nothing global is touched, no
   figure is leaked, and plots can be drawn in parallel processes.
 - Cheap to draw: a fixed DPI (``DPI``), the constrained layout engine (one layout pass at draw time, no
-  tight bounding-box recomputation on save), unhinted glyphs and fast PNG compression (``SAVE_RC``,
+  tight bounding-box recomputation on save), unhinted glyphs and fast PNG compression (``HINTING``,
   ``PNG_COMPRESSION``).
 - Every plot shows its limits and margins where they apply, says which phase angles it shows, and uses
   the law's own units (mm or rad/deg of swing).
@@ -21,9 +21,9 @@ from camcad.io.atomic import write_atomic
 
 #: resolution of the written PNG files (dots per inch)
 DPI = 110
-#: drawing settings of every saved figure: glyphs unhinted (FreeType's hinting is 15 % of the time of a page
-#: full of text; at this DPI the letters are as legible without it)
-SAVE_RC = {"text.hinting": "none"}
+#: FreeType hinting of the glyphs of every saved figure: none (hinting is 15 % of the time of a page full of
+#: text; at this DPI the letters are as legible without it)
+HINTING = "none"
 #: zlib level of the PNG files: 1 writes a summary page in 63 ms instead of 100 ms (level 6) for 8 % more bytes
 PNG_COMPRESSION = 1
 #: the colours used for the same thing in every plot
@@ -76,7 +76,7 @@ def save_figure(fig, path: str | Path, dpi: int = DPI) -> Path:
     metadata = {"Software": None}
 
     def save(tmp: Path) -> None:
-        with matplotlib.rc_context(SAVE_RC):
+        with matplotlib.rc_context({"text.hinting": HINTING}):
             fig.savefig(tmp, format="png", dpi=dpi, metadata=metadata, pil_kwargs={"compress_level": PNG_COMPRESSION})
 
     return write_atomic(path, save)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 
@@ -109,7 +109,7 @@ def pressure_angle_limit_of(follower, kind: str) -> float | None:
 def phase_pressure_function(law, follower_table: dict, index: int, where: str, samples: int):
     """φ_max(t): the largest |pressure angle| (deg) over phase ``index`` of ``law`` stretched to t deg;
     +inf when the stretched cam undercuts (no pressure angle is meaningful there)."""
-    from camcad.profile.synth import Extremum, refine_max
+    from camcad.numerics import bounded_minimum
 
     phases = phases_deg(law)
 
@@ -117,13 +117,17 @@ def phase_pressure_function(law, follower_table: dict, index: int, where: str, s
         stretched, (start, end) = stretched_phase(phases, index, width_deg)
         cam, _, _ = cam_of(law_with_phases(law, stretched, where), follower_table, where)
         theta = np.linspace(np.radians(start), np.radians(end), samples)
-
-        def magnitude(t):
-            return np.abs(cam.pressure_angle(t))
-
-        # the grid's best point refined by a bounded Brent search, as the profile's own check does
-        # |φ| is finite on the grid, so the refined maximum exists
-        return float(np.degrees(cast(Extremum, refine_max(magnitude, theta, magnitude(theta))).value))
+        values = np.abs(cam.pressure_angle(theta))   # |φ| is finite on the grid
+        k = int(np.argmax(values))
+        best = float(values[k])
+        lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, len(theta) - 1)]
+        # the grid's best point refined by Brent's bounded search (a method apart from the fast route's
+        # zooming grids)
+        if hi > lo:
+            _, value = bounded_minimum(lambda t: -float(np.abs(cam.pressure_angle(np.array([t])))[0]), lo, hi,
+                                       xatol=1e-13)
+            best = max(best, -value)
+        return float(np.degrees(best))
 
     return phi_max
 

@@ -29,6 +29,7 @@ from camcad.arrays import union
 from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
+from camcad.extrema import zoom_max
 from camcad.law.law import Kinematics
 from camcad.numerics import brent_root
 from camcad.profile.geometry import CamGeometry, oscillating_track, pitch_geometry, translating_track
@@ -36,9 +37,6 @@ from camcad.profile.scaled_law import law_breakpoints
 
 #: widths evaluated in one pass to bracket the least phase angle before Brent's method narrows it
 BRACKET_WIDTHS = 16
-#: refinement of a row's peak: zoom levels around the best sample, and samples per level
-ZOOM_LEVELS = 3
-ZOOM_SAMPLES = 17
 
 
 @dataclass(frozen=True)
@@ -124,7 +122,7 @@ class PhaseStretch:
     # -- the pressure angle -------------------------------------------------------------------
     def pressure_max_deg(self, widths_deg: np.ndarray) -> np.ndarray:
         """The largest |pressure angle| (deg) over the phase, for each width: the best sample refined by
-        ``ZOOM_LEVELS`` rounds of ``ZOOM_SAMPLES`` samples around it (a parabola through the last three)."""
+        zooming grids around it (``camcad.extrema.zoom_max``)."""
         widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
         if self.cam.follower.kind == "flat":
             return np.zeros(len(widths))
@@ -134,7 +132,7 @@ class PhaseStretch:
             return np.abs(self.pitch(kin).pressure_angle).reshape(u_rows.shape if u_rows.ndim == 2
                                                                   else (len(widths), -1))
 
-        return np.degrees(_refined_row_max(values, self.u, len(widths)))
+        return np.degrees(zoom_max(values, self.u, len(widths))[0])
 
     def pressure_inverse(self, limit_deg: float) -> float | None:
         """The width (deg) at which the largest |pressure angle| reaches ``limit_deg``, in closed form where
@@ -196,39 +194,6 @@ class PhaseStretch:
             sigma = hertz_peak_pressure(pressing, params.width, effective_radius(rho_used, radius), params.e_star)
         worst = np.nanmax(np.where(np.isfinite(sigma) | np.isinf(sigma), sigma, np.nan), axis=(0, 2))
         return np.where(jams | no_fit | separation, np.inf, worst)
-
-
-def _refined_row_max(values, u: np.ndarray, rows: int) -> np.ndarray:
-    """max over u of each row of ``values(u_rows)`` (a function of an (rows, M) grid): the best sample of
-    each row, then ``ZOOM_LEVELS`` finer grids around it, the last one closed by a parabola."""
-    grid = values(u)
-    finite = np.where(np.isfinite(grid), grid, -np.inf)
-    best = np.argmax(finite, axis=1)
-    peak = finite[np.arange(rows), best]
-    lo = u[np.maximum(best - 1, 0)]
-    hi = u[np.minimum(best + 1, len(u) - 1)]
-    for _ in range(ZOOM_LEVELS):
-        local = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, ZOOM_SAMPLES)[None, :]
-        vals = values(local)
-        vals = np.where(np.isfinite(vals), vals, -np.inf)
-        k = np.argmax(vals, axis=1)
-        peak = np.maximum(peak, vals[np.arange(rows), k])
-        step = (hi - lo) / (ZOOM_SAMPLES - 1)
-        centre = local[np.arange(rows), k]
-        inner = (k > 0) & (k < ZOOM_SAMPLES - 1)
-        if _ == ZOOM_LEVELS - 1:
-            left = vals[np.arange(rows), np.maximum(k - 1, 0)]
-            right = vals[np.arange(rows), np.minimum(k + 1, ZOOM_SAMPLES - 1)]
-            middle = vals[np.arange(rows), k]
-            curvature = left - 2.0 * middle + right
-            with np.errstate(divide="ignore", invalid="ignore"):
-                offset = 0.5 * (left - right) / curvature
-                vertex = middle - 0.25 * (left - right) * offset
-            ok = inner & np.isfinite(vertex) & (curvature < 0.0) & (np.abs(offset) <= 1.0)
-            peak = np.where(ok, np.maximum(peak, vertex), peak)
-        lo = np.maximum(centre - step, lo)
-        hi = np.minimum(centre + step, hi)
-    return peak
 
 
 def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, source: str = "limit",
