@@ -22,8 +22,13 @@ def lazy_exports(package: str, exports: Mapping[str, str],
 
     def __getattr__(name: str) -> Any:
         module = exports.get(name)
-        if module is None:
-            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        if module is None:   # a submodule not imported yet (``package.name`` as an attribute)
+            try:
+                return importlib.import_module(f"{package}.{name}")
+            except ModuleNotFoundError as missing:
+                if missing.name != f"{package}.{name}":
+                    raise
+                raise AttributeError(f"module {package!r} has no attribute {name!r}") from None
         value = getattr(importlib.import_module(module), name)
         namespace[name] = value
         return value

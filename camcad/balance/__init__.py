@@ -34,12 +34,10 @@ within the tolerance.
 
 from __future__ import annotations
 
-from camcad.balance.checking import (
-    BalanceReport,
-    check,
-    check_by_trapezoid,
-    trapezoid_residuals,
-)
+from typing import TYPE_CHECKING
+
+# eager: a light module, and its function ``conditions`` shares the module's name (a lazy name would be
+# replaced by the submodule once that is imported)
 from camcad.balance.conditions import (
     DEFAULT_MAX_STRETCH,
     DEFAULT_STEP_DEG,
@@ -52,14 +50,43 @@ from camcad.balance.conditions import (
     lift_conditions,
     mass_matrix,
 )
-from camcad.balance.correction import Correction, Move, correct, difference_norms
-from camcad.balance.modes import (
-    extremum_groups,
-    jump_nodes,
-    least_change,
-    lobe_groups,
-    lobes,
-)
+from camcad.lazy import lazy_exports
+
+if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load on first use
+    from camcad.balance.checking import (
+        BalanceReport,
+        check,
+        check_by_trapezoid,
+        trapezoid_residuals,
+    )
+    from camcad.balance.correction import Correction, Move, correct, difference_norms
+    from camcad.balance.modes import (
+        extremum_groups,
+        jump_nodes,
+        least_change,
+        lobe_groups,
+        lobes,
+    )
+
+#: public name -> the module that defines it (imported on first use: importing this package stays cheap)
+_EXPORTS: dict[str, str] = {
+    "BalanceReport": "camcad.balance.checking",
+    "check": "camcad.balance.checking",
+    "check_by_trapezoid": "camcad.balance.checking",
+    "correct": "camcad.balance.correction",
+    "Correction": "camcad.balance.correction",
+    "difference_norms": "camcad.balance.correction",
+    "extremum_groups": "camcad.balance.modes",
+    "jump_nodes": "camcad.balance.modes",
+    "least_change": "camcad.balance.modes",
+    "lobe_groups": "camcad.balance.modes",
+    "lobes": "camcad.balance.modes",
+    "Move": "camcad.balance.correction",
+    "trapezoid_residuals": "camcad.balance.checking",
+}
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 __all__ = [
     "DEFAULT_MAX_STRETCH",

@@ -6,10 +6,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from camcad.cyclogram.network import Network
 from camcad.errors import CamcadError
 from camcad.numerics import brent_root
+
+if TYPE_CHECKING:
+    from camcad.cyclogram.network import Network
 
 # --------------------------------------------------------------------------------------------
 # Phase-angle limits: the least t with relation(t) <= limit, by root finding

@@ -500,9 +500,9 @@ def _own_box(entity) -> list[tuple[float, float, float]] | None:
     vertices' box widened by the largest sagitta holds the curve; a spline lies in its control points'
     convex hull."""
     kind = entity.dxftype()
-    if kind == "LWPOLYLINE":
-        rows = np.asarray(entity.get_points("xyb"), dtype=float).reshape(-1, 3)
-        xy, bulge = rows[:, :2], rows[:, 2]
+    if kind == "LWPOLYLINE":   # ezdxf holds the vertices as rows x, y, start width, end width, bulge
+        rows = np.asarray(entity.lwpoints.values, dtype=float).reshape(-1, 5)
+        xy, bulge = rows[:, :2], rows[:, 4]
     elif kind == "POLYLINE" and not entity.is_3d_polyline and not entity.is_poly_face_mesh \
             and not entity.is_polygon_mesh:
         rows = np.asarray([(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in entity.vertices],

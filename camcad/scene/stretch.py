@@ -21,12 +21,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from camcad.arrays import union
-from camcad.contact import ContactParams, axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
 from camcad.extrema import zoom_max
@@ -34,6 +33,9 @@ from camcad.law.law import Kinematics
 from camcad.numerics import brent_root
 from camcad.profile.geometry import CamGeometry, oscillating_track, pitch_geometry, translating_track
 from camcad.profile.scaled_law import law_breakpoints
+
+if TYPE_CHECKING:
+    from camcad.contact import ContactParams
 
 #: widths evaluated in one pass to bracket the least phase angle before Brent's method narrows it
 BRACKET_WIDTHS = 16
@@ -154,6 +156,8 @@ class PhaseStretch:
         """σ_max (MPa) over the phase and the speeds, for each width; +inf where the stretched cam is not
         admissible (the roller does not fit a concave flank, the follower jams, or a force-closed follower
         leaves the cam). The sampled maximum, as ``camcad.contact.contact_stress`` reports it."""
+        from camcad.contact import axial_force, effective_radius, fits, hertz_peak_pressure
+
         widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
         kin = self.kinematics(widths)
         pitch = self.pitch(kin)
