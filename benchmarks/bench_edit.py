@@ -9,7 +9,7 @@
 - browser (end to end): Playwright moves the mouse in Debian's headless Chromium and waits for the page's
   numbers to change (skipped without Chromium and Playwright).
 
-Run: python benchmarks/bench_edit.py [--quick]
+Run: python benchmarks/bench_edit.py [--quick]   (quick: 15 events, the smaller law only)
 """
 
 from __future__ import annotations
@@ -214,20 +214,21 @@ def browser_drag(vertices: int, events: int) -> float | None:
 
 def run(quick: bool = False) -> list[dict]:
     events = 15 if quick else 60
+    sizes = SIZES[:1] if quick else SIZES
     rows = []
     for method, make in (("desktop (Agg canvas, blit)", agg_figure), ("desktop (TkAgg window, blit)", tk_figure)):
-        for n in SIZES:
+        for n in sizes:
             for mode, name in (("v", "vertex"), ("l", "lobe")):
                 latency = desktop_drag(n, mode, events, make)
                 if latency is not None:
                     rows.append({"kernel": "edit: drag event", "method": method,
                                  "setting": f"{name} drag, {n} vertices", "time_s": latency,
                                  "error": None, "error_unit": "-"})
-    for n in SIZES:
+    for n in sizes:
         rows.append({"kernel": "edit: drag event", "method": "browser (server: mouse message -> numbers)",
                      "setting": f"lobe drag, {n} vertices", "time_s": web_server_drag(n, "l", events),
                      "error": None, "error_unit": "-"})
-    for n in SIZES:
+    for n in sizes:
         latency = browser_drag(n, max(5, events // 3))
         if latency is not None:
             rows.append({"kernel": "edit: drag event", "method": "browser (Chromium: mouse -> numbers on page)",
