@@ -21,7 +21,8 @@ read (phase edge against π), check (|rise − Aπ²/6|), fix (already balanced:
 the unbalanced 10 → −10 → 10 at 0°, 120°, 360° (refused: no motion would be left; error "-"),
 and profile (|φ_max − closed form|).
 
-Run: python benchmarks/bench_hard.py [--quick]   (quick: 100,000 vertices, the table only, one repeat, no peak memory of the read)
+Run: python benchmarks/bench_hard.py [--quick]
+(quick: 100,000 vertices, the table only, one repeat, no peak memory of the read)
 """
 
 from __future__ import annotations
