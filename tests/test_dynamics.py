@@ -428,3 +428,15 @@ def test_a_multimass_model_too_stiff_for_an_explicit_solver_is_refused_at_once(t
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and len(lines[0]) < 300, done.stderr
     assert "stiff.toml [dynamics]" in lines[0] and "too stiff for DOP853" in lines[0]
+
+
+def test_the_stiffness_slope_of_one_angle_equals_the_array_s_and_the_difference_quotient():
+    # the multi-mass right-hand side asks for dc/dθ one angle at a time: the float path must give the array
+    # path's slope, and both the difference quotient of the factor inside each knot interval
+    stiffness = StiffnessTable.from_degrees([[0, 1.0], [120, 1.3], [240, 0.8]])
+    theta = np.concatenate((np.random.default_rng(4).uniform(-7.0, 13.0, 400), np.radians([0.0, 120.0, 240.0])))
+    assert [stiffness.derivative(float(t)) for t in theta] == list(stiffness.derivative(theta))
+    inside = np.radians([60.0, 180.0, 300.0])
+    h = 1e-6
+    quotient = (stiffness(inside + h) - stiffness(inside - h)) / (2 * h)
+    np.testing.assert_allclose([stiffness.derivative(float(t)) for t in inside], quotient, rtol=1e-8)

@@ -197,6 +197,12 @@ def test_the_scalar_acceleration_equals_the_array_one_at_every_angle():
     starts = np.radians([0.0, 40.0, 110.0, 170.0, 240.0, 360.0])
     theta = np.concatenate((np.random.default_rng(1).uniform(-1.0, 8.0, 500), starts))
     assert [law.acceleration_at(t) for t in theta] == list(law.kinematics(theta).a)
+    # s and v for the multi-mass model's right-hand side, and the wrapping of one angle
+    kin = law.kinematics(theta)
+    assert [law.motion_at(t) for t in theta] == list(zip(kin.s, kin.v))
+    from camcad.law.law import wrap, wrap_angle
+
+    assert [wrap_angle(float(t), law.cycle) for t in theta] == list(wrap(theta, law.cycle))
     x = np.sort(np.concatenate((np.linspace(0, 2 * math.pi, 50), [1.0, 1.0])))
     a = np.sin(3 * x)
     a[np.flatnonzero(x == 1.0)[1]] += 2.0                 # a jump of acceleration at x = 1

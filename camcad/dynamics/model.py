@@ -54,6 +54,7 @@ summary dynamic load at the start of motion lasting about half the free period).
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -153,6 +154,8 @@ class StiffnessTable:
     if TYPE_CHECKING:  # set in __post_init__, not fields of the dataclass
         _xs: np.ndarray = field(init=False)
         _ys: np.ndarray = field(init=False)
+        _slopes: np.ndarray = field(init=False)
+        _xs_list: list[float] = field(init=False)
 
     def __post_init__(self) -> None:
         theta = np.asarray(self.theta, dtype=float)
@@ -170,16 +173,22 @@ class StiffnessTable:
         object.__setattr__(self, "factor", factor)
         object.__setattr__(self, "_xs", xs)
         object.__setattr__(self, "_ys", ys)
+        object.__setattr__(self, "_slopes", np.diff(ys) / np.diff(xs))
+        object.__setattr__(self, "_xs_list", xs.tolist())
 
     def __call__(self, theta) -> np.ndarray:
         t = np.mod(np.asarray(theta, dtype=float), self.cycle)
         return np.interp(t, self._xs, self._ys)
 
-    def derivative(self, theta) -> np.ndarray:
+    def derivative(self, theta):
+        """dc/dθ (1/rad) of the piecewise-linear factor: its slope on the knot interval θ lies in (the right
+        one at a knot); a float for a float θ."""
+        if isinstance(theta, float):     # one angle (an ODE right-hand side): no array overhead
+            index = bisect.bisect_right(self._xs_list, theta % self.cycle) - 1
+            return float(self._slopes[min(max(index, 0), len(self._slopes) - 1)])
         t = np.mod(np.asarray(theta, dtype=float), self.cycle)
-        slopes = np.diff(self._ys) / np.diff(self._xs)
-        index = np.clip(np.searchsorted(self._xs, t, side="right") - 1, 0, len(slopes) - 1)
-        return slopes[index]
+        index = np.clip(np.searchsorted(self._xs, t, side="right") - 1, 0, len(self._slopes) - 1)
+        return self._slopes[index]
 
     @classmethod
     def from_degrees(cls, pairs, cycle_deg: float = 360.0) -> StiffnessTable:

@@ -183,11 +183,16 @@ class _Equations:
         self.load = load
         self.b1 = model.shaft_damping(self.speed_drive)
         self.b2 = model.chain_damping
+        self.motion_at = getattr(law, "motion_at", None)
 
     def chain(self, phi1: float, dphi1: float, q: float, dq: float) -> tuple[float, float]:
         """Chain force F2 (N or N·m) and the chain's torque on the cam Π' F2 + ½ c2' (Π − q)² (N·m)."""
-        kin = self.law.kinematics(np.array([phi1]))
-        pi, dpi = kin.s[0] * self.scale, kin.v[0] * self.scale
+        if self.motion_at is not None:      # a standard law: s and v without array overhead
+            s, v = self.motion_at(phi1)
+        else:
+            kin = self.law.kinematics(np.array([phi1]))
+            s, v = kin.s[0], kin.v[0]
+        pi, dpi = s * self.scale, v * self.scale
         stiffness = self.m.stiffness
         c2 = self.m.driven_stiffness * (1.0 if stiffness is None else float(stiffness(phi1)))
         dc2 = 0.0 if stiffness is None else self.m.driven_stiffness * float(stiffness.derivative(phi1))

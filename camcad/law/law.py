@@ -63,6 +63,13 @@ class MotionLaw(Protocol):
     def kinematics(self, theta: np.ndarray) -> Kinematics: ...
 
 
+def wrap_angle(theta: float, cycle: float) -> float:
+    """``wrap`` for one angle, without array overhead (Python's float modulo is numpy's: fmod, then the
+    divisor's sign)."""
+    wrapped = theta % cycle
+    return cycle if wrapped == 0.0 and theta > 0.0 else wrapped
+
+
 def wrap(theta, cycle: float) -> np.ndarray:
     """θ reduced to [0, cycle]; the cycle end itself is kept (not folded to 0) so s(cycle) is reachable."""
     theta = np.asarray(theta, dtype=float)

@@ -28,7 +28,7 @@ from typing import Protocol
 import numpy as np
 
 from camcad.arrays import unique
-from camcad.law.law import Kinematics, Phase, wrap
+from camcad.law.law import Kinematics, Phase, wrap, wrap_angle
 
 
 class RiseShape(Protocol):
@@ -353,7 +353,7 @@ class CompositeLaw:
     def acceleration_at(self, theta: float) -> float:
         """a(θ) (mm/rad²) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
         at every step); equal to ``kinematics(np.array([theta])).a[0]``."""
-        t = float(wrap(np.float64(theta), self.cycle))
+        t = wrap_angle(float(theta), self.cycle)
         k = min(max(bisect.bisect_right(self._starts_list, t) - 1, 0), len(self.segments) - 1)
         seg = self.segments[k]
         if seg.kind == "dwell":
@@ -363,6 +363,21 @@ class CompositeLaw:
         h = seg.lift if seg.kind == "rise" else -seg.lift
         assert seg.shape is not None  # a rise or return has its shape
         return float(h * seg.shape.evaluate(np.array([u]), 2)[0] / beta**2)
+
+    def motion_at(self, theta: float) -> tuple[float, float]:
+        """(s, v) (mm, mm/rad) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
+        at every step); equal to ``kinematics(np.array([theta]))``'s s[0] and v[0]."""
+        t = wrap_angle(float(theta), self.cycle)
+        k = min(max(bisect.bisect_right(self._starts_list, t) - 1, 0), len(self.segments) - 1)
+        seg = self.segments[k]
+        level = float(self._levels[k])
+        if seg.kind == "dwell":
+            return level, 0.0
+        beta = seg.end - seg.start
+        u = np.array([min(max((t - seg.start) / beta, 0.0), 1.0)])
+        h = seg.lift if seg.kind == "rise" else -seg.lift
+        assert seg.shape is not None  # a rise or return has its shape
+        return float(level + h * seg.shape.evaluate(u, 0)[0]), float(h * seg.shape.evaluate(u, 1)[0] / beta)
 
     @functools.cached_property
     def _starts_list(self) -> list[float]:
