@@ -41,7 +41,7 @@ def new_figure(width_in: float = 10.0, height_in: float = 5.0, *, rows: int = 1,
     width_in, height_in : float
         Size in inches.
     rows, cols : int
-        Grid of axes.
+        Grid of axes; ``rows = 0`` for none (the caller lays out its own).
     layout : str or None
         matplotlib layout engine ("constrained", or None for fixed margins).
     **subplot_kw
@@ -49,7 +49,7 @@ def new_figure(width_in: float = 10.0, height_in: float = 5.0, *, rows: int = 1,
 
     Returns
     -------
-    (Figure, Axes or ndarray of Axes)
+    (Figure, Axes or ndarray of Axes, or None when ``rows = 0``)
 
     Examples
     --------
@@ -62,7 +62,7 @@ def new_figure(width_in: float = 10.0, height_in: float = 5.0, *, rows: int = 1,
 
     fig = Figure(figsize=(width_in, height_in), dpi=DPI, layout=layout)
     FigureCanvasAgg(fig)
-    axes = fig.subplots(rows, cols, squeeze=True, **subplot_kw)
+    axes = fig.subplots(rows, cols, squeeze=True, **subplot_kw) if rows else None
     return fig, axes
 
 

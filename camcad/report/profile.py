@@ -446,8 +446,7 @@ def plot_summary(result, report: dict | None = None):
     from camcad.profile.summary import profile_report
 
     report = report if report is not None else profile_report(result)
-    fig = new_figure(15, 9, rows=1, cols=1, layout=None)[0]
-    fig.clear()
+    fig = new_figure(15, 9, rows=0, layout=None)[0]
     # fixed margins: a layout engine would measure every label of the page before drawing it (~40 % of the
     # time of this figure)
     grid = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.25, 1.25], left=0.05, right=0.985, top=0.92, bottom=0.1,
