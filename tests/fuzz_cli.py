@@ -180,6 +180,8 @@ def _tables(data, path=()):
 
 def _set(data, path, value) -> None:
     for key in path[:-1]:
+        if isinstance(data, dict) and key not in data:   # a table the scene lacks (a group has no top-level [law])
+            data[key] = {}
         data = data[key]
     data[path[-1]] = value
 

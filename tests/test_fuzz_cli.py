@@ -95,3 +95,19 @@ def test_the_harness_sees_hangs_escapes_and_changed_inputs(monkeypatch, target, 
     outcomes = run(1, 0, workers=1, factory=lambda number: case, target=target)
     assert time.perf_counter() - began < 30
     assert outcomes[0].status == "FINDING" and expected in outcomes[0].detail, outcomes[0].detail
+
+
+@pytest.mark.parametrize("number", [4039, 4093, 4388])
+def test_the_campaign_s_findings_of_this_stop_stay_fixed(number):
+    # seed 11: 4039 `spectrum --fn 1e9` built 9e7 harmonics before counting them (out of memory); 4093 a scene
+    # listing 10,000 linkage settings (0.17 s of CPU each); 4388 `dynamics --rpm 1e-300` (ω² underflowed to 0)
+    outcomes = run(cases=1, seed=11, workers=1, start=number)
+    assert not _findings(outcomes), _findings(outcomes)
+    assert outcomes[0].status == "error"       # each is bad input now: exit 2 with one line
+
+
+def test_a_scene_mutation_may_name_a_table_the_scene_lacks():
+    # a group scene has no top-level [law]; a mutation of its phases used to crash the campaign (KeyError)
+    data = {"mechanisms": {"a": {"law": {"phases": "0:360:dwell"}}}}
+    fuzz_cli._set(data, ("law", "phases"), "0:360:rise")
+    assert data["law"] == {"phases": "0:360:rise"}

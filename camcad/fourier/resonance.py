@@ -44,6 +44,10 @@ class ResonanceBand:
         return self.fn_hz * (1.0 - self.band), self.fn_hz * (1.0 + self.band)
 
 
+#: the most harmonics a resonance band may cover (with its neighbours and taper)
+MAX_HARMONICS = 100_000
+
+
 def speed_range(rpm, where: str = "rpm") -> tuple[float, float]:
     """(n1, n2) in rpm from one speed or a sequence of speeds; CamcadError unless positive and finite."""
     values = [rpm] if isinstance(rpm, (int, float)) and not isinstance(rpm, bool) else list(rpm)
@@ -119,9 +123,11 @@ def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 
     slack = 1e-9
     first = max(1, math.ceil(k_low * (1 - slack)))
     last = math.floor(k_high * (1 + slack))
+    count = last - first + 1 + 2 * neighbours + 2 * taper   # counted before any list of them is made
+    if count > MAX_HARMONICS:
+        raise CamcadError(f"the band covers {count:.3g} harmonics (at most {MAX_HARMONICS})", where,
+                          "narrow the band or the speed range, or lower fn")
     core = tuple(range(first, last + 1))
-    if len(core) > 100000:
-        raise CamcadError(f"the band covers {len(core)} harmonics", where, "narrow the band or the speed range")
     removed: set[int] = set()
     for k in core:
         removed.update(j for j in range(k - neighbours, k + neighbours + 1) if j >= 1)

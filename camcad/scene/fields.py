@@ -142,6 +142,8 @@ def _check_range(value: float, field: Field, where: str) -> None:
 RANGE_SPEEDS = 15
 #: the fastest cam shaft camcad takes (rpm)
 MAX_RPM = 1e6
+#: the slowest speed any analysis accepts (rpm): one turn in 11.6 hours; slower, ω² underflows the models' scales
+MIN_RPM = 1e-3
 
 
 def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
@@ -176,6 +178,9 @@ def parse_speeds(value: Any, where: str = "--rpm") -> list[float]:
     if max(ends) > MAX_RPM:
         raise CamcadError(f"a speed of {max(ends):g} rpm is out of any machine's range", where,
                           f"give speeds up to {MAX_RPM:g} rpm")
+    if min(ends) < MIN_RPM:
+        raise CamcadError(f"a speed of {min(ends):g} rpm is below any machine's range", where,
+                          f"give speeds of at least {MIN_RPM:g} rpm")
     if len(ends) == 1:
         return ends
     low, high = sorted(ends)

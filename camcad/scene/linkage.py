@@ -90,6 +90,11 @@ ADJUST_FIELDS: list[Field] = [
 ]
 
 
+#: the most settings an adjustable linkage may list: each is a whole analysis over the cycle (0.17 s of CPU
+#: for the batten sample; 25 of them took 6.8 s), so 20 stay within seconds
+MAX_ADJUST_SETTINGS = 20
+
+
 @dataclass(frozen=True)
 class AdjustSpec:
     where: str
@@ -249,6 +254,9 @@ def parse_adjust(table: Any, where: str, kind: str) -> AdjustSpec:
                             for v in settings)):
         raise CamcadError(f"'settings' must be a list of numbers, got {excerpt(settings)}", where,
                           "write settings = [40.0, 50.0, 60.0]")
+    if len(settings) > MAX_ADJUST_SETTINGS:   # each setting is a whole linkage analysis
+        raise CamcadError(f"{len(settings)} settings are too many (at most {MAX_ADJUST_SETTINGS})", where,
+                          "list the settings the machine is adjusted to, e.g. settings = [40.0, 50.0, 60.0]")
     return AdjustSpec(where, element, joint, values["path"] if element != "link_angle" else "angle", centre,
                       values["direction"], tuple(float(v) for v in settings))
 
