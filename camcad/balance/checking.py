@@ -13,9 +13,9 @@ from camcad.balance.conditions import (
     Condition,
     conditions,
     functional_rows,
+    valid_step,
     valid_tol,
 )
-from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import phase_integrals
 
@@ -178,8 +178,7 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
                        step_deg: float = DEFAULT_STEP_DEG) -> dict:
     """The source's check (trapezoid at ``step_deg``) beside the exact one: its residuals, its verdict and
     how far each residual is from the exact value (mm/rad for velocities, mm for the displacement)."""
-    if not (np.isfinite(step_deg) and step_deg > 0):
-        raise CamcadError(f"step {step_deg!r} deg must be positive", "--step", "give e.g. --step 0.1")
+    valid_step(step_deg, law.cycle)
     conds = conditions(law)
     approximate = trapezoid_residuals(law, step_deg, conds)
     exact = functional_rows(law.x, conds) @ law.a

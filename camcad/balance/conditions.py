@@ -27,6 +27,23 @@ def valid_tol(tol: float) -> float:
         raise CamcadError(f"tolerance {tol:g} is not a fraction of the rise in (0, 1)", "--tol",
                           "give e.g. --tol 1e-5 (the default)")
     return float(tol)
+
+
+#: the most points a resampling step may make over the cycle
+MAX_STEP_POINTS = 5_000_000
+
+
+def valid_step(step_deg: float, cycle: float = 2.0 * math.pi) -> float:
+    """The source's resampling step (deg): finite, positive, and not so fine that the cycle (rad) holds more
+    than ``MAX_STEP_POINTS`` points (else a CamcadError)."""
+    if not (math.isfinite(step_deg) and step_deg > 0):
+        raise CamcadError(f"step {step_deg!r} deg must be positive", "--step", "give e.g. --step 0.1")
+    if cycle / math.radians(step_deg) > MAX_STEP_POINTS:
+        raise CamcadError(f"step {step_deg:g} deg makes more than {MAX_STEP_POINTS:,} points over the cycle",
+                          "--step", "give a coarser step, e.g. --step 0.1")
+    return float(step_deg)
+
+
 DEFAULT_STEP_DEG = 0.1   # the source's resampling step
 DEFAULT_MAX_STRETCH = 0.05
 QUANTITIES = ("v", "s", "rise")

@@ -25,6 +25,7 @@ from camcad.balance.conditions import (
     lift_conditions,
     mass_matrix,
     targets,
+    valid_step,
 )
 from camcad.balance.iterate import _iterate
 from camcad.errors import CamcadError
@@ -71,11 +72,7 @@ def jump_nodes(x: np.ndarray) -> np.ndarray:
 
 def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
     """The law resampled at a uniform step; jumps keep both their vertices so they stay vertical."""
-    if not (np.isfinite(step_deg) and step_deg > 0):
-        raise CamcadError(f"step {step_deg!r} deg must be positive", "--step", "give e.g. --step 0.1")
-    if law.cycle / np.radians(step_deg) > 5e6:
-        raise CamcadError(f"step {step_deg:g} deg makes more than 5 million points", "--step",
-                          "give a coarser step, e.g. --step 0.1")
+    valid_step(step_deg, law.cycle)
     grid = uniform_grid(0.0, law.cycle, np.radians(step_deg))
     jumps = law.x[:-1][np.diff(law.x) == 0]
     boundaries = np.array([p.start for p in law.phases] + [p.end for p in law.phases])
