@@ -36,10 +36,9 @@ def unique(values) -> np.ndarray:
     keep = np.empty(ordered.size, dtype=bool)
     keep[0] = True
     np.not_equal(ordered[1:], ordered[:-1], out=keep[1:])
-    if ordered.dtype.kind in "fc" and np.isnan(ordered[-1]):
-        first_nan = int(np.searchsorted(ordered, np.nan)) if ordered.dtype.kind == "f" else \
-            int(np.flatnonzero(np.isnan(ordered))[0])
-        keep[first_nan + 1:] = False
+    if ordered.dtype.kind in "fc" and np.isnan(ordered[-1]):   # NaNs sort last: keep the first of them
+        first_nan = int(np.flatnonzero(np.isnan(ordered))[0])
+        keep[first_nan:] = False
         keep[first_nan] = True
     return ordered[keep]
 

@@ -14,6 +14,8 @@ with closed forms.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: refinement of a peak: zoom levels around the best sample, and samples per level
@@ -90,3 +92,24 @@ def zoom_max(values, grid: np.ndarray, rows: int, first: np.ndarray | None = Non
         lo = np.maximum(centre - step, lo)
         hi = np.minimum(centre + step, hi)
     return peak, at
+
+
+def zoom_min(fn, grid: np.ndarray, first: np.ndarray | None = None) -> tuple[float, float]:
+    """The smallest value of one function ``fn`` (1-D abscissae → array) over ``grid`` and where it is, refined
+    as ``zoom_max`` refines a peak; (inf, nan) where ``fn`` has no finite value. ``first`` = fn(grid) when
+    already computed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> value, at = zoom_min(np.cos, np.linspace(2.0, 4.0, 9))
+    >>> round(value, 12), round(at, 6)
+    (-1.0, 3.141593)
+    """
+    def negated(u: np.ndarray) -> np.ndarray:
+        return -np.asarray(fn(np.ravel(u)), dtype=float).reshape(1, -1)
+
+    peak, at = zoom_max(negated, grid, 1, None if first is None else -np.asarray(first, dtype=float))
+    if not np.isfinite(peak[0]):
+        return math.inf, math.nan
+    return float(-peak[0]), float(at[0])

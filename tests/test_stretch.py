@@ -23,7 +23,7 @@ from camcad.scene.mechanism import (
     phase_pressure_function,
     phase_stress_function,
     phases_deg,
-    pressure_relation,
+    pressure_stretch,
     stress_relation,
 )
 from camcad.scene.stretch import least_angle
@@ -45,7 +45,7 @@ SPEEDS = [280.0, 300.0, 330.0, 360.0, 390.0, 420.0]
 def test_pressure_relation_equals_the_direct_route(name, index):
     table = FOLLOWERS[name]
     widths = np.array([30.0, 45.0, 70.0, 95.0, 125.0])
-    fast = pressure_relation(LAW, table, index, "x", 361).pressure_max_deg(widths)
+    fast = pressure_stretch(LAW, table, index, "x", 361).pressure_max_deg(widths)
     direct = np.array([phase_pressure_function(LAW, table, index, "x", 361)(w) for w in widths])
     np.testing.assert_allclose(fast, direct, rtol=1e-9)
 
@@ -97,7 +97,7 @@ def test_closed_form_least_width_of_a_centred_roller_equals_root_finding_and_the
     # the root Brent's method finds on the same relation, and the direct route (law retimed, cam rebuilt,
     # Brent-refined peak) must reach the limit there
     table = FOLLOWERS["roller"]
-    stretch = pressure_relation(LAW, table, index, "x", 361)
+    stretch = pressure_stretch(LAW, table, index, "x", 361)
     start, end, _ = phases_deg(LAW)[index]
     for limit in (20.0, 30.0, 45.0):
         closed = least_angle(stretch.pressure_max_deg, limit, 0.1 * (end - start), 200.0,
@@ -110,4 +110,4 @@ def test_closed_form_least_width_of_a_centred_roller_equals_root_finding_and_the
         assert direct == pytest.approx(limit, abs=1e-9)
     # no closed form with an offset or an oscillating follower: the search is used
     for name in ("offset roller, cw", "oscillating"):
-        assert pressure_relation(LAW, FOLLOWERS[name], index, "x", 361).pressure_inverse(30.0) is None
+        assert pressure_stretch(LAW, FOLLOWERS[name], index, "x", 361).pressure_inverse(30.0) is None

@@ -163,6 +163,7 @@ def trapezoid_residuals(law: PiecewiseLinearLaw, step_deg: float = DEFAULT_STEP_
     ndarray
         One residual per condition (mm/rad for velocities, mm for displacements).
     """
+    valid_step(step_deg, law.cycle)
     conds = conditions(law) if conds is None else conds
     grid, _, v, s = integrate_trapezoid(law.x, law.a, np.radians(step_deg))
     values = []
@@ -178,7 +179,6 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
                        step_deg: float = DEFAULT_STEP_DEG) -> dict:
     """The source's check (trapezoid at ``step_deg``) beside the exact one: its residuals, its verdict and
     how far each residual is from the exact value (mm/rad for velocities, mm for the displacement)."""
-    valid_step(step_deg, law.cycle)
     conds = conditions(law)
     approximate = trapezoid_residuals(law, step_deg, conds)
     exact = functional_rows(law.x, conds) @ law.a

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from camcad.balance.checking import _scale, trapezoid_residuals
-from camcad.balance.conditions import Condition
+from camcad.balance.conditions import Condition, valid_step
 from camcad.errors import CamcadError
 from camcad.law.phases import sign_runs
 
@@ -25,6 +25,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
     conditions are swept in turn until all agree within the tolerance.
     """
     limit = tol * _scale(law)
+    valid_step(step_deg, law.cycle)
     points = law.cycle / np.radians(step_deg) + len(law.x)
     max_iterations = int(min(max_iterations, max(100, WORK_BUDGET // points)))
     moved = np.zeros(len(law.x), dtype=bool)

@@ -514,14 +514,14 @@ def _own_box(entity) -> list[tuple[float, float, float]] | None:
     elif kind == "LINE":
         return [tuple(entity.dxf.start), tuple(entity.dxf.end)]
     elif kind == "SPLINE":
-        xy, bulge = np.asarray(entity.control_points, dtype=float)[:, :2].reshape(-1, 2), np.zeros(0)
+        xy = np.asarray(entity.control_points, dtype=float).reshape(-1, 3)[:, :2]
+        bulge = np.zeros(len(xy))
     else:
         return None
     if len(xy) == 0:
         return []
-    closing = np.roll(xy, -1, axis=0) if len(bulge) else xy
-    chord = np.hypot(*(closing - xy).T) if len(bulge) else np.zeros(0)
-    reach = float(np.max(np.abs(bulge) * chord / 2.0)) if len(bulge) else 0.0
+    chord = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)     # each vertex to the next (the last to the first)
+    reach = float(np.max(np.abs(bulge) * chord / 2.0))
     low, high = xy.min(axis=0) - reach, xy.max(axis=0) + reach
     return [(float(low[0]), float(low[1]), 0.0), (float(high[0]), float(high[1]), 0.0)]
 

@@ -350,33 +350,33 @@ class CompositeLaw:
             j[inside] = h * seg.shape.evaluate(u, 3) / beta**3
         return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
 
-    def acceleration_at(self, theta: float) -> float:
-        """a(θ) (mm/rad²) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
-        at every step); equal to ``kinematics(np.array([theta])).a[0]``."""
+    def _at(self, theta: float):
+        """Segment index, segment, u ∈ [0, 1] (a 1-element array), width β and signed lift h at one cam
+        angle θ (rad): ``kinematics``'s lookup without array overhead (u and h are None in a dwell)."""
         t = wrap_angle(float(theta), self.cycle)
         k = min(max(bisect.bisect_right(self._starts_list, t) - 1, 0), len(self.segments) - 1)
         seg = self.segments[k]
-        if seg.kind == "dwell":
-            return 0.0
         beta = seg.end - seg.start
-        u = min(max((t - seg.start) / beta, 0.0), 1.0)
-        h = seg.lift if seg.kind == "rise" else -seg.lift
-        assert seg.shape is not None  # a rise or return has its shape
-        return float(h * seg.shape.evaluate(np.array([u]), 2)[0] / beta**2)
+        if seg.kind == "dwell":
+            return k, seg, None, beta, None
+        u = np.array([min(max((t - seg.start) / beta, 0.0), 1.0)])
+        return k, seg, u, beta, seg.lift if seg.kind == "rise" else -seg.lift
+
+    def acceleration_at(self, theta: float) -> float:
+        """a(θ) (mm/rad²) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
+        at every step); equal to ``kinematics(np.array([theta])).a[0]``."""
+        _, seg, u, beta, h = self._at(theta)
+        if u is None:
+            return 0.0
+        return float(h * seg.shape.evaluate(u, 2)[0] / beta**2)
 
     def motion_at(self, theta: float) -> tuple[float, float]:
         """(s, v) (mm, mm/rad) at one cam angle θ (rad), without array overhead (ODE right-hand sides call it
         at every step); equal to ``kinematics(np.array([theta]))``'s s[0] and v[0]."""
-        t = wrap_angle(float(theta), self.cycle)
-        k = min(max(bisect.bisect_right(self._starts_list, t) - 1, 0), len(self.segments) - 1)
-        seg = self.segments[k]
+        k, seg, u, beta, h = self._at(theta)
         level = float(self._levels[k])
-        if seg.kind == "dwell":
+        if u is None:
             return level, 0.0
-        beta = seg.end - seg.start
-        u = np.array([min(max((t - seg.start) / beta, 0.0), 1.0)])
-        h = seg.lift if seg.kind == "rise" else -seg.lift
-        assert seg.shape is not None  # a rise or return has its shape
         return float(level + h * seg.shape.evaluate(u, 0)[0]), float(h * seg.shape.evaluate(u, 1)[0] / beta)
 
     @functools.cached_property

@@ -33,7 +33,7 @@ from typing import cast
 import numpy as np
 
 from camcad.arrays import union
-from camcad.extrema import zoom_max
+from camcad.extrema import zoom_min
 from camcad.law.law import MotionLaw
 from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
@@ -63,12 +63,8 @@ class BaseRadiusDesign:
 
 
 def _worst(values_fn, theta: np.ndarray) -> float:
-    """min over θ of values_fn(θ): grid minimum refined by zooming grids (``camcad.extrema.zoom_max``)."""
-    def negated(t: np.ndarray) -> np.ndarray:
-        return -np.asarray(values_fn(np.ravel(t)), dtype=float).reshape(1, -1)
-
-    peak, _ = zoom_max(negated, theta, 1)
-    return -float(peak[0]) if np.isfinite(peak[0]) else math.inf
+    """min over θ of values_fn(θ): grid minimum refined by zooming grids (``camcad.extrema.zoom_min``)."""
+    return zoom_min(values_fn, theta)[0]
 
 
 def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:

@@ -19,7 +19,7 @@ import numpy as np
 
 from camcad.arrays import union
 from camcad.errors import CamcadError
-from camcad.extrema import zoom_max
+from camcad.extrema import zoom_min
 from camcad.law.law import MotionLaw
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
@@ -263,15 +263,10 @@ class ProfileResult:
 
 def refine_min(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:
     """Smallest finite value of ``fn`` (θ → array): best grid point, refined by zooming grids between its
-    neighbours (``camcad.extrema.zoom_max``). ``values`` = fn(theta); non-finite entries are excluded."""
+    neighbours (``camcad.extrema.zoom_min``). ``values`` = fn(theta); non-finite entries are excluded."""
     if not np.isfinite(values).any():
         return None
-
-    def negated(t: np.ndarray) -> np.ndarray:
-        return -np.asarray(fn(np.ravel(t)), dtype=float).reshape(1, -1)
-
-    peak, at = zoom_max(negated, theta, 1, first=-np.asarray(values, dtype=float))
-    return Extremum(float(-peak[0]), float(at[0]))
+    return Extremum(*zoom_min(fn, theta, first=values))
 
 
 def refine_max(fn, theta: np.ndarray, values: np.ndarray) -> Extremum | None:

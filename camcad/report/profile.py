@@ -450,7 +450,7 @@ def plot_summary(result, report: dict | None = None):
     # fixed margins: a layout engine would measure every label of the page before drawing it (~40 % of the
     # time of this figure)
     grid = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.25, 1.25], left=0.05, right=0.985, top=0.92, bottom=0.1,
-                            wspace=0.32, hspace=0.32)
+                            wspace=0.42, hspace=0.32)
     turn = "clockwise" if result.follower.cw else "counter-clockwise"
     profile_ax = fig.add_subplot(grid[:, 0])
     draw_profile(profile_ax, result, legend=6, title=f"cam profile at θ = 0 (turns {turn})")
@@ -475,7 +475,7 @@ def plot_summary(result, report: dict | None = None):
     lines = _verdict_lines(report)
     wrapped = []
     for line, colour in lines:
-        for k, piece in enumerate(textwrap.wrap(line, 60) or [""]):
+        for k, piece in enumerate(textwrap.wrap(line, 56) or [""]):
             wrapped.append(("    " + piece if k else piece, colour))
     height_in = text_ax.get_position().height * fig.get_figheight()
     step = 1.3 * 8.0 / 72.0 / height_in            # one line of 8 pt text, in axes fractions

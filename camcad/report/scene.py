@@ -55,7 +55,7 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
                 for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
                     out.path(*sub, file)
                 jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
-        cyclogram_plots = bool(options.plots and result.report.get("cyclogram", {}).get("feasible"))
+        cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
         if cyclogram_plots:
             for file in CYCLOGRAM_PLOT_FILES:
                 out.path(file)

@@ -132,7 +132,7 @@ def phase_pressure_function(law, follower_table: dict, index: int, where: str, s
     return phi_max
 
 
-def pressure_relation(law, follower_table: dict, index: int, where: str, samples: int) -> PhaseStretch:
+def pressure_stretch(law, follower_table: dict, index: int, where: str, samples: int) -> PhaseStretch:
     """Phase ``index`` ready to be stretched: its ``pressure_max_deg(widths)`` is the largest |pressure
     angle| (deg) over the phase stretched to each width (deg), all widths in one pass, and its
     ``pressure_inverse`` the closed-form least width where there is one (``camcad.scene.stretch``)."""
@@ -155,7 +155,7 @@ def pressure_angle_limits(law, follower_table: dict, where: str, samples: int,
         if limit is None:
             found[label] = None
             continue
-        stretch = pressure_relation(law, follower_table, index, where, samples)
+        stretch = pressure_stretch(law, follower_table, index, where, samples)
         try:
             found[label] = _solve(memo, (id(law), index, "pressure angle"), stretch.pressure_max_deg,
                                   limit - PRESSURE_MARGIN_DEG, 0.1 * (end - start), stretch_room(phases, index),
@@ -405,7 +405,7 @@ def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = 
     index = phase_index(phases, op.phase, op.occurrence, mech.where(scene.path, "law"))
     upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
     lower = max(op.min_deg, 1e-3 * upper)
-    stretch = pressure_relation(law, follower_table, index, where, PRESSURE_SAMPLES)
+    stretch = pressure_stretch(law, follower_table, index, where, PRESSURE_SAMPLES)
     return [_solve(memo, (id(law), index, "pressure angle"), stretch.pressure_max_deg, limit - PRESSURE_MARGIN_DEG,
                    lower, upper, source="pressure angle", what=f"operation {op.label} ({op.mechanism} {op.phase})",
                    inverse=stretch.pressure_inverse)]

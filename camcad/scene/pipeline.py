@@ -239,12 +239,10 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     limits = limits and (only_limits or not options.checks_only)
     # ---- [linkage] (camcad.scene.linkage): with [law] law_of = "output" the law becomes the follower's law
     # designed for the working member; dynamics, impact and contact below get the working member through Pi
-    law_table = mech.sections.get("law")
-    if mech.has("linkage") or (isinstance(law_table, dict) and "law_of" in law_table):
-        from camcad.scene.linkage import prepare as prepare_linkage
+    from camcad.scene.linkage import prepare as prepare_linkage
 
-        built, run.linkage = prepare_linkage(scene, mech, built)
-        run.law = built.law
+    built, run.linkage = prepare_linkage(scene, mech, built)
+    run.law = built.law
     # ----
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
