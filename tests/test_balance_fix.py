@@ -248,3 +248,16 @@ def test_contradicting_conditions_name_the_one_that_cannot_be_met():
     with pytest.raises(CamcadError) as err:
         balance.least_change(law, balance.conditions(law) + (lift, other), basis, True, "min-change", "law.csv")
     assert "cannot keep the rise" in str(err.value) and "--free-lift" in str(err.value)
+
+
+@pytest.mark.parametrize("step", ["0", "1e-300", "nan"])
+def test_the_source_s_loop_refuses_a_step_it_cannot_resample_with(cli, tmp_path, step):
+    # the step rule is applied where the grid is built, so `fix --method iterate` answers as `check
+    # --trapezoid` does: one line, exit 2, nothing written (it was an internal error: exit 3)
+    law = SAMPLES / "law_table.csv"
+    out = tmp_path / "fixed.csv"
+    result = cli("fix", law, "--phases", "0:60:dwell,60:180:rise,180:240:dwell,240:360:return", "--mode",
+                 "keypoints", "--method", "iterate", "--step", step, "-o", out)
+    assert result.code == 2, result.err
+    assert "--step" in result.err and len(result.err.strip().splitlines()) == 1
+    assert not out.exists()
