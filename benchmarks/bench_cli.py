@@ -13,6 +13,13 @@ with it so that the machine's load falls on both alike; the figure of merit is t
 | camcad profile loom_group1.toml --no-plots | python -c "import numpy, ezdxf, scipy.optimize" | 2.0 |
 | camcad profile loom_group1.toml (plots) | python -c "import numpy, ezdxf, scipy.optimize" | 4.0 |
 
+Two more floors bound what any run with plots can reach: a process that imports numpy, ezdxf and
+matplotlib's Figure with the Agg canvas (what drawing needs before anything is drawn), and one that also
+saves an empty page of the summary's size at camcad's DPI. Their ratios to "import numpy, ezdxf" are
+the part of a plot target that matplotlib takes before camcad draws a line. Beside them, in this process
+after a warm-up (so no import is counted), the CPU time of drawing and saving the default's summary
+page, a page with only its profile panel, and an empty page of the same size.
+
 The ratios are of CPU time (user + system of the child process), which the load of other processes on a
 shared machine disturbs far less than wall time; wall medians and wall ratios are reported beside them.
 
@@ -42,6 +49,15 @@ FLOORS = {
     "typer": ["-c", "import typer"],
     "numpy, ezdxf": ["-c", "import numpy, ezdxf"],
     "numpy, ezdxf, scipy.optimize": ["-c", "import numpy, ezdxf, scipy.optimize"],
+}
+#: floors of a run with plots (label, python arguments); ratios to "numpy, ezdxf"
+_MPL = ("import numpy, ezdxf; from matplotlib.figure import Figure; "
+        "from matplotlib.backends.backend_agg import FigureCanvasAgg")
+PLOT_FLOORS = {
+    "numpy, ezdxf, matplotlib (Figure, Agg)": ["-c", _MPL],
+    "... and save an empty 15 x 9 in page": ["-c", _MPL + "; f = Figure(figsize=(15, 9), dpi={dpi}); "
+                                             "FigureCanvasAgg(f); f.savefig({png!r}, dpi={dpi}, "
+                                             "pil_kwargs={{'compress_level': {level}}})"],
 }
 #: (label, camcad arguments, floor, ratio limit); "{out}" becomes a fresh output folder
 COMMANDS = [
@@ -79,12 +95,16 @@ def run(quick: bool = False) -> list[dict]:
     # quick: one round and no warm-up round (a smoke test of the benchmark, not a measurement)
     repeats, warm = (1, 0) if quick else (7, 1)
     camcad = _camcad()
-    samples: dict[str, list[tuple[float, float]]] = {name: [] for name in [*FLOORS, *(c[0] for c in COMMANDS)]}
+    from camcad.report.figure import DPI, PNG_COMPRESSION
+
+    floors = {**FLOORS, **PLOT_FLOORS}
+    samples: dict[str, list[tuple[float, float]]] = {name: [] for name in [*floors, *(c[0] for c in COMMANDS)]}
     env_python = [sys.executable]
     with tempfile.TemporaryDirectory() as scratch:
+        png = str(Path(scratch) / "empty.png")
         for repeat in range(repeats + warm):       # the first round warms the file cache and is dropped
-            for name, args in FLOORS.items():
-                timing = _run(env_python + args)
+            for name, args in floors.items():
+                timing = _run(env_python + [a.format(dpi=DPI, png=png, level=PNG_COMPRESSION) for a in args])
                 if repeat >= warm:
                     samples[name].append(timing)
             for label, args, _, _ in COMMANDS:
@@ -99,6 +119,12 @@ def run(quick: bool = False) -> list[dict]:
         wall, cpu = medians[name]
         rows.append(dict(kernel="process start-up (floor)", method=f'python -c "import {name}"', setting="-",
                          time_s=wall, cpu_s=cpu, error=None, error_unit="-"))
+    base = medians["numpy, ezdxf"]
+    for name in PLOT_FLOORS:
+        wall, cpu = medians[name]
+        rows.append(dict(kernel="process start-up (floor of a run with plots)", method=f"python: {name}",
+                         setting="floor: import numpy, ezdxf", time_s=wall, cpu_s=cpu, ratio=cpu / base[1],
+                         wall_ratio=wall / base[0], error=cpu / base[1], error_unit="CPU time / floor CPU time"))
     for label, _, floor, limit in COMMANDS:
         wall, cpu = medians[label]
         ratio = cpu / medians[floor][1]
@@ -106,6 +132,43 @@ def run(quick: bool = False) -> list[dict]:
                          time_s=wall, cpu_s=cpu, ratio=ratio, wall_ratio=wall / medians[floor][0],
                          ratio_limit=limit, passed=ratio <= limit,
                          error=ratio, error_unit=f"CPU time / floor CPU time (limit {limit:g})"))
+    return rows + page_costs(1 if quick else 5)
+
+
+def page_costs(repeats: int) -> list[dict]:
+    """CPU time of drawing and saving the default's summary page, its profile panel alone and an empty
+    page of the same size, in this process after one warm-up of each (median of ``repeats``)."""
+    from camcad.report.figure import new_figure, save_figure
+    from camcad.report.profile import draw_profile, plot_summary
+    from camcad.scene.default import default_tables
+    from camcad.scene.file import scene_from_dict
+    from camcad.scene.pipeline import PipelineOptions, analyse_scene
+
+    scene = scene_from_dict(default_tables(), Path("default"), from_file=False)
+    run = next(iter(analyse_scene(scene, PipelineOptions(plots=())).runs.values()))
+    result, report = run.profile, run.report
+
+    def profile_panel():
+        fig, ax = new_figure(5.0, 9.0)
+        draw_profile(ax, result, legend=6, title="cam profile")
+        return fig
+
+    pages = {"the default's summary page (15 x 9 in)": lambda: plot_summary(result, report),
+             "its profile panel alone (5 x 9 in)": profile_panel,
+             "an empty page (15 x 9 in)": lambda: new_figure(15.0, 9.0, rows=0, layout=None)[0]}
+    rows = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for label, make in pages.items():
+            cpu, wall = [], []
+            for k in range(repeats + 1):
+                c0, w0 = time.process_time(), time.perf_counter()
+                save_figure(make(), Path(scratch) / "page.png")
+                if k:                                       # the first draws the fonts' caches: dropped
+                    cpu.append(time.process_time() - c0)
+                    wall.append(time.perf_counter() - w0)
+            rows.append(dict(kernel="plot page (drawn and saved, in process)", method=label, setting="-",
+                             time_s=statistics.median(wall), cpu_s=statistics.median(cpu), error=None,
+                             error_unit="-"))
     return rows
 
 
