@@ -18,7 +18,10 @@ matplotlib's Figure with the Agg canvas (what drawing needs before anything is d
 saves an empty page of the summary's size at camcad's DPI. Their ratios to "import numpy, ezdxf" are
 the part of a plot target that matplotlib takes before camcad draws a line. Beside them, in this process
 after a warm-up (so no import is counted), the CPU time of drawing and saving the default's summary
-page, a page with only its profile panel, and an empty page of the same size.
+page, a page with only its profile panel, and an empty page of the same size. And where `camcad profile
+--no-plots` spends its CPU time, measured inside one such process: importing numpy and ezdxf, importing
+typer, creating camcad's dataclasses (Python 3.11 compiles each one's methods from source at import), and
+the rest (camcad's other imports and the work).
 
 The ratios are of CPU time (user + system of the child process), which the load of other processes on a
 shared machine disturbs far less than wall time; wall medians and wall ratios are reported beside them.
@@ -132,7 +135,56 @@ def run(quick: bool = False) -> list[dict]:
                          time_s=wall, cpu_s=cpu, ratio=ratio, wall_ratio=wall / medians[floor][0],
                          ratio_limit=limit, passed=ratio <= limit,
                          error=ratio, error_unit=f"CPU time / floor CPU time (limit {limit:g})"))
-    return rows + page_costs(1 if quick else 5)
+    return rows + breakdown(1 if quick else 7, base[1]) + page_costs(1 if quick else 5)
+
+
+#: a child process that runs `camcad profile --no-plots` in itself and prints where its CPU time went beyond
+#: "import numpy, ezdxf": typer's import, the dataclasses camcad creates (Python 3.11 compiles each one's
+#: methods from source at import) and the rest (camcad's other imports and the work)
+_BREAKDOWN = r"""
+import contextlib, dataclasses, io, json, sys, time
+t0 = time.process_time()
+import numpy, ezdxf
+t1 = time.process_time()
+import typer
+t2 = time.process_time()
+made, spent, process_class = [0], [0.0], dataclasses._process_class
+def timed(*args, **kwargs):
+    c = time.process_time()
+    try:
+        return process_class(*args, **kwargs)
+    finally:
+        made[0] += 1
+        spent[0] += time.process_time() - c
+dataclasses._process_class = timed
+sys.argv = ["camcad", "profile", "--no-plots", "-o", sys.argv[1]]
+from camcad.cli import main
+with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+    main()
+t3 = time.process_time()
+print(json.dumps({"floor": t1 - t0, "typer": t2 - t1, "dataclasses": spent[0], "count": made[0],
+                  "rest": t3 - t2 - spent[0]}))
+"""
+
+
+def breakdown(repeats: int, floor_cpu: float) -> list[dict]:
+    """Where `camcad profile --no-plots` spends its CPU time beyond its floor (median of ``repeats`` runs);
+    ratios to ``floor_cpu``, the CPU time of the process ``python -c "import numpy, ezdxf"``."""
+    import json
+
+    runs = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for k in range(repeats):
+            done = subprocess.run([sys.executable, "-c", _BREAKDOWN, str(Path(scratch) / str(k))], cwd=ROOT,
+                                  capture_output=True, text=True, check=True)
+            runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
+    median = {key: statistics.median(run[key] for run in runs) for key in runs[0]}
+    parts = {"importing numpy, ezdxf": "floor", "importing typer": "typer",
+             f"{median['count']:.0f} dataclasses created": "dataclasses",
+             "camcad's other imports and the work": "rest"}
+    return [dict(kernel="camcad profile --no-plots, inside (CPU)", method=label, setting="-", time_s=median[key],
+                 cpu_s=median[key], ratio=median[key] / floor_cpu, error=median[key] / floor_cpu,
+                 error_unit='CPU time / CPU time of python -c "import numpy, ezdxf"') for label, key in parts.items()]
 
 
 def page_costs(repeats: int) -> list[dict]:
@@ -149,7 +201,7 @@ def page_costs(repeats: int) -> list[dict]:
     result, report = run.profile, run.report
 
     def profile_panel():
-        fig, ax = new_figure(5.0, 9.0)
+        fig, ax = new_figure(5.0, 9.0, layout=None)   # fixed margins, as on the summary page
         draw_profile(ax, result, legend=6, title="cam profile")
         return fig
 
