@@ -42,23 +42,35 @@ def evaluate_series_orders(mean: float, coefficients: np.ndarray, cycle: float, 
                            orders=(0, 1, 2, 3)) -> list[np.ndarray]:
     """Several derivatives of the series at θ (rad), by Horner's scheme in z = e^{iω0θ}.
 
-    Σ_k c_k z^k = z(c_1 + z(c_2 + … + z c_N)): N complex multiply-adds per point and order, no table
-    of exponentials; |z| = 1, so the round-off grows at most like N·eps·Σ|c_k|.
+    Σ_k c_k z^k = z^{k_1}(c_{k_1} + z^{k_2−k_1}(c_{k_2} + … + z^{k_m−k_{m−1}} c_{k_m})) over the m
+    non-zero terms k_1 < … < k_m: m complex multiply-adds per point and order, and an exponential
+    table only for each distinct gap k_{i+1} − k_i > 1 (a filter's removal is a few harmonics high
+    up in a long, mostly zero, coefficient vector); |z| = 1, so the round-off grows at most like
+    m·eps·Σ|c_k|.
     """
     theta = np.asarray(theta, dtype=float)
     flat = theta.ravel()
     coefficients = np.asarray(coefficients, dtype=complex)
-    n = len(coefficients)
+    terms = np.flatnonzero(coefficients)                     # indices k − 1 of the non-zero terms
     outs = [np.full(flat.shape, mean if order == 0 else 0.0) for order in orders]
-    if n and len(flat):
-        w = np.arange(1, n + 1) * (2.0 * np.pi / cycle)
-        weighted = np.stack([coefficients * (1j * w) ** order for order in orders], axis=1)
-        z = np.exp(1j * (2.0 * np.pi / cycle) * flat)[:, None]
+    if len(terms) and len(flat):
+        omega0 = 2.0 * np.pi / cycle
+        w = (terms + 1) * omega0
+        weighted = np.stack([coefficients[terms] * (1j * w) ** order for order in orders], axis=1)
+        powers: dict[int, np.ndarray] = {}
+
+        def z_to(gap: int) -> np.ndarray:
+            """z^gap = e^{i gap ω0 θ} at every point, one table per distinct gap."""
+            if gap not in powers:
+                powers[gap] = np.exp(1j * (gap * omega0) * flat)[:, None]
+            return powers[gap]
+
         total = np.zeros((len(flat), len(orders)), dtype=complex)
-        for k in range(n - 1, -1, -1):
-            total *= z
-            total += weighted[k]
-        values = 2.0 * np.real(total * z)
+        total += weighted[-1]
+        for index in range(len(terms) - 2, -1, -1):
+            total *= z_to(int(terms[index + 1] - terms[index]))
+            total += weighted[index]
+        values = 2.0 * np.real(total * z_to(int(terms[0]) + 1))
         for index, out in enumerate(outs):
             out += values[:, index]
     return [out.reshape(theta.shape) for out in outs]
