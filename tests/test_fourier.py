@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 from itertools import pairwise
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -662,3 +663,13 @@ def test_a_compensation_past_its_bound_is_left_out_and_said():
     assert max(float(after.amplitudes[k - 1]) for k in band.removed) < 1e-12
     # and the dwells are reported as not kept: the band's terms move them by about 1e-6 mm, far past 1e-9 mm
     assert result.dwell_deviation > 1e-7 and not result.dwells_kept
+
+
+def test_the_filter_notes_speak_the_law_s_unit(capsys, tmp_path):
+    # the batten's law is a swing in rad: its filter notes say rad, not mm (they said mm before this stop)
+    scene = Path(__file__).resolve().parents[1] / "samples" / "scenes" / "batten.toml"
+    code, stdout, _ = _run(["spectrum", str(scene), "-N", "20", "--filter", "--no-plots", "-o", str(tmp_path),
+                            "--json"], capsys)
+    notes = json.loads(stdout)["spectrum"]["filter"]["notes"]
+    assert code in (0, 1) and any("dwell tolerance not given" in note for note in notes), notes
+    assert all(" mm" not in note for note in notes) and any(note.endswith(" rad") for note in notes), notes

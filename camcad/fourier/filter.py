@@ -183,7 +183,7 @@ class FilterResult:
 def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep_dwells: bool = True,
                dwell_tol: float | None = None, start_window_deg: float = 7.0,
                compensation_harmonics: int | None = None, samples: int | None = None,
-               spectrum: Spectrum | None = None) -> FilterResult:
+               spectrum: Spectrum | None = None, unit: str = "mm") -> FilterResult:
     """Remove (or taper) the resonant harmonics of a law, keeping its dwells and lift within ``dwell_tol``.
 
     The filtered law is law − Σ_{k} (1 − g_k)·(term k) (``CorrectedLaw``): exact, every other harmonic
@@ -219,6 +219,8 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
         at least 2^14.
     spectrum : Spectrum, optional
         The law's spectrum when already computed (``analyse``); computed when None.
+    unit : str
+        The law's unit of s, written in the notes ("mm", or "rad" for a swing).
 
     Returns
     -------
@@ -257,7 +259,8 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     if spectrum is None or len(spectrum.coefficients) < wide:
         spectrum = analyse(law, wide)
     if not spectrum.converged:
-        notes.append(f"FFT analysis did not reach its tolerance: coefficient error {spectrum.coefficient_error:.3g} mm")
+        notes.append(f"FFT analysis did not reach its tolerance: coefficient error "
+                     f"{spectrum.coefficient_error:.3g} {unit}")
     removal = np.zeros(band.highest, dtype=complex)
     for k, gain in band.gains.items():
         removal[k - 1] = -(1.0 - gain) * spectrum.coefficients[k - 1]
@@ -272,7 +275,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     lift = float(np.ptp(base.s))
     tol = 1e-3 * lift if dwell_tol is None else float(dwell_tol)
     if dwell_tol is None:
-        notes.append(f"dwell tolerance not given: 1e-3 of the lift, {tol:.4g} mm")
+        notes.append(f"dwell tolerance not given: 1e-3 of the lift, {tol:.4g} {unit}")
     dwells = dwell_grid(phases, cycle / samples)
     extremes = grid[[int(np.argmax(base.s)), int(np.argmin(base.s))]]
     keep_points = np.concatenate((dwells, extremes))
@@ -305,7 +308,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     elif keep_dwells and plain_dwell > tol and highest > MAX_COMPENSATION_HARMONICS:
         notes.append(f"the dwells are not compensated: it would take harmonics up to {highest} (at most "
                      f"{MAX_COMPENSATION_HARMONICS}; the band lies at harmonics {min(band.gains)}-{max(band.gains)}); "
-                     f"removal alone moves them by {plain_dwell:.4g} mm")
+                     f"removal alone moves them by {plain_dwell:.4g} {unit}")
     elif keep_dwells and plain_dwell > tol:
         # fit on 16 points per period of the highest harmonic, check on the fine grid
         fit_points = np.concatenate((dwell_grid(phases, cycle / (16 * highest)), extremes))
@@ -325,8 +328,8 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     kept_dev = deviation_on(keep_points, correction)
     dwells_kept = kept_dev <= tol * (1 + 1e-9)
     if compensation is not None:
-        notes.append(f"plain removal moved the dwells/lift by {plain_dwell:.4g} mm (> {tol:.4g} mm); the compensation "
-                     f"brings it to {kept_dev:.4g} mm at peak-acceleration ratio "
+        notes.append(f"plain removal moved the dwells/lift by {plain_dwell:.4g} {unit} (> {tol:.4g} {unit}); "
+                     f"the compensation brings it to {kept_dev:.4g} {unit} at peak-acceleration ratio "
                      f"{np.max(np.abs(a_filtered)) / peak:.4f} (removal alone: {np.max(np.abs(a_removed)) / peak:.4f})")
     window = float(np.radians(start_window_deg))
     starts_before = start_accelerations(law, window)

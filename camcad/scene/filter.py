@@ -160,11 +160,12 @@ class FilterOutcome:
 
 
 def apply_filter(law: MotionLaw, settings: FilterSettings, *, fn_hz: float | None = None,
-                 rpm=None, where: str = "[filter]") -> FilterOutcome:
+                 rpm=None, where: str = "[filter]", unit: str = "mm") -> FilterOutcome:
     """Resonance filtering (when a natural frequency and a speed range are known) and lead-in segments
     (when ``lead_in_deg`` is set), in that order; returns the closed polyline law to continue with.
 
-    ``fn_hz``/``rpm`` fill in what ``settings`` leaves out (e.g. from the scene's [dynamics] and [machine]).
+    ``fn_hz``/``rpm`` fill in what ``settings`` leaves out (e.g. from the scene's [dynamics] and [machine]);
+    ``unit`` is the law's (mm, or rad for a swing), used in the notes.
     """
     fn = settings.fn_hz if settings.fn_hz is not None else fn_hz
     speeds = settings.rpm if settings.rpm is not None else rpm
@@ -176,7 +177,7 @@ def apply_filter(law: MotionLaw, settings: FilterSettings, *, fn_hz: float | Non
                               "add rpm = [n1, n2] to [filter] or [machine], or pass --rpm N1:N2")
         band = resonant_harmonics(fn, speeds, settings.band, settings.neighbours, settings.taper, where)
         filtered = filter_law(law, band, harmonics=settings.harmonics, keep_dwells=settings.keep_dwells,
-                              dwell_tol=settings.dwell_tol_mm, start_window_deg=settings.start_window_deg)
+                              dwell_tol=settings.dwell_tol_mm, start_window_deg=settings.start_window_deg, unit=unit)
         current = filtered.law
     elif settings.lead_in_deg is None:
         raise CamcadError("nothing to do: no natural frequency and no lead-in", where,
@@ -342,7 +343,7 @@ def filter_step(scene, mech, law, speeds, unit: str = "mm", applies: str = "") -
         return FilterStep(law, skipped="no natural frequency ([filter] fn_hz or [dynamics]) and no lead-in")
     if fn is not None and rpm is None:
         return FilterStep(law, skipped="no speed range ([filter] rpm or [machine] rpm)")
-    outcome = apply_filter(law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"))
+    outcome = apply_filter(law, settings, fn_hz=fn, rpm=rpm, where=mech.where(scene.path, "filter"), unit=unit)
     figures, verdict = judge_filter(law, outcome, settings, unit, applies)
     body = {**_filter_body(outcome, figures, unit), "natural_frequency_hz": fn}
     report = AnalysisReport("spectrum", body, verdict, result=outcome)
@@ -598,7 +599,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
             notes.append(f"the law is not balanced ({why}); filtered anyway (--force)")
         filter_settings = replace(settings, fn_hz=natural if wants_filter else None, rpm=speeds,
                                   exact_dwells=request.exact_dwells or settings.exact_dwells)
-        outcome = apply_filter(law, filter_settings, where="--filter" if wants_filter else "--lead-in")
+        outcome = apply_filter(law, filter_settings, where="--filter" if wants_filter else "--lead-in", unit=unit)
         figures, verdict = judge_filter(law, outcome, filter_settings, unit, applies,
                                         "the written law (filtered.dxf)")
         body.update(_filter_body(outcome, figures, unit))
