@@ -458,7 +458,15 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         pivot = cast(float, follower.pivot)  # a four/six-bar has an oscillating follower (refused above)
         linkage = orient(build_linkage(spec, (pivot, 0.0), arm_angle0), spec.values["output_direction"], where)
     if law_of == "output":
-        y_max = _law_extreme(law) * out_scale
+        (y_min, at_min), (y_max, _) = _law_range(law)
+        if y_min < -1e-9 * abs(y_max):
+            shown = f"{y_min:.6g} {spec.output_unit}"          # the law's own unit
+            raise CamcadError(f"the working member's law goes below its start position, to {shown} at cam angle "
+                              f"{math.degrees(at_min):.6g} deg, where the linkage, laid out from that start, cannot "
+                              "follow", mech.where(scene.path, "law"),
+                              "the law must stay at or above its start (run camcad check on it: an unbalanced "
+                              "acceleration law drifts)")
+        y_max *= out_scale
         if spec.type in ("fourbar", "sixbar"):
             psi_max = _swing_for(linkage, y_max, where)
             from camcad.linkage.transfer import LinkageTransfer
@@ -500,20 +508,26 @@ def _fmt(psi: float, unit: str) -> str:
     return f"{math.degrees(psi):.6g} deg" if unit == "rad" else f"{psi:.6g} mm"
 
 
-def _law_extreme(law) -> float:
-    """The law's largest displacement: sampled (phase ends included), refined by a bounded search."""
+def _law_range(law) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The law's smallest and largest displacement, each with its cam angle (rad): sampled (phase ends
+    included), refined by a bounded search."""
     from scipy.optimize import minimize_scalar
 
     theta = union(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
     s = law.kinematics(theta).s
-    i = int(np.argmax(s))
-    lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, len(theta) - 1)]
-    best = float(s[i])
-    if hi > lo:
-        fine = minimize_scalar(lambda t: -float(law.kinematics(np.array([t])).s[0]), bounds=(lo, hi),
-                               method="bounded", options={"xatol": 1e-12})
-        best = max(best, -float(fine.fun))
-    return best
+    extremes = []
+    for sign in (-1.0, 1.0):                     # the minimum, then the maximum
+        i = int(np.argmax(sign * s))
+        lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, len(theta) - 1)]
+        best = (float(s[i]), float(theta[i]))
+        if hi > lo:
+            fine = minimize_scalar(lambda t, sign=sign: -sign * float(law.kinematics(np.array([t])).s[0]),
+                                   bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
+            value = -sign * float(fine.fun)
+            if sign * value > sign * best[0]:
+                best = (value, float(fine.x))
+        extremes.append(best)
+    return extremes[0], extremes[1]
 
 
 def _swing_for(linkage, y_max: float, where: str, step_deg: float = 0.25, limit_deg: float = 180.0) -> float:
