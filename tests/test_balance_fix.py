@@ -261,3 +261,26 @@ def test_the_source_s_loop_refuses_a_step_it_cannot_resample_with(cli, tmp_path,
     assert result.code == 2, result.err
     assert "--step" in result.err and len(result.err.strip().splitlines()) == 1
     assert not out.exists()
+
+
+@pytest.mark.parametrize("stretch", ["nan", "-0.1", "inf"])
+def test_phase_keypoints_refuses_a_stretch_limit_that_is_not_a_fraction(cli, tmp_path, stretch):
+    # the fuzz campaign's case 44694 (seed 11): --max-stretch nan clipped every stretch factor to NaN and the
+    # stretched law lost its phases (IndexError, exit 3); now one line naming the option, exit 2, nothing written
+    law = SAMPLES / "law_table.csv"
+    out = tmp_path / "fixed.csv"
+    result = cli("fix", law, "--phases", "0:60:dwell,60:180:rise,180:240:dwell,240:360:return", "--mode",
+                 "phase-keypoints", "--max-stretch", stretch, "-o", out)
+    assert result.code == 2, result.err
+    assert "--max-stretch" in result.err and len(result.err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_phase_keypoints_with_no_stretch_allowed_still_balances(cli, tmp_path):
+    # the limit 0 is a fraction too: no phase is stretched and the key points do all of the balancing
+    law = SAMPLES / "law_table.csv"
+    out = tmp_path / "fixed.csv"
+    result = cli("fix", law, "--phases", "0:60:dwell,60:180:rise,180:240:dwell,240:360:return", "--mode",
+                 "phase-keypoints", "--max-stretch", "0", "-o", out)
+    assert result.code == 0, result.err
+    assert cli("check", out, "--phases", "0:60:dwell,60:180:rise,180:240:dwell,240:360:return").code == 0

@@ -9,6 +9,7 @@ and the balance checked again, exactly, before and after.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -183,6 +184,9 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if mode == "segment" and segment_deg is None:
         raise CamcadError("mode segment needs the angle range", where or "--segment", "add --segment A:B (deg)")
     valid_tol(tol)
+    if not (math.isfinite(max_stretch) and max_stretch >= 0.0):
+        raise CamcadError(f"the largest phase stretch must be a finite fraction >= 0, got {max_stretch:g}",
+                          "--max-stretch", "give e.g. 0.05 (5 % of a phase angle)")
     before = check(law, tol)
     peak = float(np.max(np.abs(law.a)))
     notes: list[str] = []
