@@ -97,14 +97,15 @@ def test_the_harness_sees_hangs_escapes_and_changed_inputs(monkeypatch, target, 
     assert outcomes[0].status == "FINDING" and expected in outcomes[0].detail, outcomes[0].detail
 
 
-@pytest.mark.parametrize("number", [4039, 4093, 4388, 7730, 31087, 44694])
+@pytest.mark.parametrize("number", [4039, 4093, 4388, 7730, 31087, 44694, 53324])
 def test_the_campaign_s_findings_stay_fixed(number):
     # seed 11: 4039 `spectrum --fn 1e9` built 9e7 harmonics before counting them (out of memory); 4093 a scene
     # listing 10,000 linkage settings (0.17 s of CPU each); 4388 `dynamics --rpm 1e-300` (ω² underflowed to 0);
     # 7730 `check --trapezoid --step 1e-300` (an array past numpy's largest size); 31087 a law_of = "output" law
     # drawn unbalanced, drifting to -3.8 deg below its start, where the four-bar's inverse is NaN (profile
     # --arcs: internal error in the arc fit); 44694 `fix --mode phase-keypoints --max-stretch nan` (NaN stretch
-    # factors, the law's phases lost: IndexError)
+    # factors, the law's phases lost: IndexError); 53324 `profile --rb 1e9` (2.5 million chords at 0.001 mm, 7
+    # samples each: out of memory; now at most 1,000,000 points, refused before sampling)
     outcomes = run(cases=1, seed=11, workers=1, start=number)
     assert not _findings(outcomes), _findings(outcomes)
     assert outcomes[0].status == "error"       # each is bad input now: exit 2 with one line

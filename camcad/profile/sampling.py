@@ -47,7 +47,9 @@ CurveFn = Callable[[np.ndarray], CurveGeometry]
 # itself accepts up to ``ACCEPT`` × tol to leave room for its own estimation error.
 PLACEMENT_MARGIN = 0.8
 ACCEPT = 0.97
-MAX_NODES = 3_000_000
+#: the most points a written curve may have (a CAD program opens 1,000,000 vertices slowly; the check samples 7
+#: points per interval, so 3,000,000 nodes ran out of memory for a 1e9 mm base radius: fuzz case 53324)
+MAX_NODES = 1_000_000
 
 
 def _pieces(lo: float, hi: float, breakpoints) -> np.ndarray:
