@@ -510,24 +510,18 @@ def _fmt(psi: float, unit: str) -> str:
 
 def _law_range(law) -> tuple[tuple[float, float], tuple[float, float]]:
     """The law's smallest and largest displacement, each with its cam angle (rad): sampled (phase ends
-    included), refined by a bounded search."""
-    from scipy.optimize import minimize_scalar
+    included), refined by zooming grids (``camcad.extrema.zoom_max``, both at once)."""
+    from camcad.extrema import zoom_max
 
     theta = union(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
-    s = law.kinematics(theta).s
-    extremes = []
-    for sign in (-1.0, 1.0):                     # the minimum, then the maximum
-        i = int(np.argmax(sign * s))
-        lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, len(theta) - 1)]
-        best = (float(s[i]), float(theta[i]))
-        if hi > lo:
-            fine = minimize_scalar(lambda t, sign=sign: -sign * float(law.kinematics(np.array([t])).s[0]),
-                                   bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
-            value = -sign * float(fine.fun)
-            if sign * value > sign * best[0]:
-                best = (value, float(fine.x))
-        extremes.append(best)
-    return extremes[0], extremes[1]
+    signs = np.array([[-1.0], [1.0]])            # row 0: −s (its peak is the minimum), row 1: s
+
+    def both(u: np.ndarray) -> np.ndarray:
+        u = np.asarray(u, dtype=float)
+        return signs * law.kinematics(u.ravel()).s.reshape(1 if u.ndim == 1 else 2, -1)
+
+    peak, at = zoom_max(both, theta, 2)
+    return (-float(peak[0]), float(at[0])), (float(peak[1]), float(at[1]))
 
 
 def _swing_for(linkage, y_max: float, where: str, step_deg: float = 0.25, limit_deg: float = 180.0) -> float:
