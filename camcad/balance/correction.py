@@ -238,13 +238,19 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
         shift = np.abs(corrected.x - law.x)
         max_vertex = float(vertex_change.max())
         max_shift = float(np.degrees(shift.max()))
-        count = int(np.count_nonzero((vertex_change > 0) | (shift > 0)))
+        # a vertex moved by round-off only (the solver's last bits) is not counted as changed
+        count = int(np.count_nonzero((vertex_change > ROUND_OFF * peak)
+                                     | (shift > ROUND_OFF * 2 * np.pi)))
     else:
         max_vertex, max_shift, count = max_change, 0.0, len(corrected.x)
     return Correction(corrected, mode, method, before, after, max_change, rms_change, iterations,
                       resampled=resampled, notes=tuple(notes), moves=tuple(outcomes), lift_targets=lift_targets,
                       keep_lift=keep_lift, max_vertex_change=max_vertex, max_shift_deg=max_shift,
                       vertices_changed=count, peak=peak)
+
+
+#: a relative change at or below this is round-off, not a change a designer made (vertices_changed)
+ROUND_OFF = 1e-12
 
 
 def zero_law_message(mode: str, vertices: int, count: int) -> str:
