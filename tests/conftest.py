@@ -13,10 +13,18 @@ SAMPLES = ROOT / "samples"
 REAL_DXF = ROOT.parent / "shared" / "dxf-real"
 
 
+#: the kinds of independent reference a numerical test may rest on (``@pytest.mark.reference(KIND, source)``)
+REFERENCE_KINDS = ("closed form", "second method", "published", "property", "regression")
+
+
 def pytest_configure(config):
-    """Byte-compile camcad once, so the many ``camcad`` subprocesses of the tests load bytecode instead of
-    compiling ~40 modules from source each (an editable install under ``PYTHONDONTWRITEBYTECODE=1``
+    """Register the markers; byte-compile camcad once, so the many ``camcad`` subprocesses of the tests load
+    bytecode instead of compiling ~40 modules from source each (an editable install under ``PYTHONDONTWRITEBYTECODE=1``
     never writes ``__pycache__``; 0.14 s per process here). The test outcomes do not depend on it."""
+    config.addinivalue_line(
+        "markers",
+        "reference(kind, source): the independent reference a numerical test checks against; kind is one of "
+        + ", ".join(REFERENCE_KINDS) + "; source names the formula, paper, second method or property")
     import compileall
 
     compileall.compile_dir(str(ROOT / "camcad"), quiet=1)
