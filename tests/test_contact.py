@@ -22,7 +22,7 @@ from camcad.contact import ContactParams
 from camcad.cyclogram.limits import least_phase_angle
 from camcad.errors import CamcadError
 from camcad.law.standard import Cycloidal
-from camcad.scene.contact import parse_contact
+from camcad.scene.sections.contact import parse_contact
 
 STEEL_E, STEEL_NU = 2.1e5, 0.3
 
@@ -262,8 +262,9 @@ SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
     import tomllib
 
-    from camcad.scene.file import mechanism_law, read_scene
-    from camcad.scene.mechanism import phase_grid, phase_stress_function, phases_deg
+    from camcad.scene.file import read_scene
+    from camcad.scene.laws import mechanism_law, phases_deg
+    from camcad.scene.mechanism import phase_grid, phase_stress_function
 
     done = cli("contact", SAMPLE, "--json", "-o", tmp_path, "--rpm", "300:420:60", "--phase-angles", "law")
     assert done.code == 0, done.err

@@ -27,7 +27,7 @@ from camcad.cyclogram.lp import optimise
 from camcad.cyclogram.network import Operation, make_network
 from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
 from camcad.errors import CamcadError
-from camcad.scene.cyclogram import parse_cyclogram
+from camcad.scene.sections.cyclogram import parse_cyclogram
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"

@@ -183,7 +183,8 @@ def test_y0_x0_and_origin_override_what_is_found(tmp_path, cli):
 
 
 def test_scene_keys_y0_and_x0(tmp_path):
-    from camcad.scene.law import build_law, parse_law
+    from camcad.scene.laws import build_law
+    from camcad.scene.sections.law import parse_law
 
     path = _save(tmp_path, lambda msp, doc: msp.add_lwpolyline(_placed(500.0, 70.0)))
     spec = parse_law({"file": path.name, "y0": 68.0, "x0": 500.0, "cycle": 360.0}, "scene.toml [law]", tmp_path)

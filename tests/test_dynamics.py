@@ -16,7 +16,7 @@ from camcad.dynamics.model import ElasticFollower, StiffnessTable, rpm_to_rad_s
 from camcad.errors import CamcadError
 from camcad.law.law import Kinematics, Phase, PiecewiseLinearLaw
 from camcad.law.standard import compose
-from camcad.scene import dynamics as scene_dynamics
+from camcad.scene.sections import dynamics as scene_dynamics
 
 LIFT = 25.0
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"

@@ -22,7 +22,8 @@ from camcad import balance, fourier
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.standard import compose
-from camcad.scene import filter as scene_filter
+from camcad.scene import filtering as scene_filtering
+from camcad.scene.sections import filter as scene_filter
 
 LIFT = 25.0
 TWO_PI = 2.0 * np.pi
@@ -556,11 +557,11 @@ def test_parse_filter_section():
 
 def test_apply_filter_pipeline_step(drdr):
     settings_ = scene_filter.FilterSettings(fn_hz=100.0, rpm=(300.0, 400.0), band=0.0, keep_dwells=False)
-    outcome = scene_filter.apply_filter(drdr, settings_)
+    outcome = scene_filtering.apply_filter(drdr, settings_)
     assert outcome.exported is not None and outcome.exported.closed
     assert set(outcome.report()["removed"]) == set(range(14, 22))
     with pytest.raises(CamcadError, match="nothing to do"):
-        scene_filter.apply_filter(drdr, scene_filter.FilterSettings())
+        scene_filtering.apply_filter(drdr, scene_filter.FilterSettings())
 
 
 def _run(argv, capsys):

@@ -34,7 +34,7 @@ from camcad.law.standard import compose
 from camcad.profile.followers import Follower
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from camcad.scene import stops as scene_stops
+from camcad.scene.sections import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 EPS = np.finfo(float).eps

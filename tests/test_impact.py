@@ -16,7 +16,7 @@ from camcad.dynamics import impact
 from camcad.dynamics.impact import StopModel
 from camcad.errors import CamcadError
 from camcad.law.standard import compose
-from camcad.scene import stops as scene_stops
+from camcad.scene.sections import stops as scene_stops
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 SHUTTLE = SAMPLES / "scenes" / "shuttle_lift.toml"

@@ -95,7 +95,7 @@ def test_dynamics_runs_on_the_working_member(tmp_path):
     from camcad.dynamics.runs import run_dynamics
     from camcad.law.standard import compose
     from camcad.profile.scaled_law import ScaledLaw
-    from camcad.scene.dynamics import parse_dynamics
+    from camcad.scene.sections.dynamics import parse_dynamics
 
     text = _without(BATTEN, "contact")
     text = re.sub(r"\n\[linkage\.adjust\].*?(?=\n\[dynamics\])", "\n", text, flags=re.DOTALL)

@@ -19,7 +19,7 @@ from camcad.profile.geometry import CamGeometry, rotate
 from camcad.profile.scaled_law import swing_law
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
-from camcad.scene.follower import FOLLOWER_FIELDS, parse_follower
+from camcad.scene.sections.follower import FOLLOWER_FIELDS, parse_follower
 
 LAW = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 25.0, "cycloidal", "poly345")
 FAST = ProfileSettings(design=False, plots=False, analysis_step_deg=0.5)

@@ -19,13 +19,8 @@ import pytest
 from camcad.contact import ContactParams
 from camcad.cyclogram.limits import least_phase_angle
 from camcad.law.standard import compose
-from camcad.scene.mechanism import (
-    phase_pressure_function,
-    phase_stress_function,
-    phases_deg,
-    pressure_stretch,
-    stress_relation,
-)
+from camcad.scene.laws import phases_deg
+from camcad.scene.mechanism import phase_pressure_function, phase_stress_function, pressure_stretch, stress_relation
 from camcad.scene.stretch import least_angle
 
 LAW = compose([("dwell", 40), ("rise", 70), ("dwell", 60), ("return", 70), ("dwell", 120)], 30.0, "cycloidal")

@@ -112,9 +112,10 @@ def test_checks_only_gives_the_same_figures_for_a_group_with_a_cyclogram():
     # so the retimed laws, and every figure after them, are the same to the last bit
     full = analyse_scene(SCENES / "loom_group1.toml", PipelineOptions(plots=())).report
     quick = analyse_scene(SCENES / "loom_group1.toml", PipelineOptions(plots=(), checks_only=True)).report
-    # 4 mechanisms x 6 checks, less the spring's normal force of shuttle_lift (a groove: form-closed), + the
+    # 4 mechanisms x 6 checks, less the spring's normal force of shuttle_lift (a groove: form-closed), + each
+    # mechanism's rise and return against the least angle contact stress allows (the cyclogram's limits), + the
     # cyclogram's own 11 (makespan and one phase angle per arc of the network)
-    assert design_checks(quick) == design_checks(full) and len(design_checks(full)) == 4 * 6 - 1 + 11
+    assert design_checks(quick) == design_checks(full) and len(design_checks(full)) == 4 * 6 - 1 + 4 * 2 + 11
     assert quick["cyclogram"]["phase_angles_deg"] == full["cyclogram"]["phase_angles_deg"]
 
 
@@ -132,7 +133,8 @@ def test_the_boundary_agrees_with_the_closed_form_and_with_auto_rb(tmp_path, cli
     report = result.json()
     boundary = {b["x"]: b for b in report["region"]["boundary"]}
     from camcad.scene.follower import follower_for_law
-    from camcad.scene.law import build_law, parse_law
+    from camcad.scene.laws import build_law
+    from camcad.scene.sections.law import parse_law
 
     for rise in rises:
         exact = least_rb_closed_form(rise)

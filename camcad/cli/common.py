@@ -228,7 +228,8 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
     if source is not None and standard is not None:
         raise CamcadError("both a file and --standard given", "command line", "give one law source")
     if source is not None and source.suffix.lower() == ".toml":
-        from camcad.scene.file import mechanism_law, read_scene
+        from camcad.scene.file import read_scene
+        from camcad.scene.laws import mechanism_law
 
         scene = read_scene(source)
         if mechanism is None:
@@ -243,7 +244,8 @@ def resolve_source(source: Path | None, standard: str | None, return_standard: s
         name = mech.name if len(scene.mechanisms) > 1 or mech.prefix else scene.name
         return LawSource(built.law, name, str(source), built.notes, scene, mech, built.loaded)
     if standard is not None:
-        from camcad.scene.law import LawSpec, build_law
+        from camcad.scene.laws import build_law
+        from camcad.scene.sections.law import LawSpec
 
         if phases is None or lift is None:
             raise CamcadError("a standard law needs its phases and lift", "--standard",

@@ -35,7 +35,7 @@ def contact(scene_file: SceneArg, mechanism: MechanismOpt = None, rpm: RpmOpt = 
     phase angles camcad profile uses (the cyclogram's in a group scene); exit 0 ok, 1 stress over [σ_H] or
     separation, 2 bad input."""
     from camcad.report.contact import ContactCommand, contact_command
-    from camcad.scene.contact import ContactRequest
+    from camcad.scene.commands.contact import ContactRequest
 
     request = ContactRequest(scene_file, mechanism, rpm, samples, phase_angles)
     emit(contact_command(ContactCommand(request, output, not no_plots)), as_json)
@@ -49,7 +49,7 @@ def cyclogram(scene_file: SceneArg, rpm: RpmOpt = None, output: OutOpt = None, n
     By LP under the operations' bounds and their phase-angle limits (vibration, contact stress, pressure
     angle, impact rebound); exit 1 when the network is infeasible."""
     from camcad.report.cyclogram import CyclogramCommand, cyclogram_command
-    from camcad.scene.cyclogram import CyclogramRequest
+    from camcad.scene.commands.cyclogram import CyclogramRequest
 
     run = cyclogram_command(CyclogramCommand(CyclogramRequest(scene_file, rpm, samples), output, not no_plots))
     if as_json and not run.report.body["feasible"]:

@@ -77,8 +77,8 @@ def dynamics(source: SourceArg = None,
     Dynamic error, residual vibration (always reported, also at resonance), start-of-motion loads; exit 1
     when a given limit is exceeded or a speed has no bounded steady state."""
     from camcad.report.dynamics import DynamicsCommand, dynamics_command
-    from camcad.scene.analysis import LawRequest
-    from camcad.scene.dynamics import DynamicsRequest
+    from camcad.scene.commands.dynamics import DynamicsRequest
+    from camcad.scene.commands.source import LawRequest
 
     law = LawRequest(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism, unit,
                      phase_angles, rpm)
@@ -118,8 +118,8 @@ def impact(source: SourceArg = None, rpm: RpmOpt = None,
 
     And the least phase angle for an allowed amplitude (exit 1 when the rebound exceeds it or the preload)."""
     from camcad.report.dynamics import DynamicsCommand, impact_command
-    from camcad.scene.analysis import LawRequest
-    from camcad.scene.stops import ImpactRequest
+    from camcad.scene.commands.impact import ImpactRequest
+    from camcad.scene.commands.source import LawRequest
 
     law = LawRequest(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism, None,
                      phase_angles, rpm)

@@ -90,8 +90,8 @@ def spectrum(
     (deviation, dwells, peak acceleration, closure: exit 1 when a limit is exceeded). An unbalanced law is
     refused (exit 2) unless --force."""
     from camcad.report.spectrum import SpectrumCommand, spectrum_command
-    from camcad.scene.analysis import LawRequest
-    from camcad.scene.filter import SpectrumRequest
+    from camcad.scene.commands.source import LawRequest
+    from camcad.scene.commands.spectrum import SpectrumRequest
 
     law = LawRequest(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism, unit,
                      phase_angles, rpm)

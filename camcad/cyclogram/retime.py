@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from itertools import pairwise
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from camcad.cyclogram.lp import CyclogramResult
 from camcad.errors import CamcadError
+
+if TYPE_CHECKING:    # the LP (scipy.optimize) is not imported by a profile that only stretches phases
+    from camcad.cyclogram.lp import CyclogramResult
 
 # --------------------------------------------------------------------------------------------
 # Feeding the optimal angles back into a mechanism's phases

@@ -11,8 +11,8 @@ Modules, one concept each:
 - ``impact``: a lever on a limit stop: impulse, triangular pulse, Duhamel response, rebound (seed 000);
 - ``runs``: the analyses over a speed range with their reports, shared by the CLI and the scene pipeline.
 
-The scene sections ``[dynamics]`` and ``[stops]`` are read by ``camcad.scene.dynamics`` and
-``camcad.scene.stops``.
+The scene sections ``[dynamics]`` and ``[stops]`` are read by ``camcad.scene.sections.dynamics`` and
+``camcad.scene.sections.stops``.
 """
 
 from __future__ import annotations

@@ -72,7 +72,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     ----------
     law : MotionLaw
         The law (mm, or rad for ``settings.output_unit == "rad"``); must close over its cycle.
-    settings : camcad.scene.dynamics.DynamicsSettings
+    settings : camcad.scene.sections.dynamics.DynamicsSettings
         The follower, the limits (``allowed_*``) and the solver knobs.
     speeds : list of float
         Cam speeds, rpm (the first one is the SPEC.md residual-vibration speed).

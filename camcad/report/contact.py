@@ -18,7 +18,7 @@ import numpy as np
 from camcad.report.figure import COLOURS, new_figure, save_figure
 
 if TYPE_CHECKING:
-    from camcad.scene.contact import ContactRequest
+    from camcad.scene.commands.contact import ContactRequest
 
 _STRESS = "#2e86c1"
 
@@ -149,7 +149,7 @@ def contact_lines(run) -> list[str]:
 
 @dataclass(frozen=True)
 class ContactCommand:
-    """``camcad contact``: the request (camcad.scene.contact.ContactRequest) and what to write."""
+    """``camcad contact``: the request (camcad.scene.commands.contact.ContactRequest) and what to write."""
 
     request: ContactRequest
     output: Path | None = None
@@ -157,11 +157,11 @@ class ContactCommand:
 
 
 def contact_command(command: ContactCommand):
-    """Run ``camcad contact``: compute (camcad.scene.contact.run_contact), write the plots and contact.json into
+    """Run ``camcad contact``: compute (camcad.scene.commands.contact.run_contact), write the plots and contact.json into
     the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import require_scene
-    from camcad.scene.contact import run_contact
+    from camcad.scene.commands.contact import run_contact
+    from camcad.scene.commands.source import require_scene
     from camcad.scene.file import read_scene
 
     path = require_scene(command.request.scene, "contact")

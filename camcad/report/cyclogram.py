@@ -23,7 +23,7 @@ from camcad.report.figure import new_figure, save_figure
 
 if TYPE_CHECKING:
     from camcad.cyclogram.network import Network
-    from camcad.scene.cyclogram import CyclogramRequest
+    from camcad.scene.commands.cyclogram import CyclogramRequest
 
 ACTIVE_COLOUR = "#c0392b"
 SLACK_COLOUR = "#2e86c1"
@@ -256,7 +256,7 @@ def scene_cyclogram_figures(scene, cyclogram_report: dict) -> list[tuple[str, ob
     scene's outputs (camcad.report.scene)."""
     if not cyclogram_report or not cyclogram_report.get("feasible"):
         return []
-    from camcad.scene.cyclogram import parse_cyclogram
+    from camcad.scene.sections.cyclogram import parse_cyclogram
 
     network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
                               [m.name for m in scene.mechanisms if m.prefix])
@@ -293,7 +293,7 @@ def cyclogram_lines(run) -> list[str]:
 
 @dataclass(frozen=True)
 class CyclogramCommand:
-    """``camcad cyclogram``: the request (camcad.scene.cyclogram.CyclogramRequest) and what to write."""
+    """``camcad cyclogram``: the request (camcad.scene.commands.cyclogram.CyclogramRequest) and what to write."""
 
     request: CyclogramRequest
     output: Path | None = None
@@ -301,11 +301,11 @@ class CyclogramCommand:
 
 
 def cyclogram_command(command: CyclogramCommand):
-    """Run ``camcad cyclogram``: compute (camcad.scene.cyclogram.run_cyclogram), write the Gantt chart, the
+    """Run ``camcad cyclogram``: compute (camcad.scene.commands.cyclogram.run_cyclogram), write the Gantt chart, the
     network and cyclogram.json. Returns a CommandRun (exit code 1 when the network is infeasible)."""
     from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import require_scene
-    from camcad.scene.cyclogram import run_cyclogram
+    from camcad.scene.commands.cyclogram import run_cyclogram
+    from camcad.scene.commands.source import require_scene
     from camcad.scene.file import read_scene
 
     path = require_scene(command.request.scene, "cyclogram")

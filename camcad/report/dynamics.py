@@ -20,8 +20,8 @@ from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
 
 if TYPE_CHECKING:
-    from camcad.scene.dynamics import DynamicsRequest
-    from camcad.scene.stops import ImpactRequest
+    from camcad.scene.commands.dynamics import DynamicsRequest
+    from camcad.scene.commands.impact import ImpactRequest
 
 _PHASE_COLOURS = {"rise": "#e8f0fb", "return": "#fbeee8"}
 
@@ -401,8 +401,8 @@ def impact_lines(run) -> list[str]:
 
 @dataclass(frozen=True)
 class DynamicsCommand:
-    """``camcad dynamics`` or ``camcad impact``: the request (camcad.scene.dynamics.DynamicsRequest or
-    camcad.scene.stops.ImpactRequest) and what to write."""
+    """``camcad dynamics`` or ``camcad impact``: the request (camcad.scene.commands.dynamics.DynamicsRequest or
+    camcad.scene.commands.impact.ImpactRequest) and what to write."""
 
     request: DynamicsRequest | ImpactRequest
     output: Path | None = None
@@ -410,11 +410,11 @@ class DynamicsCommand:
 
 
 def dynamics_command(command: DynamicsCommand, progress=None):
-    """Run ``camcad dynamics``: resolve the law, compute (camcad.scene.dynamics.run_dynamics_report), write the
+    """Run ``camcad dynamics``: resolve the law, compute (camcad.scene.commands.dynamics.run_dynamics_report), write the
     plots and dynamics.json (the inputs are never replaced). Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import resolve_source
-    from camcad.scene.dynamics import run_dynamics_report
+    from camcad.scene.commands.dynamics import run_dynamics_report
+    from camcad.scene.commands.source import resolve_source
 
     request = cast("DynamicsRequest", command.request)  # camcad dynamics asks with a DynamicsRequest
     require = () if request.fn is not None else (
@@ -428,11 +428,11 @@ def dynamics_command(command: DynamicsCommand, progress=None):
 
 
 def impact_command(command: DynamicsCommand, progress=None):
-    """Run ``camcad impact``: resolve the law, compute (camcad.scene.stops.run_impact_report), write the plots
+    """Run ``camcad impact``: resolve the law, compute (camcad.scene.commands.impact.run_impact_report), write the plots
     and impact.json. Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import resolve_source
-    from camcad.scene.stops import run_impact_report
+    from camcad.scene.commands.impact import run_impact_report
+    from camcad.scene.commands.source import resolve_source
 
     request = cast("ImpactRequest", command.request)  # camcad impact asks with an ImpactRequest
     src = resolve_source(request.law, command="impact", require=(

@@ -23,7 +23,7 @@ from camcad.report.figure import COLOURS, new_figure, save_figure
 from camcad.verdict import note_line
 
 if TYPE_CHECKING:
-    from camcad.scene.filter import SpectrumRequest
+    from camcad.scene.commands.spectrum import SpectrumRequest
 
 _REMOVED = "#c0392b"
 _TAPERED = "#e67e22"
@@ -342,7 +342,7 @@ def spectrum_lines(run) -> list[str]:
 
 @dataclass(frozen=True)
 class SpectrumCommand:
-    """``camcad spectrum``: what to compute (camcad.scene.filter.SpectrumRequest) and what to write."""
+    """``camcad spectrum``: what to compute (camcad.scene.commands.spectrum.SpectrumRequest) and what to write."""
 
     request: SpectrumRequest
     output: Path | None = None
@@ -351,11 +351,11 @@ class SpectrumCommand:
 
 
 def spectrum_command(command: SpectrumCommand):
-    """Run ``camcad spectrum``: resolve the law, compute (camcad.scene.filter.run_spectrum), write the files
+    """Run ``camcad spectrum``: resolve the law, compute (camcad.scene.commands.spectrum.run_spectrum), write the files
     and spectrum.json into the output folder (the inputs are never replaced). Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import resolve_source
-    from camcad.scene.filter import run_spectrum
+    from camcad.scene.commands.source import resolve_source
+    from camcad.scene.commands.spectrum import run_spectrum
 
     src = resolve_source(command.request.law, command="spectrum")
     with open_folder(command.output, src.name, src.inputs) as out:

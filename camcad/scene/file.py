@@ -204,23 +204,3 @@ def _mechanisms(raw: dict, path: Path) -> tuple[Mechanism, ...]:
                           "add a [law] section (and [follower]), or [mechanisms.NAME] tables")
     name = raw.get("name", path.stem)
     return (Mechanism(str(name), {key: raw[key] for key in top}, ""),)
-
-
-def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
-    """The BuiltLaw of a mechanism's [law] section (balanced when it asks), optionally retimed to ``phases``."""
-    from camcad.law.retime import retime
-    from camcad.scene.law import build_law, parse_law
-
-    if phases is None and mech.name in scene.built_laws:
-        return scene.built_laws[mech.name]
-    if not mech.has("law"):
-        raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",
-                          "add [law] with standard, phases and lift (or file)")
-    spec = parse_law(mech.sections["law"], mech.where(scene.path, "law"), scene.base_dir)
-    built = build_law(spec)
-    if phases is None:
-        scene.built_laws[mech.name] = built
-        return built
-    from dataclasses import replace
-
-    return replace(built, law=retime(built.law, tuple(phases), mech.where(scene.path, "law")))

@@ -1,5 +1,5 @@
-"""The scene's ``[linkage]`` section (with ``[linkage.adjust]``): the linkage between the follower and the
-working member, and what the pipeline does with it.
+"""What the pipeline does with a scene's ``[linkage]`` (parsed by ``camcad.scene.sections.linkage``): the linkage
+between the follower and the working member, built for the follower, and its step in the pipeline.
 
 ``[linkage]`` describes the chain after the follower (lengths in mm in the cam's frame: origin at the cam
 centre, the oscillating follower's pivot at (pivot, 0); angles in deg, counter-clockwise):
@@ -33,233 +33,30 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
+from scipy.optimize import brentq
 
 from camcad.arrays import union
-from camcad.errors import CamcadError, excerpt
-from camcad.scene.fields import Field, read_table
-
-TYPES = ("fourbar", "sixbar", "table", "ratio")
-UNITS = ("deg", "rad", "mm")
-DIRECTIONS = ("auto", "ccw", "cw")
-#: the default transmission-angle limit (deg), as ``camcad linkage fgen --mu-min``
-MU_MIN_DEG = 30.0
-
-LINKAGE_FIELDS: list[Field] = [
-    Field("type", "str", required=True, choices=TYPES, help="(fourbar, sixbar, table or ratio)"),
-    Field("output_pivot", "list", "mm", help="[x, y] of the output link's frame pivot C (cam frame)"),
-    Field("input_link", "float", "mm", positive=True, help="input link OA, clamped to the follower's arm"),
-    Field("coupler", "float", "mm", positive=True, help="coupler AB"),
-    Field("output_link", "float", "mm", positive=True, help="output link CB (the working member for a four-bar)"),
-    Field("input_offset", "float", "deg", help="angle from the follower's arm to the input link (CCW)"),
-    Field("input_angle", "float", "deg", help="absolute angle of the input link on the base circle "
-                                              "(instead of input_offset)"),
-    Field("branch", "int", default=1, minimum=-1, maximum=1, help="assembly branch +1 or -1"),
-    Field("output_pivot_2", "list", "mm", help="six-bar: [x, y] of the second output pivot F"),
-    Field("input_link_2", "float", "mm", positive=True, help="six-bar: CD, rigid with the first output link"),
-    Field("coupling_2", "float", "deg", default=0.0, help="six-bar: angle from CB to CD"),
-    Field("coupler_2", "float", "mm", positive=True, help="six-bar: coupler DE"),
-    Field("output_link_2", "float", "mm", positive=True, help="six-bar: output link FE (the working member)"),
-    Field("branch_2", "int", default=1, minimum=-1, maximum=1, help="six-bar: branch of the second loop"),
-    Field("coupler_point", "list", "mm", help="[u, v]: a point of the (first) coupler, u along AB, v to its left"),
-    Field("file", "str", help="table: a .csv/.txt file of psi, y rows"),
-    Field("table", "list", help="table: [[psi, y], ...] rows"),
-    Field("input_unit", "str", default="deg", choices=UNITS, help="table: unit of psi (deg/rad swing, mm lift)"),
-    Field("output_unit", "str", choices=UNITS, help="unit of y in the table, the ratio and a law_of = output law "
-                                                    "(default deg for a turning member, mm for a ratio)"),
-    Field("ratio", "float", positive=True, help="ratio: y per unit of psi"),
-    Field("output_direction", "str", default="auto", choices=DIRECTIONS,
-          help="four/six-bar: the working member's positive sense (auto: the one it turns on the rise)"),
-    Field("mu_min", "float", "deg", default=MU_MIN_DEG, minimum=0.0, maximum=90.0,
-          help="transmission-angle limit"),
-    Field("output_inertia", "float", "kg m^2 (kg)", minimum=0.0, help="the working member's J (mass if it slides)"),
-    Field("output_load", "float", "N m (N)", help="load on the working member, resisting its motion"),
-    Field("output_load_range_deg", "list", "deg", help="[start, end] cam angles of output_load (all if not given)"),
-    Field("adjust", "table", help="the [linkage.adjust] table"),
-]
-
-ADJUST_FIELDS: list[Field] = [
-    Field("element", "str", required=True, choices=("pivot", "joint", "link_angle"),
-          help="a frame pivot on an arc or slot, a joint on its lever, or the input link locked at angles"),
-    Field("joint", "str", default="", help="pivot: C (or F of a six-bar); joint: A (input lever), B or E (output "
-                                           "lever)"),
-    Field("path", "str", default="arc", choices=("arc", "slot"), help="the pivot's or joint's path"),
-    Field("centre", "list", "mm", help="[x, y]: the arc's centre with the follower on the base circle"),
-    Field("direction", "float", "deg", default=0.0, help="slot: its direction"),
-    Field("settings", "list", "deg (mm for a slot)", required=True,
-          help="lock angles of the arc's radius, slot positions, or added link angles"),
-]
-
-
-#: the most settings an adjustable linkage may list: each is a whole analysis over the cycle (0.17 s of CPU
-#: for the batten sample; 25 of them took 6.8 s), so 20 stay within seconds
-MAX_ADJUST_SETTINGS = 20
-
-
-@dataclass(frozen=True)
-class AdjustSpec:
-    where: str
-    element: str
-    joint: str
-    path: str
-    centre: tuple[float, float] | None
-    direction_deg: float
-    settings: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class LinkageSpec:
-    """What ``[linkage]`` asks for (validated; lengths mm, angles deg)."""
-
-    where: str
-    type: str
-    values: dict
-    rows: tuple | None = None          # table rows (psi, y) as read
-    adjust: AdjustSpec | None = None
-
-    @property
-    def output_unit(self) -> str:
-        unit = self.values["output_unit"]
-        if unit is not None:
-            return unit
-        return "mm" if self.type == "ratio" else "deg"
-
-
-def _point(value, key: str, where: str) -> tuple[float, float]:
-    if (not isinstance(value, list) or len(value) != 2
-            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in value)):
-        raise CamcadError(f"'{key}' must be [x, y] in mm, got {excerpt(value)}", where, f"write {key} = [120.0, 35.0]")
-    return float(value[0]), float(value[1])
-
-
-def parse_linkage(table: Any, where: str, base_dir: Path) -> LinkageSpec:
-    """A scene's ``[linkage]`` table (and its ``[linkage.adjust]``) → LinkageSpec; every mistake is one line.
-
-    Parameters
-    ----------
-    table : dict
-        The raw TOML table.
-    where : str
-        "scene.toml [linkage]" for messages.
-    base_dir : Path
-        Folder of the scene (a table ``file`` is relative to it).
-
-    Returns
-    -------
-    LinkageSpec
-    """
-    values = read_table(table, LINKAGE_FIELDS, where)
-    kind = values["type"]
-    needed = {"fourbar": ("output_pivot", "input_link", "coupler", "output_link"),
-              "sixbar": ("output_pivot", "input_link", "coupler", "output_link", "output_pivot_2", "input_link_2",
-                         "coupler_2", "output_link_2"),
-              "table": (), "ratio": ("ratio",)}[kind]
-    for key in needed:
-        if values[key] is None:
-            raise CamcadError(f"missing value '{key}' for a {kind} linkage", where, f"add {key} = ...")
-    if kind in ("fourbar", "sixbar"):
-        for key in ("output_pivot", "output_pivot_2", "coupler_point"):
-            if values[key] is not None:
-                values[key] = _point(values[key], key, where)
-        if values["input_offset"] is not None and values["input_angle"] is not None:
-            raise CamcadError("input_offset and input_angle both place the input link", where, "give only one")
-        if values["input_offset"] is None and values["input_angle"] is None:
-            raise CamcadError("the input link has no angle", where,
-                              "add input_offset = ... (deg from the follower's arm) or input_angle = ... (deg)")
-        for key in ("branch", "branch_2"):
-            if values[key] == 0:
-                raise CamcadError(f"'{key}' must be +1 or -1, got 0", where, f"write {key} = 1 or {key} = -1")
-        if values["output_unit"] == "mm":
-            raise CamcadError("a four-bar or six-bar turns its working member: output_unit mm does not apply",
-                              where, 'use output_unit = "deg" or "rad"')
-    else:
-        extra = [k for k in ("output_pivot", "input_link", "coupler", "output_link", "output_pivot_2",
-                             "input_link_2", "coupler_2", "output_link_2", "coupler_point", "input_offset",
-                             "input_angle") if values[k] is not None]
-        if extra:
-            raise CamcadError(f"'{extra[0]}' belongs to a four-bar or six-bar, this linkage is a {kind}", where,
-                              f"drop {extra[0]} or set type = \"fourbar\"")
-    if kind == "fourbar":
-        extra = [k for k in ("output_pivot_2", "input_link_2", "coupler_2", "output_link_2")
-                 if values[k] is not None]
-        if extra:
-            raise CamcadError(f"'{extra[0]}' belongs to a six-bar", where, 'drop it or set type = "sixbar"')
-    rows = None
-    if kind == "table":
-        rows = _table_rows(values, where, base_dir)
-    elif values["file"] is not None or values["table"] is not None:
-        raise CamcadError("'file' and 'table' give a tabulated position function", where,
-                          'drop them or set type = "table"')
-    if kind != "ratio" and values["ratio"] is not None:
-        raise CamcadError("'ratio' is for type = \"ratio\"", where, "drop ratio or set type = \"ratio\"")
-    load_range = values["output_load_range_deg"]
-    if load_range is not None:
-        if (len(load_range) != 2 or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in load_range)):
-            raise CamcadError(f"'output_load_range_deg' must be [start, end] in deg, got {excerpt(load_range)}",
-                              where, "write output_load_range_deg = [90.0, 180.0]")
-        values["output_load_range_deg"] = (float(load_range[0]), float(load_range[1]))
-    adjust = None
-    if values["adjust"] is not None:
-        adjust = parse_adjust(values["adjust"], where.replace("[linkage]", "[linkage.adjust]")
-                              if "[linkage]" in where else where + " adjust", kind)
-    return LinkageSpec(where, kind, values, rows, adjust)
-
-
-def _table_rows(values: dict, where: str, base_dir: Path) -> tuple:
-    if (values["file"] is None) == (values["table"] is None):
-        raise CamcadError("a table linkage needs its rows as 'file' or as 'table'", where,
-                          'write file = "pi.csv" (two columns psi, y) or table = [[0, 0], [10, 5], ...]')
-    if values["file"] is not None:
-        from camcad.io.table_read import read_table as read_rows
-
-        path = (base_dir / values["file"]).resolve()
-        if not path.is_file():
-            raise CamcadError(f"table file {excerpt(values['file'])} not found", where,
-                              "give the path relative to the scene file")
-        found = read_rows(path)
-        return tuple(zip(found.theta_deg.tolist(), found.accel.tolist()))
-    rows = []
-    for i, row in enumerate(values["table"]):
-        if (not isinstance(row, list) or len(row) != 2
-                or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in row)):
-            raise CamcadError(f"table row {i + 1} is {excerpt(row)}, not [psi, y]", f"{where} table",
-                              "write table = [[0.0, 0.0], [5.0, 2.1], ...]")
-        rows.append((float(row[0]), float(row[1])))
-    return tuple(rows)
-
-
-def parse_adjust(table: Any, where: str, kind: str) -> AdjustSpec:
-    """``[linkage.adjust]`` → AdjustSpec (deg, mm); the joint must exist in the linkage ``kind``."""
-    values = read_table(table, ADJUST_FIELDS, where)
-    element, joint = values["element"], values["joint"].upper()
-    if kind in ("table", "ratio"):
-        raise CamcadError(f"a {kind} position function has no links to adjust", where,
-                          "describe the linkage as a fourbar or sixbar")
-    allowed = {"pivot": ("C", "F") if kind == "sixbar" else ("C",),
-               "joint": ("A", "B", "E") if kind == "sixbar" else ("A", "B"),
-               "link_angle": ("",)}[element]
-    if joint not in allowed:
-        raise CamcadError(f"joint {excerpt(values['joint'])} cannot be a {element} of a {kind}", where,
-                          f"use joint = {' or '.join(repr(j) for j in allowed)}" if allowed != ("",)
-                          else "drop joint (the input link is locked at the settings' angles)")
-    centre = None
-    if element != "link_angle":
-        if values["path"] == "arc":
-            if values["centre"] is None:
-                raise CamcadError("an arc needs its centre", where, "add centre = [x, y] (mm)")
-            centre = _point(values["centre"], "centre", where)
-        elif values["centre"] is not None:
-            raise CamcadError("a slot has no centre", where, "drop centre, give direction (deg)")
-    settings = values["settings"]
-    if (not settings or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
-                            for v in settings)):
-        raise CamcadError(f"'settings' must be a list of numbers, got {excerpt(settings)}", where,
-                          "write settings = [40.0, 50.0, 60.0]")
-    if len(settings) > MAX_ADJUST_SETTINGS:   # each setting is a whole linkage analysis
-        raise CamcadError(f"{len(settings)} settings are too many (at most {MAX_ADJUST_SETTINGS})", where,
-                          "list the settings the machine is adjusted to, e.g. settings = [40.0, 50.0, 60.0]")
-    return AdjustSpec(where, element, joint, values["path"] if element != "link_angle" else "angle", centre,
-                      values["direction"], tuple(float(v) for v in settings))
-
+from camcad.errors import CamcadError
+from camcad.extrema import zoom_max
+from camcad.linkage.adjust import Adjustment, adjusted, characteristics
+from camcad.linkage.analysis import Linkage, Loop, analyse
+from camcad.linkage.transfer import (
+    FollowerLaw,
+    LinkageTransfer,
+    RatioTransfer,
+    TableTransfer,
+    WorkingLaw,
+    linkage_load,
+)
+from camcad.profile.followers import arm_angle_on_base_circle
+from camcad.profile.scaled_law import swing_law
+from camcad.profile.synth import ProfileSettings, synthesize
+from camcad.scene.fields import read_table
+from camcad.scene.file import read_scene
+from camcad.scene.follower import follower_for_law
+from camcad.scene.laws import mechanism_law
+from camcad.scene.sections.follower import FOLLOWER_FIELDS, parse_follower
+from camcad.scene.sections.linkage import AdjustSpec, LinkageSpec, parse_linkage
 
 # --------------------------------------------------------------------------------------------
 # Building the linkage from the section and the follower
@@ -271,8 +68,6 @@ def build_linkage(spec: LinkageSpec, pivot_xy: tuple[float, float], arm_angle0: 
     ``pivot_xy`` (mm) and its arm at the absolute angle ``arm_angle0`` (rad) on the base circle (None when
     ``input_angle`` places the input link). ``input_sense``: dθ/dψ of the arm (−1 for camcad's oscillating
     follower, whose arm turns clockwise as ψ grows). The output sense is left +1 (``orient``)."""
-    from camcad.linkage.analysis import Linkage, Loop
-
     v = spec.values
     if v["input_angle"] is not None:
         theta0 = math.radians(v["input_angle"])
@@ -334,8 +129,6 @@ class LinkageContext:
 
     def working_law(self, follower_law):
         """The working member's law y(θ) = Π(ψ(θ)) (rad or mm), chain rule."""
-        from camcad.linkage.transfer import WorkingLaw
-
         return WorkingLaw(self.to_psi(follower_law), self.transfer)
 
     def load_on(self, follower_law, theta):
@@ -344,8 +137,6 @@ class LinkageContext:
         v = self.spec.values
         if v["output_inertia"] is None and v["output_load"] is None:
             return None
-        from camcad.linkage.transfer import linkage_load
-
         theta = np.asarray(theta, dtype=float)
         kin = self.to_psi(follower_law).kinematics(theta)
         load = 0.0
@@ -360,9 +151,6 @@ class LinkageContext:
 
     def for_setting(self, value: float) -> LinkageContext:
         """The context of one setting of [linkage.adjust] (the same cam and follower law)."""
-        from camcad.linkage.adjust import Adjustment, adjusted
-        from camcad.linkage.transfer import LinkageTransfer
-
         adj_spec = cast(AdjustSpec, self.spec.adjust)  # asked only of a linkage with [linkage.adjust]
         adj = adjustment_of(adj_spec)
         lk = adjusted(self.linkage, adj, setting_value(adj_spec, value))
@@ -372,8 +160,6 @@ class LinkageContext:
 
 def adjustment_of(spec: AdjustSpec):
     """The ``camcad.linkage.adjust.Adjustment`` of an ``[linkage.adjust]`` spec."""
-    from camcad.linkage.adjust import Adjustment
-
     centre = None if spec.centre is None else complex(*spec.centre)
     return Adjustment(spec.element, spec.joint, spec.path, centre, math.radians(spec.direction_deg))
 
@@ -392,8 +178,6 @@ def _law_of(mech_sections: dict, where: str) -> str:
 def linkage_context(scene, mech, law) -> LinkageContext:
     """Read ``[linkage]`` and build Π for ``law`` (the [law]'s law: the follower's, or the working member's
     when ``law_of = "output"``) with the mechanism's follower."""
-    from camcad.scene.follower import FOLLOWER_FIELDS, follower_for_law, parse_follower
-
     where = mech.where(scene.path, "linkage")
     spec = parse_linkage(mech.sections["linkage"], where, scene.base_dir)
     law_of = _law_of(mech.sections, where)
@@ -417,8 +201,6 @@ def linkage_context(scene, mech, law) -> LinkageContext:
     def to_psi(follower_law):
         if not rotary_in:
             return follower_law
-        from camcad.profile.scaled_law import swing_law
-
         return swing_law(follower_law, arm_mm=follower.arm, swing_deg=follower_values["swing"])
 
     notes: list[str] = []
@@ -428,13 +210,9 @@ def linkage_context(scene, mech, law) -> LinkageContext:
     psi_max: Any = None
     out_scale = unit_scale(spec.output_unit)
     if spec.type == "ratio":
-        from camcad.linkage.transfer import RatioTransfer
-
         k = spec.values["ratio"]
         transfer = RatioTransfer(k, unit_in, "mm" if spec.output_unit == "mm" else "rad")
     elif spec.type == "table":
-        from camcad.linkage.transfer import TableTransfer
-
         in_unit = spec.values["input_unit"]
         if (in_unit == "mm") == rotary_in:
             raise CamcadError(f"input_unit {in_unit!r} does not fit a {follower.kind} follower", where,
@@ -452,8 +230,6 @@ def linkage_context(scene, mech, law) -> LinkageContext:
                                   "follower's law this linkage gives", where,
                                   "give input_angle (the input link's absolute angle, deg) instead of input_offset")
             sized = follower_for_law(table, follower_where, law)[0] if law_of == "follower" else follower
-            from camcad.profile.followers import arm_angle_on_base_circle
-
             arm_angle0 = math.pi - arm_angle_on_base_circle(sized)
         pivot = cast(float, follower.pivot)  # a four/six-bar has an oscillating follower (refused above)
         linkage = orient(build_linkage(spec, (pivot, 0.0), arm_angle0), spec.values["output_direction"], where)
@@ -469,8 +245,6 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         y_max *= out_scale
         if spec.type in ("fourbar", "sixbar"):
             psi_max = _swing_for(linkage, y_max, where)
-            from camcad.linkage.transfer import LinkageTransfer
-
             transfer = LinkageTransfer(linkage, psi_max)
         elif spec.type == "ratio":
             psi_max = y_max / transfer.k * 1.0000001
@@ -496,8 +270,6 @@ def linkage_context(scene, mech, law) -> LinkageContext:
         if spec.type == "table":
             psi_max = float(np.max(psi))
         if spec.type in ("fourbar", "sixbar"):
-            from camcad.linkage.transfer import LinkageTransfer
-
             transfer = LinkageTransfer(linkage, psi_max)
     context = LinkageContext(spec, transfer, float(psi_max), follower.kind, arm, to_psi, law_of, linkage,
                              notes=notes)
@@ -511,8 +283,6 @@ def _fmt(psi: float, unit: str) -> str:
 def _law_range(law) -> tuple[tuple[float, float], tuple[float, float]]:
     """The law's smallest and largest displacement, each with its cam angle (rad): sampled (phase ends
     included), refined by zooming grids (``camcad.extrema.zoom_max``, both at once)."""
-    from camcad.extrema import zoom_max
-
     theta = union(np.linspace(0.0, law.cycle, 8193), [p.end for p in law.phases] + [p.start for p in law.phases])
     signs = np.array([[-1.0], [1.0]])            # row 0: −s (its peak is the minimum), row 1: s
 
@@ -526,8 +296,6 @@ def _law_range(law) -> tuple[tuple[float, float], tuple[float, float]]:
 
 def _swing_for(linkage, y_max: float, where: str, step_deg: float = 0.25, limit_deg: float = 180.0) -> float:
     """The least swing ψ (rad) at which Π reaches ``y_max`` on the monotone, closed stretch from ψ = 0."""
-    from scipy.optimize import brentq
-
     grid = np.radians(np.arange(0.0, limit_deg + step_deg, step_deg))
     pi, d1 = (np.asarray(v, dtype=float) for v in linkage.position(grid)[:2])
     if y_max <= 0.0:
@@ -560,8 +328,6 @@ def prepare(scene, mech, built):
     _check_models(scene, mech, context)
     if law_of != "output":
         return built, context
-    from camcad.linkage.transfer import FollowerLaw
-
     out_scale = 1.0 if context.follower_kind != "oscillating" else float(context.arm_mm)
     follower_law = FollowerLaw(built.law, context.transfer, context.psi_max, unit_scale(context.spec.output_unit),
                                out_scale)
@@ -623,8 +389,6 @@ def linkage_step(scene, mech, run, speeds, options, steps: dict) -> None:
                               context.transfer.describe(), "swing": context.psi_max,
                               "swing_unit": context.transfer.unit_in, "notes": list(context.notes)}
     if context.linkage is not None:
-        from camcad.linkage.analysis import analyse
-
         nominal = analyse(context.linkage, context.psi_max)
         report["analysis"] = nominal.report(mu_limit)
         checks = dict(report["analysis"]["checks"])
@@ -659,8 +423,6 @@ MODEL_FIGURES = {"dynamics": ("peak_accel_ratio", max), "impact": ("rebound_mm",
 
 
 def _settings_report(scene, mech, run, speeds, options, steps, context: LinkageContext, mu_limit) -> dict:
-    from camcad.linkage.adjust import characteristics
-
     adj_spec = cast(AdjustSpec, context.spec.adjust)  # reported only for a linkage with [linkage.adjust]
     adj = adjustment_of(adj_spec)
     rows = []
@@ -682,7 +444,8 @@ def _settings_report(scene, mech, run, speeds, options, steps, context: LinkageC
                 section = "stops" if key == "impact" else key
                 if key not in run.report or not mech.has(section) or speeds is None:
                     continue
-                trial = type(run)(run.name, law=run.law, memo=None, linkage=sub)
+                trial = type(run)(run.name, law=run.law, memo=None, linkage=sub, unit=run.unit,
+                                  given_law=run.given_law, output_law=run.output_law)
                 try:
                     step(scene, mech, trial, speeds, options, mech.where(scene.path, section), False)
                 except CamcadError as err:
@@ -732,8 +495,6 @@ class CommandLinkage:
 def from_scene(path: Path, mechanism: str | None = None) -> CommandLinkage:
     """The [linkage] of a scene's mechanism with its follower's swing (the law's ψ range, or the swing the
     law of the working member needs with ``law_of = "output"``)."""
-    from camcad.scene.file import mechanism_law, read_scene
-
     scene = read_scene(path)
     if mechanism is None:
         candidates = [m for m in scene.mechanisms if m.has("linkage")]
@@ -773,9 +534,6 @@ def from_options(values: dict, swing_deg: float | None, sense: int, where: str =
 
 def cam_profile(command: CommandLinkage):
     """The cam profile of a scene's mechanism (``camcad.profile.synth.synthesize``) for the combined drawing."""
-    from camcad.profile.synth import ProfileSettings, synthesize
-    from camcad.scene.follower import follower_for_law
-
     mech, scene = command.mechanism, command.scene
     follower, law, _, _ = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"),
                                            command.follower_law)

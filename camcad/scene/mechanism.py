@@ -11,15 +11,23 @@ A phase stretched to t keeps its shape and lift (camcad.law.retime); the next dw
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from camcad.arrays import unique
+from camcad.contact import contact_stress, stress_versus_speed
+from camcad.cyclogram.limits import vibration_limits
+from camcad.cyclogram.retime import operation_timing, retime_phases, stretch_phase
 from camcad.errors import CamcadError
-from camcad.law.law import Phase
-from camcad.scene.file import Mechanism, Scene, mechanism_law
+from camcad.numerics import bounded_minimum
+from camcad.profile.geometry import CamGeometry
+from camcad.scene.file import Mechanism, Scene
+from camcad.scene.follower import follower_for_law
+from camcad.scene.laws import law_with_phases, mechanism_law, phases_deg
+from camcad.scene.sections.contact import parse_contact
+from camcad.scene.sections.follower import parse_follower
 from camcad.scene.stretch import PhaseStretch, least_angle
 
 #: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
@@ -28,19 +36,6 @@ PRESSURE_SAMPLES = 361
 #: (a root found to round-off may otherwise sit a hair over it)
 STRESS_MARGIN = 1e-9       # relative, of [σ_H]
 PRESSURE_MARGIN_DEG = 1e-6
-
-
-def phases_deg(law) -> list[tuple[float, float, str]]:
-    """(start_deg, end_deg, kind) of each phase of a law."""
-    return [(math.degrees(p.start), math.degrees(p.end), p.kind) for p in law.phases]
-
-
-def law_with_phases(law, phases: list[tuple[float, float, str]], where: str):
-    """The law retimed to the given (start_deg, end_deg, kind) phases (shape and lift kept)."""
-    from camcad.law.retime import retime
-
-    return retime(law, tuple(Phase(kind, math.radians(start), math.radians(end)) for start, end, kind in phases),
-                  where)
 
 
 @dataclass(frozen=True)
@@ -68,9 +63,6 @@ class ContactGeometry:
 def cam_of(law, follower_table: dict, where: str):
     """(CamGeometry, follower, scale) of a law on the [follower] of a scene; ``scale`` turns the follower's
     s, v, a into mm at the roller (the arm length for an oscillating follower, whose law becomes a swing)."""
-    from camcad.profile.geometry import CamGeometry
-    from camcad.scene.follower import follower_for_law
-
     follower, law, scale, _ = follower_for_law(follower_table, where, law)
     return CamGeometry(law, follower), follower, scale
 
@@ -109,8 +101,6 @@ def pressure_angle_limit_of(follower, kind: str) -> float | None:
 def phase_pressure_function(law, follower_table: dict, index: int, where: str, samples: int):
     """φ_max(t): the largest |pressure angle| (deg) over phase ``index`` of ``law`` stretched to t deg;
     +inf when the stretched cam undercuts (no pressure angle is meaningful there)."""
-    from camcad.numerics import bounded_minimum
-
     phases = phases_deg(law)
 
     def phi_max(width_deg: float) -> float:
@@ -144,8 +134,6 @@ def pressure_angle_limits(law, follower_table: dict, where: str, samples: int,
                           memo: LimitMemo | None = None) -> dict:
     """{phase label: least phase angle (deg) at which the phase's |pressure angle| meets the follower's
     limit}, by root finding on φ_max(t) (``camcad.scene.stretch.least_angle``); None where no limit is set."""
-    from camcad.scene.follower import parse_follower
-
     follower = parse_follower(follower_table, where)
     phases = phases_deg(law)
     found: dict[str, Any] = {}
@@ -175,8 +163,6 @@ class LimitMemo:
 
     def solve(self, key: tuple, relation, limit: float, lower: float, upper: float, **kwargs):
         """``least_angle(relation, limit, lower, upper, **kwargs)``, from an earlier answer when one applies."""
-        from dataclasses import replace
-
         source = kwargs.get("source", "limit")
         for found in self._solved.get(key, []):
             if found.limit != limit:
@@ -212,8 +198,6 @@ def motion_labels(phases) -> list[tuple[int, str]]:
 def stretched_phase(phases, index: int, width_deg: float):
     """The phases with phase ``index`` made ``width_deg`` wide (camcad.cyclogram.stretch_phase), and that
     phase's (start_deg, end_deg) in the result (a neighbouring dwell may vanish and shift the indices)."""
-    from camcad.cyclogram.retime import stretch_phase
-
     stretched = stretch_phase(phases, index, width_deg)
     kind = phases[index][2]
     start = phases[index][0]
@@ -251,8 +235,6 @@ def phase_index(phases, kind: str, occurrence: int, where: str) -> int:
 
 
 def contact_params(scene: Scene, mech: Mechanism):
-    from camcad.scene.contact import parse_contact
-
     if not mech.has("contact"):
         raise CamcadError(f"mechanism {mech.name!r} has no [contact] section", str(scene.path),
                           "add materials, loads and the allowable stress in [contact]")
@@ -265,8 +247,6 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
     up the change), sampled at ``samples`` cam angles in the phase, over all ``speeds``; +inf when the
     stretched cam is not admissible (the roller does not fit, the follower jams, or a force-closed
     follower leaves the cam)."""
-    from camcad.contact import contact_stress
-
     phases = phases_deg(law)
 
     def sigma_max(width_deg: float) -> float:
@@ -305,8 +285,6 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
     ``camcad.linkage.transfer.LinkageLoad`` (the working member behind a [linkage]) or None; with one, the
     phase limits are not computed (their stretched phases do not carry it). Returns (report, ContactResult at
     the worst speed, SpeedSweep)."""
-    from camcad.contact import contact_stress, stress_versus_speed
-
     params = contact_params(scene, mech)
     law_where = mech.where(scene.path, "law")
     if law is None:
@@ -359,8 +337,6 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
     """Phase limits of the network's operations: vibration (from the operation's relation) and contact
     stress (from the operation's mechanism, when it has [law], [follower] and [contact]).
     Returns (limits {label: [PhaseLimit]}, skipped {what: why})."""
-    from camcad.cyclogram.limits import vibration_limits
-
     limits = vibration_limits(network)
     skipped: dict[str, str] = {}
     by_name = {m.name: m for m in scene.mechanisms}
@@ -393,8 +369,6 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
 
 def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = None) -> list:
     """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
-    from camcad.scene.follower import parse_follower
-
     follower_table = mech.sections["follower"]
     where = mech.where(scene.path, "follower")
     limit = pressure_angle_limit_of(parse_follower(follower_table, where), op.phase)
@@ -413,8 +387,6 @@ def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = 
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:
     """{mechanism: new (start_deg, end_deg, kind) phases} with the optimal angles of its operations fed back."""
-    from camcad.cyclogram.retime import operation_timing, retime_phases
-
     found = {}
     by_name = {m.name: m for m in scene.mechanisms}
     for name, timing in operation_timing(result).items():

@@ -1,4 +1,4 @@
-"""The phase angles of a group scene's optimised cyclogram: one function for the pipeline and every command.
+"""The pipeline's cyclogram step (step 9): the phase angles of a group scene's optimised cyclogram, and its verdict.
 
 ``camcad profile SCENE`` optimises the [cyclogram] with each operation's phase-angle limits (contact stress,
 pressure angle, the vibration relation, the impact rebound of a mechanism with [stops]) and regenerates every
@@ -8,10 +8,30 @@ mechanism with the optimal angles. ``cyclogram_angles`` does exactly that part, 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from camcad.cyclogram.limits import PhaseLimit
+from camcad.cyclogram.lp import optimise
+from camcad.cyclogram.retime import format_phases
+from camcad.dynamics.runs import run_impact
 from camcad.errors import CamcadError
+from camcad.scene.filtering import filter_step
+from camcad.scene.laws import mechanism_law
+from camcad.scene.mechanism import cyclogram_limits, retimed_phases
+from camcad.scene.sections.cyclogram import parse_cyclogram
+from camcad.scene.sections.stops import parse_stops
+from camcad.verdict import Check, Verdict, Warning
+
+#: cycle slack below this fraction of the cycle is warned about
+CLOSE_TO_LIMIT = 0.05
+#: a phase angle within this (relative, of max(1 deg, the bound)) of a bound is on the bound
+HELD_TOL_DEG = 1e-9
+
+# --------------------------------------------------------------------------------------------
+# camcad cyclogram
+# --------------------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -33,8 +53,6 @@ class CyclogramAngles:
 
     def report(self) -> dict:
         """The SPEC.md ``cyclogram`` keys (and more), with the retimed phases as text."""
-        from camcad.cyclogram.retime import format_phases
-
         out = self.result.report()
         out["skipped"] = dict(self.skipped)
         out["speeds_rpm"] = None if self.speeds is None else list(self.speeds)
@@ -60,17 +78,25 @@ class CyclogramAngles:
                 held.append(f"the {op.phase or op.label} at its least angle {bound.bound:.6g} deg ({bound.source})")
         return ("the cyclogram holds " + "; ".join(held)) if held else ""
 
+    def contact_least(self, mechanism: str) -> dict:
+        """{phase label: (least angle deg, "contact stress", binding)} of the mechanism's operations whose
+        least angle comes from contact stress."""
+        least = {}
+        for op in self.operations_of(mechanism):
+            if op.phase is None or op.phase == "dwell":
+                continue
+            label = op.phase if op.occurrence == 1 else f"{op.phase}_{op.occurrence}"
+            for limit in self.limits.get(op.label, ()):
+                if limit.source.startswith("contact"):
+                    least[label] = (limit.angle_deg, "contact stress", bool(limit.binding))
+        return least
+
 
 def impact_phase_limit(scene, mech, speeds, law=None):
     """(ImpactRun, stop phase kind) of a mechanism with [stops] on its analysis law (the pipeline's step 6),
     or (None, None) without [stops] or speeds."""
     if not mech.has("stops") or not speeds:
         return None, None
-    from camcad.dynamics.runs import run_impact
-    from camcad.scene.file import mechanism_law
-    from camcad.scene.filter import filter_step
-    from camcad.scene.stops import parse_stops
-
     if law is None:
         law = mechanism_law(scene, mech).law
         step = filter_step(scene, mech, law, speeds)
@@ -101,11 +127,6 @@ def cyclogram_angles(scene, speeds, samples: int, impacts: dict | None = None, m
     -------
     CyclogramAngles
     """
-    from camcad.cyclogram.limits import PhaseLimit
-    from camcad.cyclogram.lp import optimise
-    from camcad.scene.cyclogram import parse_cyclogram
-    from camcad.scene.mechanism import cyclogram_limits, retimed_phases
-
     if scene.cyclogram is None:
         raise CamcadError("the scene has no [cyclogram] section", str(scene.path),
                           "add [cyclogram] with [[cyclogram.operations]] (from, to, bounds_deg)")
@@ -140,3 +161,43 @@ def cyclogram_angles(scene, speeds, samples: int, impacts: dict | None = None, m
     phases = retimed_phases(scene, result) if result.feasible else {}
     return CyclogramAngles(result, network, limits, skipped, phases, None if speeds is None else list(speeds),
                            found_impacts)
+
+
+def cyclogram_verdict(found) -> Verdict:
+    """The checks of an optimised cyclogram (camcad.scene.phase_angles.CyclogramAngles): feasible; the
+    makespan against the cycle; every operation's phase angle against its least admissible one (its
+    designer's bound or a phase limit, whichever is larger), active ones noted as holding the makespan;
+    a finite upper bound that is active. Warnings: little cycle slack, operations held at a phase limit."""
+    result = found.result
+    if not result.feasible:
+        return Verdict((Check("cyclogram feasible", None, None, passed_override=False, note=result.explanation),), ())
+    network = result.network
+    checks = [Check("makespan", float(result.makespan_deg), float(network.cycle_deg), "deg",
+                    applies=f"p({network.end}) - p({network.start}) within the cycle")]
+    active = {(c.label, c.kind) for c in result.active}
+    warnings = []
+    for op in network.operations:
+        angle = float(result.phase_angles_deg[op.label])
+        least, source = result.lower_bounds_deg[op.label]
+        # the times are sums of bounds and carry their round-off: an angle that close to a bound is on it
+        for bound in (float(least), float(op.max_deg)):
+            if math.isfinite(bound) and abs(angle - bound) <= HELD_TOL_DEG * max(1.0, abs(bound)):
+                angle = bound
+        name = f"{op.label} {op.name}".strip()
+        what = f"{op.mechanism} {op.phase}" if op.mechanism and op.phase else "operation"
+        held = (op.label, "min") in active
+        note = "active: holds the makespan" if held else ""
+        if least > 0 or op.mechanism:
+            checks.append(Check(f"phase angle {name}", angle, float(least), "deg", sense="min",
+                                applies=f"{what}; least angle from {source}", note=note))
+        if math.isfinite(op.max_deg) and (op.label, "max") in active:
+            checks.append(Check(f"phase angle {name} (upper bound)", angle, float(op.max_deg), "deg",
+                                applies=f"{what}; bounds_deg", note="active: holds the makespan"))
+        if held and source != "bounds_deg":
+            warnings.append(Warning(f"{name} ({what}) is held at its least angle {least:.6g} deg by {source}: "
+                                    "it sets the makespan", least, "an active phase limit"))
+    slack = float(network.cycle_deg - result.makespan_deg)
+    if slack < CLOSE_TO_LIMIT * network.cycle_deg:
+        warnings.append(Warning(f"the group fills {result.makespan_deg:.6g} of its {network.cycle_deg:g} deg: "
+                                f"{slack:.3g} deg to spare", slack, f"cycle slack < {100 * CLOSE_TO_LIMIT:g} %"))
+    return Verdict(tuple(checks), tuple(warnings))

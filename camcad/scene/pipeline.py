@@ -12,15 +12,26 @@ no step fills in a physical quantity the scene did not give.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from camcad.cyclogram.retime import format_phases
 from camcad.errors import CamcadError
-from camcad.scene.file import Mechanism, Scene, mechanism_law, read_scene
-from camcad.scene.mechanism import LimitMemo
+from camcad.profile.summary import profile_report
+from camcad.profile.synth import ProfileSettings, synthesize
+from camcad.scene.file import Mechanism, Scene, read_scene
+from camcad.scene.follower import follower_for_law
+from camcad.scene.laws import law_unit, law_with_phases, mechanism_law, pipeline_angles
+from camcad.scene.mechanism import PRESSURE_SAMPLES, LimitMemo, pressure_angle_limits
+from camcad.scene.sections.cyclogram import parse_cyclogram
+
+if TYPE_CHECKING:
+    from camcad.scene.phase_angles import CyclogramAngles
+
+#: the models a run may be restricted to (``PipelineOptions.models``), in the pipeline's order
+MODELS = ("filter", "profile", "dynamics", "impact", "contact", "linkage")
 
 #: cam-angle samples per phase for the contact-stress maximum and its phase limits
 CONTACT_SAMPLES = 2000
@@ -51,6 +62,17 @@ class PipelineOptions:
     checks_only : bool
         Only what the checks need (no unit): no smallest base radius, no least phase angles of a mechanism
         the cyclogram does not retime, no pitch curve sampled for writing — what ``camcad sweep`` runs.
+    models : tuple of str or None
+        The model steps of the analysis pass (names in ``MODELS``; no unit); None: every one the scene has.
+        The steps that decide the phase angles (the limits before a cyclogram) run as for ``camcad profile``.
+    mechanisms : tuple of str or None
+        The mechanisms to analyse (None: all); the others take part only in the cyclogram's limits.
+    use_cyclogram : bool
+        False: the laws' own phase angles even in a scene with a [cyclogram] (no unit).
+    dynamics_extras : DynamicsExtras or None
+        What ``camcad dynamics`` adds to the dynamics step (a lead-in in deg, a second law, a progress callback).
+    impact_progress : callable or None
+        ``camcad impact``'s ``progress(done, total)`` callback (counts).
 
     Examples
     --------
@@ -69,6 +91,34 @@ class PipelineOptions:
     #: the profile, no least phase angles (step 8) of a mechanism the cyclogram does not retime; the checks are
     #: unchanged
     checks_only: bool = False
+    #: the model steps of the analysis pass (names in ``MODELS``); None: every one the scene has. The steps that
+    #: decide the phase angles (the limits before a cyclogram) run as for ``camcad profile``, so a stand-alone
+    #: command analyses the same machine
+    models: tuple[str, ...] | None = None
+    #: the mechanisms to analyse (None: all); the others take part only in the cyclogram's limits
+    mechanisms: tuple[str, ...] | None = None
+    #: False: the laws' own phase angles even in a scene with a [cyclogram] (``--phase-angles law``)
+    use_cyclogram: bool = True
+    #: what ``camcad dynamics`` adds to the dynamics step: a lead-in to compare, a second law, a progress callback
+    dynamics_extras: DynamicsExtras | None = None
+    #: ``camcad impact``'s progress callback ``progress(done, total)``
+    impact_progress: Callable[[int, int], None] | None = None
+
+    def runs(self, model: str) -> bool:
+        """Whether the analysis pass runs ``model`` (one of ``MODELS``)."""
+        return self.models is None or model in self.models
+
+
+@dataclass(frozen=True)
+class DynamicsExtras:
+    """What ``camcad dynamics`` asks of the dynamics step beyond the scene: a lead-in (deg, fraction of the
+    peak acceleration) to compare, a second law (and its name) whose start-of-motion load is compared, and a
+    ``progress(done, total)`` callback."""
+
+    lead_in: tuple[float, float] | None = None
+    compare: Any = None
+    compare_name: str = ""
+    progress: Callable[[int, int], None] | None = None
 
 
 @dataclass
@@ -86,6 +136,12 @@ class MechanismRun:
     contact: Any = None
     memo: Any = None        # LimitMemo shared by the scene's runs: least phase angles solved once
     linkage: Any = None     # camcad.scene.linkage.LinkageContext: the [linkage] after the follower, or None
+    unit: str = "mm"        # unit of the [law]'s displacement (mm, rad or deg)
+    unit_why: str = ""      # how the unit was decided (camcad.scene.laws.law_unit)
+    given_law: Any = None   # the [law]'s law at the phase angles analysed, before the filter and the linkage
+    output_law: Any = None  # the same after the filter: with law_of = "output", the working member's law
+    #: the contact-limited least phase angles when they come from the cyclogram ({} none), None: found by the step
+    contact_least: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -96,6 +152,7 @@ class SceneResult:
     runs: dict
     report: dict
     group: bool
+    cyclogram: CyclogramAngles | None = None    # the optimised cyclogram (step 9), when it ran
 
     @property
     def passed(self) -> bool:
@@ -175,45 +232,54 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
                           "(camcad cyclogram runs a bare network)")
     group = bool(scene.mechanisms[0].prefix)
     if scene.cyclogram is not None:  # a broken network is reported before any work is done
-        from camcad.scene.cyclogram import parse_cyclogram
-
         parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]", [m.name for m in scene.mechanisms if m.prefix])
-    runs = {}
+    runs: dict[str, MechanismRun] = {}
     memo = LimitMemo()
+    wanted = set(options.mechanisms) if options.mechanisms is not None else None
+    for name in wanted or ():
+        scene.mechanism(name)  # an unknown name: one line listing the scene's mechanisms
+    use_cyclogram = scene.cyclogram is not None and options.use_cyclogram
     # a mechanism the cyclogram will retime needs only its phase limits before the cyclogram; its profile,
     # dynamics and contact are analysed once, with the phase angles it ends up with
-    retimable = _network_mechanisms(scene)
+    retimable = _network_mechanisms(scene) if use_cyclogram else []
     for mech in scene.mechanisms:
-        runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say, memo=memo,
-                                   only_limits=mech.name in retimable)
+        if mech.name in retimable:
+            runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say, memo, stage="limits")
+        elif wanted is None or mech.name in wanted:
+            runs[mech.name] = _analyse(scene, mech, mechanism_law(scene, mech), options, say, memo, stage="single")
     top_skipped: dict[str, str] = {}
-    cyclogram_report = None
-    if scene.cyclogram is not None:
+    cyclogram_report = found = None
+    if use_cyclogram:
         say("cyclogram")
-        cyclogram_report, retimed = _cyclogram(scene, runs, options)
-        from camcad.scene.mechanism import law_with_phases
-
+        cyclogram_report, found = _models().cyclogram_step(scene, runs, options)
+        retimed = found.phases
         for name in retimable:
+            if wanted is not None and name not in wanted:
+                del runs[name]
+                continue
             mech = scene.mechanism(name)
             base = mechanism_law(scene, mech)
             if name in retimed:
                 say(f"{name}: analysing with the cyclogram's phase angles")
                 base = replace(base, law=law_with_phases(base.law, retimed[name], mech.where(scene.path, "law")))
-            run = _analyse(scene, mech, base, options, say, limits=False, memo=memo,
+            run = _analyse(scene, mech, base, options, say, memo, stage="final",
                            phase_source=("the cyclogram's phase angles" if name in retimed
-                                         else "the law's own phase angles (the cyclogram did not retime them)"))
+                                         else "the law's own phase angles (the cyclogram did not retime them)"),
+                           contact_least=found.contact_least(name))
             first = runs[name]
             if "phase_limits" in first.report:
                 run.report["phase_limits"] = first.report["phase_limits"]
             elif "phase_limits" in first.skipped:
                 run.skipped["phase_limits"] = first.skipped["phase_limits"]
             if name in retimed:
-                run.report["retimed_by_cyclogram"] = _phases_text(retimed[name])
+                run.report["retimed_by_cyclogram"] = format_phases(retimed[name])
             runs[name] = run
+    elif scene.cyclogram is not None:
+        top_skipped["cyclogram"] = "the laws' own phase angles were asked for (--phase-angles law)"
     else:
         top_skipped["cyclogram"] = "no [cyclogram] in scene"
     report = _scene_report(scene, runs, group, cyclogram_report, top_skipped)
-    return SceneResult(scene, runs, report, group)
+    return SceneResult(scene, runs, report, group, found)
 
 
 # --------------------------------------------------------------------------------------------
@@ -229,21 +295,20 @@ def _network_mechanisms(scene: Scene) -> list[str]:
     return [m.name for m in scene.mechanisms if m.name in named]
 
 
-def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say: Progress,
-             limits: bool = True, memo: LimitMemo | None = None, only_limits: bool = False,
-             phase_source: str = "the law's own phase angles") -> MechanismRun:
-    """Steps 2–8 for one mechanism. ``only_limits``: just what its phase limits need (no profile, no
-    dynamics), for a mechanism the cyclogram will retime and analyse again."""
+def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say: Progress, memo: LimitMemo,
+             stage: str, phase_source: str = "the law's own phase angles",
+             contact_least: dict | None = None) -> MechanismRun:
+    """Steps 2–8 for one mechanism. ``stage``: "single" (a mechanism the cyclogram does not retime: every step
+    the options ask for, its least phase angles included unless ``checks_only``), "limits" (a mechanism the
+    cyclogram will retime: only what its phase limits need) or "final" (its analysis at the cyclogram's
+    phase angles, whose contact-limited least angles are ``contact_least``)."""
     run = MechanismRun(mech.name, law=built.law, memo=memo)
-    # checks only: no least phase angles, but for a mechanism the cyclogram retimes (it reuses them: same figures)
-    limits = limits and (only_limits or not options.checks_only)
-    # ---- [linkage] (camcad.scene.linkage): with [law] law_of = "output" the law becomes the follower's law
-    # designed for the working member; dynamics, impact and contact below get the working member through Pi
-    from camcad.scene.linkage import prepare as prepare_linkage
-
-    built, run.linkage = prepare_linkage(scene, mech, built)
-    run.law = built.law
-    # ----
+    only_limits = stage == "limits"
+    # least phase angles (step 8): before a cyclogram, and for a whole profile run (not for sweeps' checks, not
+    # for a stand-alone command, which reports its model only)
+    limits = only_limits or (stage == "single" and not options.checks_only and options.models is None)
+    run.contact_least = None if only_limits or (stage == "single" and not options.checks_only) else \
+        dict(contact_least or {})
     where = lambda section: mech.where(scene.path, section)  # noqa: E731
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     run.report["law"] = {"notes": list(built.notes), "phases_deg": [p.as_deg() for p in built.law.phases]}
@@ -259,27 +324,41 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
                                           "after": built.correction.after.to_dict()}
     else:
         run.skipped["balance"] = "a standard law is balanced by construction"
-    # 3 filter
+    # 3 filter: on the law as the [law] gives it (the working member's with law_of = "output"), before the linkage
+    # turns it into the follower's
+    run.unit, run.unit_why = law_unit(scene, mech, None, built.law)
+    run.given_law = built.law
     if mech.has("filter"):
         say(f"{mech.name}: resonance filtering")
-        _filter(scene, mech, run, speeds)
+        step = _models().filter_step(scene, mech, built.law, speeds, run.unit,
+                           pipeline_angles(scene, mech, built.law).describe())
+        if step.report is None:
+            run.skipped["filter"] = step.skipped
+        else:
+            built = replace(built, law=step.law)
+            run.report["spectrum"] = step.report.analysis_dict()
+            run.ran.append("filter")
     else:
         run.skipped["filter"] = "no [filter] in scene"
+    run.output_law = built.law
+    # ---- [linkage] (camcad.scene.linkage): with [law] law_of = "output" the law becomes the follower's law
+    # designed for the working member; dynamics, impact and contact below get the working member through Pi
+    if mech.has("linkage") or (mech.sections.get("law") or {}).get("law_of") == "output":
+        built, run.linkage = _models().prepare(scene, mech, built)
+    run.law = built.law
+    # ----
     # 4 profile
-    if mech.has("follower") and only_limits:
+    if mech.has("follower") and (only_limits or not options.runs("profile")):
         pass
     elif mech.has("follower"):
         say(f"{mech.name}: profile")
         run.profile = _profile(scene, mech, run.law, options)
-        from camcad.profile.summary import profile_report
-
         run.report["profile"] = profile_report(run.profile, phase_source)
         run.ran.append("profile")
     else:
         run.skipped["profile"] = "no [follower] in scene"
     # 5 dynamics, 6 impact, 7 contact
-    for section, step, _needs in (("dynamics", _dynamics, "elastic data"), ("stops", _impact, "stops"),
-                                 ("contact", _contact, "materials and loads")):
+    for section, step_name in (("dynamics", "dynamics_step"), ("stops", "impact_step"), ("contact", "contact_step_of")):
         key = "impact" if section == "stops" else section
         if not mech.has(section):
             run.skipped[key] = f"no [{section}] in scene"
@@ -290,18 +369,18 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         if section == "contact" and not mech.has("follower"):
             run.skipped[key] = "no [follower] in scene: the contact needs the profile"
             continue
-        if section == "dynamics" and only_limits:
+        if (section == "dynamics" and only_limits) or (not only_limits and not options.runs(key)):
             continue
         say(f"{mech.name}: {key}")
-        step(scene, mech, run, speeds, options, where(section), limits)
+        getattr(_models(), step_name)(scene, mech, run, speeds, options, where(section), run.contact_least is None)
         run.ran.append(key)
     # ---- [linkage]: its analysis, and every setting of [linkage.adjust] through the models above
-    if run.linkage is not None and not only_limits:
-        from camcad.scene.linkage import linkage_step
-
+    if run.linkage is not None and not only_limits and options.runs("linkage"):
         say(f"{mech.name}: linkage")
-        linkage_step(scene, mech, run, speeds, options, {"dynamics": _dynamics, "impact": _impact,
-                                                         "contact": _contact})
+        models = _models()
+        models.linkage_step(scene, mech, run, speeds, options, {"dynamics": models.dynamics_step,
+                                                                "impact": models.impact_step,
+                                                                "contact": models.contact_step_of})
         run.ran.append("linkage")
     # ----
     # 8 phase limits
@@ -314,8 +393,6 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
         if mech.has("follower"):
-            from camcad.scene.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
-
             for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
                                                       mech.where(scene.path, "follower"), PRESSURE_SAMPLES,
                                                       memo=memo).items():
@@ -328,102 +405,21 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     return run
 
 
-def _filter(scene: Scene, mech: Mechanism, run: MechanismRun, speeds) -> None:
-    from camcad.scene.analysis import law_unit, pipeline_angles
-    from camcad.scene.filter import filter_step
+def _models():
+    """``camcad.scene.models``, imported when a scene has a model (a start-up case of tests/test_layering.py:
+    ``camcad profile`` of a plain cam imports no model, tests/test_startup.py)."""
+    from camcad.scene import models
 
-    unit, _ = law_unit(scene, mech, None, run.law)
-    step = filter_step(scene, mech, run.law, speeds, unit, pipeline_angles(scene, mech, run.law).describe())
-    if step.report is None:
-        run.skipped["filter"] = step.skipped
-        return
-    run.law = step.law
-    run.report["spectrum"] = step.report.analysis_dict()
-    run.ran.append("filter")
+    return models
 
 
 def _profile(scene: Scene, mech: Mechanism, law, options: PipelineOptions):
-    from dataclasses import replace as with_fields
-
-    from camcad.profile.synth import ProfileSettings, synthesize
-    from camcad.scene.follower import follower_for_law
-
     follower, law, _, notes = follower_for_law(mech.sections["follower"], mech.where(scene.path, "follower"), law)
     settings = ProfileSettings(tol_mm=options.tol_mm, arcs=options.arcs, spline=options.spline, r12=options.r12,
                                plots=bool(options.plots), name=mech.name, design=not options.checks_only,
                                checks_only=options.checks_only)
     result = synthesize(law, follower, settings.validate(), name=mech.name)
-    return with_fields(result, notes=tuple(notes) + result.notes) if notes else result
-
-
-def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.dynamics.runs import run_dynamics
-    from camcad.scene.analysis import law_unit, pipeline_angles, rounded_tree
-    from camcad.scene.dynamics import parse_dynamics
-
-    settings = parse_dynamics(mech.sections["dynamics"], where, math.degrees(run.law.cycle))
-    unit, _ = law_unit(scene, mech, None, run.law)
-    if unit in ("mm", "rad"):
-        settings = replace(settings, output_unit=unit)
-    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
-    lead = None
-    if mech.has("filter"):
-        from camcad.scene.filter import parse_filter
-
-        filt = parse_filter(mech.sections["filter"], mech.where(scene.path, "filter"))
-        if filt.lead_in_deg is not None and "filter" not in run.ran:
-            lead = (filt.lead_in_deg, filt.lead_in_fraction)
-    run.dynamics = run_dynamics(law, settings, speeds, lead_in=lead,
-                                applies=pipeline_angles(scene, mech, run.law).describe())
-    run.report["dynamics"] = rounded_tree(run.dynamics.to_dict())
-
-
-def _impact(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.dynamics.runs import run_impact
-    from camcad.scene.analysis import pipeline_angles, rounded_tree
-    from camcad.scene.stops import parse_stops
-
-    model = parse_stops(mech.sections["stops"], where)
-    law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
-    run.impact = run_impact(law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe())
-    run.report["impact"] = rounded_tree(run.impact.to_dict())
-
-
-def _contact(scene, mech, run, speeds, options, where, limits) -> None:
-    from camcad.scene.analysis import pipeline_angles, rounded_tree
-    from camcad.scene.contact import contact_step, contact_verdict
-
-    # the retimed pass (limits False) keeps the first pass's least angles in report["phase_limits"]
-    extra = None if run.linkage is None else (lambda theta: run.linkage.load_on(run.law, theta))  # [linkage]
-    found = contact_step(scene, mech, run.law, speeds, options.contact_samples, pipeline_angles(scene, mech, run.law),
-                         None if limits else {}, memo=run.memo, extra_load=extra)
-    run.contact = found
-    run.report["contact"] = rounded_tree({**found.report, **contact_verdict([found], speeds).to_dict()})
-
-
-# --------------------------------------------------------------------------------------------
-# 9 cyclogram
-# --------------------------------------------------------------------------------------------
-
-def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
-    """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
-    from camcad.scene.analysis import rounded_tree
-    from camcad.scene.cyclogram import cyclogram_verdict
-    from camcad.scene.phase_angles import cyclogram_angles
-
-    speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
-    # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
-    impacts = {name: run.impact for name, run in runs.items() if run.impact is not None}
-    memo = next(iter(runs.values())).memo if runs else None
-    found = cyclogram_angles(scene, speeds, options.contact_samples, impacts=impacts, memo=memo)
-    report = rounded_tree({**found.report(), **cyclogram_verdict(found).to_dict()})
-    return report, found.phases
-
-
-def _phases_text(phases) -> str:
-    from camcad.cyclogram.retime import format_phases
-
-    return format_phases(phases)
+    return replace(result, notes=tuple(notes) + result.notes) if notes else result
 
 
 # --------------------------------------------------------------------------------------------
@@ -455,7 +451,7 @@ def _scene_report(scene: Scene, runs: dict, group: bool, cyclogram_report, top_s
     passed = all(m["passed"] for m in mechanisms.values())
     if cyclogram_report is not None:
         passed = passed and cyclogram_report["passed"]
-    if not group:
+    if not group and len(mechanisms) == 1:
         (only,) = mechanisms.values()
         report = {"scene": str(scene.path), "name": scene.name, "description": scene.description, **only}
         report["skipped"] = {**only["skipped"], **top_skipped}

@@ -42,13 +42,13 @@ RANGE_DIGITS = 12
 MAX_DESIGNS = 10**12
 #: section name → (module, name of its field list) of the scene's parsers
 SECTION_FIELDS = {
-    "law": ("camcad.scene.law", "law_fields"),
-    "follower": ("camcad.scene.follower", "FOLLOWER_FIELDS"),
-    "filter": ("camcad.scene.filter", "FILTER_FIELDS"),
-    "dynamics": ("camcad.scene.dynamics", "DYNAMICS_FIELDS"),
-    "stops": ("camcad.scene.stops", "STOPS_FIELDS"),
-    "contact": ("camcad.scene.contact", "CONTACT_FIELDS"),
-    "cyclogram": ("camcad.scene.cyclogram", "CYCLOGRAM_FIELDS"),
+    "law": ("camcad.scene.sections.law", "law_fields"),
+    "follower": ("camcad.scene.sections.follower", "FOLLOWER_FIELDS"),
+    "filter": ("camcad.scene.sections.filter", "FILTER_FIELDS"),
+    "dynamics": ("camcad.scene.sections.dynamics", "DYNAMICS_FIELDS"),
+    "stops": ("camcad.scene.sections.stops", "STOPS_FIELDS"),
+    "contact": ("camcad.scene.sections.contact", "CONTACT_FIELDS"),
+    "cyclogram": ("camcad.scene.sections.cyclogram", "CYCLOGRAM_FIELDS"),
 }
 #: field kinds a sweep can vary (lists and tables cannot)
 SCALAR_KINDS = ("float", "int", "str", "bool", "number_or_list")

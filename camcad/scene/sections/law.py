@@ -17,23 +17,21 @@ Keys (angles deg, lengths mm):
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import cast
 
+from camcad.balance.conditions import DEFAULT_TOL, MODES
 from camcad.errors import CamcadError, excerpt
+from camcad.law.standard import SHAPES, shape_named
 from camcad.scene.fields import Field, read_table
 
 
 def _shape_names() -> tuple[str, ...]:
-    from camcad.law.standard import SHAPES
-
     return tuple(sorted(SHAPES))
 
 
 def law_fields() -> list[Field]:
-    from camcad.balance.conditions import DEFAULT_TOL, MODES
-
+    """The keys of ``[law]`` (the shapes listed are camcad's standard laws)."""
     shapes = _shape_names()
     return [
         Field("standard", "str", help=f"(a standard shape: {', '.join(shapes)}, or scca:b:c:d)"),
@@ -76,18 +74,6 @@ class LawSpec:
     law_of: str = "follower"
 
 
-@dataclass(frozen=True)
-class BuiltLaw:
-    """The law a scene runs with, and how it came to be."""
-
-    law: object
-    notes: tuple[str, ...] = ()
-    loaded: object | None = None          # LoadedLaw for a drawn law
-    balance: dict | None = None           # check of the drawn law (before any fix)
-    correction: object | None = None      # balance.Correction when fixed
-    extra: dict = field(default_factory=dict)
-
-
 def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
     values = read_table(table, law_fields(), where)
     if values["standard"] is None and values["file"] is None:
@@ -97,8 +83,6 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
         raise CamcadError("the law has both 'standard' and 'file'", where, "keep one of them")
     for key in ("standard", "return_standard"):
         if values[key] is not None:
-            from camcad.law.standard import shape_named
-
             try:
                 shape_named(values[key])
             except KeyError as err:
@@ -133,36 +117,3 @@ def _as_shown(path: Path) -> Path:
     except ValueError:
         return path
 
-
-def build_law(spec: LawSpec) -> BuiltLaw:
-    """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
-    from camcad.law.phases import parse_phases
-    from camcad.law.standard import compose
-
-    if spec.standard is not None:
-        # parse_law refuses a standard law without phases and lift
-        phases = parse_phases(cast(str, spec.phases), spec.cycle, where=f"{spec.where} phases")
-        widths = [(p.kind, (p.end - p.start) * 180.0 / 3.141592653589793) for p in phases]
-        try:
-            law = compose(widths, cast(float, spec.lift), spec.standard, spec.return_standard, cycle_deg=spec.cycle)
-        except ValueError as err:
-            raise CamcadError(str(err), spec.where, "give as many returns as rises, covering the cycle") from None
-        name = spec.standard + (f"/{spec.return_standard}" if spec.return_standard else "")
-        return BuiltLaw(law, (f"standard law {name}, lift {spec.lift:g}, phases {spec.phases}",))
-    from camcad.balance.checking import check
-    from camcad.balance.correction import correct
-    from camcad.law.source import load_law
-
-    loaded = load_law(cast(Path, spec.file), layer=spec.layer, handle=spec.handle,
-                      cycle_deg=spec.cycle if spec.cycle_stated else None, lift=spec.lift,
-                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
-    report = check(loaded.law, spec.tol)
-    notes = [loaded.source, *loaded.notes]
-    if spec.fix == "none":
-        if not report.balanced:
-            notes.append("the drawn law is NOT balanced (fix = \"min-change\" in [law] corrects it)")
-        return BuiltLaw(loaded.law, tuple(notes), loaded, report.to_dict())
-    result = correct(loaded.law, spec.fix, tol=spec.tol, where=str(spec.file))
-    notes.append(f"balanced with mode {spec.fix}: RMS change {result.rms_change / loaded.y_scale:.4g}, "
-                 f"max change {result.max_change / loaded.y_scale:.4g} (input y units)")
-    return BuiltLaw(result.law, tuple(notes), loaded, report.to_dict(), result)

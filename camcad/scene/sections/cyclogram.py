@@ -1,31 +1,15 @@
-"""The scene's [cyclogram] section (events, operations, bounds and vibration relations) and ``camcad cyclogram``
-as one library function (``run_cyclogram``), with the verdict the pipeline's step 9 shares.
-"""
+"""The scene's ``[cyclogram]`` section: events, operations, their bounds and vibration relations."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 from camcad.cyclogram.limits import LinearRelation
 from camcad.cyclogram.network import Network, Operation, make_network
 from camcad.errors import CamcadError, nearest_name
 from camcad.scene.fields import Field, read_table
-from camcad.verdict import Check, Verdict, Warning
-
-#: cycle slack below this fraction of the cycle is warned about
-CLOSE_TO_LIMIT = 0.05
-#: a phase angle within this (relative, of max(1 deg, the bound)) of a bound is on the bound
-HELD_TOL_DEG = 1e-9
-
-
-
-# --------------------------------------------------------------------------------------------
-# The scene's [cyclogram] section
-# --------------------------------------------------------------------------------------------
 
 CYCLOGRAM_FIELDS: list[Field] = [
     Field("operations", "list", required=True,
@@ -126,90 +110,4 @@ def parse_cyclogram(table: Any, where: str, mechanisms: Iterable[str] | None = N
     return make_network(operations, values["events"], values["start"], values["end"],
                         values["cycle_deg"], values["start_deg"], where)
 
-
-# --------------------------------------------------------------------------------------------
-# camcad cyclogram
-# --------------------------------------------------------------------------------------------
-
-def cyclogram_verdict(found) -> Verdict:
-    """The checks of an optimised cyclogram (camcad.scene.phase_angles.CyclogramAngles): feasible; the
-    makespan against the cycle; every operation's phase angle against its least admissible one (its
-    designer's bound or a phase limit, whichever is larger), active ones noted as holding the makespan;
-    a finite upper bound that is active. Warnings: little cycle slack, operations held at a phase limit."""
-    result = found.result
-    if not result.feasible:
-        return Verdict((Check("cyclogram feasible", None, None, passed_override=False, note=result.explanation),), ())
-    network = result.network
-    checks = [Check("makespan", float(result.makespan_deg), float(network.cycle_deg), "deg",
-                    applies=f"p({network.end}) - p({network.start}) within the cycle")]
-    active = {(c.label, c.kind) for c in result.active}
-    warnings = []
-    for op in network.operations:
-        angle = float(result.phase_angles_deg[op.label])
-        least, source = result.lower_bounds_deg[op.label]
-        # the times are sums of bounds and carry their round-off: an angle that close to a bound is on it
-        for bound in (float(least), float(op.max_deg)):
-            if math.isfinite(bound) and abs(angle - bound) <= HELD_TOL_DEG * max(1.0, abs(bound)):
-                angle = bound
-        name = f"{op.label} {op.name}".strip()
-        what = f"{op.mechanism} {op.phase}" if op.mechanism and op.phase else "operation"
-        held = (op.label, "min") in active
-        note = "active: holds the makespan" if held else ""
-        if least > 0 or op.mechanism:
-            checks.append(Check(f"phase angle {name}", angle, float(least), "deg", sense="min",
-                                applies=f"{what}; least angle from {source}", note=note))
-        if math.isfinite(op.max_deg) and (op.label, "max") in active:
-            checks.append(Check(f"phase angle {name} (upper bound)", angle, float(op.max_deg), "deg",
-                                applies=f"{what}; bounds_deg", note="active: holds the makespan"))
-        if held and source != "bounds_deg":
-            warnings.append(Warning(f"{name} ({what}) is held at its least angle {least:.6g} deg by {source}: "
-                                    "it sets the makespan", least, "an active phase limit"))
-    slack = float(network.cycle_deg - result.makespan_deg)
-    if slack < CLOSE_TO_LIMIT * network.cycle_deg:
-        warnings.append(Warning(f"the group fills {result.makespan_deg:.6g} of its {network.cycle_deg:g} deg: "
-                                f"{slack:.3g} deg to spare", slack, f"cycle slack < {100 * CLOSE_TO_LIMIT:g} %"))
-    return Verdict(tuple(checks), tuple(warnings))
-
-
-@dataclass(frozen=True)
-class CyclogramRequest:
-    """What ``camcad cyclogram`` can be asked: the scene, the speeds (--rpm text) and samples per phase."""
-
-    scene: Path
-    rpm: str | None = None
-    samples: int = 2000
-
-
-def run_cyclogram(request: CyclogramRequest):
-    """``camcad cyclogram``: the group's network optimised with every operation's phase limits (the same
-    function ``camcad profile`` uses, camcad.scene.phase_angles), as an AnalysisReport (key ``cyclogram``)
-    whose ``result`` is the CyclogramAngles.
-
-    Parameters
-    ----------
-    request : CyclogramRequest
-
-    Returns
-    -------
-    camcad.scene.analysis.AnalysisReport
-    """
-    from camcad.scene.analysis import AnalysisReport, require_scene
-    from camcad.scene.fields import parse_speeds
-    from camcad.scene.file import read_scene
-    from camcad.scene.phase_angles import cyclogram_angles
-
-    if isinstance(request.samples, bool) or not isinstance(request.samples, int) or not 16 <= request.samples <= 10**6:
-        raise CamcadError(f"--samples {request.samples} is not in 16..1000000", "--samples",
-                          "give the cam-angle samples per phase, e.g. 2000")
-    path = require_scene(Path(request.scene), "cyclogram")
-    scene = read_scene(path)
-    if scene.cyclogram is None:
-        raise CamcadError("the scene has no [cyclogram] section", str(path),
-                          "add [cyclogram] with [[cyclogram.operations]] (from, to, bounds_deg)")
-    speeds = parse_speeds(request.rpm, "--rpm") if request.rpm is not None else (
-        list(scene.speeds_rpm) if scene.speeds_rpm else None)
-    found = cyclogram_angles(scene, speeds, request.samples)
-    body = found.report()
-    source = {"scene": str(path), "name": scene.name, "title": str(scene.cyclogram.get("name") or scene.name)}
-    return AnalysisReport("cyclogram", body, cyclogram_verdict(found), source, found, dict(found.skipped))
 
