@@ -83,6 +83,7 @@ def test_output_option_default_output_and_exit_code(cli, tmp_path):
     out = tmp_path / "o.csv"
     result = cli("edit", source, "--script", script, "-o", out)
     assert result.code == 1 and out.exists() and "1 operations applied" in result.out
+    assert "the profile does not close (gap" in result.out and "[" not in result.out.split("applied;")[1]  # no markup
 
 
 def test_table_and_standard_law_inputs(cli, tmp_path):

@@ -223,6 +223,8 @@ def test_outputs_best_scene_and_report(tmp_path, cli):
     assert lines[0].startswith("design,follower.base_radius,law.phases.rise,pressure angle, rise.margin") or \
         lines[0].startswith('design,follower.base_radius,law.phases.rise,"pressure angle, rise.margin"')
     assert len(lines) - 1 == report["pareto"]["designs"] >= 1
+    header = next(__import__("csv").reader(lines[:1]))
+    assert len(header) == len(set(header)) and header.count("min_margin_ratio") == 1   # each column once
     speed = report["throughput"]
     assert speed["designs_computed"] == 9 and speed["designs_per_cpu_s"] > 0 and speed["wall_s"] > 0
     import pyarrow.parquet as pq

@@ -65,8 +65,8 @@ def edit(law_file: SourceArg = None,
         print_json(payload)
     else:
         out = console()
-        verdict = "[green]the profile closes[/green]" if payload["balanced"] else \
-            f"[red]the profile does not close[/red] (gap {payload['displacement_closure']:.3g} mm)"
+        verdict = "the profile closes" if payload["balanced"] else \
+            f"the profile does not close (gap {payload['displacement_closure']:.3g} mm)"
         out.print(f"{payload['operations']} operations applied; {verdict}; max change {payload['max_change']:.4g}, "
                   f"RMS change {payload['rms_change']:.4g} (input y units)")
         for path in payload["outputs"]:

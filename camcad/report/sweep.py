@@ -500,8 +500,9 @@ def _write_csv(path, points, rows, grid_keys, objectives) -> None:
 
     from camcad.io.atomic import write_text_atomic
 
-    columns = ["design", *grid_keys, *[o.column for o in objectives if o.column not in grid_keys],
-               "governing", "min_margin_ratio"]
+    # each column once: an objective may be a varied key or min_margin_ratio itself (the default objective)
+    columns = list(dict.fromkeys(["design", *grid_keys, *[o.column for o in objectives], "governing",
+                                  "min_margin_ratio"]))
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(columns)
