@@ -12,11 +12,12 @@ from camcad.scene.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
 from camcad.scene.dynamics import DYNAMICS_FIELDS
 from camcad.scene.filter import FILTER_FIELDS
 from camcad.scene.follower import FOLLOWER_FIELDS
-from camcad.scene.law import law_fields
+from camcad.scene.law import SEGMENT_FIELDS, law_fields
 from camcad.scene.linkage import ADJUST_FIELDS, LINKAGE_FIELDS
 from camcad.scene.stops import STOPS_FIELDS
 
-SECTIONS = [("law", law_fields(), "camcad.scene.law"), ("follower", FOLLOWER_FIELDS, "camcad.scene.follower"),
+SECTIONS = [("law", law_fields(), "camcad.scene.law"), ("[law.segments]", SEGMENT_FIELDS, "camcad.scene.law"),
+            ("follower", FOLLOWER_FIELDS, "camcad.scene.follower"),
             ("linkage", LINKAGE_FIELDS, "camcad.scene.linkage"),
             ("linkage.adjust", ADJUST_FIELDS, "camcad.scene.linkage"),
             ("filter", FILTER_FIELDS, "camcad.scene.filter"), ("dynamics", DYNAMICS_FIELDS, "camcad.scene.dynamics"),

@@ -300,9 +300,16 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
     for status, text in lines:
         out.print(f"{indent}  {dict(ok='ok  ', fail='FAIL', warn='WARN')[status]} {text}")
     for label, sources in (mech.get("phase_limits") or {}).items():
-        parts = ", ".join(f"{k} {v:.4f} deg" for k, v in sources.items() if k != "least_deg" and v is not None)
-        if sources.get("least_deg") is not None:
-            out.print(f"{indent}least {label} angle {sources['least_deg']:.4f} deg (bound by {parts})")
+        least = sources.get("least_deg")
+        if least is None:
+            continue
+        given = [(k, v) for k, v in sources.items() if k != "least_deg" and v is not None]
+        binding = [k for k, v in given if v == least]
+        others = ", ".join(f"{k} {v:.4f} deg" for k, v in given if v != least)
+        out.print(f"{indent}least {label} angle {least:.4f} deg (bound by {' and '.join(binding)}"
+                  + (f"; {others}" if others else "") + ")")
+    for note in mech.get("phase_limit_notes") or []:
+        out.print(f"{indent}note       {note}")
     for key, why in (mech.get("skipped") or {}).items() if show_skipped else ():
         out.print(f"{indent}skipped    {key}: {why}")
     for note in mech.get("notes", []):

@@ -166,6 +166,149 @@ def pressure_angle_limits(law, follower_table: dict, where: str, samples: int,
     return found
 
 
+#: the undercut limit aims this far inside (relative, of 1/(Rr + ρ_min)): the cam at its least angle keeps its
+#: convex pitch radius above Rr by round-off at least
+CURVATURE_MARGIN = 1e-9
+#: the lower end of the undercut and cusp searches, a fraction of the phase: both relations grow without bound as
+#: the phase shortens, so the crossing is always above it
+CURVATURE_LOWER_FRACTION = 1e-3
+
+
+def geometry_limits(law, follower_table: dict, where: str, samples: int, memo: LimitMemo | None = None
+                    ) -> tuple[dict, list[str]]:
+    """The least angle of every rise and return that the follower's geometry allows, by source.
+
+    - "pressure angle": the phase's largest |φ| reaches the follower's limit (root finding on φ_max(t));
+      not for a flat face, whose pressure angle is zero by construction;
+    - "undercut" (a roller or an oscillating roller; "curvature" with ``rho_min``): the pitch curve's largest
+      convex curvature reaches 1/(Rr + ρ_min), where the profile loops (ρ_min = 0) or breaks its curvature limit;
+    - "cusp" (a flat face; "curvature" with ``rho_min``): the profile radius ρ = Rb + s + a reaches ρ_min
+      (0: a cusp), in closed form: t = β·max √(−a/(Rb + s − ρ_min)) over the decelerating samples.
+
+    A phase stretched to t keeps its shape and lift (the next dwell takes up the change); a phase of a law
+    designed from segments is solved again at t, keeping its end values (``camcad.law.retime``).
+
+    Returns
+    -------
+    (dict, list of str)
+        {label: {source: least angle (deg) or None}} and notes (why an angle is missing or what binds it).
+    """
+    from camcad.law.segments import SegmentLaw
+    from camcad.scene.follower import parse_follower
+
+    follower = parse_follower(follower_table, where)
+    phases = phases_deg(law)
+    found: dict[str, dict] = {}
+    notes: list[str] = []
+    direct = isinstance(law, SegmentLaw)
+    for index, label in motion_labels(phases):
+        start, end, kind = phases[index]
+        width = end - start
+        upper = stretch_room(phases, index)
+        sources: dict[str, Any] = {}
+        if direct:
+            if upper <= width:
+                found[label] = {"pressure angle": None}
+                notes.append(f"{label}: no neighbouring dwell takes up a change of its angle, so it has no least "
+                             "angle of its own (shorten or lengthen the segments around it)")
+                continue
+            upper -= 1e-9 * upper   # the phase angles carry round-off: stay inside the room the dwell gives
+        stretch = pressure_stretch(law, follower_table, index, where, samples)
+        if follower.kind == "flat":
+            name = "cusp" if follower.rho_min is None else "curvature"
+            rho_min = follower.rho_min or 0.0
+            if direct:
+                relation = _direct_relation(law, follower_table, index, where, samples, "flat")
+                try:
+                    sources[name] = _solve(memo, (id(law), index, name), relation, -rho_min * (1 + CURVATURE_MARGIN)
+                                           - CURVATURE_MARGIN * follower.base_radius, CURVATURE_LOWER_FRACTION * width,
+                                           upper, source=name, what=label).angle_deg
+                except CamcadError as err:
+                    sources[name] = None
+                    notes.append(f"{label}: {err.what}")
+            else:
+                least, _ = stretch.flat_least_width(rho_min)
+                least *= 1.0 + CURVATURE_MARGIN
+                if not math.isfinite(least):
+                    sources[name] = None
+                    notes.append(f"{label}: Rb + s <= {rho_min:g} mm where the phase decelerates; no phase angle "
+                                 "keeps the flat face's radius positive")
+                elif least > upper:
+                    sources[name] = None
+                    notes.append(f"{label}: the {name} condition needs {least:.6g} deg, more than the "
+                                 f"{upper:.6g} deg the phase can take")
+                else:
+                    sources[name] = least
+            notes.append(f"{label}: a flat face has no pressure angle; its least angle is bound by the "
+                         f"{'cusp condition Rb + s + a > 0' if follower.rho_min is None else 'curvature limit'}")
+            found[label] = sources
+            continue
+        limit = pressure_angle_limit_of(follower, kind)
+        if limit is not None:
+            relation = (_direct_relation(law, follower_table, index, where, samples, "pressure") if direct
+                        else stretch.pressure_max_deg)
+            try:
+                sources["pressure angle"] = _solve(memo, (id(law), index, "pressure angle"), relation,
+                                                   limit - PRESSURE_MARGIN_DEG, 0.1 * width, upper,
+                                                   source="pressure angle", what=label,
+                                                   inverse=None if direct else stretch.pressure_inverse).angle_deg
+            except CamcadError as err:
+                sources["pressure angle"] = None
+                notes.append(f"{label}: {err.what}")
+        else:
+            sources["pressure angle"] = None
+        if stretch.curvature_reach() > 0.0:
+            name = "undercut" if follower.rho_min is None else "curvature"
+            relation = (_direct_relation(law, follower_table, index, where, samples, "curvature") if direct
+                        else stretch.curvature_ratio)
+            try:
+                sources[name] = _solve(memo, (id(law), index, name), relation, 1.0 - CURVATURE_MARGIN,
+                                       CURVATURE_LOWER_FRACTION * width, upper, source=name, what=label).angle_deg
+            except CamcadError as err:
+                sources[name] = None
+                notes.append(f"{label}: {err.what}")
+        found[label] = sources
+    return found, notes
+
+
+def _direct_relation(law, follower_table: dict, index: int, where: str, samples: int, quantity: str):
+    """relation(widths) → values for phase ``index`` stretched by solving the law again at each width (the route
+    for a law whose phases do not scale with their angle: a segment's end velocity is kept, not scaled):
+    "pressure" the largest |φ| (deg), "curvature" (Rr + ρ_min)·κ_max, "flat" −min(Rb + s + a) (mm)."""
+    from camcad.extrema import zoom_max
+
+    phases = phases_deg(law)
+    pressure = phase_pressure_function(law, follower_table, index, where, samples) if quantity == "pressure" else None
+
+    def one(width_deg: float) -> float:
+        if pressure is not None:
+            return pressure(width_deg)
+        try:
+            stretched, (start, end) = stretched_phase(phases, index, width_deg)
+        except CamcadError:
+            return math.inf
+        cam, follower, _ = cam_of(law_with_phases(law, stretched, where), follower_table, where)
+        grid = np.linspace(np.radians(start), np.radians(end), samples)
+        if quantity == "flat":
+            def values(t):
+                kin = cam.kinematics(np.ravel(t))
+                return -(follower.base_radius + kin.s + kin.a).reshape(1, -1)
+        else:
+            reach = follower.roller_radius + (follower.rho_min or 0.0)
+
+            def values(t):
+                rho = cam.pitch(np.ravel(t)).rho
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    kappa = np.where(np.isfinite(rho), 1.0 / rho, 0.0)
+                ratio = reach * kappa
+                if follower.groove:
+                    ratio = np.maximum(ratio, -ratio)
+                return np.nan_to_num(ratio, nan=1e300, posinf=1e300, neginf=-1e300).reshape(1, -1)
+        return float(zoom_max(values, grid, 1)[0][0])
+
+    return lambda widths: np.array([one(float(w)) for w in np.atleast_1d(widths)])
+
+
 class LimitMemo:
     """Least phase angles already solved in one pipeline run, so the cyclogram's bounds reuse the
     mechanisms' own (the relation is non-increasing: a crossing inside the new bounds is the answer)."""

@@ -258,7 +258,9 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
                                           "max_change": built.correction.max_change,
                                           "after": built.correction.after.to_dict()}
     else:
-        run.skipped["balance"] = "a standard law is balanced by construction"
+        run.skipped["balance"] = ("a law designed from segments meets its end values by construction"
+                                  if type(built.law).__name__ == "SegmentLaw" else
+                                  "a standard law is balanced by construction")
     # 3 filter
     if mech.has("filter"):
         say(f"{mech.name}: resonance filtering")
@@ -314,12 +316,14 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
         if mech.has("follower"):
-            from camcad.scene.mechanism import PRESSURE_SAMPLES, pressure_angle_limits
+            from camcad.scene.mechanism import PRESSURE_SAMPLES, geometry_limits
 
-            for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
-                                                      mech.where(scene.path, "follower"), PRESSURE_SAMPLES,
-                                                      memo=memo).items():
-                found.setdefault(label, {})["pressure angle"] = angle
+            geometry, geometry_notes = geometry_limits(built.law, mech.sections["follower"],
+                                                       mech.where(scene.path, "follower"), PRESSURE_SAMPLES, memo=memo)
+            for label, sources in geometry.items():
+                found.setdefault(label, {}).update(sources)
+            if geometry_notes:
+                run.report["phase_limit_notes"] = geometry_notes
         if found:
             run.report["phase_limits"] = {label: {**sources, "least_deg": max(
                 (v for v in sources.values() if v is not None), default=None)} for label, sources in found.items()}
