@@ -273,8 +273,9 @@ class SegmentLaw:
         scale = self._scales()
         rows = []
         for seg in self.segments:
-            s0, v0, a0, _ = seg.start_values
-            s1, v1, a1, _ = seg.end_values
+            # values within the continuity tolerance of 0 are 0 (the solve's round-off, not a value)
+            s0, v0, a0, _ = (x if abs(x) > tol else 0.0 for x, tol in zip(seg.start_values, scale))
+            s1, v1, a1, _ = (x if abs(x) > tol else 0.0 for x, tol in zip(seg.end_values, scale))
             kin = self.kinematics(np.linspace(seg.start, seg.end, 513))
             rows.append({"segment": seg.number, "shape": seg.shape, "kind": seg.kind,
                          "from_deg": seg.start_deg, "to_deg": seg.end_deg,
