@@ -21,6 +21,7 @@ nodes: exponentially accurate for the pieces' analytic formulas; Lyness & Moler,
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -180,13 +181,13 @@ def test_lobe_laws_meet_every_rest_and_velocity_transition(name, lam, v0, v1):
     if name != "constant_acceleration":
         assert abs(start[2]) <= 1e-9 and abs(end[2]) <= 1e-9
     # s and v are continuous across the pieces
-    for before, after in zip(pieces[:-1], pieces[1:]):
+    for before, after in itertools.pairwise(pieces):
         assert np.allclose(before.end_values()[:2], after.start_values()[:2], rtol=0, atol=1e-11)
     # the inflection: a changes sign at λ (R-R: both lobes keep their signs)
     if v0 == v1 == 0.0:
         theta = 0.5 + lam * beta
-        left = [p for p in pieces if p.start < theta <= p.end][0]
-        right = [p for p in pieces if p.start <= theta < p.end][0]
+        left = next(p for p in pieces if p.start < theta <= p.end)
+        right = next(p for p in pieces if p.start <= theta < p.end)
         a_left = float(left.evaluate(np.array([theta - 1e-9]), 2)[0])
         a_right = float(right.evaluate(np.array([theta + 1e-9]), 2)[0])
         assert a_left > 0.0 > a_right
