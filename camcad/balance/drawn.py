@@ -148,7 +148,9 @@ def drawn_polyline(law: MotionLaw, *, tol: float = 1e-5, balance_tol: float = 1e
     if peak == 0.0:
         raise CamcadError("the law has no acceleration anywhere: there is nothing to draw", "law",
                           "give it a motion")
-    xs, as_, worst = [], [], 0.0
+    xs: list[np.ndarray] = []
+    as_: list[np.ndarray] = []
+    worst = 0.0
     for lo, hi in pairwise(points):
         x, a, miss = _sample_piece(law, float(lo), float(hi), tol * peak)
         worst = max(worst, miss)

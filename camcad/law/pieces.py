@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -157,7 +158,7 @@ class ShapePiece:
     end: float
     s0: float
     lift: float
-    shape: object
+    shape: Any
 
     @property
     def width(self) -> float:
@@ -165,7 +166,7 @@ class ShapePiece:
 
     def evaluate(self, theta, order: int) -> np.ndarray:
         u = np.clip((np.asarray(theta, dtype=float) - self.start) / self.width, 0.0, 1.0)
-        value = self.lift * np.asarray(self.shape.evaluate(u, order), dtype=float) / self.width**order  # type: ignore[attr-defined]
+        value = self.lift * np.asarray(self.shape.evaluate(u, order)) / self.width**order
         return value + self.s0 if order == 0 else value
 
     def end_values(self) -> tuple[float, float, float, float]:

@@ -337,10 +337,15 @@ class CatalogueShape:
         """C_v, C_a, C_j (dimensionless) and whether f'' jumps: inside, or against a rest at an end (a law into a
         reversal ends at a non-zero f'' by design: that end is not a jump)."""
         found = [_piece_peak(self.pieces, order) for order in (1, 2, 3)]
-        ends = (0.0,) if getattr(CATALOGUE[self.law_name], "reversal", "") else (0.0, 1.0)
+        ends = (0.0,) if _reversal(CATALOGUE[self.law_name]) else (0.0, 1.0)
         second_ends = [abs(float(self.evaluate(np.array([x]), 2)[0])) for x in ends]
         jumps = any(x > 1e-12 for x in second_ends) or _inner_jump(self.pieces, 2)
         return PeakCoefficients(found[0], found[1], found[2], jumps)
+
+
+def _reversal(law) -> str:
+    """The end of a law that is a reversal ("end"), or "" (the polynomials have none of their own)."""
+    return str(getattr(law, "reversal", ""))
 
 
 def _piece_peak(pieces, order: int, samples: int = 2049) -> float:
@@ -357,8 +362,10 @@ def _piece_peak(pieces, order: int, samples: int = 2049) -> float:
             lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, samples - 1)]
             best = max(best, float(values[k]))
             if hi > lo:
-                _, value = bounded_minimum(lambda t, p=piece: -abs(float(p.evaluate(np.array([t]), 3)[0])), lo, hi,
-                                           xatol=1e-15)
+                def jerk(t: float, p=piece) -> float:
+                    return -abs(float(p.evaluate(np.array([t]), 3)[0]))
+
+                _, value = bounded_minimum(jerk, float(lo), float(hi), xatol=1e-15)
                 best = max(best, -value)
             continue
         grid = np.linspace(piece.start, piece.end, samples)
@@ -366,9 +373,11 @@ def _piece_peak(pieces, order: int, samples: int = 2049) -> float:
         change = np.flatnonzero(np.sign(slope[1:]) != np.sign(slope[:-1]))
         for i in change:
             lo, hi = float(grid[i]), float(grid[i + 1])
+            def slope_at(t: float, p=piece) -> float:
+                return float(p.evaluate(np.array([t]), order + 1)[0])
+
             try:
-                root = brent_root(lambda t, p=piece: float(p.evaluate(np.array([t]), order + 1)[0]), lo, hi,
-                                  xtol=1e-16, rtol=4 * np.finfo(float).eps)
+                root = brent_root(slope_at, lo, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps)
             except ValueError:
                 root = lo
             best = max(best, abs(float(piece.evaluate(np.array([root]), order)[0])))
@@ -427,7 +436,7 @@ def rest_shape(name: str, param: float | None = None) -> CatalogueShape:
     """
     key = ALIASES.get(name, name)
     law = CATALOGUE.get(key)
-    if law is None or getattr(law, "reversal", ""):
+    if law is None or _reversal(law):
         raise KeyError(f"{name!r} has no rest-to-rest member in the catalogue (it ends in a reversal); use it in "
                        "segments")
     problem = law.check_param(param)
@@ -442,10 +451,10 @@ def catalogue_table() -> list[dict]:
     the laws into one; ``cj`` None where the acceleration jumps)."""
     rows = []
     for name, law in CATALOGUE.items():
-        row = {"name": name, "classes": law.classes, "parameter": law.parameter or None,
-               "takes": sorted(law.takes), "states": sorted(law.stated)}
+        row: dict = {"name": name, "classes": law.classes, "parameter": law.parameter or None,
+                     "takes": sorted(law.takes), "states": sorted(law.stated)}
         peaks = CatalogueShape(name).peaks()
-        row.update({"member": "R-U" if getattr(law, "reversal", "") else "R-R", "cv": peaks.cv, "ca": peaks.ca,
+        row.update({"member": "R-U" if _reversal(law) else "R-R", "cv": peaks.cv, "ca": peaks.ca,
                     "cj": None if peaks.acceleration_jumps else peaks.cj,
                     "acceleration_jumps": peaks.acceleration_jumps})
         rows.append(row)

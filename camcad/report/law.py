@@ -22,6 +22,7 @@ import math
 import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -140,7 +141,7 @@ def peaks_of(law: MotionLaw) -> dict:
     if inner is not None:
         theta = np.union1d(theta, np.asarray(inner()))
     kin = law.kinematics(theta)
-    out = {}
+    out: dict = {}
     for name, values, unit in (("s", kin.s, 0), ("v", kin.v, 1), ("a", kin.a, 2), ("j", kin.j, 3)):
         k = int(np.argmax(np.abs(values)))
         out[f"{name}_max"] = float(np.abs(values[k])) / DEG**unit
@@ -181,7 +182,7 @@ def design_law(request: LawRequest) -> tuple[str, MotionLaw, str, list[str], lis
                               "camcad edit")
         built = mechanism_law(scene, mech)
         name = mech.name if len(scene.mechanisms) > 1 or mech.prefix else scene.name
-        return name, built.law, f"scene {request.scene}", list(built.notes), [Path(request.scene)]
+        return name, cast(MotionLaw, built.law), f"scene {request.scene}", list(built.notes), [Path(request.scene)]
     if request.segments is not None:
         if any(v is not None for v in (request.rise_law, request.return_law, request.phases, request.lift)):
             raise CamcadError("--segments give the whole law; --rise-law, --return-law, --phases and --lift describe "
@@ -199,7 +200,7 @@ def design_law(request: LawRequest) -> tuple[str, MotionLaw, str, list[str], lis
     spec = parse_law(table, "command line", Path.cwd())
     built = build_law(spec)
     notes = list(built.notes) + ([] if options else ["no law given: the built-in default law"])
-    return "law", built.law, "standard shapes", notes, []
+    return "law", cast(MotionLaw, built.law), "standard shapes", notes, []
 
 
 # --------------------------------------------------------------------------------------------

@@ -123,7 +123,7 @@ def parse_segments_table(items, where: str) -> tuple[SegmentSpec, ...]:
         if not isinstance(item, dict):
             raise CamcadError(f"segment {number} is {excerpt(item)}, not a table", where,
                               "write each segment as a [[law.segments]] table")
-        ends = {}
+        ends: dict[str, float | str] = {}
         for key, unit in END_VALUE_KEYS.items():
             if key in item:
                 raw = item[key]
@@ -204,10 +204,10 @@ def build_law(spec: LawSpec) -> BuiltLaw:
     from camcad.law.standard import compose
 
     if spec.segments is not None:
-        law = solve_segments(spec.segments, spec.cycle, f"{spec.where} segments")
-        classes = ", ".join(sorted({j.class_ for j in law.joints}))
-        return BuiltLaw(law, (f"segment law: {law.describe()}",
-                              f"joints {classes} ({', '.join(j.class_ for j in law.joints)})"))
+        segment_law = solve_segments(spec.segments, spec.cycle, f"{spec.where} segments")
+        classes = ", ".join(sorted({j.class_ for j in segment_law.joints}))
+        return BuiltLaw(segment_law, (f"segment law: {segment_law.describe()}",
+                                      f"joints {classes} ({', '.join(j.class_ for j in segment_law.joints)})"))
     if spec.standard is not None:
         # parse_law refuses a standard law without phases and lift
         phases = parse_phases(cast(str, spec.phases), spec.cycle, where=f"{spec.where} phases")
