@@ -52,12 +52,28 @@ UNITS = {"v": "mm/deg", "a": "mm/deg^2", "j": "mm/deg^3"}
 
 @dataclass(frozen=True)
 class SegmentSpec:
-    """One segment as the user states it: its end angle (deg), shape, end position (mm) and end values.
+    """One segment as the user states it: its end angle, shape, end position and end values.
 
-    ``v_end``, ``a_end``, ``j_end``: a number (mm/deg, mm/deg², mm/deg³), "match", or None (the next
-    segment's own start value where it sets one, else rest). ``param``: the shape's parameter (the
-    inflection point λ of a lobe law, 0 < λ < 1). ``shape`` is "dwell", "constant_velocity", a catalogue
-    law or alias (``camcad.law.vdi``), or a rest-to-rest shape of ``camcad.law.standard`` ("scca:b:c:d").
+    Parameters
+    ----------
+    to_deg : float
+        The cam angle where the segment ends (deg); it starts where the previous one ends (the first at 0).
+    shape : str
+        "dwell", "constant_velocity", a catalogue law or alias (``camcad.law.vdi``), or a rest-to-rest shape of
+        ``camcad.law.standard`` ("scca:b:c:d").
+    to_mm : float, optional
+        The position at the segment's end (mm); a dwell keeps its start.
+    v_end, a_end, j_end : float or str, optional
+        The velocity (mm/deg), acceleration (mm/deg²), jerk (mm/deg³) at the end, where the shape has room for
+        it; "match": the value the next segment sets at its start; None: that value where the next segment
+        sets one, else rest.
+    param : float, optional
+        The shape's parameter: the inflection point λ of a lobe law (a fraction of the segment, 0 < λ < 1).
+
+    Examples
+    --------
+    >>> SegmentSpec(140, "poly5", 12.0, v_end="match").shape
+    'poly5'
     """
 
     to_deg: float
@@ -363,6 +379,10 @@ def solve_segments(specs, cycle_deg: float = 360.0, where: str = "segments") -> 
     SegmentLaw
         A ``MotionLaw`` (θ rad; s mm, v mm/rad, a mm/rad², j mm/rad³) with one phase per segment and the
         continuity class of every joint (``joints``).
+
+    References
+    ----------
+    VDI 2143 Blatt 1, Bewegungsgesetze für Kurvengetriebe (VDI, 1980): the motion tasks and the laws.
 
     Raises
     ------

@@ -425,6 +425,10 @@ def rest_shape(name: str, param: float | None = None) -> CatalogueShape:
     CatalogueShape
         f(u) with f(0) = 0, f(1) = 1 (dimensionless) and its peak coefficients.
 
+    References
+    ----------
+    VDI 2143 Blatt 1 (1980); R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 3.
+
     Examples
     --------
     The inclined sine with λ = 1/2 is the cycloid: C_v = 2, C_a = 2π, C_j = 4π² (Norton 2009, eq. 3.8):
@@ -446,9 +450,26 @@ def rest_shape(name: str, param: float | None = None) -> CatalogueShape:
 
 
 def catalogue_table() -> list[dict]:
-    """One row per catalogue law: name, motion classes, parameter, the values it takes and may state, and
-    the peak coefficients C_v, C_a, C_j (dimensionless) of its member from rest to rest (to a reversal for
-    the laws into one; ``cj`` None where the acceleration jumps)."""
+    """The catalogue: one row per law with its motion classes and coefficients.
+
+    Returns
+    -------
+    list of dict
+        ``name``, ``classes`` (the VDI 2143 motion tasks it solves), ``parameter``, ``takes`` and ``states``
+        (the start values it takes from the previous segment and the end values it may state), ``member``
+        ("R-R", or "R-U" for a law into a reversal), and that member's peak coefficients ``cv``, ``ca``, ``cj``
+        (dimensionless; ``cj`` None where the acceleration jumps), ``acceleration_jumps``.
+
+    References
+    ----------
+    VDI 2143 Blatt 1 (1980); R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 3.
+
+    Examples
+    --------
+    >>> row = next(r for r in catalogue_table() if r["name"] == "modified_sine")
+    >>> row["classes"], round(row["cv"], 4), round(row["ca"], 4), round(row["cj"], 3)
+    ('R-R, R-G, G-R, G-G', 1.7596, 5.528, 69.466)
+    """
     rows = []
     for name, law in CATALOGUE.items():
         row: dict = {"name": name, "classes": law.classes, "parameter": law.parameter or None,
