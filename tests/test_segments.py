@@ -172,3 +172,32 @@ def test_stated_phases_parse_with_positions_and_velocities():
     assert phases[1].s_end == 20.0 and phases[1].v_end == 0.0 and phases[3].s_end is None
     with pytest.raises(CamcadError, match="a dwell rests"):
         parse_phases("0:60:rise:12,60:360:dwell:12:0.1", 360.0)
+
+
+@pytest.mark.reference("second method", "the equivalent standard law (cycloidal) of samples/scenes/loom_group1.toml: "
+                                        "its least angles by rescaling the phase, the segments' by solving again")
+def test_segments_in_a_cyclogram_scene_retime_like_the_standard_law(cli, tmp_path):
+    from conftest import SAMPLES
+
+    text = (SAMPLES / "scenes" / "loom_group1.toml").read_text()
+    standard = ('[mechanisms.weft_returner.law]\nstandard = "cycloidal"\n'
+                'phases = "0:40:dwell,40:110:rise,110:170:dwell,170:240:return,240:360:dwell"\nlift = 30.0\n')
+    segments = ('[mechanisms.weft_returner.law]\nsegments = [{to_deg = 40, shape = "dwell"}, {to_deg = 110, shape = '
+                '"inclined_sine", to_mm = 30.0}, {to_deg = 170, shape = "dwell"}, {to_deg = 240, shape = '
+                '"inclined_sine", to_mm = 0.0}, {to_deg = 360, shape = "dwell"}]\n')
+    assert standard in text
+    scene = tmp_path / "loom_segments.toml"
+    scene.write_text(text.replace(standard, segments))
+    reports = []
+    for path, out in ((SAMPLES / "scenes" / "loom_group1.toml", "std"), (scene, "seg")):
+        result = cli("profile", path, "--no-plots", "--json", "-o", tmp_path / out)
+        assert result.code == 0, result.err
+        reports.append(result.json())
+    ours, theirs = reports[1], reports[0]
+    assert ours["cyclogram"]["makespan_deg"] == pytest.approx(theirs["cyclogram"]["makespan_deg"], abs=1e-9)
+    assert ours["mechanisms"]["weft_returner"]["retimed_by_cyclogram"] == \
+        theirs["mechanisms"]["weft_returner"]["retimed_by_cyclogram"]
+    for label in ("rise", "return"):
+        mine, other = (r["mechanisms"]["weft_returner"]["phase_limits"][label] for r in (ours, theirs))
+        for source in ("pressure angle", "undercut", "contact stress"):
+            assert mine[source] == pytest.approx(other[source], abs=1e-8), (label, source)

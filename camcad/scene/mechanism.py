@@ -18,8 +18,11 @@ import numpy as np
 
 from camcad.arrays import unique
 from camcad.errors import CamcadError
+from camcad.extrema import zoom_max
 from camcad.law.law import Phase
+from camcad.law.segments import SegmentLaw
 from camcad.scene.file import Mechanism, Scene, mechanism_law
+from camcad.scene.follower import parse_follower
 from camcad.scene.stretch import PhaseStretch, least_angle
 
 #: cam-angle samples per phase for the pressure-angle maximum of a stretched phase
@@ -174,6 +177,52 @@ CURVATURE_MARGIN = 1e-9
 CURVATURE_LOWER_FRACTION = 1e-3
 
 
+@dataclass(frozen=True)
+class GeometryRelation:
+    """One geometric limit of a phase's angle: relation(widths) ≤ ``limit`` (non-increasing in the width), its
+    closed-form inverse where there is one, and the least fraction of the phase the search starts at."""
+
+    source: str
+    relation: Any
+    limit: float
+    inverse: Any = None
+    lower_fraction: float = CURVATURE_LOWER_FRACTION
+
+
+def geometry_relations(law, follower_table: dict, index: int, where: str, samples: int) -> list[GeometryRelation]:
+    """The follower's geometric limits on phase ``index``'s angle (``geometry_limits`` says which and why)."""
+    follower = parse_follower(follower_table, where)
+    phases = phases_deg(law)
+    kind = phases[index][2]
+    direct = isinstance(law, SegmentLaw)
+    stretch = pressure_stretch(law, follower_table, index, where, samples)
+    found = []
+    if follower.kind == "flat":
+        name = "cusp" if follower.rho_min is None else "curvature"
+        rho_min = follower.rho_min or 0.0
+        limit = -CURVATURE_MARGIN * follower.base_radius
+        if direct:
+            deficit = _direct_relation(law, follower_table, index, where, samples, "flat")
+            found.append(GeometryRelation(name, lambda w, f=deficit: f(w) + rho_min, limit))
+        else:
+            least = stretch.flat_least_width(rho_min)[0] * (1.0 + CURVATURE_MARGIN)
+            found.append(GeometryRelation(name, lambda w: stretch.flat_radius_deficit(w, rho_min), limit,
+                                          inverse=lambda _limit: least if math.isfinite(least) else None))
+        return found
+    pressure_limit = pressure_angle_limit_of(follower, kind)
+    if pressure_limit is not None:
+        relation = (_direct_relation(law, follower_table, index, where, samples, "pressure") if direct
+                    else stretch.pressure_max_deg)
+        found.append(GeometryRelation("pressure angle", relation, pressure_limit - PRESSURE_MARGIN_DEG,
+                                      None if direct else stretch.pressure_inverse, 0.1))
+    if stretch.curvature_reach() > 0.0:
+        relation = (_direct_relation(law, follower_table, index, where, samples, "curvature") if direct
+                    else stretch.curvature_ratio)
+        found.append(GeometryRelation("undercut" if follower.rho_min is None else "curvature", relation,
+                                      1.0 - CURVATURE_MARGIN))
+    return found
+
+
 def geometry_limits(law, follower_table: dict, where: str, samples: int, memo: LimitMemo | None = None
                     ) -> tuple[dict, list[str]]:
     """The least angle of every rise and return that the follower's geometry allows, by source.
@@ -193,9 +242,6 @@ def geometry_limits(law, follower_table: dict, where: str, samples: int, memo: L
     (dict, list of str)
         {label: {source: least angle (deg) or None}} and notes (why an angle is missing or what binds it).
     """
-    from camcad.law.segments import SegmentLaw
-    from camcad.scene.follower import parse_follower
-
     follower = parse_follower(follower_table, where)
     phases = phases_deg(law)
     found: dict[str, dict] = {}
@@ -213,60 +259,19 @@ def geometry_limits(law, follower_table: dict, where: str, samples: int, memo: L
                              "angle of its own (shorten or lengthen the segments around it)")
                 continue
             upper -= 1e-9 * upper   # the phase angles carry round-off: stay inside the room the dwell gives
-        stretch = pressure_stretch(law, follower_table, index, where, samples)
+        if follower.kind != "flat" and pressure_angle_limit_of(follower, kind) is None:
+            sources["pressure angle"] = None
+        for item in geometry_relations(law, follower_table, index, where, samples):
+            try:
+                sources[item.source] = _solve(memo, (id(law), index, item.source), item.relation, item.limit,
+                                              item.lower_fraction * width, upper, source=item.source, what=label,
+                                              inverse=item.inverse).angle_deg
+            except CamcadError as err:
+                sources[item.source] = None
+                notes.append(f"{label}: {err.what}")
         if follower.kind == "flat":
-            name = "cusp" if follower.rho_min is None else "curvature"
-            rho_min = follower.rho_min or 0.0
-            if direct:
-                relation = _direct_relation(law, follower_table, index, where, samples, "flat")
-                try:
-                    sources[name] = _solve(memo, (id(law), index, name), relation, -rho_min * (1 + CURVATURE_MARGIN)
-                                           - CURVATURE_MARGIN * follower.base_radius, CURVATURE_LOWER_FRACTION * width,
-                                           upper, source=name, what=label).angle_deg
-                except CamcadError as err:
-                    sources[name] = None
-                    notes.append(f"{label}: {err.what}")
-            else:
-                least, _ = stretch.flat_least_width(rho_min)
-                least *= 1.0 + CURVATURE_MARGIN
-                if not math.isfinite(least):
-                    sources[name] = None
-                    notes.append(f"{label}: Rb + s <= {rho_min:g} mm where the phase decelerates; no phase angle "
-                                 "keeps the flat face's radius positive")
-                elif least > upper:
-                    sources[name] = None
-                    notes.append(f"{label}: the {name} condition needs {least:.6g} deg, more than the "
-                                 f"{upper:.6g} deg the phase can take")
-                else:
-                    sources[name] = least
             notes.append(f"{label}: a flat face has no pressure angle; its least angle is bound by the "
                          f"{'cusp condition Rb + s + a > 0' if follower.rho_min is None else 'curvature limit'}")
-            found[label] = sources
-            continue
-        limit = pressure_angle_limit_of(follower, kind)
-        if limit is not None:
-            relation = (_direct_relation(law, follower_table, index, where, samples, "pressure") if direct
-                        else stretch.pressure_max_deg)
-            try:
-                sources["pressure angle"] = _solve(memo, (id(law), index, "pressure angle"), relation,
-                                                   limit - PRESSURE_MARGIN_DEG, 0.1 * width, upper,
-                                                   source="pressure angle", what=label,
-                                                   inverse=None if direct else stretch.pressure_inverse).angle_deg
-            except CamcadError as err:
-                sources["pressure angle"] = None
-                notes.append(f"{label}: {err.what}")
-        else:
-            sources["pressure angle"] = None
-        if stretch.curvature_reach() > 0.0:
-            name = "undercut" if follower.rho_min is None else "curvature"
-            relation = (_direct_relation(law, follower_table, index, where, samples, "curvature") if direct
-                        else stretch.curvature_ratio)
-            try:
-                sources[name] = _solve(memo, (id(law), index, name), relation, 1.0 - CURVATURE_MARGIN,
-                                       CURVATURE_LOWER_FRACTION * width, upper, source=name, what=label).angle_deg
-            except CamcadError as err:
-                sources[name] = None
-                notes.append(f"{label}: {err.what}")
         found[label] = sources
     return found, notes
 
@@ -275,8 +280,6 @@ def _direct_relation(law, follower_table: dict, index: int, where: str, samples:
     """relation(widths) → values for phase ``index`` stretched by solving the law again at each width (the route
     for a law whose phases do not scale with their angle: a segment's end velocity is kept, not scaled):
     "pressure" the largest |φ| (deg), "curvature" (Rr + ρ_min)·κ_max, "flat" −min(Rb + s + a) (mm)."""
-    from camcad.extrema import zoom_max
-
     phases = phases_deg(law)
     pressure = phase_pressure_function(law, follower_table, index, where, samples) if quantity == "pressure" else None
 
@@ -435,6 +438,17 @@ def stress_relation(law, follower_table: dict, params, speeds: list[float], inde
                     samples: int):
     """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
     ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible."""
+    if isinstance(law, SegmentLaw):
+        # a segment keeps its end values when its angle changes: the law is solved again at each width
+        one = phase_stress_function(law, follower_table, params, speeds, index, where, samples)
+
+        def direct(width: float) -> float:
+            try:
+                return one(width)
+            except CamcadError:       # no neighbouring dwell takes up that width
+                return math.inf
+
+        return lambda widths: np.array([direct(float(w)) for w in np.atleast_1d(widths)])
     cam, _, scale = cam_of(law, follower_table, where)
     stretch = PhaseStretch.sample(cam, scale, phases_deg(law), index, samples)
     return lambda widths: stretch.stress_max(widths, params, speeds)
@@ -535,23 +549,18 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
 
 
 def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = None) -> list:
-    """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
-    from camcad.scene.follower import parse_follower
-
+    """The least phase angles of an operation from its mechanism's geometry: the pressure-angle limit, the roller's
+    undercut, the flat face's cusp (``geometry_relations``), within the operation's bounds."""
     follower_table = mech.sections["follower"]
     where = mech.where(scene.path, "follower")
-    limit = pressure_angle_limit_of(parse_follower(follower_table, where), op.phase)
-    if limit is None:
-        return []
     law = mechanism_law(scene, mech).law
     phases = phases_deg(law)
     index = phase_index(phases, op.phase, op.occurrence, mech.where(scene.path, "law"))
     upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
     lower = max(op.min_deg, 1e-3 * upper)
-    stretch = pressure_stretch(law, follower_table, index, where, PRESSURE_SAMPLES)
-    return [_solve(memo, (id(law), index, "pressure angle"), stretch.pressure_max_deg, limit - PRESSURE_MARGIN_DEG,
-                   lower, upper, source="pressure angle", what=f"operation {op.label} ({op.mechanism} {op.phase})",
-                   inverse=stretch.pressure_inverse)]
+    return [_solve(memo, (id(law), index, item.source), item.relation, item.limit, lower, upper, source=item.source,
+                   what=f"operation {op.label} ({op.mechanism} {op.phase})", inverse=item.inverse)
+            for item in geometry_relations(law, follower_table, index, where, PRESSURE_SAMPLES)]
 
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:

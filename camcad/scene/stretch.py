@@ -183,6 +183,19 @@ class PhaseStretch:
 
         return zoom_max(values, self.u, len(widths))[0]
 
+    def flat_radius_deficit(self, widths_deg: np.ndarray, rho_min: float = 0.0) -> np.ndarray:
+        """ρ_min − min(Rb + s + a) (mm) over the phase stretched to each width: a flat face's profile radius
+        falls below ρ_min (0: a cusp) where it is positive. Stretched to t the phase keeps s and scales a by
+        (β/t)². The worst sample refined by zooming grids."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        rb = self.cam.follower.base_radius
+
+        def values(u_rows: np.ndarray) -> np.ndarray:
+            kin = self.kinematics(widths, u_rows)
+            return (rho_min - (rb + kin.s + kin.a)).reshape(u_rows.shape if u_rows.ndim == 2 else (len(widths), -1))
+
+        return zoom_max(values, self.u, len(widths))[0]
+
     def flat_least_width(self, rho_min: float = 0.0) -> tuple[float, float]:
         """The least width (deg) at which a flat face keeps its profile radius ρ = Rb + s + a at or above
         ``rho_min`` (0: the cusp condition), in closed form, and the u (0..1 of the phase) that sets it.
