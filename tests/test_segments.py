@@ -201,3 +201,14 @@ def test_segments_in_a_cyclogram_scene_retime_like_the_standard_law(cli, tmp_pat
         mine, other = (r["mechanisms"]["weft_returner"]["phase_limits"][label] for r in (ours, theirs))
         for source in ("pressure angle", "undercut", "contact stress"):
             assert mine[source] == pytest.approx(other[source], abs=1e-8), (label, source)
+
+
+def test_profile_takes_segments_on_the_command_line(cli, tmp_path):
+    text = ",".join(f"{start:g}:{spec.to_deg:g}:{spec.shape}" + (f":{spec.to_mm:g}" if spec.to_mm is not None else "")
+                    + (":v_end=match" if spec.v_end == "match" else "")
+                    for start, spec in zip([0, *[s.to_deg for s in FILLING[:-1]]], FILLING))
+    result = cli("profile", "--segments", text, "--no-plots", "--json", "-o", tmp_path)
+    assert result.code == 0, result.err
+    assert result.json()["law"]["notes"][0].startswith("segment law: dwell 0-60, poly5 60-140 to 12 mm")
+    refused = cli("profile", "--segments", text, "--lift", "3", "--no-plots", "-o", tmp_path)
+    assert refused.code == 2 and "--segments give the whole law" in refused.err

@@ -654,6 +654,20 @@ def _number(raw: str, number: int, key: str, where: str) -> float:
     return value
 
 
+def spec_tables(specs) -> list[dict]:
+    """The segments as [[law.segments]] tables (what a scene holds): to_deg, shape and the keys that are set."""
+    tables = []
+    for spec in specs:
+        table: dict = {"to_deg": spec.to_deg, "shape": spec.shape}
+        for key in ("to_mm", "v_end", "a_end", "j_end"):
+            if getattr(spec, key) is not None:
+                table[key] = getattr(spec, key)
+        if spec.param is not None:
+            table["lambda"] = spec.param
+        tables.append(table)
+    return tables
+
+
 def format_segments(specs) -> str:
     """The text form of segments (``parse_segments``'s inverse)."""
     out = []
