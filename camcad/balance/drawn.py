@@ -148,6 +148,13 @@ def drawn_polyline(law: MotionLaw, *, tol: float = 1e-5, balance_tol: float = 1e
     if peak == 0.0:
         raise CamcadError("the law has no acceleration anywhere: there is nothing to draw", "law",
                           "give it a motion")
+    start = law.kinematics(np.array([0.0]))
+    speed = float(np.max(np.abs(law.kinematics(probe).v)))
+    if abs(float(start.v[0])) > 1e-12 * speed:
+        raise CamcadError(f"the law moves at {np.radians(float(start.v[0])):.6g} mm/deg at 0 deg, but a drawn "
+                          "acceleration law is read from rest at its start", "the drawing of the law",
+                          "start the cycle at a dwell or another point of rest (the profile and the table do not "
+                          "need it)")
     xs: list[np.ndarray] = []
     as_: list[np.ndarray] = []
     worst = 0.0
@@ -172,5 +179,9 @@ def drawn_polyline(law: MotionLaw, *, tol: float = 1e-5, balance_tol: float = 1e
     phases = tuple(Phase(p.kind, p.start, p.end, s, float(v) if p.kind != "dwell" and abs(v) > rest else 0.0)
                    for p, s, v in zip(law.phases, positions, ends.v))
     sampled = PiecewiseLinearLaw(x, a, float(law.cycle), phases)
-    fixed = correct(sampled, "min-change", tol=balance_tol, keep_lift=False, where="the drawing of the law")
+    try:
+        fixed = correct(sampled, "min-change", tol=balance_tol, keep_lift=False, where="the drawing of the law")
+    except CamcadError as err:
+        raise CamcadError(f"the law cannot be drawn as an acceleration polyline that meets its end values ({err.what})",
+                          "the drawing of the law", "give its shortest segments more angle") from None
     return DrawnLaw(fixed.law, sampled, fixed, worst, peak)
