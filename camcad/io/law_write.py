@@ -167,6 +167,14 @@ def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray
         msp.add_line((x, -tick), (x, tick), dxfattribs={"layer": "AXES"})
         _text(msp, f"{x:g}", (x - 0.4 * text_height, low - 0.05 * span - 1.5 * text_height), 0.6 * text_height,
               "AXES")
+    # ticks and values on the a axis at round steps
+    a_step = _round_step(span / 4.0)
+    for k in range(math.ceil(low / a_step), math.floor(high / a_step) + 1):
+        if k == 0:
+            continue
+        y = k * a_step
+        msp.add_line((-0.01 * cycle_deg, y), (0.01 * cycle_deg, y), dxfattribs={"layer": "AXES"})
+        _text(msp, f"{y:g}", (-0.06 * cycle_deg, y - 0.3 * text_height), 0.6 * text_height, "AXES")
     # the phase marks and labels
     top = high + 0.08 * span
     for index, (kind, start, _, s_end, v_end) in enumerate(phases):
@@ -187,6 +195,12 @@ def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray
           0.7 * text_height, "TEXT")
     _text(msp, "a (mm/rad^2)", (0.5 * text_height, high + 0.05 * span), 0.7 * text_height, "TEXT")
     return save_document(doc, path)
+
+
+def _round_step(raw: float) -> float:
+    """1, 2 or 5 times a power of ten, at least ``raw`` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(raw))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= raw)
 
 
 def _text(msp, text: str, at: tuple[float, float], height: float, layer: str) -> None:
