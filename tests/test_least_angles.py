@@ -124,7 +124,7 @@ def test_flat_face_least_angle_is_bound_by_the_cusp_condition_and_says_so(rb):
 def test_profile_prints_what_binds(cli, tmp_path):
     result = cli("profile", "--follower", "flat", "--rb", "60", "--no-plots", "-o", tmp_path)
     assert result.code == 0
-    assert "least rise angle" in result.out and "(bound by cusp)" in result.out
+    assert "least rise angle 78.9984 deg (bound by cusp 78.9984 deg)" in result.out
     assert "cusp condition Rb + s + a > 0" in result.out
     result = cli("profile", "--rb", "100", "--rr", "30", "--no-plots", "-o", tmp_path / "r")
-    assert "bound by undercut; pressure angle" in result.out
+    assert "least return angle 26.0776 deg (bound by undercut 26.0776 deg)" in result.out

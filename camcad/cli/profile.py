@@ -317,11 +317,9 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
         least = sources.get("least_deg")
         if least is None:
             continue
-        given = [(k, v) for k, v in sources.items() if k != "least_deg" and v is not None]
-        binding = [k for k, v in given if v == least]
-        others = ", ".join(f"{k} {v:.4f} deg" for k, v in given if v != least)
-        out.print(f"{indent}least {label} angle {least:.4f} deg (bound by {' and '.join(binding)}"
-                  + (f"; {others}" if others else "") + ")")
+        # what binds (report.json's phase_limits has every source's angle)
+        binding = ", ".join(f"{k} {v:.4f} deg" for k, v in sources.items() if k != "least_deg" and v == least)
+        out.print(f"{indent}least {label} angle {least:.4f} deg (bound by {binding})")
     for note in mech.get("phase_limit_notes") or []:
         out.print(f"{indent}note       {note}")
     for key, why in (mech.get("skipped") or {}).items() if show_skipped else ():

@@ -403,7 +403,8 @@ def shape_named(name: str) -> RiseShape:
     catalogue = catalogue_rest_shape(name)
     if catalogue is not None:
         return catalogue
-    raise KeyError(f"unknown law {name!r}; known: {', '.join(shape_names())}") from None
+    raise KeyError(f"unknown law {name!r}; known: {', '.join(sorted(SHAPES))}, inclined_sine, poly3, poly5, poly7, "
+                   "scca:b:c:d, and LAW:lambda for the lobe laws") from None
 
 
 def shape_names() -> tuple[str, ...]:
