@@ -12,7 +12,9 @@ a name that takes radians says so)::
     figure = camcad.plot_summary(result)                          # a matplotlib Figure
     camcad.write_outputs(result, "out/")                          # profile.dxf, law.csv, report.json
 
-Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
+Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``; designed from scratch:
+``solve_segments`` (``SegmentSpec``, ``parse_segments``) and the VDI 2143 catalogue (``catalogue_table``,
+``rest_shape``). Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
@@ -49,8 +51,10 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.io.law_write import write_corrected
     from camcad.law.kinematics_deg import kinematics_deg
     from camcad.law.phases import parse_phases
+    from camcad.law.segments import SegmentSpec, parse_segments, solve_segments
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
+    from camcad.law.vdi import catalogue_table, rest_shape
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
     from camcad.profile.summary import profile_report
@@ -74,6 +78,8 @@ _EXPORTS: dict[str, str] = {
     "load_law": "camcad.law.source", "LoadedLaw": "camcad.law.source",
     "compose": "camcad.law.standard", "parse_phases": "camcad.law.phases",
     "kinematics_deg": "camcad.law.kinematics_deg",
+    "SegmentSpec": "camcad.law.segments", "solve_segments": "camcad.law.segments",
+    "parse_segments": "camcad.law.segments", "catalogue_table": "camcad.law.vdi", "rest_shape": "camcad.law.vdi",
     "check": "camcad.balance.checking", "BalanceReport": "camcad.balance.checking",
     "correct": "camcad.balance.correction", "Correction": "camcad.balance.correction",
     "write_corrected": "camcad.io.law_write",
@@ -112,10 +118,12 @@ __all__ = [
     "PipelineOptions",
     "ProfileResult",
     "ProfileSettings",
+    "SegmentSpec",
     "StopModel",
     "__version__",
     "analyse",
     "analyse_scene",
+    "catalogue_table",
     "check",
     "compose",
     "contact_stress",
@@ -128,6 +136,7 @@ __all__ = [
     "min_base_radius",
     "optimise",
     "parse_phases",
+    "parse_segments",
     "plot_curvature",
     "plot_hodograph",
     "plot_kinematics",
@@ -138,7 +147,9 @@ __all__ = [
     "read_scene",
     "residual_vibration",
     "resonant_harmonics",
+    "rest_shape",
     "run_scene",
+    "solve_segments",
     "steady_state",
     "synthesize",
     "write_corrected",

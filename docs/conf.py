@@ -35,7 +35,7 @@ source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
 exclude_patterns = ["_build", "bench", "img", "linkage/*.png", "examples", "_ext", "Thumbs.db", ".DS_Store"]
 # pages that other branches add; index.rst lists them only when they exist (camcad_examples.optional_pages)
-optional_pages = ["fix", "sweep"]
+optional_pages = ["fix", "sweep", "laws"]
 
 # autodoc: the public API only, signatures as written, in source order
 autodoc_default_options = {"member-order": "bysource"}

@@ -12,11 +12,12 @@ from camcad.scene.sections.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
 from camcad.scene.sections.dynamics import DYNAMICS_FIELDS
 from camcad.scene.sections.filter import FILTER_FIELDS
 from camcad.scene.sections.follower import FOLLOWER_FIELDS
-from camcad.scene.sections.law import law_fields
+from camcad.scene.sections.law import SEGMENT_FIELDS, law_fields
 from camcad.scene.sections.linkage import ADJUST_FIELDS, LINKAGE_FIELDS
 from camcad.scene.sections.stops import STOPS_FIELDS
 
 SECTIONS = [("law", law_fields(), "camcad.scene.sections.law"),
+            ("[law.segments]", SEGMENT_FIELDS, "camcad.scene.sections.law"),
             ("follower", FOLLOWER_FIELDS, "camcad.scene.sections.follower"),
             ("linkage", LINKAGE_FIELDS, "camcad.scene.sections.linkage"),
             ("linkage.adjust", ADJUST_FIELDS, "camcad.scene.sections.linkage"),

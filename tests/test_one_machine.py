@@ -17,7 +17,10 @@ from pathlib import Path
 import pytest
 from conftest import SAMPLES
 
-SCENES = sorted((SAMPLES / "scenes").glob("*.toml"))
+#: the sample scenes with a model a stand-alone command computes (a scene of a law and a follower has none)
+SCENES = sorted(path for path in (SAMPLES / "scenes").glob("*.toml")
+                if any(f"{section}]" in path.read_text() for section in ("dynamics", "stops", "contact", "filter",
+                                                                          "cyclogram")))
 REL = 1e-9
 
 

@@ -13,6 +13,7 @@ from camcad.balance.conditions import (
     Condition,
     conditions,
     functional_rows,
+    targets,
     valid_step,
     valid_tol,
 )
@@ -32,7 +33,8 @@ class BalanceReport:
     areas : dict
         ``rise_accel``, ``rise_decel``, ``return_accel``, ``return_decel``: ∫ a dθ over each part (mm/rad).
     velocity_closure : dict
-        ``rise``, ``return``: the velocity at the end of each motion (mm/rad; 0 when balanced).
+        ``rise``, ``return``: the velocity at the end of each motion minus its stated value (rest unless the
+        phase states a velocity), the largest of each kind (mm/rad; 0 when balanced).
     displacement_closure : float
         s at the end of the cycle minus s at its start (mm; 0 when rise = −return).
     rise, return_ : float
@@ -128,12 +130,19 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
         elif phase.kind == "return":
             areas["return_accel"] += negative
             areas["return_decel"] += positive
+        if phase.states_end:
+            row["v_stated"] = float(phase.v_end)
+            if phase.s_end is not None:
+                row["s_end"] = float(kin.s[1])
+                row["s_stated"] = float(phase.s_end)
         if phase.kind in closure:
             moved[phase.kind] += row["displacement"]
-            if abs(row["v_end"]) >= abs(closure[phase.kind]):
-                closure[phase.kind] = row["v_end"]
+            # the velocity closure is the end velocity's departure from its stated value (rest by default)
+            off = row["v_end"] - phase.v_end
+            if abs(off) >= abs(closure[phase.kind]):
+                closure[phase.kind] = off
     conds = conditions(law)
-    residuals = functional_rows(x, conds) @ a
+    residuals = functional_rows(x, conds) @ a - targets(conds)
     scale = _scale(law)
     limit = tol * scale
     return BalanceReport(areas=areas, velocity_closure=closure,
@@ -181,7 +190,7 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
     how far each residual is from the exact value (mm/rad for velocities, mm for the displacement)."""
     conds = conditions(law)
     approximate = trapezoid_residuals(law, step_deg, conds)
-    exact = functional_rows(law.x, conds) @ law.a
+    exact = functional_rows(law.x, conds) @ law.a - targets(conds)
     limit = tol * _scale(law)
     return {"step_deg": step_deg, "residuals": [float(r) for r in approximate],
             "balanced": bool(np.all(np.abs(approximate) <= limit)),

@@ -75,7 +75,13 @@ class Condition:
 
 
 def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
-    """The balance conditions: v = 0 at the end of every rise and return; s(cycle) = s(0).
+    """The balance conditions: the velocity at the end of every rise and return back to its stated value (rest
+    unless the phase states one), the displacement at every stated position, and s(cycle) = s(0).
+
+    A phase that states where it ends (``Phase.s_end``, mm from s(0) = 0; a rise to an intermediate stop)
+    adds a displacement condition there; one that blends into the next motion (``Phase.v_end`` ≠ 0, mm/rad)
+    has that velocity as its target instead of rest. Without stated values these are the source's
+    conditions (Dupliak & Kotsiyba 2018, seed 003, eqs. 1–3).
 
     Parameters
     ----------
@@ -85,19 +91,45 @@ def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
     Returns
     -------
     tuple of Condition
-        One velocity condition per motion phase, in order, then the displacement closure.
+        One velocity condition per motion phase, in order, then one displacement condition per stated
+        position (before the cycle's end), then the displacement closure (always last).
+
+    Examples
+    --------
+    A rise to an intermediate stop at 4 mm: the stated position is a condition of its own.
+
+    >>> import numpy as np
+    >>> from camcad.law.law import Phase, PiecewiseLinearLaw
+    >>> x = np.radians([0.0, 45.0, 90.0, 180.0, 360.0])
+    >>> law = PiecewiseLinearLaw(x, np.array([0.0, 1.0, -1.0, 0.0, 0.0]), 2 * np.pi,
+    ...                          (Phase("rise", 0.0, np.pi / 2, s_end=4.0), Phase("return", np.pi / 2, 2 * np.pi)))
+    >>> [(c.quantity, round(float(np.degrees(c.theta)), 6), c.target) for c in conditions(law)]
+    [('v', 90.0, 0.0), ('v', 360.0, 0.0), ('s', 90.0, 4.0), ('s', 360.0, 0.0)]
     """
     found = []
     for index, phase in enumerate(law.phases):
         if phase.kind in ("rise", "return"):
-            found.append(Condition(f"velocity at the end of the {phase.kind} "
-                                   f"({np.degrees(phase.end):.6g} deg)", "v", phase.end, index))
+            name = f"velocity at the end of the {phase.kind} ({np.degrees(phase.end):.6g} deg)"
+            if phase.v_end != 0.0:
+                name += f" = {np.radians(phase.v_end):.6g} mm/deg"
+            found.append(Condition(name, "v", phase.end, index, target=float(phase.v_end)))
+    closing = law.cycle - 1e-12 * law.cycle
+    for index, phase in enumerate(law.phases):
+        if phase.s_end is not None and phase.end < closing:
+            found.append(Condition(f"displacement at the end of the {phase.kind} ({np.degrees(phase.end):.6g} deg) "
+                                   f"= {phase.s_end:.6g} mm", "s", phase.end, index, target=float(phase.s_end)))
     found.append(Condition("displacement closure (rise = -return)", "s", law.cycle))
     return tuple(found)
 
 
+def stated_ends(law) -> bool:
+    """True when a phase of ``law`` states an end position or a velocity other than rest."""
+    return any(phase.states_end for phase in law.phases)
+
+
 def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None = None) -> tuple[Condition, ...]:
-    """The lift conditions: the displacement over each rise phase equals its drawn value.
+    """The lift conditions: the displacement over each rise phase equals its drawn value (a rise whose start and
+    end positions are both stated is held by those instead, ``conditions``).
 
     Parameters
     ----------
@@ -122,7 +154,8 @@ def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None =
     >>> [round(c.target, 6) for c in lift_conditions(law)]   # s(pi) = pi^2/24 + pi^2/8 + pi^2/24 = 5 pi^2 / 24
     [2.056168]
     """
-    rises = [(index, phase) for index, phase in enumerate(law.phases) if phase.kind == "rise"]
+    rises = [(index, phase) for index, phase in enumerate(law.phases) if phase.kind == "rise"
+             and not _position_stated(law, index)]
     if targets is None:
         ends = law.kinematics(np.array([[p.start, p.end] for _, p in rises]).reshape(-1)).s.reshape(-1, 2) \
             if rises else np.zeros((0, 2))
@@ -132,6 +165,20 @@ def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None =
     return tuple(Condition(f"rise {np.degrees(p.start):.6g}..{np.degrees(p.end):.6g} deg of {h:.6g} mm",
                            "rise", p.end, index, start=p.start, target=float(h))
                  for (index, p), h in zip(rises, targets))
+
+
+def _position_stated(law: PiecewiseLinearLaw, index: int) -> bool:
+    """The phase's displacement is fixed by stated positions: its end is stated and so is its start (the cycle's
+    start at 0 mm, or the previous phase's stated end)."""
+    phase = law.phases[index]
+    if phase.s_end is None:
+        return False
+    for before in reversed(law.phases[:index]):
+        if before.s_end is not None:
+            return True
+        if before.kind != "dwell":      # a motion of unstated end: the start is not fixed
+            return False
+    return True                          # only dwells before it: it starts at s(0) = 0
 
 
 def targets(conds: tuple[Condition, ...]) -> np.ndarray:

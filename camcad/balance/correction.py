@@ -24,6 +24,7 @@ from camcad.balance.conditions import (
     MODES,
     conditions,
     lift_conditions,
+    stated_ends,
     valid_tol,
 )
 from camcad.balance.modes import _resample, _vertex_mode
@@ -214,6 +215,9 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
                           "while keeping the rise", where,
                           "give its phases with --phases (a rise and a return), or add --free-lift")
     targets_or_none = lift_targets if keep_lift else None
+    if mode in ("phase", "phase-keypoints") and stated_ends(law):
+        raise CamcadError(f"mode {mode} stretches motions that end at rest; this law's phases state end positions or "
+                          "velocities", where or "--mode", "use --mode min-change, keypoints or extrema")
     if mode in ("phase", "phase-keypoints"):
         if method == "iterate":
             notes.append("phase modes are solved in closed form; --method iterate does not apply")

@@ -24,6 +24,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
               "Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input)."),
     "fix": ("camcad.cli.check", "Correct an unbalanced law with the smallest change and write a corrected copy."),
     "profile": ("camcad.cli.profile", "Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots."),
+    "law": ("camcad.cli.law",
+            "Design a motion from segments or standard shapes; write law.dxf, law.csv, law.png, law.json."),
     "spectrum": ("camcad.cli.spectrum", "Harmonics of a law, the resonance band over a speed range, filtering."),
     "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),

@@ -66,7 +66,10 @@ def profile(
     x_deg: XDegOpt = False,
     rise_law: str | None = typer.Option(
         None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, "
-                                 "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d)."),
+                                 "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d; the VDI 2143 "
+                                 "inclined_sine, poly5, poly7, modified_sine:lambda, ...)."),
+    segments: str | None = typer.Option(
+        None, "--segments", help='The law as segments "start:end:shape[:to_mm][:v_end=..],..." (docs/laws.md).'),
     return_law: str | None = typer.Option(None, "--return-law", help="Built-in law: return shape."),
     cw: bool = typer.Option(False, "--cw", help="The cam turns clockwise."),
     reversible: bool = typer.Option(False, "--reversible", help="The cam runs both ways."),
@@ -99,7 +102,8 @@ def profile(
                               plots=_plot_names(plots, no_plots))
     if target is not None and target.suffix.lower() == ".toml":
         given = [name for name, value in (("--rb", rb), ("--rr", rr), ("--lift", lift), ("--phases", phases),
-                                          ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law))
+                                          ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law),
+                                          ("--segments", segments))
                  if value is not None]
         if given:
             raise CamcadError(f"{', '.join(given)} describe a law or a follower; a scene holds its own", str(target),
@@ -109,7 +113,7 @@ def profile(
         _name, tables = _scene_tables(target, rb=rb, auto_rb=auto_rb, rr=rr, offset=offset, kind=follower,
                                      pivot=pivot, arm=arm, swing=swing, lift=lift, cycle=cycle, phases=phases,
                                      layer=layer, handle=handle, y0=y0, x0=x0, origin=origin, x_deg=x_deg,
-                                     rise_law=rise_law, return_law=return_law, cw=cw,
+                                     rise_law=rise_law, return_law=return_law, segments=segments, cw=cw,
                                      reversible=reversible, pa_rise=pa_rise, pa_return=pa_return, rho_min=rho_min,
                                      groove=groove, pair_distance=pair_distance, pair_angle=pair_angle)
         source = scene_from_dict(tables, Path("command line"), from_file=False)
@@ -147,6 +151,7 @@ def _plot_names(plots: str | None, no_plots: bool) -> tuple[str, ...]:
 
 def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, arm, swing, lift, cycle, phases,
                   layer, handle, y0, x0, origin, x_deg, rise_law, return_law, cw, reversible, pa_rise, pa_return,
+                  segments=None,
                   rho_min, groove, pair_distance, pair_angle) -> tuple[str, dict]:
     """The scene (TOML tables) the options describe: its name and {name, law, follower}."""
     kind = kind.strip().lower()
@@ -159,7 +164,7 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
                 raise CamcadError(f"{option} locates a law in a drawing; the built-in law has none", option,
                                   "give a law file, or drop the option")
         name = defaults.DEFAULT_NAME
-        if abs(cycle - 360.0) > 1e-9 and phases is None:
+        if abs(cycle - 360.0) > 1e-9 and phases is None and segments is None:
             raise CamcadError("--cycle needs --phases for the built-in law", "--cycle", "give --phases too")
         from camcad.scene.default import default_tables
 
@@ -167,6 +172,15 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
         law.update({"cycle": cycle, **{key: value for key, value in (
             ("standard", rise_law), ("return_standard", return_law), ("phases", phases), ("lift", lift))
             if value is not None}})
+        if segments is not None:
+            from camcad.law.segments import parse_segments, spec_tables
+
+            given = [o for o, v in (("--rise-law", rise_law), ("--return-law", return_law), ("--phases", phases),
+                                    ("--lift", lift)) if v is not None]
+            if given:
+                raise CamcadError(f"--segments give the whole law; {', '.join(given)} describe a standard one",
+                                  "--segments", "give one or the other")
+            law = {"cycle": cycle, "segments": spec_tables(parse_segments(segments))}
         if rb is None and not auto_rb:
             rb = defaults.DEFAULT_BASE_RADIUS_MM
         if rr is None and kind in ("roller", "oscillating"):
@@ -179,8 +193,8 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
         if target.suffix.lower() not in LAW_SUFFIXES:
             raise CamcadError(f"cannot tell what '{target.suffix}' holds", str(target),
                               "give a scene (.toml) or a law (.dxf, .csv, .txt)")
-        if rise_law or return_law:
-            raise CamcadError("--rise-law/--return-law choose the built-in law", str(target),
+        if rise_law or return_law or segments:
+            raise CamcadError("--rise-law/--return-law/--segments give the built-in law", str(target),
                               "drop them when you give a law file")
         name = target.stem
         if origin is not None:
@@ -300,9 +314,14 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
     for status, text in lines:
         out.print(f"{indent}  {dict(ok='ok  ', fail='FAIL', warn='WARN')[status]} {text}")
     for label, sources in (mech.get("phase_limits") or {}).items():
-        parts = ", ".join(f"{k} {v:.4f} deg" for k, v in sources.items() if k != "least_deg" and v is not None)
-        if sources.get("least_deg") is not None:
-            out.print(f"{indent}least {label} angle {sources['least_deg']:.4f} deg (bound by {parts})")
+        least = sources.get("least_deg")
+        if least is None:
+            continue
+        # what binds (report.json's phase_limits has every source's angle)
+        binding = ", ".join(f"{k} {v:.4f} deg" for k, v in sources.items() if k != "least_deg" and v == least)
+        out.print(f"{indent}least {label} angle {least:.4f} deg (bound by {binding})")
+    for note in mech.get("phase_limit_notes") or []:
+        out.print(f"{indent}note       {note}")
     for key, why in (mech.get("skipped") or {}).items() if show_skipped else ():
         out.print(f"{indent}skipped    {key}: {why}")
     for note in mech.get("notes", []):

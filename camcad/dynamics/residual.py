@@ -47,7 +47,21 @@ class Residual:
 
 
 def motion_phases(law: MotionLaw) -> tuple[Phase, ...]:
-    return tuple(p for p in law.phases if p.kind in ("rise", "return"))
+    """The law's motions from rest to rest: its rises and returns, a phase that blends into the next one in
+    motion (it states an end velocity, as the segments of a poly5 into a constant velocity do) joined to it."""
+    found: list[Phase] = []
+    blending = False
+    for p in law.phases:
+        if p.kind not in ("rise", "return"):
+            blending = False
+            continue
+        if blending and found:
+            last = found[-1]
+            found[-1] = Phase(last.kind, last.start, p.end, p.s_end, p.v_end)
+        else:
+            found.append(p)
+        blending = p.v_end != 0.0
+    return tuple(found)
 
 
 def _panels(law: MotionLaw, start: float, end: float, panels: int) -> np.ndarray:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
 
+from camcad.balance.drawn import drawn_polyline
 from camcad.edit.session import (
     DEFAULT_TOL,
     EditSession,
@@ -24,6 +25,7 @@ from camcad.edit.session import (
     sampled_law,
 )
 from camcad.law.law import PiecewiseLinearLaw
+from camcad.law.segments import SegmentLaw
 from camcad.law.source import LoadedLaw
 
 if TYPE_CHECKING:
@@ -49,10 +51,14 @@ def has_display() -> bool:
 def make_session(law, *, name: str, input_path: Path | None, tol: float = DEFAULT_TOL, notes=(),
                  step_deg: float = 0.5) -> EditSession:
     """A session on a law read from a file (``LoadedLaw``) or on a closed-form law (sampled every
-    ``step_deg`` into a polyline; it has no drawing, so it saves as a new polyline or a table)."""
+    ``step_deg`` into a polyline — a law designed from segments drawn as ``camcad law`` draws it, meeting its
+    phases' end values; it has no drawing, so it saves as a new polyline or a table)."""
     if isinstance(law, LoadedLaw):
         return EditSession(law, tol=tol, input_path=input_path, where=str(input_path or name))
-    if not isinstance(law, PiecewiseLinearLaw):
+    if isinstance(law, SegmentLaw):
+        # a law designed from segments states its phases' end values: drawn so that it meets them
+        law = drawn_polyline(law).law
+    elif not isinstance(law, PiecewiseLinearLaw):
         law = sampled_law(law, step_deg)
     loaded = loaded_from_law(law, name, notes)
     return EditSession(loaded, tol=tol, input_path=None, where=name)

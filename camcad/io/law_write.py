@@ -15,6 +15,7 @@ and Inkscape draws a frozen one too), so a render shows one law, and nothing the
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -29,6 +30,7 @@ from camcad.io.dxf_write import (
     save_document,
     set_lwpolyline_rows,
 )
+from camcad.io.phase_record import write_phase_record
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
@@ -92,6 +94,118 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
     msp.add_text(label.encode("ascii", "replace").decode(), dxfattribs={"layer": "TEXT", "height": height}) \
         .set_placement((float(theta_deg[0]), float(np.max(accel)) + 2 * height))
     return save_document(doc, path)
+
+
+#: layers of a designed law's drawing, as a CAD user reads them (colour numbers of the ACI)
+LAW_LAYERS = {"ACCELERATION": 5, "AXES": 8, "PHASE_MARKS": 3, "TEXT": 7}
+
+
+def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *, cycle_deg: float,
+                      phases: list[tuple], labels: list[str] | None = None, title: str = "",
+                      r12: bool = False) -> Path:
+    """A designed law as a drawing: its acceleration, the axes and the phase marks, with the phases kept.
+
+    Layers: ACCELERATION (the law: x = cam angle in deg, y = acceleration analog in mm/rad², taken literally
+    when read back), AXES (the θ axis, the a axis at θ = 0 and a tick every 30° or twelfth of the cycle),
+    PHASE_MARKS (a vertical line at every phase boundary and each phase's label above the law), TEXT (the
+    title and the axes' captions). The phases, with the position and velocity each states at its end, are
+    kept as XDATA of the law's polyline (``camcad.io.phase_record``), so ``camcad check`` reads the drawing
+    back with them. ASCII DXF, unitless ($INSUNITS 0: neither axis is a length), byte-deterministic.
+
+    Parameters
+    ----------
+    path : str or Path
+        The DXF file to write.
+    theta_deg : ndarray
+        Cam angle of each vertex (deg), non-decreasing from 0 to ``cycle_deg`` (a repeated angle is a jump).
+    accel : ndarray
+        Acceleration analog at each vertex (mm/rad²).
+    cycle_deg : float
+        The cycle (deg).
+    phases : list of tuple
+        (kind, start_deg, end_deg, s_end_mm or None, v_end_mm_per_deg) per phase.
+    labels : list of str, optional
+        A label per phase (default: its kind); written above the law between the phase's marks.
+    title : str
+        Text above the drawing (ASCII).
+    r12 : bool
+        DXF R12 (POLYLINE) instead of R2000 (LWPOLYLINE).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    theta_deg = np.asarray(theta_deg, dtype=float)
+    accel = np.asarray(accel, dtype=float)
+    if theta_deg.shape != accel.shape or theta_deg.ndim != 1 or len(theta_deg) < 2:
+        raise ValueError("theta_deg and accel must be 1-D arrays of equal length >= 2")
+    doc = new_document("R12" if r12 else "R2000")
+    if not r12:
+        doc.units = 0
+    for name, color in LAW_LAYERS.items():
+        if name not in doc.layers:
+            doc.layers.add(name, color=color)
+    msp = doc.modelspace()
+    if r12:
+        curve = msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)],
+                                   dxfattribs={"layer": "ACCELERATION"})
+    else:
+        curve = lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": "ACCELERATION"})
+    write_phase_record(doc, curve, phases, cycle_deg)
+    low, high = float(min(accel.min(), 0.0)), float(max(accel.max(), 0.0))
+    span = max(high - low, 1e-9)
+    height = 0.03 * max(span, cycle_deg / 4.0)
+    text_height = min(height, 0.025 * cycle_deg)
+    # the axes: θ along a = 0, a along θ = 0, ticks
+    msp.add_line((0.0, 0.0), (float(cycle_deg), 0.0), dxfattribs={"layer": "AXES"})
+    msp.add_line((0.0, low - 0.05 * span), (0.0, high + 0.05 * span), dxfattribs={"layer": "AXES"})
+    step = 30.0 if cycle_deg >= 120.0 else cycle_deg / 12.0
+    tick = 0.02 * span
+    for k in range(1, math.floor(cycle_deg / step + 1e-9) + 1):
+        x = k * step
+        msp.add_line((x, -tick), (x, tick), dxfattribs={"layer": "AXES"})
+        _text(msp, f"{x:g}", (x - 0.4 * text_height, low - 0.05 * span - 1.5 * text_height), 0.6 * text_height,
+              "AXES")
+    # ticks and values on the a axis at round steps
+    a_step = _round_step(span / 4.0)
+    for k in range(math.ceil(low / a_step), math.floor(high / a_step) + 1):
+        if k == 0:
+            continue
+        y = k * a_step
+        msp.add_line((-0.01 * cycle_deg, y), (0.01 * cycle_deg, y), dxfattribs={"layer": "AXES"})
+        _text(msp, f"{y:g}", (-0.06 * cycle_deg, y - 0.3 * text_height), 0.6 * text_height, "AXES")
+    # the phase marks and labels
+    top = high + 0.08 * span
+    for index, (kind, start, _, s_end, v_end) in enumerate(phases):
+        if index > 0:
+            msp.add_line((float(start), low - 0.05 * span), (float(start), top), dxfattribs={"layer": "PHASE_MARKS"})
+        label = labels[index] if labels else kind
+        _text(msp, label, (float(start) + 0.3 * text_height, top + 0.3 * text_height), 0.55 * text_height,
+              "PHASE_MARKS")
+        ends = f"to {s_end:.4g} mm" if s_end is not None else ""
+        if v_end:
+            ends += f", {v_end:.4g} mm/deg"
+        if ends and kind != "dwell":
+            _text(msp, ends, (float(start) + 0.3 * text_height, top + 1.2 * text_height), 0.45 * text_height,
+                  "PHASE_MARKS")
+    _text(msp, title or "acceleration analog a (mm/rad^2) against cam angle (deg)",
+          (0.0, top + 3.0 * text_height), text_height, "TEXT")
+    _text(msp, "cam angle (deg)", (float(cycle_deg) * 0.45, low - 0.05 * span - 3.2 * text_height),
+          0.7 * text_height, "TEXT")
+    _text(msp, "a (mm/rad^2)", (0.5 * text_height, high + 0.05 * span), 0.7 * text_height, "TEXT")
+    return save_document(doc, path)
+
+
+def _round_step(raw: float) -> float:
+    """1, 2 or 5 times a power of ten, at least ``raw`` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(raw))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= raw)
+
+
+def _text(msp, text: str, at: tuple[float, float], height: float, layer: str) -> None:
+    label = text.encode("ascii", "replace").decode().replace("^", "")   # a caret starts a control code in DXF text
+    msp.add_text(label, dxfattribs={"layer": layer, "height": height}).set_placement((float(at[0]), float(at[1])))
 
 
 def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None) -> Path:

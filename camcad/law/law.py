@@ -18,11 +18,19 @@ PHASE_KINDS = ("rise", "return", "dwell")
 
 @dataclass(frozen=True)
 class Phase:
-    """One phase of the cycle: ``kind`` in {"rise", "return", "dwell"}, from ``start`` to ``end`` (rad)."""
+    """One phase of the cycle: ``kind`` in {"rise", "return", "dwell"}, from ``start`` to ``end`` (rad).
+
+    A phase may state where it ends: ``s_end`` the displacement there (mm from s(0) = 0; None: not
+    stated) and ``v_end`` the velocity there (mm/rad; 0, the default, for a motion that ends at rest). A
+    rise to an intermediate stop states its position; a motion that blends into the next one (a rise
+    into a constant-velocity stretch) states its velocity. The balance check holds every phase to them.
+    """
 
     kind: str
     start: float
     end: float
+    s_end: float | None = None
+    v_end: float = 0.0
 
     def __post_init__(self) -> None:
         if self.kind not in PHASE_KINDS:
@@ -34,9 +42,22 @@ class Phase:
     def width(self) -> float:
         return self.end - self.start
 
+    @property
+    def states_end(self) -> bool:
+        """True when the phase states a position, or a velocity other than rest, at its end."""
+        return self.s_end is not None or self.v_end != 0.0
+
     def as_deg(self) -> dict:
-        return {"kind": self.kind, "start_deg": float(np.degrees(self.start)),
-                "end_deg": float(np.degrees(self.end))}
+        out = {"kind": self.kind, "start_deg": float(np.degrees(self.start)), "end_deg": float(np.degrees(self.end))}
+        if self.s_end is not None:
+            out["s_end_mm"] = float(self.s_end)
+        if self.v_end != 0.0:
+            out["v_end_mm_per_deg"] = float(np.radians(self.v_end))
+        return out
+
+    def with_bounds(self, start: float, end: float) -> Phase:
+        """The same phase (kind and stated end values) between other angles (rad)."""
+        return Phase(self.kind, start, end, self.s_end, self.v_end)
 
 
 @dataclass(frozen=True)

@@ -75,13 +75,23 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
         raise CamcadError("the acceleration is zero everywhere: there is no motion", where,
                           "pick the curve that holds the law (--layer/--handle)")
     dwell_flags = []
-    for index, (sign, _start, _end) in enumerate(runs):
+    motion_from = None      # where the motion that the current run belongs to started
+    for index, (sign, start, _end) in enumerate(runs):
         if sign != 0:
             dwell_flags.append(False)
+            if motion_from is None:
+                motion_from = start
             continue
         before = next((runs[i][0] for i in range(index - 1, -1, -1) if runs[i][0]), None)
         after = next((runs[i][0] for i in range(index + 1, len(runs)) if runs[i][0]), None)
-        dwell_flags.append(before is None or after is None or before == after)
+        is_dwell = before is None or after is None or before == after
+        if not is_dwell and motion_from is not None:
+            # between lobes of opposite signs: a constant velocity, unless the follower is at rest there (an
+            # intermediate stop: + - 0 + - is a rise, a stop and a second rise)
+            is_dwell = _at_rest(x, a, motion_from, start)
+        dwell_flags.append(is_dwell)
+        if is_dwell:
+            motion_from = None
     phases: list[Phase] = []
     motion_start = None
     for (_sign, start, end), is_dwell in zip(runs, dwell_flags):
@@ -95,6 +105,26 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
     if motion_start is not None:
         phases.extend(_split_motion(x, a, motion_start, runs[-1][2], runs))
     return _merge_dwells(phases)
+
+
+#: a zero stretch between lobes of opposite signs is a stop (a dwell) when the velocity there is at most this
+#: fraction of the motion's peak speed before it
+REST_FRACTION = 0.05
+
+
+def _at_rest(x: np.ndarray, a: np.ndarray, start: float, end: float) -> bool:
+    """The follower is at rest at ``end``: the velocity integrated from rest at ``start`` is at most
+    ``REST_FRACTION`` of its peak over [start, end] (a drawn stop carries the drawing's imbalance)."""
+    if not end > start:
+        return True
+    law = _motion_law(x, a, start, end)
+    inner = x[(x > start) & (x < end)] - start
+    fraction = np.linspace(0.0, 1.0, 9)
+    grid = unique(np.concatenate(([0.0, end - start], inner)))
+    fine = unique(np.append(grid[:-1, None] + np.diff(grid)[:, None] * fraction[None, :-1], grid[-1]))
+    v = law.kinematics(fine).v
+    peak = float(np.max(np.abs(v)))
+    return peak == 0.0 or abs(float(v[-1])) <= REST_FRACTION * peak
 
 
 def _merge_dwells(phases: list[Phase]) -> tuple[Phase, ...]:
@@ -187,8 +217,10 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     Parameters
     ----------
     text : str
-        Comma-separated ``start:end:kind`` items, start and end in deg, kind "rise", "return" or
-        "dwell"; each phase starts where the previous ends, the first at 0, the last ends at the cycle.
+        Comma-separated ``start:end:kind[:s_end[:v_end]]`` items, start and end in deg, kind "rise",
+        "return" or "dwell"; each phase starts where the previous ends, the first at 0, the last ends at
+        the cycle. ``s_end`` states the displacement at the phase's end (mm from s(0) = 0: a rise to an
+        intermediate stop), ``v_end`` the velocity there (mm/deg; rest when left out).
     cycle_deg : float
         The cycle the phases must cover, deg.
     where : str
@@ -198,7 +230,7 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
     -------
     tuple of Phase
         The phases, with ``start`` and ``end`` in **rad** (the library's inside unit;
-        ``Phase.as_deg()`` gives deg).
+        ``Phase.as_deg()`` gives deg), ``s_end`` in mm and ``v_end`` in mm/rad.
 
     Raises
     ------
@@ -226,8 +258,8 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
         raise CamcadError("no phases given", where, 'write e.g. "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"')
     for item in items:
         parts = item.split(":")
-        if len(parts) != 3:
-            raise CamcadError(f"phase {item!r} is not start:end:kind", where,
+        if len(parts) not in (3, 4, 5):
+            raise CamcadError(f"phase {item!r} is not start:end:kind[:s_end[:v_end]]", where,
                               'write e.g. "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"')
         try:
             start, end = float(parts[0]), float(parts[1])
@@ -239,7 +271,24 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
             raise CamcadError(f"phase {item!r}: kind must be rise, return or dwell", where, "fix the kind")
         if not end > start:
             raise CamcadError(f"phase {item!r} ends before it starts", where, "give start < end")
-        phases.append(Phase(kind, float(np.radians(start)), float(np.radians(end))))
+        stated = []
+        for text, unit in zip(parts[3:], ("mm", "mm/deg")):
+            try:
+                value = float(text)
+            except ValueError:
+                raise CamcadError(f"phase {item!r}: the stated end value {text!r} is not a number ({unit})", where,
+                                  'write e.g. "0:60:rise:12" (a stop at 12 mm) or "0:60:rise:12:0.3" (then 0.3 mm/deg)'
+                                  ) from None
+            if not np.isfinite(value):
+                raise CamcadError(f"phase {item!r}: the stated end value {text!r} is not finite", where,
+                                  "give a finite number")
+            stated.append(value)
+        s_end = stated[0] if stated else None
+        v_end = float(np.degrees(stated[1])) if len(stated) > 1 else 0.0    # mm/deg -> mm/rad
+        if kind == "dwell" and v_end != 0.0:
+            raise CamcadError(f"phase {item!r}: a dwell rests, it cannot end at {stated[1]:g} mm/deg", where,
+                              "drop the velocity of the dwell")
+        phases.append(Phase(kind, float(np.radians(start)), float(np.radians(end)), s_end, v_end))
     tol = 1e-9 * max(cycle_deg, 1.0)
     if abs(np.degrees(phases[0].start)) > tol or abs(np.degrees(phases[-1].end) - cycle_deg) > tol:
         raise CamcadError(f"phases cover {np.degrees(phases[0].start):g}..{np.degrees(phases[-1].end):g} deg, "

@@ -9,10 +9,13 @@ balanced. Dwells simply take the new widths.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.segments import SegmentLaw, solve_segments
 from camcad.law.standard import CompositeLaw, Segment
 
 
@@ -20,7 +23,8 @@ def retime(law, phases: tuple[Phase, ...], where: str = ""):
     """The law with new phase boundaries: the same kinds in the same order, covering the same cycle.
 
     A dwell of the law may be missing from ``phases`` (a neighbouring motion took all of it); it
-    becomes a dwell of zero width and disappears from the result's phases.
+    becomes a dwell of zero width and disappears from the result's phases. A segment law
+    (``camcad.law.segments``) is solved again at the new angles, every segment keeping its stated end values.
     """
     old = tuple(law.phases)
     bounds = _aligned_bounds(old, tuple(phases), where)
@@ -32,6 +36,12 @@ def retime(law, phases: tuple[Phase, ...], where: str = ""):
         return CompositeLaw(segments, law.cycle)
     if isinstance(law, PiecewiseLinearLaw):
         return _retime_polyline(law, bounds)
+    if isinstance(law, SegmentLaw):
+        # every segment keeps its stated end values and is solved again at its new angles; a dwell the
+        # neighbouring motion took all of disappears
+        specs = tuple(replace(spec, to_deg=float(np.degrees(end)))
+                      for spec, (start, end) in zip(law.specs, bounds) if end > start)
+        return solve_segments(specs, float(np.degrees(law.cycle)), where or law.where)
     raise CamcadError(f"cannot change the phase angles of a {type(law).__name__}", where,
                       "give the law as a standard law or a drawn polyline")
 
@@ -85,6 +95,8 @@ def _retime_polyline(law: PiecewiseLinearLaw, bounds: list[tuple[float, float]])
                        for p, (start, end) in zip(old, bounds)])
     old_breaks = np.array([p.start for p in old] + [old[-1].end])
     new_breaks = np.array([start for start, _ in bounds] + [bounds[-1][1]])
-    phases = tuple(Phase(p.kind, start, end) for p, (start, end) in zip(old, bounds) if end > start)
+    # a stated end velocity scales with the phase (v = h f'(u)/β); a stated position stays
+    phases = tuple(Phase(p.kind, start, end, p.s_end, p.v_end * p.width / (end - start))
+                   for p, (start, end) in zip(old, bounds) if end > start)
     return PiecewiseLinearLaw(np.interp(x, old_breaks, new_breaks), a * factor[owner], law.cycle, phases,
                               law.v0, law.s0)

@@ -25,8 +25,9 @@ import numpy as np
 from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.io.chain import find_law
-from camcad.io.dxf_read import Curve, Drawing, collect_pieces, open_drawing, units_note
+from camcad.io.dxf_read import Curve, Drawing, collect_pieces, curve_entities, open_drawing, units_note
 from camcad.io.input_file import is_regular_file, read_input
+from camcad.io.phase_record import read_phase_record
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
 from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
@@ -227,6 +228,12 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
                      f"{'s' if len(left_out) > 1 else ''} ({_pieces_text(left_out)})")
     notes.extend(baseline.notes)
     notes.append(units_note(drawing, scaled=lift is not None))
+    if phases is None:
+        recorded = _recorded_phases(drawing, curve, cycle_deg if cycle_stated else None)
+        if recorded is not None:
+            cycle_deg, phases, note = recorded
+            cycle_stated = True
+            notes.append(note)
     x_tol = chain.graph.join_tol if len(curve.pieces) > 1 else 0.0
     try:
         return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes, where=f"{path}, {curve.label}",
@@ -237,6 +244,24 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
             raise
         # the law read is only part of the drawn one: the gap is the likelier cause than what went wrong
         raise CamcadError(err.what, err.where, chain.gap_fix) from None
+
+
+def _recorded_phases(drawing: Drawing, curve: Curve, cycle_deg: float | None):
+    """(cycle_deg, phases, note) from the phase record camcad keeps on the law's curve (``camcad.io.phase_record``),
+    or None when the curve has none, or its cycle differs from the one the user stated."""
+    entities = [e for e in curve_entities(drawing.doc, curve) if e is not None]
+    found = read_phase_record(entities[0]) if len(entities) == 1 else None
+    if found is None:
+        return None
+    cycle, rows = found
+    if cycle_deg is not None and abs(cycle - cycle_deg) > 1e-9 * cycle:
+        return None
+    phases = tuple(Phase(kind, float(np.radians(start)), float(np.radians(end)), s_end, float(np.degrees(v_end)))
+                   for kind, start, end, s_end, v_end in rows)
+    stated = sum(p.states_end for p in phases)
+    note = (f"{len(phases)} phases read from the drawing's camcad record (cycle {cycle:g} deg"
+            + (f"; {stated} state their end position or velocity" if stated else "") + ")")
+    return cycle, phases, note
 
 
 def _pieces_text(pieces) -> str:

@@ -28,7 +28,9 @@ from typing import Protocol
 import numpy as np
 
 from camcad.arrays import unique
+from camcad.law.coefficients import PeakCoefficients
 from camcad.law.law import Kinematics, Phase, wrap, wrap_angle
+from camcad.law.vdi import catalogue_rest_shape
 
 
 class RiseShape(Protocol):
@@ -40,33 +42,6 @@ class RiseShape(Protocol):
     def evaluate(self, u: np.ndarray, order: int) -> np.ndarray:
         """f (order 0), f' (1), f'' (2) or f''' (3) at u ∈ [0, 1]."""
         ...
-
-
-@dataclass(frozen=True)
-class PeakCoefficients:
-    """Dimensionless peaks of a rise: v_max = Cv h/β, a_max = Ca h/β², j_max = Cj h/β³.
-
-    ``cj`` is sup |f'''| over the smooth pieces; ``acceleration_jumps`` is True when f''
-    jumps inside (0, 1) or is non-zero at u = 0 or u = 1 (a jump against a dwell).
-    """
-
-    cv: float
-    ca: float
-    cj: float
-    acceleration_jumps: bool
-
-    @property
-    def jerk(self) -> float:
-        """The true peak jerk coefficient: +inf where the acceleration jumps (the jerk has a Dirac there),
-        else ``cj``. ``cj`` itself is the sup over the smooth pieces, as the published tables give it."""
-        return math.inf if self.acceleration_jumps else self.cj
-
-    def to_dict(self) -> dict:
-        """JSON form: ``cj`` is null when the jerk is infinite, with ``jerk_infinite`` saying so and
-        ``cj_smooth`` the sup over the smooth pieces."""
-        return {"cv": self.cv, "ca": self.ca, "cj": None if self.acceleration_jumps else self.cj,
-                "cj_smooth": self.cj, "jerk_infinite": self.acceleration_jumps,
-                "acceleration_jumps": self.acceleration_jumps}
 
 
 def peak_coefficients(shape: RiseShape) -> PeakCoefficients:
@@ -411,7 +386,10 @@ SHAPES: dict[str, RiseShape] = {
 
 
 def shape_named(name: str) -> RiseShape:
-    """A shape of ``SHAPES`` by name, or an SCCA member written ``scca:b:c:d`` (b + c + d = 1)."""
+    """A shape by name: one of ``SHAPES``, an SCCA member written ``scca:b:c:d`` (b + c + d = 1), or the
+    rest-to-rest member of a VDI 2143 catalogue law (``camcad.law.vdi``): inclined_sine, poly3, poly5,
+    poly7, and inclined_sine:λ, modified_sine:λ, modified_trapezoid:λ, constant_acceleration:λ with the
+    inflection point λ (0 < λ < 1)."""
     try:
         return SHAPES[name]
     except KeyError:
@@ -422,7 +400,17 @@ def shape_named(name: str) -> RiseShape:
             return scca(b, c, d)
         except ValueError as err:
             raise KeyError(f"bad SCCA law {name!r} ({err}); write scca:b:c:d with b + c + d = 1") from None
-    raise KeyError(f"unknown law {name!r}; known: {', '.join(sorted(SHAPES))}, scca:b:c:d") from None
+    catalogue = catalogue_rest_shape(name)
+    if catalogue is not None:
+        return catalogue
+    raise KeyError(f"unknown law {name!r}; known: {', '.join(sorted(SHAPES))}, inclined_sine, poly3, poly5, poly7, "
+                   "scca:b:c:d, and LAW:lambda for the lobe laws") from None
+
+
+def shape_names() -> tuple[str, ...]:
+    """Every rest-to-rest shape name ``shape_named`` takes (scca:b:c:d and law:λ stand for families)."""
+    return (*sorted(SHAPES), "inclined_sine", "poly3", "poly5", "poly7", "scca:b:c:d", "inclined_sine:λ",
+            "modified_sine:λ", "modified_trapezoid:λ", "constant_acceleration:λ")
 
 
 def compose(phases_deg: list[tuple[str, float]] | tuple[tuple[str, float], ...], lift: float,

@@ -157,8 +157,8 @@ class ContactCommand:
 
 
 def contact_command(command: ContactCommand):
-    """Run ``camcad contact``: compute (camcad.scene.commands.contact.run_contact), write the plots and contact.json into
-    the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
+    """Run ``camcad contact``: compute (camcad.scene.commands.contact.run_contact), write the plots and
+    contact.json into the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
     from camcad.scene.commands.contact import run_contact
     from camcad.scene.commands.source import require_scene

@@ -18,6 +18,7 @@ from camcad.errors import CamcadError
 from camcad.law.law import Phase
 from camcad.law.phases import parse_phases
 from camcad.law.retime import retime
+from camcad.law.segments import solve_segments
 from camcad.law.source import load_law
 from camcad.law.standard import compose
 from camcad.scene.analysis_report import PhaseAngles
@@ -39,6 +40,11 @@ class BuiltLaw:
 
 def build_law(spec: LawSpec) -> BuiltLaw:
     """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
+    if spec.segments is not None:
+        segment_law = solve_segments(spec.segments, spec.cycle, f"{spec.where} segments")
+        classes = ", ".join(sorted({j.class_ for j in segment_law.joints}))
+        return BuiltLaw(segment_law, (f"segment law: {segment_law.describe()}",
+                                      f"joints {classes} ({', '.join(j.class_ for j in segment_law.joints)})"))
     if spec.standard is not None:
         # parse_law refuses a standard law without phases and lift
         phases = parse_phases(cast(str, spec.phases), spec.cycle, where=f"{spec.where} phases")

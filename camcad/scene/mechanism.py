@@ -21,6 +21,8 @@ from camcad.contact import contact_stress, stress_versus_speed
 from camcad.cyclogram.limits import vibration_limits
 from camcad.cyclogram.retime import operation_timing, retime_phases, stretch_phase
 from camcad.errors import CamcadError
+from camcad.extrema import zoom_max
+from camcad.law.segments import SegmentLaw
 from camcad.numerics import bounded_minimum
 from camcad.profile.geometry import CamGeometry
 from camcad.scene.file import Mechanism, Scene
@@ -154,6 +156,149 @@ def pressure_angle_limits(law, follower_table: dict, where: str, samples: int,
     return found
 
 
+#: the undercut limit aims this far inside (relative, of 1/(Rr + ρ_min)): the cam at its least angle keeps its
+#: convex pitch radius above Rr by round-off at least
+CURVATURE_MARGIN = 1e-9
+#: the lower end of the undercut and cusp searches, a fraction of the phase: both relations grow without bound as
+#: the phase shortens, so the crossing is always above it
+CURVATURE_LOWER_FRACTION = 1e-3
+
+
+@dataclass(frozen=True)
+class GeometryRelation:
+    """One geometric limit of a phase's angle: relation(widths) ≤ ``limit`` (non-increasing in the width), its
+    closed-form inverse where there is one, and the least fraction of the phase the search starts at."""
+
+    source: str
+    relation: Any
+    limit: float
+    inverse: Any = None
+    lower_fraction: float = CURVATURE_LOWER_FRACTION
+
+
+def geometry_relations(law, follower_table: dict, index: int, where: str, samples: int) -> list[GeometryRelation]:
+    """The follower's geometric limits on phase ``index``'s angle (``geometry_limits`` says which and why)."""
+    follower = parse_follower(follower_table, where)
+    phases = phases_deg(law)
+    kind = phases[index][2]
+    direct = isinstance(law, SegmentLaw)
+    stretch = pressure_stretch(law, follower_table, index, where, samples)
+    found = []
+    if follower.kind == "flat":
+        name = "cusp" if follower.rho_min is None else "curvature"
+        rho_min = follower.rho_min or 0.0
+        limit = -CURVATURE_MARGIN * follower.base_radius
+        if direct:
+            deficit = _direct_relation(law, follower_table, index, where, samples, "flat")
+            found.append(GeometryRelation(name, lambda w, f=deficit: f(w) + rho_min, limit))
+        else:
+            least = stretch.flat_least_width(rho_min)[0] * (1.0 + CURVATURE_MARGIN)
+            found.append(GeometryRelation(name, lambda w: stretch.flat_radius_deficit(w, rho_min), limit,
+                                          inverse=lambda _limit: least if math.isfinite(least) else None))
+        return found
+    pressure_limit = pressure_angle_limit_of(follower, kind)
+    if pressure_limit is not None:
+        relation = (_direct_relation(law, follower_table, index, where, samples, "pressure") if direct
+                    else stretch.pressure_max_deg)
+        found.append(GeometryRelation("pressure angle", relation, pressure_limit - PRESSURE_MARGIN_DEG,
+                                      None if direct else stretch.pressure_inverse, 0.1))
+    if stretch.curvature_reach() > 0.0:
+        relation = (_direct_relation(law, follower_table, index, where, samples, "curvature") if direct
+                    else stretch.curvature_ratio)
+        found.append(GeometryRelation("undercut" if follower.rho_min is None else "curvature", relation,
+                                      1.0 - CURVATURE_MARGIN))
+    return found
+
+
+def geometry_limits(law, follower_table: dict, where: str, samples: int, memo: LimitMemo | None = None
+                    ) -> tuple[dict, list[str]]:
+    """The least angle of every rise and return that the follower's geometry allows, by source.
+
+    - "pressure angle": the phase's largest |φ| reaches the follower's limit (root finding on φ_max(t));
+      not for a flat face, whose pressure angle is zero by construction;
+    - "undercut" (a roller or an oscillating roller; "curvature" with ``rho_min``): the pitch curve's largest
+      convex curvature reaches 1/(Rr + ρ_min), where the profile loops (ρ_min = 0) or breaks its curvature limit;
+    - "cusp" (a flat face; "curvature" with ``rho_min``): the profile radius ρ = Rb + s + a reaches ρ_min
+      (0: a cusp), in closed form: t = β·max √(−a/(Rb + s − ρ_min)) over the decelerating samples.
+
+    A phase stretched to t keeps its shape and lift (the next dwell takes up the change); a phase of a law
+    designed from segments is solved again at t, keeping its end values (``camcad.law.retime``).
+
+    Returns
+    -------
+    (dict, list of str)
+        {label: {source: least angle (deg) or None}} and notes (why an angle is missing or what binds it).
+    """
+    follower = parse_follower(follower_table, where)
+    phases = phases_deg(law)
+    found: dict[str, dict] = {}
+    notes: list[str] = []
+    direct = isinstance(law, SegmentLaw)
+    for index, label in motion_labels(phases):
+        start, end, kind = phases[index]
+        width = end - start
+        upper = stretch_room(phases, index)
+        sources: dict[str, Any] = {}
+        if direct:
+            if upper <= width:
+                found[label] = {"pressure angle": None}
+                notes.append(f"{label}: no neighbouring dwell takes up a change of its angle, so it has no least "
+                             "angle of its own (shorten or lengthen the segments around it)")
+                continue
+            upper -= 1e-9 * upper   # the phase angles carry round-off: stay inside the room the dwell gives
+        if follower.kind != "flat" and pressure_angle_limit_of(follower, kind) is None:
+            sources["pressure angle"] = None
+        for item in geometry_relations(law, follower_table, index, where, samples):
+            try:
+                sources[item.source] = _solve(memo, (id(law), index, item.source), item.relation, item.limit,
+                                              item.lower_fraction * width, upper, source=item.source, what=label,
+                                              inverse=item.inverse).angle_deg
+            except CamcadError as err:
+                sources[item.source] = None
+                notes.append(f"{label}: {err.what}")
+        if follower.kind == "flat":
+            notes.append(f"{label}: a flat face has no pressure angle; its least angle is bound by the "
+                         f"{'cusp condition Rb + s + a > 0' if follower.rho_min is None else 'curvature limit'}")
+        found[label] = sources
+    return found, notes
+
+
+def _direct_relation(law, follower_table: dict, index: int, where: str, samples: int, quantity: str):
+    """relation(widths) → values for phase ``index`` stretched by solving the law again at each width (the route
+    for a law whose phases do not scale with their angle: a segment's end velocity is kept, not scaled):
+    "pressure" the largest |φ| (deg), "curvature" (Rr + ρ_min)·κ_max, "flat" −min(Rb + s + a) (mm)."""
+    phases = phases_deg(law)
+    pressure = phase_pressure_function(law, follower_table, index, where, samples) if quantity == "pressure" else None
+
+    def one(width_deg: float) -> float:
+        if pressure is not None:
+            return pressure(width_deg)
+        try:
+            stretched, (start, end) = stretched_phase(phases, index, width_deg)
+        except CamcadError:
+            return math.inf
+        cam, follower, _ = cam_of(law_with_phases(law, stretched, where), follower_table, where)
+        grid = np.linspace(np.radians(start), np.radians(end), samples)
+        if quantity == "flat":
+            def values(t):
+                kin = cam.kinematics(np.ravel(t))
+                return -(follower.base_radius + kin.s + kin.a).reshape(1, -1)
+        else:
+            reach = follower.roller_radius + (follower.rho_min or 0.0)
+
+            def values(t):
+                rho = cam.pitch(np.ravel(t)).rho
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    kappa = np.where(np.isfinite(rho), 1.0 / rho, 0.0)
+                ratio = reach * kappa
+                if follower.groove:
+                    ratio = np.maximum(ratio, -ratio)
+                return np.nan_to_num(ratio, nan=1e300, posinf=1e300, neginf=-1e300).reshape(1, -1)
+        return float(zoom_max(values, grid, 1)[0][0])
+
+    return lambda widths: np.array([one(float(w)) for w in np.atleast_1d(widths)])
+
+
 class LimitMemo:
     """Least phase angles already solved in one pipeline run, so the cyclogram's bounds reuse the
     mechanisms' own (the relation is non-increasing: a crossing inside the new bounds is the answer)."""
@@ -272,6 +417,17 @@ def stress_relation(law, follower_table: dict, params, speeds: list[float], inde
                     samples: int):
     """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
     ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible."""
+    if isinstance(law, SegmentLaw):
+        # a segment keeps its end values when its angle changes: the law is solved again at each width
+        one = phase_stress_function(law, follower_table, params, speeds, index, where, samples)
+
+        def direct(width: float) -> float:
+            try:
+                return one(width)
+            except CamcadError:       # no neighbouring dwell takes up that width
+                return math.inf
+
+        return lambda widths: np.array([direct(float(w)) for w in np.atleast_1d(widths)])
     cam, _, scale = cam_of(law, follower_table, where)
     stretch = PhaseStretch.sample(cam, scale, phases_deg(law), index, samples)
     return lambda widths: stretch.stress_max(widths, params, speeds)
@@ -368,21 +524,18 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
 
 
 def _pressure_limit(scene: Scene, mech: Mechanism, op, memo: LimitMemo | None = None) -> list:
-    """The least phase angle of an operation from its mechanism's pressure-angle limit (none without a limit)."""
+    """The least phase angles of an operation from its mechanism's geometry: the pressure-angle limit, the roller's
+    undercut, the flat face's cusp (``geometry_relations``), within the operation's bounds."""
     follower_table = mech.sections["follower"]
     where = mech.where(scene.path, "follower")
-    limit = pressure_angle_limit_of(parse_follower(follower_table, where), op.phase)
-    if limit is None:
-        return []
     law = mechanism_law(scene, mech).law
     phases = phases_deg(law)
     index = phase_index(phases, op.phase, op.occurrence, mech.where(scene.path, "law"))
     upper = op.max_deg if math.isfinite(op.max_deg) else stretch_room(phases, index)
     lower = max(op.min_deg, 1e-3 * upper)
-    stretch = pressure_stretch(law, follower_table, index, where, PRESSURE_SAMPLES)
-    return [_solve(memo, (id(law), index, "pressure angle"), stretch.pressure_max_deg, limit - PRESSURE_MARGIN_DEG,
-                   lower, upper, source="pressure angle", what=f"operation {op.label} ({op.mechanism} {op.phase})",
-                   inverse=stretch.pressure_inverse)]
+    return [_solve(memo, (id(law), index, item.source), item.relation, item.limit, lower, upper, source=item.source,
+                   what=f"operation {op.label} ({op.mechanism} {op.phase})", inverse=item.inverse)
+            for item in geometry_relations(law, follower_table, index, where, PRESSURE_SAMPLES)]
 
 
 def retimed_phases(scene: Scene, result) -> dict[str, list[tuple[float, float, str]]]:

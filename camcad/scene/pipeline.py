@@ -19,12 +19,13 @@ from typing import TYPE_CHECKING, Any
 
 from camcad.cyclogram.retime import format_phases
 from camcad.errors import CamcadError
+from camcad.law.segments import SegmentLaw
 from camcad.profile.summary import profile_report
 from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.scene.file import Mechanism, Scene, read_scene
 from camcad.scene.follower import follower_for_law
 from camcad.scene.laws import law_unit, law_with_phases, mechanism_law, pipeline_angles
-from camcad.scene.mechanism import PRESSURE_SAMPLES, LimitMemo, pressure_angle_limits
+from camcad.scene.mechanism import PRESSURE_SAMPLES, LimitMemo, geometry_limits
 from camcad.scene.sections.cyclogram import parse_cyclogram
 
 if TYPE_CHECKING:
@@ -323,7 +324,9 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
                                           "max_change": built.correction.max_change,
                                           "after": built.correction.after.to_dict()}
     else:
-        run.skipped["balance"] = "a standard law is balanced by construction"
+        run.skipped["balance"] = ("a law designed from segments meets its end values by construction"
+                                  if isinstance(built.law, SegmentLaw) else
+                                  "a standard law is balanced by construction")
     # 3 filter: on the law as the [law] gives it (the working member's with law_of = "output"), before the linkage
     # turns it into the follower's
     run.unit, run.unit_why = law_unit(scene, mech, None, built.law)
@@ -393,10 +396,12 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
             for label, angle in run.report["contact"].get("phase_limit_deg", {}).items():
                 found.setdefault(label, {})["contact stress"] = angle
         if mech.has("follower"):
-            for label, angle in pressure_angle_limits(built.law, mech.sections["follower"],
-                                                      mech.where(scene.path, "follower"), PRESSURE_SAMPLES,
-                                                      memo=memo).items():
-                found.setdefault(label, {})["pressure angle"] = angle
+            geometry, geometry_notes = geometry_limits(built.law, mech.sections["follower"],
+                                                       mech.where(scene.path, "follower"), PRESSURE_SAMPLES, memo=memo)
+            for label, sources in geometry.items():
+                found.setdefault(label, {}).update(sources)
+            if geometry_notes:
+                run.report["phase_limit_notes"] = geometry_notes
         if found:
             run.report["phase_limits"] = {label: {**sources, "least_deg": max(
                 (v for v in sources.values() if v is not None), default=None)} for label, sources in found.items()}

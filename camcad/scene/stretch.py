@@ -39,6 +39,8 @@ if TYPE_CHECKING:
 
 #: widths evaluated in one pass to bracket the least phase angle before Brent's method narrows it
 BRACKET_WIDTHS = 16
+#: a finite stand-in for an unbounded curvature ratio (a cusp of the pitch curve) in the sampled maxima
+UNBOUNDED = 1e300
 
 
 @dataclass(frozen=True)
@@ -151,6 +153,72 @@ class PhaseStretch:
         own = float(self.pressure_max_deg(np.array([self.width_deg]))[0])
         return self.width_deg * math.tan(math.radians(own)) / math.tan(math.radians(limit_deg))
 
+    # -- undercut and curvature --------------------------------------------------------------
+    def curvature_reach(self) -> float:
+        """Rr + ρ_min (mm): a convex pitch radius below it undercuts the roller (or breaks the curvature limit);
+        0 for a knife edge without a curvature limit (nothing to keep)."""
+        f = self.cam.follower
+        return float(f.roller_radius + (f.rho_min or 0.0))
+
+    def curvature_ratio(self, widths_deg: np.ndarray) -> np.ndarray:
+        """(Rr + ρ_min)·κ_max over the phase stretched to each width (dimensionless), κ = 1/ρ the pitch curve's
+        signed curvature (convex positive; a groove's outer flank adds −κ): above 1 the profile undercuts the
+        roller (its convex radius ρ − Rr falls below ρ_min, or below 0: a loop). κ stays finite through the
+        inflections where ρ is infinite, so the ratio is continuous in the width. The best sample refined by
+        zooming grids (``camcad.extrema.zoom_max``)."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        reach = self.curvature_reach()
+        groove = self.cam.follower.groove
+
+        def values(u_rows: np.ndarray) -> np.ndarray:
+            kin = self.kinematics(widths, u_rows)
+            rho = self.pitch(kin).rho
+            with np.errstate(divide="ignore", invalid="ignore"):
+                kappa = np.where(np.isfinite(rho), 1.0 / rho, 0.0)
+            # a pitch cusp (ρ = 0) is an undercut: a large finite ratio (zoom_max leaves non-finite values out)
+            ratio = np.nan_to_num(reach * kappa, nan=UNBOUNDED, posinf=UNBOUNDED, neginf=-UNBOUNDED)
+            if groove:
+                ratio = np.maximum(ratio, -ratio)
+            return ratio.reshape(u_rows.shape if u_rows.ndim == 2 else (len(widths), -1))
+
+        return zoom_max(values, self.u, len(widths))[0]
+
+    def flat_radius_deficit(self, widths_deg: np.ndarray, rho_min: float = 0.0) -> np.ndarray:
+        """ρ_min − min(Rb + s + a) (mm) over the phase stretched to each width: a flat face's profile radius
+        falls below ρ_min (0: a cusp) where it is positive. Stretched to t the phase keeps s and scales a by
+        (β/t)². The worst sample refined by zooming grids."""
+        widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
+        rb = self.cam.follower.base_radius
+
+        def values(u_rows: np.ndarray) -> np.ndarray:
+            kin = self.kinematics(widths, u_rows)
+            return (rho_min - (rb + kin.s + kin.a)).reshape(u_rows.shape if u_rows.ndim == 2 else (len(widths), -1))
+
+        return zoom_max(values, self.u, len(widths))[0]
+
+    def flat_least_width(self, rho_min: float = 0.0) -> tuple[float, float]:
+        """The least width (deg) at which a flat face keeps its profile radius ρ = Rb + s + a at or above
+        ``rho_min`` (0: the cusp condition), in closed form, and the u (0..1 of the phase) that sets it.
+
+        Stretched to t the phase keeps s and scales a by (β/t)², so ρ(u; t) = Rb + s(u) + a(u)(β/t)² ≥ ρ_min
+        at every u with a(u) < 0 exactly when t ≥ β·√(−a(u)/(Rb + s(u) − ρ_min)); the least width is the largest
+        of these (the samples' best refined by zooming grids). (0, nan) when no sample decelerates; inf when
+        Rb + s − ρ_min ≤ 0 where a < 0 (no width helps: the base circle is too small)."""
+        f = self.cam.follower
+        start, _, _ = self.phases_deg[self.index]
+        beta = self.width_deg
+
+        def needed(u: np.ndarray) -> np.ndarray:
+            kin = self.cam.kinematics(math.radians(start) + np.ravel(u) * math.radians(beta))
+            room = f.base_radius + kin.s - rho_min
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.where(kin.a < 0.0, np.where(room > 0.0, -kin.a / room, UNBOUNDED), 0.0)
+            return (beta * np.sqrt(ratio)).reshape(1, -1)
+
+        peak, at = zoom_max(needed, self.u, 1)
+        width = float(peak[0])
+        return (math.inf if width >= beta * math.sqrt(UNBOUNDED) * 0.5 else width), float(at[0])
+
     # -- contact stress -----------------------------------------------------------------------
     def stress_max(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm) -> np.ndarray:
         """σ_max (MPa) over the phase and the speeds, for each width; +inf where the stretched cam is not
@@ -237,7 +305,9 @@ def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, s
                           "raise the operation's upper bound, or change the law, materials or loads")
     exact = inverse(limit) if inverse is not None else None
     if exact is not None and lower_deg < exact <= upper_deg:
-        return PhaseLimit(float(exact), float(many([exact])[0]), limit, True, source, count)
+        at_exact = float(many([exact])[0])
+        if math.isfinite(at_exact):
+            return PhaseLimit(float(exact), at_exact, limit, True, source, count)
     grid = np.linspace(lower_deg, upper_deg, BRACKET_WIDTHS + 2)[1:-1]
     values = many(grid)
     below = np.flatnonzero(values <= limit)

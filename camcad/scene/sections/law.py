@@ -13,28 +13,51 @@ Keys (angles deg, lengths mm):
     tol              balance tolerance (fraction of the rise)
     law_of           "follower" (default), or "output": the law is the working member's after the [linkage],
                      and the cam is designed for psi = Pi^-1(y) (camcad.scene.linkage)
+    segments         [[law.segments]] tables: a law designed from segments (camcad.law.segments), each with
+                     to_deg, shape, to_mm and optional v_end, a_end, j_end ("match" or a number per deg) and
+                     lambda; the first starts at 0 deg and 0 mm, the last ends at ``cycle``
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
 from camcad.balance.conditions import DEFAULT_TOL, MODES
 from camcad.errors import CamcadError, excerpt
-from camcad.law.standard import SHAPES, shape_named
+from camcad.law.segments import SegmentSpec, shape_names, solve_segments
+from camcad.law.standard import shape_named
+from camcad.law.standard import shape_names as standard_shape_names
 from camcad.scene.fields import Field, read_table
+
+#: the keys of one [[law.segments]] table whose value is "match" or a number (read apart from ``read_table``)
+END_VALUE_KEYS = {"v_end": "mm/deg", "a_end": "mm/deg^2", "j_end": "mm/deg^3"}
+#: the keys of one [[law.segments]] table (docs/SCENE.md lists them)
+SEGMENT_FIELDS = [
+    Field("to_deg", "float", "deg", required=True, help="(the cam angle where the segment ends)"),
+    Field("shape", "str", required=True,
+          help="(dwell, constant_velocity, or a VDI 2143 catalogue law: "
+               + ", ".join(n for n in shape_names() if n not in ("dwell", "constant_velocity")) + ")"),
+    Field("to_mm", "float", "mm", help="(the position at the segment's end; a dwell keeps its start)"),
+    Field("v_end", "match|float", "mm/deg", help='("match": the next segment\'s start velocity; default: that where '
+                                                 "the next segment sets it, else rest)"),
+    Field("a_end", "match|float", "mm/deg^2", help="(poly5, poly7: the acceleration at the end)"),
+    Field("j_end", "match|float", "mm/deg^3", help="(poly7: the jerk at the end)"),
+    Field("lambda", "float", help="(the inflection point of inclined_sine, modified_sine, modified_trapezoid, "
+                                  "constant_acceleration, harmonic_combination: a fraction 0..1 of the segment)"),
+]
 
 
 def _shape_names() -> tuple[str, ...]:
-    return tuple(sorted(SHAPES))
+    return standard_shape_names()
 
 
 def law_fields() -> list[Field]:
     """The keys of ``[law]`` (the shapes listed are camcad's standard laws)."""
     shapes = _shape_names()
     return [
-        Field("standard", "str", help=f"(a standard shape: {', '.join(shapes)}, or scca:b:c:d)"),
+        Field("standard", "str", help=f"(a standard shape: {', '.join(shapes)})"),
         Field("return_standard", "str", help="(the returns' shape; default: standard)"),
         Field("phases", "str", help='"0:90:dwell,90:180:rise,180:270:dwell,270:360:return" (deg)'),
         Field("lift", "float", "mm, or deg of swing", positive=True),
@@ -49,6 +72,7 @@ def law_fields() -> list[Field]:
         Field("tol", "float", default=DEFAULT_TOL, positive=True),
         Field("law_of", "str", choices=("follower", "output"), default="follower",
               help="(what the law describes: the follower, or the working member after the [linkage])"),
+        Field("segments", "list", help="(a law designed from [[law.segments]] tables: see [law.segments])"),
     ]
 
 
@@ -72,13 +96,56 @@ class LawSpec:
     fix: str = "none"
     tol: float = 1e-5
     law_of: str = "follower"
+    segments: tuple[SegmentSpec, ...] | None = None
+
+
+def parse_segments_table(items, where: str) -> tuple[SegmentSpec, ...]:
+    """The [[law.segments]] tables as ``SegmentSpec`` (angles deg, positions mm, end values per deg)."""
+    if not isinstance(items, list) or not items:
+        raise CamcadError("segments must be a list of [[law.segments]] tables", where,
+                          'write [[law.segments]] with to_deg = 60 and shape = "dwell", one table per segment')
+    specs = []
+    for number, item in enumerate(items, start=1):
+        here = f"{where} segment {number}"
+        if not isinstance(item, dict):
+            raise CamcadError(f"segment {number} is {excerpt(item)}, not a table", where,
+                              "write each segment as a [[law.segments]] table")
+        ends: dict[str, float | str] = {}
+        for key, unit in END_VALUE_KEYS.items():
+            if key in item:
+                raw = item[key]
+                if raw == "match":
+                    ends[key] = "match"
+                elif isinstance(raw, (int, float)) and not isinstance(raw, bool) and math.isfinite(raw):
+                    ends[key] = float(raw)
+                else:
+                    raise CamcadError(f"'{key}' must be \"match\" or a number in {unit}, got {excerpt(raw)}", here,
+                                      f'write {key} = "match" or {key} = 0.25')
+        plain = {k: v for k, v in item.items() if k not in END_VALUE_KEYS}
+        values = read_table(plain, [f for f in SEGMENT_FIELDS if f.name not in END_VALUE_KEYS], here)
+        specs.append(SegmentSpec(values["to_deg"], values["shape"], values["to_mm"], ends.get("v_end"),
+                                 ends.get("a_end"), ends.get("j_end"), values["lambda"]))
+    return tuple(specs)
 
 
 def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
     values = read_table(table, law_fields(), where)
+    if values["segments"] is not None:
+        others = [key for key in ("standard", "return_standard", "phases", "lift", "file") if values[key] is not None]
+        if others:
+            raise CamcadError(f"the law has segments and {', '.join(others)}", where,
+                              "keep the segments (they give shape, angles and positions), or drop them")
+        if values["fix"] != "none":
+            raise CamcadError("a law designed from segments meets its end values by construction; fix balances a "
+                              "drawn law", where, 'drop fix (or set fix = "none")')
+        specs = parse_segments_table(values["segments"], f"{where} segments")
+        solve_segments(specs, values["cycle"], f"{where} segments")    # refuse a bad law while reading the scene
+        return LawSpec(where=where, cycle=values["cycle"], cycle_stated="cycle" in table, fix=values["fix"],
+                       tol=values["tol"], law_of=values["law_of"], segments=specs)
     if values["standard"] is None and values["file"] is None:
         raise CamcadError("the law has no source", where,
-                          'add standard = "cycloidal" (with phases and lift) or file = "accel.dxf"')
+                          'add standard = "cycloidal" (with phases and lift), file = "accel.dxf", or '
+                          "[[law.segments]]")
     if values["standard"] is not None and values["file"] is not None:
         raise CamcadError("the law has both 'standard' and 'file'", where, "keep one of them")
     for key in ("standard", "return_standard"):
