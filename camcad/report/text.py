@@ -91,7 +91,7 @@ def verdict_lines(verdict, common: str = "", details: bool = True) -> list[str]:
             ratio = check.margin_ratio
             rows.append([check.name, fmt(check.value), fmt(check.limit), fmt(check.margin),
                          "-" if ratio is None else f"{100 * ratio:.3g} %", check.unit or "-",
-                         "ok" if check.passed else "FAILED"])
+                         {"ok": "ok", "at limit": "AT LIMIT", "fail": "FAILED"}[check.status]])
         lines += table(["check (tightest margin first)", "value", "limit", "margin", "margin %", "unit", ""], rows)
         for check in tight:
             extra = "; ".join(part for part in ((strip(check.applies) if details else ""), check.note) if part)
@@ -100,6 +100,8 @@ def verdict_lines(verdict, common: str = "", details: bool = True) -> list[str]:
     others = [c for c in verdict.checks if c not in tight]
     for check in others:
         lines.append(("" if check.passed else "FAILED: ") + strip(check.why))
+    for check in verdict.at_limit:
+        lines.append(f"WARNING: {check.name} ends at its limit: no margin")
     for warning in verdict.warnings:
         lines.append(f"WARNING: {warning.what}")
     failed = [c.name for c in verdict.checks if not c.passed]

@@ -288,13 +288,30 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
     return sigma_max
 
 
+@dataclass(frozen=True)
+class StressRelation:
+    """σ_max(widths): the largest σ_H (MPa) over a phase stretched to each width (deg) and over the speeds,
+    all widths in one pass, +inf where the stretched cam is not admissible; ``reason(width)`` says why a
+    width is not admissible ("" where it is)."""
+
+    stretch: PhaseStretch
+    params: Any
+    speeds: tuple
+
+    def __call__(self, widths):
+        return self.stretch.stress_max(widths, self.params, self.speeds)
+
+    def reason(self, width_deg: float) -> str:
+        return self.stretch.stress_inadmissible(width_deg, self.params, self.speeds)
+
+
 def stress_relation(law, follower_table: dict, params, speeds: list[float], index: int, where: str,
-                    samples: int):
+                    samples: int) -> StressRelation:
     """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
-    ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible."""
+    ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible (``reason`` says why)."""
     cam, _, scale = cam_of(law, follower_table, where)
     stretch = PhaseStretch.sample(cam, scale, phases_deg(law), index, samples)
-    return lambda widths: stretch.stress_max(widths, params, speeds)
+    return StressRelation(stretch, params, tuple(speeds))
 
 
 def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
@@ -340,7 +357,8 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
         try:
             found = _solve(memo, (id(law), index, "contact"), relation,
                            params.allowable_stress * (1 - STRESS_MARGIN), 0.1 * (end - start),
-                           stretch_room(phases, index), source="contact stress", what=f"{mech.name} {label}")
+                           stretch_room(phases, index), source="contact stress", what=f"{mech.name} {label}",
+                           reason=relation.reason)
             limits[label] = found.angle_deg
             if found.note:
                 notes.append(f"{label}: {found.note}")
@@ -387,7 +405,8 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
         lower = max(op.min_deg, 1e-3 * upper)
         limits.setdefault(op.label, []).append(_solve(
             memo, (id(law), index, "contact"), relation, params.allowable_stress * (1 - STRESS_MARGIN), lower,
-            upper, source="contact", what=f"operation {op.label} ({op.mechanism} {op.phase})"))
+            upper, source="contact", what=f"operation {op.label} ({op.mechanism} {op.phase})",
+            reason=relation.reason))
     return limits, skipped
 
 

@@ -136,7 +136,8 @@ def cyclogram_angles(scene, speeds, samples: int, impacts: dict | None = None, m
             limits.setdefault(op.label, []).append(PhaseLimit(
                 angle_deg=float(angle), source="impact rebound", value=allowed, limit=allowed, binding=True,
                 note=f"rebound at the stop of {op.mechanism} within {allowed:g} mm"))
-    result = optimise(network, limits, strict=False, where=where)
+    # the least makespan; the operations off its critical path keep the largest smallest margin
+    result = optimise(network, limits, strict=False, where=where, schedule="leximin")
     phases = retimed_phases(scene, result) if result.feasible else {}
     return CyclogramAngles(result, network, limits, skipped, phases, None if speeds is None else list(speeds),
                            found_impacts)
