@@ -16,7 +16,8 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
-Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
+Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
+groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``.
@@ -37,6 +38,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.balance.correction import Correction, correct
     from camcad.contact import ContactParams, contact_stress
     from camcad.cyclogram.lp import optimise
+    from camcad.cyclogram.machine import Group, make_machine, optimise_machine
     from camcad.cyclogram.network import Operation, make_network
     from camcad.dynamics.impact import StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
@@ -90,6 +92,8 @@ _EXPORTS: dict[str, str] = {
     "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
     "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
     "optimise": "camcad.cyclogram.lp",
+    "Group": "camcad.cyclogram.machine", "make_machine": "camcad.cyclogram.machine",
+    "optimise_machine": "camcad.cyclogram.machine",
     "read_scene": "camcad.scene.file", "analyse_scene": "camcad.scene.pipeline", "run_scene": "camcad.report.scene",
     "plot_summary": "camcad.report.profile", "plot_kinematics": "camcad.report.profile",
     "plot_pressure_angle": "camcad.report.profile", "plot_curvature": "camcad.report.profile",
@@ -107,6 +111,7 @@ __all__ = [
     "Correction",
     "ElasticFollower",
     "Follower",
+    "Group",
     "LoadedLaw",
     "Operation",
     "PipelineOptions",
@@ -124,9 +129,11 @@ __all__ = [
     "impact_sweep",
     "kinematics_deg",
     "load_law",
+    "make_machine",
     "make_network",
     "min_base_radius",
     "optimise",
+    "optimise_machine",
     "parse_phases",
     "plot_curvature",
     "plot_hodograph",

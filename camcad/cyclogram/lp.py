@@ -113,7 +113,8 @@ def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
 
 def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
              strict: bool = True, tight_tol_deg: float = 1e-6,
-             where: str = "[cyclogram]", schedule: str = "earliest") -> CyclogramResult:
+             where: str = "[cyclogram]", schedule: str = "earliest",
+             extra: Iterable[Constraint] = ()) -> CyclogramResult:
     """The cyclogram of least makespan p(end) − p(start) under the difference constraints.
 
     The linear programme — minimise p(end) with p(start) = start_deg under p(head) − p(tail) ≥ min,
@@ -140,6 +141,8 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
         Where the slack goes once the makespan is least: every event as early as it can be, or the
         operations off the critical path with the largest smallest relative margin (t − [φ])/[φ], then the
         next smallest (``camcad.cyclogram.slack``); the makespan is the same.
+    extra : iterable of Constraint
+        Further difference constraints (deg), e.g. a group's own cycle inside a machine.
 
     Returns
     -------
@@ -182,7 +185,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     """  # noqa: E501 - a doctest's expected output is one line
     if schedule not in SCHEDULES:
         raise CamcadError(f"unknown schedule {schedule!r}", where, f"choose one of {', '.join(SCHEDULES)}")
-    constraints = constraints_of(network, limits)
+    constraints = constraints_of(network, limits) + list(extra)
     lower = effective_lower_bounds(network, limits)
     times, settled = _longest_paths(network, constraints)
     # a cycle that keeps lengthening the paths is a contradiction when it overruns by more than

@@ -106,7 +106,7 @@ Progress = Callable[[str], None]
 
 
 def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
-                  progress: Progress | None = None) -> SceneResult:
+                  progress: Progress | None = None, *, angles=None) -> SceneResult:
     """Run the scene pipeline's analyses (steps 1–9) and return what they found, writing nothing.
 
     For every mechanism: read the law, check (and fix) its balance, resonance filtering, profile
@@ -124,6 +124,9 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
         and the contact-stress sampling (``contact_samples``, a count per phase).
     progress : callable, optional
         Called with a short text (no unit) as each step starts.
+    angles : camcad.scene.phase_angles.CyclogramAngles, optional
+        The group's phase angles already decided elsewhere (a machine of groups, ``camcad.scene.machine``):
+        step 9 uses them instead of optimising the scene's [cyclogram] on its own.
 
     Returns
     -------
@@ -190,7 +193,7 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
     cyclogram_report = None
     if scene.cyclogram is not None:
         say("cyclogram")
-        cyclogram_report, retimed = _cyclogram(scene, runs, options)
+        cyclogram_report, retimed = _cyclogram(scene, runs, options, angles)
         from camcad.scene.mechanism import law_with_phases
 
         for name in retimable:
@@ -405,8 +408,9 @@ def _contact(scene, mech, run, speeds, options, where, limits) -> None:
 # 9 cyclogram
 # --------------------------------------------------------------------------------------------
 
-def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
-    """Optimise the network with the operations' limits; return (report, {mechanism: new phases})."""
+def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions, angles=None):
+    """Optimise the network with the operations' limits (or take ``angles`` decided by a machine); return
+    (report, {mechanism: new phases})."""
     from camcad.scene.analysis import rounded_tree
     from camcad.scene.cyclogram import cyclogram_verdict
     from camcad.scene.phase_angles import cyclogram_angles
@@ -415,7 +419,8 @@ def _cyclogram(scene: Scene, runs: dict, options: PipelineOptions):
     # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
     impacts = {name: run.impact for name, run in runs.items() if run.impact is not None}
     memo = next(iter(runs.values())).memo if runs else None
-    found = cyclogram_angles(scene, speeds, options.contact_samples, impacts=impacts, memo=memo)
+    found = angles if angles is not None else cyclogram_angles(scene, speeds, options.contact_samples,
+                                                               impacts=impacts, memo=memo)
     report = rounded_tree({**found.report(), **cyclogram_verdict(found).to_dict()})
     return report, found.phases
 
