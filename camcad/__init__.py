@@ -15,7 +15,9 @@ a name that takes radians says so)::
 Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
-Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
+Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``, ``LeverBeam``
+(the lever on its stop), ``PublishedImpact``, ``compare_published``, ``rebound_study``; cams on an elastic main
+shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
 groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
@@ -40,9 +42,11 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.cyclogram.lp import optimise
     from camcad.cyclogram.machine import Group, make_machine, optimise_machine
     from camcad.cyclogram.network import Operation, make_network
-    from camcad.dynamics.impact import StopModel, impact_sweep
+    from camcad.dynamics.impact import LeverBeam, StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
+    from camcad.dynamics.rebound import PublishedImpact, compare_published, rebound_study
     from camcad.dynamics.residual import residual_vibration
+    from camcad.dynamics.shaft import ElasticShaft, ShaftCam, simulate_shaft
     from camcad.dynamics.steady import steady_state
     from camcad.errors import CamcadError
     from camcad.fourier.analysis import analyse
@@ -88,7 +92,11 @@ _EXPORTS: dict[str, str] = {
     "filter_law": "camcad.fourier.filter",
     "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
     "residual_vibration": "camcad.dynamics.residual", "StopModel": "camcad.dynamics.impact",
-    "impact_sweep": "camcad.dynamics.impact",
+    "impact_sweep": "camcad.dynamics.impact", "LeverBeam": "camcad.dynamics.impact",
+    "PublishedImpact": "camcad.dynamics.rebound", "compare_published": "camcad.dynamics.rebound",
+    "rebound_study": "camcad.dynamics.rebound",
+    "ElasticShaft": "camcad.dynamics.shaft", "ShaftCam": "camcad.dynamics.shaft",
+    "simulate_shaft": "camcad.dynamics.shaft",
     "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
     "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
     "optimise": "camcad.cyclogram.lp",
@@ -110,18 +118,23 @@ __all__ = [
     "ContactParams",
     "Correction",
     "ElasticFollower",
+    "ElasticShaft",
     "Follower",
     "Group",
+    "LeverBeam",
     "LoadedLaw",
     "Operation",
     "PipelineOptions",
     "ProfileResult",
     "ProfileSettings",
+    "PublishedImpact",
+    "ShaftCam",
     "StopModel",
     "__version__",
     "analyse",
     "analyse_scene",
     "check",
+    "compare_published",
     "compose",
     "contact_stress",
     "correct",
@@ -143,9 +156,11 @@ __all__ = [
     "plot_summary",
     "profile_report",
     "read_scene",
+    "rebound_study",
     "residual_vibration",
     "resonant_harmonics",
     "run_scene",
+    "simulate_shaft",
     "steady_state",
     "synthesize",
     "write_corrected",

@@ -152,6 +152,50 @@ def plot_machine(analysis: MachineAnalysis, *, title: str = ""):
     return fig
 
 
+def plot_shaft(found, *, title: str = ""):
+    """The elastic main shaft over its last simulated turn: the twist at each cam (deg, the cam lagging the
+    drive > 0), and each follower's law distortion by the twist s(φ_k) − s(ωt) beside its whole dynamic error
+    q/scale − s(ωt) (the law's unit), against the drive's angle.
+
+    Parameters
+    ----------
+    found : camcad.dynamics.shaft.ShaftResult
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (top, bottom) = new_figure(11, 7.5, rows=2, sharex=True)
+    angle = np.degrees(found.drive) % 360.0
+    order = np.argsort(angle, kind="stable")
+    colours = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
+    for k, cam in enumerate(found.shaft.cams):
+        colour = colours[k % len(colours)]
+        unit = "mm" if cam.position_scale == 1e-3 else "rad"
+        twist = found.twist_deg(k)
+        top.plot(angle[order], twist[order], color=colour, lw=1.0,
+                 label=f"{cam.name}: max |twist| {np.max(np.abs(twist)):.3g} deg")
+        distortion = found.twist_distortion(k)
+        error = found.dynamic_error(k)
+        bottom.plot(angle[order], distortion[order], color=colour, lw=1.2,
+                    label=f"{cam.name}: law at the twisted cam angle, max {np.max(np.abs(distortion)):.3g} {unit}")
+        bottom.plot(angle[order], error[order], color=colour, lw=0.8, ls="--",
+                    label=f"{cam.name}: whole dynamic error (twist and chain), max {np.max(np.abs(error)):.3g} {unit}")
+    top.set_ylabel("shaft twist at the cam, deg")
+    units = sorted({"mm" if cam.position_scale == 1e-3 else "rad" for cam in found.shaft.cams})
+    bottom.set_ylabel(f"deviation from the ideal law, {' or '.join(units)}")
+    bottom.set_xlabel("drive (main shaft) angle, deg")
+    bottom.set_xlim(0, 360)
+    for ax in (top, bottom):
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7.5, loc="upper left")
+    frequencies = ", ".join(f"{f:.4g}" for f in found.shaft.torsional_frequencies_hz())
+    top.set_title(title or (f"Cams on the elastic main shaft at {found.rpm:g} rpm (shaft modes {frequencies} Hz; "
+                            "the last simulated turn)"), fontsize=10)
+    return fig
+
+
 # --------------------------------------------------------------------------------------------
 # camcad machine
 # --------------------------------------------------------------------------------------------
@@ -219,6 +263,8 @@ def run_machine(request: MachineRequest) -> MachineReport:
     with OutputFolder(folder, inputs) as out:
         if request.plots and analysis.result.feasible:
             outputs.append(save_figure(plot_machine(analysis), out.path("machine_cyclogram.png")))
+        if request.plots and analysis.shaft is not None:
+            outputs.append(save_figure(plot_shaft(analysis.shaft), out.path("shaft.png")))
         json_path = out.path("machine.json")
         outputs.append(json_path)
         report = MachineReport(analysis, outputs)
@@ -254,5 +300,18 @@ def machine_lines(report: MachineReport) -> list[str]:
             for mech, text in phases.items():
                 lines.append(f'{name}: {mech}: phases = "{text}"')
             lines.append(f"{name}: " + ("all checks passed" if group["passed"] else "a check FAILED"))
+    shaft = analysis.report.get("shaft")
+    if shaft:
+        lines.append(f"elastic main shaft at {fmt(shaft['rpm'])} rpm (modes "
+                     f"{', '.join(fmt(f) for f in shaft['torsional_frequencies_hz'])} Hz), the last simulated turn:")
+        rows = []
+        for cam in shaft["cams"]:
+            unit = "mm" if "law_distortion_max_mm" in cam else "rad"
+            rows.append([cam["mechanism"], fmt(cam["twist_max_deg"]), fmt(cam[f"law_distortion_max_{unit}"]),
+                         fmt(cam[f"dynamic_error_max_{unit}"]), fmt(cam["peak_accel_ratio"]), unit])
+        lines += table(["cam", "twist max deg", "law distortion max", "dynamic error max", "accel ratio", "unit"],
+                       rows)
+    for what, why in (analysis.report.get("skipped") or {}).items():
+        lines.append(f"  skipped {what}: {why}")
     lines += verdict_lines(analysis.verdict)
     return lines + [f"written: {p}" for p in report.outputs]

@@ -37,7 +37,7 @@ from camcad.scene.file import MECHANISM_SECTIONS, Mechanism, Scene, read_scene, 
 from camcad.scene.pipeline import PipelineOptions, SceneResult, analyse_scene
 from camcad.verdict import Check, Verdict, Warning
 
-TOP_LEVEL = ("name", "description", "machine", "groups", "network")
+TOP_LEVEL = ("name", "description", "machine", "groups", "network", "shaft")
 
 MACHINE_FIELDS: list[Field] = [
     Field("rpm", "list", "rpm", help="(speeds of the main shaft: a list, or \"280:420:10\"; every group runs at them)"),
@@ -66,6 +66,20 @@ NETWORK_FIELDS: list[Field] = [
           help="(lists of events that are one event of the machine, e.g. [[\"group1:8\", \"10.1\"]])"),
 ]
 
+SHAFT_FIELDS: list[Field] = [
+    Field("cams", "list", required=True,
+          help="(the cams on the main shaft in order from the drive: \"GROUP:MECHANISM\"; each needs [dynamics] "
+               "with natural_frequency_hz, damping_ratio and mass_kg)"),
+    Field("stiffness_N_m_per_rad", "list", "N·m/rad", required=True,
+          help="(torsional stiffness of each segment: drive to the first cam, then cam to cam)"),
+    Field("cam_inertia_kg_m2", "list", "kg·m²", required=True, help="(each cam's moment of inertia)"),
+    Field("damping_ratio", unit="", default=0.0, minimum=0.0, maximum=0.99, help="(of each shaft segment)"),
+    Field("rpm", unit="rpm", positive=True, help="(the speed simulated; default the machine's fastest)"),
+    Field("revolutions", "int", default=4, minimum=1, maximum=200,
+          help="(turns simulated from the rigid start; the last one is reported)"),
+    Field("samples", "int", default=2048, minimum=64, maximum=2**18, help="(samples of the reported turn)"),
+]
+
 MACHINE_OPERATION_FIELDS: list[Field] = [
     Field("from", "str", required=True, help="(a machine event, or \"GROUP:EVENT\")"),
     Field("to", "str", required=True, help="(a machine event, or \"GROUP:EVENT\")"),
@@ -89,6 +103,7 @@ class MachineScene:
     operations: tuple[Operation, ...]
     shared: tuple[tuple[str, ...], ...]
     notes: tuple[str, ...] = ()
+    shaft: dict | None = None
 
     def input_files(self) -> list[Path]:
         """The machine file, the group scene files and every law file they read."""
@@ -205,8 +220,28 @@ def read_machine(path: str | Path) -> MachineScene:
             raise CamcadError(f"shared[{k}] must be a list of event names, got {excerpt(item)}", here,
                               'write shared = [["group1:8", "10.1"]]')
         shared.append(tuple(_text(e, "shared", here) for e in item))
+    shaft = None
+    if raw.get("shaft") is not None:
+        shaft = read_table(raw["shaft"], SHAFT_FIELDS, f"{where} [shaft]")
+        for cam in shaft["cams"]:
+            if not isinstance(cam, str) or SEP not in cam or cam.split(SEP, 1)[0] not in groups:
+                raise CamcadError(f"shaft cam {excerpt(cam)} is not \"GROUP:MECHANISM\" of a group", f"{where} [shaft]",
+                                  f"name the cams as {', '.join(f'{g}:...' for g in groups)}")
+            gname, mech = cam.split(SEP, 1)
+            names = [m.name for m in groups[gname].mechanisms]
+            if mech not in names:
+                raise CamcadError(f"group {gname!r} has no mechanism {mech!r}", f"{where} [shaft]",
+                                  nearest_name(mech, names).replace("valid keys", "mechanisms"))
+        for key in ("stiffness_N_m_per_rad", "cam_inertia_kg_m2"):
+            items = shaft[key]
+            if len(items) != len(shaft["cams"]) or any(isinstance(x, bool) or not isinstance(x, (int, float))
+                                                       or not math.isfinite(x) or not x > 0 for x in items):
+                raise CamcadError(f"'{key}' must hold {len(shaft['cams'])} positive numbers (one per cam), got "
+                                  f"{excerpt(items)}", f"{where} [shaft]", f"give {key} = [..., ...]")
+        if len(set(shaft["cams"])) != len(shaft["cams"]):
+            raise CamcadError("a cam is on the shaft twice", f"{where} [shaft]", "list each cam once")
     return MachineScene(path, name.strip(), description, speeds, settings, groups, group_where, operations,
-                        tuple(shared), tuple(notes))
+                        tuple(shared), tuple(notes), shaft)
 
 
 def _operation(raw: Any, where: str) -> Operation:
@@ -250,6 +285,7 @@ class MachineAnalysis:
     angles: dict[str, Any]
     report: dict
     verdict: Verdict = field(default_factory=Verdict)
+    shaft: Any = None       # camcad.dynamics.shaft.ShaftResult, when the scene gives the shaft's stiffness
 
     @property
     def passed(self) -> bool:
@@ -332,7 +368,66 @@ def analyse_machine(source: str | Path | MachineScene, options: PipelineOptions 
             runs[group.name] = analyse_scene(group_scene, options, say, angles=angles[group.name])
     verdict = machine_verdict(result, other)
     report = _report(scene, machine, result, other, runs, verdict)
-    return MachineAnalysis(scene, machine, result, other, runs, angles, report, verdict)
+    shaft = None
+    if scene.shaft is None:
+        report["skipped"] = {"shaft": "no [shaft] in scene: the main shaft is rigid"}
+    elif not runs:
+        report["skipped"] = {"shaft": "the machine's cyclogram is infeasible"}
+    else:
+        say("the elastic main shaft")
+        shaft = shaft_run(scene, runs)
+        report["shaft"] = shaft_report(shaft)
+    return MachineAnalysis(scene, machine, result, other, runs, angles, report, verdict, shaft)
+
+
+def shaft_run(scene: MachineScene, runs: dict[str, SceneResult]):
+    """Simulate the scene's [shaft]: its cams (each with its law at the machine's phase angles and the chain
+    of its [dynamics]) on the elastic main shaft, at [shaft] rpm or the machine's fastest speed."""
+    from camcad.dynamics.shaft import ElasticShaft, ShaftCam, simulate_shaft
+    from camcad.scene.dynamics import parse_dynamics
+
+    table = scene.shaft or {}
+    where = f"{scene.path} [shaft]"
+    cams = []
+    for name, inertia in zip(table["cams"], table["cam_inertia_kg_m2"]):
+        gname, mech_name = name.split(SEP, 1)
+        group = scene.groups[gname]
+        mech = group.mechanism(mech_name)
+        if not mech.has("dynamics"):
+            raise CamcadError(f"cam {name} has no [dynamics]: its follower chain is unknown", where,
+                              f"add [{mech.prefix}dynamics] with natural_frequency_hz, damping_ratio and mass_kg")
+        settings = parse_dynamics(mech.sections["dynamics"], mech.where(group.path, "dynamics"))
+        if settings.follower.mass_kg is None:
+            raise CamcadError(f"cam {name}: its [dynamics] has no mass_kg", mech.where(group.path, "dynamics"),
+                              "add mass_kg = ... (the reduced mass of the follower chain)")
+        law = runs[gname].runs[mech_name].law
+        scale = 1e-3 if settings.output_unit == "mm" else 1.0
+        cams.append(ShaftCam(name, law, float(inertia), settings.follower, scale))
+    shaft = ElasticShaft(tuple(cams), tuple(float(c) for c in table["stiffness_N_m_per_rad"]),
+                         float(table["damping_ratio"]))
+    rpm = table["rpm"] if table["rpm"] is not None else (max(scene.speeds_rpm) if scene.speeds_rpm else None)
+    if rpm is None:
+        raise CamcadError("no speed for the shaft", where, "give [shaft] rpm or [machine] rpm")
+    return simulate_shaft(shaft, float(rpm), revolutions=float(table["revolutions"]), samples=table["samples"])
+
+
+def shaft_report(found) -> dict:
+    """The shaft's figures per cam (twist deg, the law's distortion by the twist and the whole dynamic error in
+    the law's unit, the peak acceleration ratio) and the shaft's own torsional frequencies (Hz)."""
+    from camcad.scene.analysis import rounded_tree
+
+    cams = []
+    for cam, row in zip(found.shaft.cams, found.summary()):
+        unit = "mm" if cam.position_scale == 1e-3 else "rad"
+        cams.append({"mechanism": row["mechanism"], "twist_max_deg": row["twist_max_deg"],
+                     "twist_mean_deg": row["twist_mean_deg"], f"law_distortion_max_{unit}": row["law_distortion_max"],
+                     f"dynamic_error_max_{unit}": row["dynamic_error_max"],
+                     "peak_accel_ratio": row["peak_accel_ratio"]})
+    return rounded_tree({"rpm": found.rpm, "stiffness_N_m_per_rad": list(found.shaft.stiffness_n_m_per_rad),
+                         "cam_inertia_kg_m2": [c.cam_inertia_kg_m2 for c in found.shaft.cams],
+                         "damping_ratio": found.shaft.damping_ratio,
+                         "torsional_frequencies_hz": found.shaft.torsional_frequencies_hz(),
+                         "turn_reported": "the last simulated turn", "cams": cams})
 
 
 def machine_verdict(result: MachineResult, other: MachineResult | None = None) -> Verdict:

@@ -384,11 +384,12 @@ def _dynamics(scene, mech, run, speeds, options, where, limits) -> None:
 def _impact(scene, mech, run, speeds, options, where, limits) -> None:
     from camcad.dynamics.runs import run_impact
     from camcad.scene.analysis import pipeline_angles, rounded_tree
-    from camcad.scene.stops import parse_stops
+    from camcad.scene.stops import parse_stops, published_of
 
     model = parse_stops(mech.sections["stops"], where)
     law = run.law if run.linkage is None else run.linkage.working_law(run.law)  # [linkage]: the working member
-    run.impact = run_impact(law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe())
+    run.impact = run_impact(law, model, speeds, applies=pipeline_angles(scene, mech, run.law).describe(),
+                            published=published_of(mech.sections["stops"], where))
     run.report["impact"] = rounded_tree(run.impact.to_dict())
 
 
