@@ -105,7 +105,9 @@ def verdict_lines(verdict, common: str = "", details: bool = True) -> list[str]:
     for warning in verdict.warnings:
         lines.append(f"WARNING: {warning.what}")
     failed = [c.name for c in verdict.checks if not c.passed]
-    lines.append("all checks passed" if not failed else f"FAILED: {', '.join(failed)}")
+    held = len(verdict.at_limit)
+    tail = f"; {held} at {'its' if held == 1 else 'their'} limit (no margin)" if held else ""
+    lines.append("all checks passed" + tail if not failed else f"FAILED: {', '.join(failed)}")
     return lines
 
 
