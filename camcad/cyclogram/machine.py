@@ -405,7 +405,7 @@ def group_result(machine: Machine, result: CyclogramResult, name: str) -> Cyclog
     times = {e: result.event_times_deg[machine.event_of[f"{name}{SEP}{e}"]] for e in own.events}
     labels = machine.labels_of(name)
     back = {flat: label for label, flat in labels.items()}
-    angles = {label: times[op.head] - times[op.tail] for op in own.operations for label in [op.label]}
+    angles = {op.label: times[op.head] - times[op.tail] for op in own.operations}
     lower = {label: result.lower_bounds_deg[flat] for label, flat in labels.items()}
     by_label = {op.label: op for op in own.operations}
     active = tuple(replace(c, label=back[c.label], tail=by_label[back[c.label]].tail if c.kind == "min"
