@@ -17,8 +17,11 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``rest_shape``). Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
-Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
-Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
+Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``, ``LeverBeam``
+(the lever on its stop), ``PublishedImpact``, ``compare_published``, ``rebound_study``; cams on an elastic main
+shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``.
+Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
+groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``.
@@ -39,10 +42,13 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.balance.correction import Correction, correct
     from camcad.contact import ContactParams, contact_stress
     from camcad.cyclogram.lp import optimise
+    from camcad.cyclogram.machine import Group, make_machine, optimise_machine
     from camcad.cyclogram.network import Operation, make_network
-    from camcad.dynamics.impact import StopModel, impact_sweep
+    from camcad.dynamics.impact import LeverBeam, StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
+    from camcad.dynamics.rebound import PublishedImpact, compare_published, rebound_study
     from camcad.dynamics.residual import residual_vibration
+    from camcad.dynamics.shaft import ElasticShaft, ShaftCam, simulate_shaft
     from camcad.dynamics.steady import steady_state
     from camcad.errors import CamcadError
     from camcad.fourier.analysis import analyse
@@ -92,10 +98,16 @@ _EXPORTS: dict[str, str] = {
     "filter_law": "camcad.fourier.filter",
     "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
     "residual_vibration": "camcad.dynamics.residual", "StopModel": "camcad.dynamics.impact",
-    "impact_sweep": "camcad.dynamics.impact",
+    "impact_sweep": "camcad.dynamics.impact", "LeverBeam": "camcad.dynamics.impact",
+    "PublishedImpact": "camcad.dynamics.rebound", "compare_published": "camcad.dynamics.rebound",
+    "rebound_study": "camcad.dynamics.rebound",
+    "ElasticShaft": "camcad.dynamics.shaft", "ShaftCam": "camcad.dynamics.shaft",
+    "simulate_shaft": "camcad.dynamics.shaft",
     "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
     "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
     "optimise": "camcad.cyclogram.lp",
+    "Group": "camcad.cyclogram.machine", "make_machine": "camcad.cyclogram.machine",
+    "optimise_machine": "camcad.cyclogram.machine",
     "read_scene": "camcad.scene.file", "analyse_scene": "camcad.scene.pipeline", "run_scene": "camcad.report.scene",
     "plot_summary": "camcad.report.profile", "plot_kinematics": "camcad.report.profile",
     "plot_pressure_angle": "camcad.report.profile", "plot_curvature": "camcad.report.profile",
@@ -112,19 +124,25 @@ __all__ = [
     "ContactParams",
     "Correction",
     "ElasticFollower",
+    "ElasticShaft",
     "Follower",
+    "Group",
+    "LeverBeam",
     "LoadedLaw",
     "Operation",
     "PipelineOptions",
     "ProfileResult",
     "ProfileSettings",
+    "PublishedImpact",
     "SegmentSpec",
+    "ShaftCam",
     "StopModel",
     "__version__",
     "analyse",
     "analyse_scene",
     "catalogue_table",
     "check",
+    "compare_published",
     "compose",
     "contact_stress",
     "correct",
@@ -132,9 +150,11 @@ __all__ = [
     "impact_sweep",
     "kinematics_deg",
     "load_law",
+    "make_machine",
     "make_network",
     "min_base_radius",
     "optimise",
+    "optimise_machine",
     "parse_phases",
     "parse_segments",
     "plot_curvature",
@@ -145,10 +165,12 @@ __all__ = [
     "plot_summary",
     "profile_report",
     "read_scene",
+    "rebound_study",
     "residual_vibration",
     "resonant_harmonics",
     "rest_shape",
     "run_scene",
+    "simulate_shaft",
     "solve_segments",
     "steady_state",
     "synthesize",

@@ -26,6 +26,10 @@ from typing import Any
 
 #: significant digits of figures in reports (text and JSON): 169.99999999999997 → 170
 REPORT_DIGITS = 10
+#: a passing check whose margin is at most this fraction of its limit (of max(|limit|, |value|)) ends at its
+#: limit: reported "at limit" (a warning), never a clean "ok" (a design held there by an optimiser, a root
+#: found to round-off)
+AT_LIMIT = 1e-6
 
 
 def rounded(value: Any, digits: int = REPORT_DIGITS) -> Any:
@@ -105,6 +109,24 @@ class Check:
         return margin is not None and margin >= 0.0
 
     @property
+    def at_limit(self) -> bool:
+        """Passes, but ends at its limit: margin ≤ ``AT_LIMIT`` × max(|limit|, |value|) (a limit of 0 with a
+        value of 0 too). Such a check is reported "at limit" (a warning), never a clean pass."""
+        if not self.passed or self.passed_override is not None or self.limit is None or self.value is None:
+            return False
+        margin = self.margin
+        if margin is None or not math.isfinite(margin):
+            return False
+        return margin <= AT_LIMIT * max(abs(self.limit), abs(self.value))
+
+    @property
+    def status(self) -> str:
+        """"ok", "at limit" (passes with no margin to speak of: a warning) or "fail"."""
+        if not self.passed:
+            return "fail"
+        return "at limit" if self.at_limit else "ok"
+
+    @property
     def why(self) -> str:
         """One line: the figure, the limit, the margin and what it applies to."""
         unit = f" {self.unit}" if self.unit else ""
@@ -116,7 +138,7 @@ class Check:
             relation = "<=" if self.sense == "max" else ">="
             ok = relation if self.passed else ("exceeds" if self.sense == "max" else "is below")
             text = (f"{self.name} {_fmt(self.value)}{unit} {ok} limit {_fmt(self.limit)}{unit}, "
-                    f"margin {_fmt(self.margin)}{unit}")
+                    + ("at its limit, " if self.at_limit else "") + f"margin {_fmt(self.margin)}{unit}")
             if self.margin_ratio is not None:
                 text += f" ({100 * self.margin_ratio:.3g} %)"
         if self.applies:
@@ -126,10 +148,12 @@ class Check:
         return text
 
     def to_dict(self) -> dict:
-        """The JSON form: value, limit, margin, margin_ratio, unit, passed, why, applies, note."""
+        """The JSON form: value, limit, margin, margin_ratio, unit, passed, status ("ok", "at limit", "fail"),
+        why, applies, note."""
         out = {"value": _json_number(self.value), "limit": _json_number(self.limit),
                "margin": _json_number(self.margin), "margin_ratio": _json_number(self.margin_ratio),
-               "unit": self.unit, "sense": self.sense, "passed": self.passed, "why": self.why}
+               "unit": self.unit, "sense": self.sense, "passed": self.passed, "status": self.status,
+               "why": self.why}
         if self.applies:
             out["applies"] = self.applies
         if self.note:
@@ -171,6 +195,11 @@ class Verdict:
     def passed(self) -> bool:
         return all(c.passed for c in self.checks)
 
+    @property
+    def at_limit(self) -> list[Check]:
+        """The checks that pass but end at their limit (``Check.at_limit``): warnings to weigh."""
+        return [c for c in self.checks if c.at_limit]
+
     def tightest(self) -> list[Check]:
         """Checks with a limit, the least relative margin first (failed ones are negative)."""
         limited = [c for c in self.checks if c.limit is not None and c.value is not None]
@@ -180,6 +209,7 @@ class Verdict:
         return {"passed": self.passed,
                 "checks": {c.name: c.to_dict() for c in self.checks},
                 "tightest": [c.name for c in self.tightest()],
+                "at_limit": [c.name for c in self.at_limit],
                 "warnings": [w.to_dict() for w in self.warnings]}
 
 

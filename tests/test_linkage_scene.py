@@ -47,7 +47,8 @@ def _compare(a, b, path=""):
 def test_a_table_of_k_psi_gives_the_report_of_ratio_k(tmp_path):
     """[stops] ratio = 1.5 against [linkage] type = "table" with Π = 1.5ψ (and [stops] ratio left at its
     default 1): the same report — every figure within 1e-12 relative — plus the linkage's own entries."""
-    base = _without(SHUTTLE, "dynamics").replace("lift = 11.12 ", "lift = 7.4133 ")
+    # without [stops.published]: its errors (camcad − published) cancel to a few digits, not the point here
+    base = _without(_without(SHUTTLE, "dynamics"), r"stops\.published").replace("lift = 11.12 ", "lift = 7.4133 ")
     ratio = base.replace('stop = "upper"', 'stop = "upper"\nratio = 1.5')
     rows = ", ".join(f"[{x:g}, {1.5 * x!r}]" for x in range(13))
     table = base.replace("[stops]", f'[linkage]\ntype = "table"\ninput_unit = "mm"\noutput_unit = "mm"\n'

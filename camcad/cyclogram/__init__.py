@@ -32,8 +32,10 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
     from camcad.cyclogram.limits import INADMISSIBLE, LinearRelation, PhaseLimit, least_phase_angle, vibration_limits
     from camcad.cyclogram.lp import CyclogramResult, optimise
+    from camcad.cyclogram.machine import Group, Machine, MachineResult, make_machine, optimise_machine
     from camcad.cyclogram.network import Network, Operation, find_cycle, make_network
     from camcad.cyclogram.retime import format_phases, operation_timing, retime_phases, stretch_phase
+    from camcad.cyclogram.slack import SlackPlan, spread_slack
 
 #: public name -> the module that defines it (imported on first use: importing this package stays cheap)
 _EXPORTS: dict[str, str] = {
@@ -48,6 +50,13 @@ _EXPORTS: dict[str, str] = {
     "effective_lower_bounds": "camcad.cyclogram.constraints",
     "find_conflict": "camcad.cyclogram.conflicts",
     "find_cycle": "camcad.cyclogram.network",
+    "Group": "camcad.cyclogram.machine",
+    "Machine": "camcad.cyclogram.machine",
+    "MachineResult": "camcad.cyclogram.machine",
+    "make_machine": "camcad.cyclogram.machine",
+    "optimise_machine": "camcad.cyclogram.machine",
+    "SlackPlan": "camcad.cyclogram.slack",
+    "spread_slack": "camcad.cyclogram.slack",
     "format_phases": "camcad.cyclogram.retime",
     "least_phase_angle": "camcad.cyclogram.limits",
     "make_network": "camcad.cyclogram.network",
@@ -66,20 +75,27 @@ __all__ = [
     "INADMISSIBLE",
     "Constraint",
     "CyclogramResult",
+    "Group",
     "LinearRelation",
+    "Machine",
+    "MachineResult",
     "Network",
     "Operation",
     "PhaseLimit",
+    "SlackPlan",
     "constraints_of",
     "effective_lower_bounds",
     "find_conflict",
     "find_cycle",
     "format_phases",
     "least_phase_angle",
+    "make_machine",
     "make_network",
     "operation_timing",
     "optimise",
+    "optimise_machine",
     "retime_phases",
+    "spread_slack",
     "stretch_phase",
     "vibration_limits",
 ]

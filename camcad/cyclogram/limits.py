@@ -64,7 +64,7 @@ class PhaseLimit:
 
 def least_phase_angle(relation: Callable[[float], float], limit: float, lower_deg: float,
                       upper_deg: float, *, source: str = "limit", what: str = "",
-                      xtol_deg: float = 1e-10, max_iter: int = 200) -> PhaseLimit:
+                      xtol_deg: float = 1e-10, max_iter: int = 200, reason=None) -> PhaseLimit:
     """Least phase angle t in [lower, upper] (deg) with relation(t) ≤ limit, for a non-increasing
     relation (a stress or an amplitude that falls as the operation gets longer).
 
@@ -76,6 +76,7 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
     admissible t; for a non-monotone one it is *a* crossing inside the bracket.
 
     The relation may return +inf for an inadmissible t (e.g. the profile undercuts); NaN is an error.
+    ``reason`` (t → text, "" where admissible) names what makes a t inadmissible, for the note.
     Units: t deg; relation and limit in the same unit (MPa, mm, ...).
     """
     count = 0
@@ -114,8 +115,10 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
     value = float(relation(root))
     note = ""
     if value < limit - 1e-6 * abs(limit):
-        note = (f"set by an inadmissible range below {root:.6g} deg (e.g. an undercut), where {source} "
-                f"is {value:.6g}, under the limit")
+        why = (reason(root * (1.0 - 1e-7) - 1e-9) if reason is not None else "") or \
+            "the relation is infinite there"
+        note = (f"set at {root:.6g} deg, below which the phase is inadmissible: {why}; {source} there is "
+                f"{value:.6g}, under its limit")
     return PhaseLimit(float(root), value, limit, True, source, count + 1, note)
 
 

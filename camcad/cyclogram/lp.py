@@ -20,7 +20,13 @@ from camcad.cyclogram.conflicts import find_conflict
 from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
 from camcad.cyclogram.limits import PhaseLimit
 from camcad.cyclogram.network import Network, _reachable
+from camcad.cyclogram.slack import SLACK_RULE, spread_slack
 from camcad.errors import CamcadError
+
+#: how the slack of the least makespan is placed: "earliest" (every event as early as it can be) or
+#: "leximin" (the operations off the critical path keep the largest smallest relative margin:
+#: ``camcad.cyclogram.slack``)
+SCHEDULES = ("earliest", "leximin")
 
 # --------------------------------------------------------------------------------------------
 # Constraints and the LP
@@ -50,6 +56,9 @@ class CyclogramResult:
     explanation: str = ""
     cycle_slack_deg: float | None = None
     solver_message: str = ""
+    schedule: str = "earliest"
+    margins: dict[str, float] = field(default_factory=dict)
+    critical_operations: tuple[str, ...] = ()
 
     @property
     def active_bounds(self) -> list[str]:
@@ -75,7 +84,15 @@ class CyclogramResult:
             "lower_bounds_deg": {k: {"deg": v, "source": s} for k, (v, s) in self.lower_bounds_deg.items()},
             "cycle_deg": self.network.cycle_deg,
             "cycle_slack_deg": self.cycle_slack_deg,
+            "schedule": self.schedule,
         }
+        if self.schedule == "leximin" and self.feasible:
+            out["slack_rule"] = SLACK_RULE
+            out["critical_operations"] = list(self.critical_operations)
+            out["phase_margins"] = {label: {"relative": r, "deg": self.phase_angles_deg[label]
+                                            - self.lower_bounds_deg[label][0]} for label, r in self.margins.items()}
+            others = [r for label, r in self.margins.items() if label not in self.critical_operations]
+            out["smallest_margin"] = min(others) if others else None
         if not self.feasible:
             out["conflict"] = [c.describe() for c in self.conflict]
             out["explanation"] = self.explanation
@@ -96,7 +113,8 @@ def _conflict_fix(conflict: tuple[Constraint, ...]) -> str:
 
 def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None = None, *,
              strict: bool = True, tight_tol_deg: float = 1e-6,
-             where: str = "[cyclogram]") -> CyclogramResult:
+             where: str = "[cyclogram]", schedule: str = "earliest",
+             extra: Iterable[Constraint] = ()) -> CyclogramResult:
     """The cyclogram of least makespan p(end) − p(start) under the difference constraints.
 
     The linear programme — minimise p(end) with p(start) = start_deg under p(head) − p(tail) ≥ min,
@@ -119,6 +137,12 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
         Slack below which a constraint counts as tight, deg.
     where : str
         What to name in an error message.
+    schedule : {"earliest", "leximin"}
+        Where the slack goes once the makespan is least: every event as early as it can be, or the
+        operations off the critical path with the largest smallest relative margin (t − [φ])/[φ], then the
+        next smallest (``camcad.cyclogram.slack``); the makespan is the same.
+    extra : iterable of Constraint
+        Further difference constraints (deg), e.g. a group's own cycle inside a machine.
 
     Returns
     -------
@@ -159,7 +183,9 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
     >>> camcad.optimise(tight, strict=False).explanation
     'the cyclogram is infeasible: t(a->b) >= 30 deg (bounds_deg); t(b->c) >= 45 deg (bounds_deg); t(a->c) <= 60 deg (bounds_deg) cannot all hold (together they overrun by 15 deg)'
     """  # noqa: E501 - a doctest's expected output is one line
-    constraints = constraints_of(network, limits)
+    if schedule not in SCHEDULES:
+        raise CamcadError(f"unknown schedule {schedule!r}", where, f"choose one of {', '.join(SCHEDULES)}")
+    constraints = constraints_of(network, limits) + list(extra)
     lower = effective_lower_bounds(network, limits)
     times, settled = _longest_paths(network, constraints)
     # a cycle that keeps lengthening the paths is a contradiction when it overruns by more than
@@ -176,13 +202,38 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
             result.raise_if_infeasible(where)
         return result
     makespan = times[network.end] - network.start_deg
+    margins: dict[str, float] = {}
+    critical_operations: tuple[str, ...] = ()
+    if schedule == "leximin":
+        labels = {op.label: (op.tail, op.head) for op in network.operations}
+        plan = spread_slack(list(network.events), constraints, labels, network.start, network.end, makespan)
+        spread, settled = _longest_paths(network, list(plan.raised))
+        if settled and abs(spread[network.end] - times[network.end]) <= 1e-9 * max(1.0, abs(makespan)):
+            times = spread
+            margins, critical_operations = plan.margins, plan.critical
+        else:   # cannot happen for a feasible plan; the earliest schedule stays
+            schedule = "earliest"
     phase_angles = {op.label: times[op.head] - times[op.tail] for op in network.operations}
-    slack = [times[c.head] - times[c.tail] - c.weight for c in constraints]
-    tight = [c for c, gap in zip(constraints, slack) if gap <= tight_tol_deg and c.kind != "cycle"]
-    active, path = _critical(network, tight)
+    active, path = critical_of(network, constraints, times, tight_tol_deg)
     cycle_slack = network.cycle_deg - makespan
     return CyclogramResult(network, True, makespan, times, phase_angles, tuple(path), tuple(active),
-                           lower, cycle_slack_deg=cycle_slack, solver_message="optimal (longest paths)")
+                           lower, cycle_slack_deg=cycle_slack, solver_message="optimal (longest paths)",
+                           schedule=schedule, margins=margins, critical_operations=critical_operations)
+
+
+def longest_paths(network: Network, constraints: list[Constraint]) -> tuple[dict[str, float], bool]:
+    """The earliest event times (deg) under ``constraints`` — the longest-path distances from the first event,
+    held at ``network.start_deg`` — and whether they settled (False: a positive cycle, no schedule)."""
+    return _longest_paths(network, constraints)
+
+
+def critical_of(network: Network, constraints: list[Constraint], times: Mapping[str, float],
+                tight_tol_deg: float = 1e-6) -> tuple[list[Constraint], list[str]]:
+    """The active constraints (tight to ``tight_tol_deg`` deg, on a first-to-last path of tight constraints)
+    of the schedule ``times`` (deg), and one such path of events."""
+    slack = [times[c.head] - times[c.tail] - c.weight for c in constraints]
+    tight = [c for c, gap in zip(constraints, slack) if gap <= tight_tol_deg and c.kind != "cycle"]
+    return _critical(network, tight)
 
 
 def _longest_paths(network: Network, constraints: list[Constraint], tol: float = 1e-12

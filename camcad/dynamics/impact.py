@@ -5,10 +5,17 @@ limit plate with a preload. The model, step by step:
 
 1. Reduced stiffness of the lever, c = 3EJ/((a + b) b²) (N/m): the tip deflection of a beam on two
    supports a apart with an overhang b loaded at its end, δ = F b² (a + b)/(3EJ).
-2. Natural frequencies f_free = √(c/m)/(2π) without the stop and f_stop = √((c + c_s)/m)/(2π) on the
-   stop. The source gives only the two figures (297 Hz and 768 Hz computed, 268 and 700 measured);
-   its scheme for the stop is a figure that did not survive, so here the stop adds its contact
-   stiffness c_s in parallel with the lever (a modelling choice, stated).
+2. Natural frequencies f_free = √(c/m)/(2π) without the stop and f_stop = √(c_on/m)/(2π) on the stop
+   (the source: 297 Hz and 768 Hz computed, 268 and 700 Hz measured). On the stop the lever gains a
+   support where the stop touches it (the source's Fig. 6, "the driven link on a rigid stop"): a beam
+   on three supports — the pivot A, the drive B (a from A) and the stop S (s beyond B) — with the reduced
+   mass at C (b beyond B). Its stiffness at C follows from the overhanging beam's influence coefficients
+   f(x, u) (deflection at x per unit load at u, both beyond B, x ≤ u: [a x u/3 + x²(3u − x)/6]/(EJ);
+   f(b, b) = b²(a + b)/(3EJ) is the source's c = 3EJ/((a + b)b²)) and the redundant reaction at S
+   (force method): 1/c_on = f_CC − f_CS²/(f_SS + 1/k_c), k_c the stop's own contact stiffness (∞: a
+   rigid stop). ``LeverBeam`` does this; with the stop at C (s = b) it is c_on = c + k_c, the stop's
+   contact stiffness in parallel with the lever — the model a scene gets from ``stop_stiffness_N_per_m``
+   alone (an override of the beam scheme).
 3. Impulse S = J_A (ω0 − ω1)(1 + k)/l with ω1 = 0: S = J_A ω0 (1 + k)/l = m v0 (1 + k), m = J_A/l²,
    v0 = ω0 l the approach velocity of C (k: restitution, 5/9 for steel).
 4. The contact lasts about half a period of the system on the stop (the issue; the source's
@@ -67,6 +74,108 @@ def lever_stiffness(youngs_modulus_mpa: float, second_moment_mm4: float, arm_a_m
     Source: seed 000 (Podgorny et al. 2018), eq. for c_пр; the tip deflection of an overhanging beam.
     """
     return 3.0 * youngs_modulus_mpa * second_moment_mm4 / ((arm_a_mm + arm_b_mm) * arm_b_mm**2) * 1e3
+
+
+def overhang_influence(arm_a_mm: float, x_mm: float, u_mm: float) -> float:
+    """EJ × the deflection at x per unit load at u of a beam on two supports a apart with an overhang (mm³).
+
+    x and u are measured beyond the second support B (on the overhang, ≥ 0); for x ≤ u
+    f = a x u/3 + x²(3u − x)/6 (the rotation at B of the span under the moment u, plus the cantilever from
+    B), symmetric in x and u (Maxwell). Divide by E·J (N·mm²) for mm/N. f(b, b) = b²(a + b)/3: the tip
+    compliance behind the source's c = 3EJ/((a + b)b²).
+
+    References
+    ----------
+    S. P. Timoshenko, J. M. Gere, Mechanics of Materials (1972), ch. 7 (deflections by superposition, the
+    overhanging beam); W. C. Young, R. G. Budynas, Roark's Formulas for Stress and Strain, 7th ed. (2002),
+    Table 8.1 (simply supported beam with an end moment, cantilever with a point load).
+
+    Examples
+    --------
+    >>> overhang_influence(50.0, 100.0, 100.0) == 100.0**2 * 150.0 / 3
+    True
+    """
+    x, u = (x_mm, u_mm) if x_mm <= u_mm else (u_mm, x_mm)
+    return arm_a_mm * x * u / 3.0 + x * x * (3.0 * u - x) / 6.0
+
+
+@dataclass(frozen=True)
+class LeverBeam:
+    """The driven lever as a beam, free and on its stop (the source's Figs. 5 and 6).
+
+    The pivot A, the drive B at ``arm_a_mm`` from A, the reduced mass at C ``arm_b_mm`` beyond B, the stop
+    touching the lever at S, ``stop_arm_mm`` from A (beyond B). Free: c = 3EJ/((a + b)b²). On the stop,
+    S is a third support with the stop's own contact stiffness k_c in series (∞: rigid), and by the force
+    method 1/c_on = f_CC − f_CS²/(f_SS + EJ/k_c) over EJ (``overhang_influence``). With S at C and a finite
+    k_c this is c + k_c: the stop in parallel with the lever.
+
+    Parameters
+    ----------
+    youngs_modulus_mpa : float
+        E of the lever, MPa.
+    second_moment_mm4 : float
+        J of its section, mm^4 (mm⁴).
+    arm_a_mm : float
+        a: pivot to drive, mm.
+    arm_b_mm : float
+        b: drive to the reduced mass C, mm.
+    stop_arm_mm : float
+        Pivot to the stop's contact S, mm (> a; S = C when it equals a + b).
+    contact_stiffness_n_per_m : float
+        The stop's own contact stiffness k_c, N/m (``math.inf``: a rigid stop, the source's Fig. 6).
+
+    References
+    ----------
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54, Figs. 5–6 and c = 3EJ/((a + b)b²);
+    S. P. Timoshenko, J. M. Gere, Mechanics of Materials (1972), ch. 7 and 10 (superposition; statically
+    indeterminate beams by the force method).
+
+    Examples
+    --------
+    A steel lever (E 2.1·10⁵ MPa, J 62.94 mm⁴, a 50, b 100 mm): free c = 3EJ/((a + b)b²) = 26.435 N/mm; a
+    rigid stop 51.03 mm beyond the drive (101.03 mm from the pivot) makes it 6.69 times stiffer:
+
+    >>> beam = LeverBeam(2.1e5, 62.94, 50.0, 100.0, 101.03)
+    >>> round(beam.free_stiffness_n_per_m), round(beam.stop_stiffness_n_per_m / beam.free_stiffness_n_per_m, 2)
+    (26435, 6.69)
+    >>> parallel = LeverBeam(2.1e5, 62.94, 50.0, 100.0, 150.0, contact_stiffness_n_per_m=1.5e5)
+    >>> round(parallel.stop_stiffness_n_per_m - parallel.free_stiffness_n_per_m)     # c + k_c
+    150000
+    """
+
+    youngs_modulus_mpa: float
+    second_moment_mm4: float
+    arm_a_mm: float
+    arm_b_mm: float
+    stop_arm_mm: float
+    contact_stiffness_n_per_m: float = math.inf
+
+    @property
+    def free_stiffness_n_per_m(self) -> float:
+        """c = 3EJ/((a + b)b²), N/m (``lever_stiffness``)."""
+        return lever_stiffness(self.youngs_modulus_mpa, self.second_moment_mm4, self.arm_a_mm, self.arm_b_mm)
+
+    @property
+    def stop_stiffness_n_per_m(self) -> float:
+        """c_on: the stiffness at C with the lever on its stop, N/m (class docstring)."""
+        ej = self.youngs_modulus_mpa * self.second_moment_mm4          # N·mm²
+        a, b, s = self.arm_a_mm, self.arm_b_mm, self.stop_arm_mm - self.arm_a_mm
+        f_cc, f_cs, f_ss = (overhang_influence(a, b, b), overhang_influence(a, b, s), overhang_influence(a, s, s))
+        series = 0.0 if math.isinf(self.contact_stiffness_n_per_m) else ej / (self.contact_stiffness_n_per_m * 1e-3)
+        compliance = (f_cc - f_cs * f_cs / (f_ss + series)) / ej       # mm/N
+        if not compliance > 1e-12 * f_cc / ej:
+            return math.inf
+        return 1e3 / compliance
+
+    def describe(self) -> dict:
+        """The inputs and the two stiffnesses (mm, MPa, mm⁴, N/m) for a report."""
+        return {"youngs_modulus_MPa": self.youngs_modulus_mpa, "second_moment_mm4": self.second_moment_mm4,
+                "arm_a_mm": self.arm_a_mm, "arm_b_mm": self.arm_b_mm, "stop_arm_mm": self.stop_arm_mm,
+                "contact_stiffness_N_per_m": (None if math.isinf(self.contact_stiffness_n_per_m)
+                                              else self.contact_stiffness_n_per_m),
+                "free_stiffness_N_per_m": self.free_stiffness_n_per_m,
+                "stop_stiffness_N_per_m": self.stop_stiffness_n_per_m,
+                "scheme": "the lever on three supports: pivot, drive and the stop (force method)"}
 
 
 def reduced_mass(lever_inertia_kg_m2: float, lever_length_mm: float) -> float:
@@ -204,6 +313,9 @@ class StopModel:
         Displacement of C per unit of the law's displacement (dimensionless; mm/rad for a law in rad).
     allowed_amplitude_mm : float, optional
         The rebound limit, mm (None: not checked).
+    beam : LeverBeam, optional
+        The lever as a beam on its stop, where the two stiffnesses came from (for the report); None when
+        they were given.
 
     References
     ----------
@@ -232,6 +344,7 @@ class StopModel:
     stop: str = "upper"
     ratio: float = 1.0
     allowed_amplitude_mm: float | None = None
+    beam: LeverBeam | None = None
 
     @property
     def omega_stop(self) -> float:

@@ -246,6 +246,10 @@ class ImpactRun:
     sweep: Any
     model: Any
     verdict: Verdict = field(default_factory=Verdict)
+    law: Any = None
+    published: Any = None      # camcad.dynamics.rebound.PublishedImpact or None
+    comparisons: tuple = ()    # camcad.dynamics.rebound.Comparison, one per published figure
+    study: Any = None          # camcad.dynamics.rebound.ReboundStudy or None
 
     def to_dict(self) -> dict:
         return {**self.report, **self.verdict.to_dict()}
@@ -256,7 +260,7 @@ CLOSE_TO_LIMIT = 0.05
 
 
 def run_impact(law, model, speeds: list[float], *, progress: Callable | None = None,
-               applies: str = "") -> ImpactRun:
+               applies: str = "", published=None, study: bool = False) -> ImpactRun:
     """Impact on the limit stop over ``speeds`` (rpm): SPEC.md ``impact`` keys, the linearised rebound
     relation, the least phase angle for the allowed amplitude, and the verdict.
 
@@ -270,6 +274,11 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
         Cam speeds, rpm.
     applies : str
         Added to every check's ``applies`` (e.g. which phase angles were analysed).
+    published : camcad.dynamics.rebound.PublishedImpact, optional
+        Published figures: each is listed beside camcad's (``report["published"]``: value, error, role
+        "calibrated" or "validates").
+    study : bool
+        Also run ``camcad.dynamics.rebound.rebound_study`` on the published rebounds (``report["study"]``).
 
     Returns
     -------
@@ -304,8 +313,20 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
     if model.allowed_amplitude_mm is not None:
         report["phase_limit_deg"] = relation.least_phase(model.allowed_amplitude_mm)
         report["phase_limit_linear_deg"] = (model.allowed_amplitude_mm - intercept) / slope
+    if model.beam is not None:
+        report["lever_beam"] = model.beam.describe()
+    comparisons: tuple = ()
+    found_study = None
+    if published is not None:
+        from camcad.dynamics.rebound import compare_published, rebound_study
+
+        comparisons = tuple(compare_published(law, model, published))
+        report["published"] = {"source": published.source, "figures": [row.to_dict() for row in comparisons]}
+        if study and len(published.of("rebound_mm", "computed")) >= 2:
+            found_study = rebound_study(law, model, published)
+            report["study"] = found_study.to_dict()
     verdict = _impact_verdict(result, model, report, applies)
-    return ImpactRun(report, result, model, verdict)
+    return ImpactRun(report, result, model, verdict, law, published, comparisons, found_study)
 
 
 def _impact_verdict(result, model, report: dict, applies: str) -> Verdict:

@@ -9,6 +9,7 @@ angle, and the lever's response after the impact.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
@@ -290,10 +291,32 @@ def plot_impact_response(impacts, stop, *, title: str = ""):
 def impact_figures(report) -> list[tuple[str, object]]:
     run = report.result
     name = report.source.get("name", "")
-    return [("impact_rebound.png", plot_rebound(run.sweep, run.model, verdict=report.verdict,
-                                                title=f"{name}: impact on the {run.model.stop} stop")),
-            ("impact_response.png", plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
-                                                         title=f"{name}: response after the impact"))]
+    figures = [("impact_rebound.png", plot_rebound(run.sweep, run.model, verdict=report.verdict,
+                                                   title=f"{name}: impact on the {run.model.stop} stop")),
+               ("impact_response.png", plot_impact_response([i for i in run.sweep.impacts if len(i.time)], run.model,
+                                                            title=f"{name}: response after the impact"))]
+    return figures + published_figures(run, name)
+
+
+def published_figures(run, name: str = "") -> list[tuple[str, object]]:
+    """With published figures (``run.comparisons``): the rebound and force against speed with the published
+    points (``impact_published.png``) and the analogs with the lever's elasticity at the published speeds
+    (``impact_analogs.png``, the source's Fig. 4)."""
+    if not run.comparisons:
+        return []
+    from camcad.report.stop import analogs_window, plot_analogs, plot_published
+
+    speeds = sorted({c.figure.rpm for c in run.comparisons if c.figure.rpm is not None
+                     and min(run.sweep.speeds_rpm) <= c.figure.rpm <= max(run.sweep.speeds_rpm)})
+    figures = [("impact_published.png", plot_published(run, title=f"{name}: impact on the {run.model.stop} stop"))]
+    if speeds:
+        figures.append(("impact_analogs.png", plot_analogs(
+            run.law, run.model.f_free_hz, run.model.damping_ratio, speeds, window=analogs_window(run),
+            contact_deg=math.degrees(run.sweep.contact.theta),
+            title=f"{name}: analogs with the lever's elasticity ({run.model.f_free_hz:.4g} Hz, ζ "
+                  f"{run.model.damping_ratio:.3g}) at {', '.join(f'{s:g}' for s in speeds)} rpm "
+                  "(the source's Fig. 4)")))
+    return figures
 
 
 # --------------------------------------------------------------------------------------------
@@ -395,6 +418,16 @@ def impact_lines(run) -> list[str]:
     if d["phase_limit_deg"] is not None:
         lines.append(f"least phase angle for {fmt(d['allowed_amplitude_mm'])} mm: {fmt(d['phase_limit_deg'], 6)} deg "
                      f"(linearised {fmt(d['phase_limit_linear_deg'], 6)} deg)")
+    beam = d.get("lever_beam")
+    if beam:
+        lines.append(f"on the stop: {beam['scheme']}; E {fmt(beam['youngs_modulus_MPa'])} MPa, J "
+                     f"{fmt(beam['second_moment_mm4'])} mm4, a {fmt(beam['arm_a_mm'])} mm, "
+                     f"b {fmt(beam['arm_b_mm'])} mm, stop at {fmt(beam['stop_arm_mm'], 6)} mm from the pivot: "
+                     f"c free {fmt(beam['free_stiffness_N_per_m'])} N/m, on the stop "
+                     f"{fmt(beam['stop_stiffness_N_per_m'])} N/m")
+    from camcad.report.stop import published_lines
+
+    lines += published_lines(report.result)
     lines += verdict_lines(report.verdict, common_applies(report))
     return lines + output_lines(run.outputs)
 

@@ -172,6 +172,9 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
                                                            title=f"{run.name}: impact on the stop")))
         figures.append(("impact_response.png", plot_impact_response(
             [i for i in run.impact.sweep.impacts if len(i.time)], run.impact.model)))
+        from camcad.report.dynamics import published_figures
+
+        figures.extend(published_figures(run.impact, run.name))   # with [stops.published]
     if run.contact is not None and (every or "contact" in plots):
         from camcad.report.contact import plot_contact_stress, plot_safety_versus_speed
 
@@ -187,7 +190,8 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
 #: against the run's inputs before any plot is drawn
 MECHANISM_PLOT_FILES = ("summary.png", "kinematics.png", "pressure_angle.png", "curvature.png", "profile.png",
                         "hodograph.png", "dynamics_cycle.png", "dynamics_speed.png", "impact_rebound.png",
-                        "impact_response.png", "contact.png", "contact_speed.png")
+                        "impact_response.png", "impact_published.png", "impact_analogs.png", "contact.png",
+                        "contact_speed.png")
 CYCLOGRAM_PLOT_FILES = ("cyclogram.png", "network.png")
 #: the name of the job that draws the scene's cyclogram (Gantt chart and network) beside the mechanisms'
 CYCLOGRAM_JOB = "[cyclogram]"

@@ -91,7 +91,7 @@ def verdict_lines(verdict, common: str = "", details: bool = True) -> list[str]:
             ratio = check.margin_ratio
             rows.append([check.name, fmt(check.value), fmt(check.limit), fmt(check.margin),
                          "-" if ratio is None else f"{100 * ratio:.3g} %", check.unit or "-",
-                         "ok" if check.passed else "FAILED"])
+                         {"ok": "ok", "at limit": "AT LIMIT", "fail": "FAILED"}[check.status]])
         lines += table(["check (tightest margin first)", "value", "limit", "margin", "margin %", "unit", ""], rows)
         for check in tight:
             extra = "; ".join(part for part in ((strip(check.applies) if details else ""), check.note) if part)
@@ -100,10 +100,14 @@ def verdict_lines(verdict, common: str = "", details: bool = True) -> list[str]:
     others = [c for c in verdict.checks if c not in tight]
     for check in others:
         lines.append(("" if check.passed else "FAILED: ") + strip(check.why))
+    for check in verdict.at_limit:
+        lines.append(f"WARNING: {check.name} ends at its limit: no margin")
     for warning in verdict.warnings:
         lines.append(f"WARNING: {warning.what}")
     failed = [c.name for c in verdict.checks if not c.passed]
-    lines.append("all checks passed" if not failed else f"FAILED: {', '.join(failed)}")
+    held = len(verdict.at_limit)
+    tail = f"; {held} at {'its' if held == 1 else 'their'} limit (no margin)" if held else ""
+    lines.append("all checks passed" + tail if not failed else f"FAILED: {', '.join(failed)}")
     return lines
 
 

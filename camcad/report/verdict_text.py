@@ -1,7 +1,8 @@
 """The verdict of a mechanism as lines of text: the same words in the terminal and on the summary page.
 
 Each line is (status, text): "ok" or "fail" for a check (its ``why``: figure, limit, margin, where),
-"warn" for a warning, "head" for a heading. Checks come tightest margin first; a model that ran (spectrum,
+"warn" for a warning and for a check that passes at its limit (no margin: never a clean "ok"), "head" for a
+heading. Checks come tightest margin first; a model that ran (spectrum,
 dynamics, impact, contact) adds its own tightest check, or its key figures when it reports no checks.
 """
 
@@ -18,6 +19,24 @@ def _fmt(x) -> str:
     if isinstance(x, float) and not math.isfinite(x):
         return str(x)
     return f"{x:.4g}"
+
+
+def check_status(check: dict) -> str:
+    """"ok", "warn" (passes at its limit: ``status`` "at limit") or "fail" for a check's JSON form."""
+    if not check.get("passed"):
+        return "fail"
+    return "warn" if check.get("status") == "at limit" else "ok"
+
+
+def model_status(data: dict) -> str:
+    """"ok", "warn" (passes, its tightest check at its limit) or "fail" for a model's object of the report."""
+    if not data.get("passed"):
+        return "fail"
+    checks = data.get("checks")
+    order = data.get("tightest") or []
+    if isinstance(checks, dict) and order and isinstance(checks.get(order[0]), dict):
+        return check_status(checks[order[0]])
+    return "ok"
 
 
 def model_line(model: str, data: dict) -> str:
@@ -42,11 +61,11 @@ def verdict_lines(report: dict) -> list[tuple[str, str]]:
     tightest = list(report.get("tightest") or [])
     for name in tightest + [n for n in checks if n not in tightest]:
         check = checks[name]
-        lines.append(("ok" if check.get("passed") else "fail", check.get("why", name)))
+        lines.append((check_status(check), check.get("why", name)))
     for model in MODELS:
         data = report.get(model)
         if isinstance(data, dict) and "passed" in data:
-            lines.append(("ok" if data["passed"] else "fail", model_line(model, data)))
+            lines.append((model_status(data), model_line(model, data)))
             for warning in data.get("warnings") or []:
                 if isinstance(warning, dict) and warning.get("what"):
                     lines.append(("warn", f"{model}: {warning['what']}"))

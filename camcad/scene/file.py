@@ -151,6 +151,9 @@ def scene_from_dict(raw: dict, path: str | Path, from_file: bool = True) -> Scen
     where = str(path)
     for key in raw:
         if key not in TOP_LEVEL:
+            if key == "groups":   # a machine of groups (camcad.scene.machine)
+                raise CamcadError("this is a machine scene ([groups.NAME])", where,
+                                  "run it with camcad machine; camcad profile takes one mechanism or one group")
             raise CamcadError(f"unknown section or key '{key}'", where, nearest_name(key, list(TOP_LEVEL)))
     name = raw.get("name", path.stem)
     if not isinstance(name, str) or not name.strip():

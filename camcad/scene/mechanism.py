@@ -413,24 +413,54 @@ def phase_stress_function(law, follower_table: dict, params, speeds: list[float]
     return sigma_max
 
 
-def stress_relation(law, follower_table: dict, params, speeds: list[float], index: int, where: str,
-                    samples: int):
-    """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
-    ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible."""
-    if isinstance(law, SegmentLaw):
-        # a segment keeps its end values when its angle changes: the law is solved again at each width
-        one = phase_stress_function(law, follower_table, params, speeds, index, where, samples)
+@dataclass(frozen=True)
+class StressRelation:
+    """σ_max(widths): the largest σ_H (MPa) over a phase stretched to each width (deg) and over the speeds,
+    all widths in one pass, +inf where the stretched cam is not admissible; ``reason(width)`` says why a
+    width is not admissible ("" where it is)."""
 
+    stretch: PhaseStretch
+    params: Any
+    speeds: tuple
+
+    def __call__(self, widths):
+        return self.stretch.stress_max(widths, self.params, self.speeds)
+
+    def reason(self, width_deg: float) -> str:
+        return self.stretch.stress_inadmissible(width_deg, self.params, self.speeds)
+
+
+@dataclass(frozen=True)
+class DirectStressRelation:
+    """σ_max(widths) of a law whose phases do not scale with their angle (a segment law): one stretched law
+    solved per width; +inf where no neighbouring dwell takes up the width or the cam is not admissible."""
+
+    one: Any
+
+    def __call__(self, widths):
         def direct(width: float) -> float:
             try:
-                return one(width)
+                return self.one(width)
             except CamcadError:       # no neighbouring dwell takes up that width
                 return math.inf
 
-        return lambda widths: np.array([direct(float(w)) for w in np.atleast_1d(widths)])
+        return np.array([direct(float(w)) for w in np.atleast_1d(widths)])
+
+    def reason(self, width_deg: float) -> str:
+        return ("no neighbouring dwell takes up that angle, or the stretched cam is not admissible"
+                if not math.isfinite(float(self(width_deg)[0])) else "")
+
+
+def stress_relation(law, follower_table: dict, params, speeds: list[float], index: int, where: str,
+                    samples: int) -> StressRelation | DirectStressRelation:
+    """σ_max(widths): the largest σ_H (MPa) over phase ``index`` stretched to each width (deg) and over
+    ``speeds``, all widths in one pass; +inf where the stretched cam is not admissible (``reason`` says why)."""
+    if isinstance(law, SegmentLaw):
+        # a segment keeps its end values when its angle changes: the law is solved again at each width
+        return DirectStressRelation(phase_stress_function(law, follower_table, params, speeds, index, where, samples))
     cam, _, scale = cam_of(law, follower_table, where)
     stretch = PhaseStretch.sample(cam, scale, phases_deg(law), index, samples)
-    return lambda widths: stretch.stress_max(widths, params, speeds)
+    return StressRelation(stretch, params, tuple(speeds))
 
 
 def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
@@ -474,7 +504,8 @@ def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], sample
         try:
             found = _solve(memo, (id(law), index, "contact"), relation,
                            params.allowable_stress * (1 - STRESS_MARGIN), 0.1 * (end - start),
-                           stretch_room(phases, index), source="contact stress", what=f"{mech.name} {label}")
+                           stretch_room(phases, index), source="contact stress", what=f"{mech.name} {label}",
+                           reason=relation.reason)
             limits[label] = found.angle_deg
             if found.note:
                 notes.append(f"{label}: {found.note}")
@@ -519,7 +550,8 @@ def cyclogram_limits(scene: Scene, network, speeds: list[float] | None, samples:
         lower = max(op.min_deg, 1e-3 * upper)
         limits.setdefault(op.label, []).append(_solve(
             memo, (id(law), index, "contact"), relation, params.allowable_stress * (1 - STRESS_MARGIN), lower,
-            upper, source="contact", what=f"operation {op.label} ({op.mechanism} {op.phase})"))
+            upper, source="contact", what=f"operation {op.label} ({op.mechanism} {op.phase})",
+            reason=relation.reason))
     return limits, skipped
 
 

@@ -22,7 +22,7 @@ from camcad.scene.linkage import linkage_step, prepare, unit_scale
 from camcad.scene.phase_angles import CyclogramAngles, cyclogram_angles, cyclogram_verdict
 from camcad.scene.sections.dynamics import parse_dynamics
 from camcad.scene.sections.filter import parse_filter
-from camcad.scene.sections.stops import parse_stops
+from camcad.scene.sections.stops import parse_stops, published_of
 
 if TYPE_CHECKING:   # the pipeline imports this module, not the reverse
     from camcad.scene.file import Scene
@@ -77,7 +77,8 @@ def impact_step(scene, mech, run, speeds, options, where, limits) -> None:
     """Step 6: the stop impact (``[stops]``) over the speeds, on ``model_law(run)``."""
     model = parse_stops(mech.sections["stops"], where)
     run.impact = run_impact(model_law(run), model, speeds, progress=options.impact_progress,
-                            applies=pipeline_angles(scene, mech, run.law).describe())
+                            applies=pipeline_angles(scene, mech, run.law).describe(),
+                            published=published_of(mech.sections["stops"], where), study=options.impact_study)
     run.report["impact"] = rounded_tree(run.impact.to_dict())
 
 
@@ -95,13 +96,16 @@ def contact_step_of(scene, mech, run, speeds, options, where, limits) -> None:
 # 9 cyclogram
 # --------------------------------------------------------------------------------------------
 
-def cyclogram_step(scene: Scene, runs: dict, options: PipelineOptions) -> tuple[dict, CyclogramAngles]:
-    """Optimise the network with the operations' limits; return (report, the CyclogramAngles)."""
+def cyclogram_step(scene: Scene, runs: dict, options: PipelineOptions,
+                   angles: CyclogramAngles | None = None) -> tuple[dict, CyclogramAngles]:
+    """Optimise the network with the operations' limits (or take ``angles`` decided by a machine of groups,
+    ``camcad.scene.machine``); return (report, the CyclogramAngles)."""
     speeds = list(scene.speeds_rpm) if scene.speeds_rpm else None
     # the impact rebound limit of a mechanism with [stops] bounds the phase that approaches its stop
     impacts = {name: run.impact for name, run in runs.items() if run.impact is not None}
     memo = next(iter(runs.values())).memo if runs else None
-    found = cyclogram_angles(scene, speeds, options.contact_samples, impacts=impacts, memo=memo)
+    found = angles if angles is not None else cyclogram_angles(scene, speeds, options.contact_samples,
+                                                               impacts=impacts, memo=memo)
     report = rounded_tree({**found.report(), **cyclogram_verdict(found).to_dict()})
     return report, found
 

@@ -127,6 +127,21 @@ def cyclogram_angles(scene, speeds, samples: int, impacts: dict | None = None, m
     -------
     CyclogramAngles
     """
+    network, limits, skipped, found_impacts = group_limits(scene, speeds, samples, impacts, memo)
+    # the least makespan; the operations off its critical path keep the largest smallest margin
+    result = optimise(network, limits, strict=False, where=f"{scene.path} [cyclogram]", schedule="leximin")
+    phases = retimed_phases(scene, result) if result.feasible else {}
+    return CyclogramAngles(result, network, limits, skipped, phases, None if speeds is None else list(speeds),
+                           found_impacts)
+
+
+def group_limits(scene, speeds, samples: int, impacts: dict | None = None, memo=None):
+    """The scene's [cyclogram] network and every operation's phase-angle limits (contact stress, pressure
+    angle, the vibration relation, the impact rebound of a mechanism with [stops]), not yet optimised: what
+    ``cyclogram_angles`` optimises for one group and ``camcad.scene.machine`` for a machine of groups.
+
+    Returns (network, limits {label: [PhaseLimit]}, skipped {what: why}, impacts {mechanism: ImpactRun}).
+    """
     if scene.cyclogram is None:
         raise CamcadError("the scene has no [cyclogram] section", str(scene.path),
                           "add [cyclogram] with [[cyclogram.operations]] (from, to, bounds_deg)")
@@ -157,10 +172,7 @@ def cyclogram_angles(scene, speeds, samples: int, impacts: dict | None = None, m
             limits.setdefault(op.label, []).append(PhaseLimit(
                 angle_deg=float(angle), source="impact rebound", value=allowed, limit=allowed, binding=True,
                 note=f"rebound at the stop of {op.mechanism} within {allowed:g} mm"))
-    result = optimise(network, limits, strict=False, where=where)
-    phases = retimed_phases(scene, result) if result.feasible else {}
-    return CyclogramAngles(result, network, limits, skipped, phases, None if speeds is None else list(speeds),
-                           found_impacts)
+    return network, limits, skipped, found_impacts
 
 
 def cyclogram_verdict(found) -> Verdict:

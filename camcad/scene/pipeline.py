@@ -74,6 +74,8 @@ class PipelineOptions:
         What ``camcad dynamics`` adds to the dynamics step (a lead-in in deg, a second law, a progress callback).
     impact_progress : callable or None
         ``camcad impact``'s ``progress(done, total)`` callback (counts).
+    impact_study : bool
+        With ``[stops.published]``, also study the rebound's speed dependence against the published figures.
 
     Examples
     --------
@@ -104,6 +106,8 @@ class PipelineOptions:
     dynamics_extras: DynamicsExtras | None = None
     #: ``camcad impact``'s progress callback ``progress(done, total)``
     impact_progress: Callable[[int, int], None] | None = None
+    #: ``camcad impact``: with [stops.published], also study the rebound's speed dependence against them
+    impact_study: bool = False
 
     def runs(self, model: str) -> bool:
         """Whether the analysis pass runs ``model`` (one of ``MODELS``)."""
@@ -164,7 +168,7 @@ Progress = Callable[[str], None]
 
 
 def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
-                  progress: Progress | None = None) -> SceneResult:
+                  progress: Progress | None = None, *, angles=None) -> SceneResult:
     """Run the scene pipeline's analyses (steps 1–9) and return what they found, writing nothing.
 
     For every mechanism: read the law, check (and fix) its balance, resonance filtering, profile
@@ -182,6 +186,9 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
         and the contact-stress sampling (``contact_samples``, a count per phase).
     progress : callable, optional
         Called with a short text (no unit) as each step starts.
+    angles : camcad.scene.phase_angles.CyclogramAngles, optional
+        The group's phase angles already decided elsewhere (a machine of groups, ``camcad.scene.machine``):
+        step 9 uses them instead of optimising the scene's [cyclogram] on its own.
 
     Returns
     -------
@@ -252,7 +259,7 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
     cyclogram_report = found = None
     if use_cyclogram:
         say("cyclogram")
-        cyclogram_report, found = _models().cyclogram_step(scene, runs, options)
+        cyclogram_report, found = _models().cyclogram_step(scene, runs, options, angles)
         retimed = found.phases
         for name in retimable:
             if wanted is not None and name not in wanted:

@@ -223,7 +223,26 @@ class PhaseStretch:
     def stress_max(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm) -> np.ndarray:
         """σ_max (MPa) over the phase and the speeds, for each width; +inf where the stretched cam is not
         admissible (the roller does not fit a concave flank, the follower jams, or a force-closed follower
-        leaves the cam). The sampled maximum, as ``camcad.contact.contact_stress`` reports it."""
+        leaves the cam: ``stress_inadmissible`` says which). The sampled maximum, as
+        ``camcad.contact.contact_stress`` reports it."""
+        worst, jams, no_fit, separation = self._stress(widths_deg, params, speeds_rpm)
+        return np.where(jams | no_fit | separation, np.inf, worst)
+
+    def stress_inadmissible(self, width_deg: float, params: ContactParams, speeds_rpm) -> str:
+        """Why the phase stretched to ``width_deg`` (deg) is not admissible for contact ("" when it is): the
+        force-closed follower leaves the cam, the follower jams, or the roller does not fit a concave flank."""
+        _, jams, no_fit, separation = self._stress(np.array([float(width_deg)]), params, speeds_rpm)
+        reasons = []
+        if separation[0]:
+            reasons.append("the force-closed follower leaves the cam (the spring no longer holds it)")
+        if jams[0]:
+            reasons.append("the follower jams (friction locks it against its guide)")
+        if no_fit[0]:
+            reasons.append("the roller does not fit a concave flank")
+        return "; ".join(reasons)
+
+    def _stress(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm):
+        """(σ_max sampled, jams, roller does not fit, separation), each one value per width."""
         from camcad.contact import axial_force, effective_radius, fits, hertz_peak_pressure
 
         widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
@@ -265,11 +284,11 @@ class PhaseStretch:
         with np.errstate(divide="ignore", invalid="ignore"):
             sigma = hertz_peak_pressure(pressing, params.width, effective_radius(rho_used, radius), params.e_star)
         worst = np.nanmax(np.where(np.isfinite(sigma) | np.isinf(sigma), sigma, np.nan), axis=(0, 2))
-        return np.where(jams | no_fit | separation, np.inf, worst)
+        return worst, jams, no_fit, separation
 
 
 def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, source: str = "limit",
-                what: str = "", xtol_deg: float = 1e-10, inverse=None) -> PhaseLimit:
+                what: str = "", xtol_deg: float = 1e-10, inverse=None, reason=None) -> PhaseLimit:
     """The least phase angle t in [lower, upper] (deg) with relation(t) <= limit, for a relation that is
     non-increasing in t and evaluates many widths at once (``relation(widths) -> values``).
 
@@ -279,7 +298,8 @@ def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, s
     crossing, then Brent's method on single widths narrows it. +inf marks an inadmissible width (e.g. an
     undercut); when the crossing is such a jump rather than the limit, the note says so. ``inverse``
     (limit → width, or None) gives the crossing in closed form where the relation has one
-    (``PhaseStretch.pressure_inverse``); the ends are checked as for any relation.
+    (``PhaseStretch.pressure_inverse``); the ends are checked as for any relation. ``reason`` (width →
+    text, "" where admissible) names what makes a width inadmissible, for the note.
     """
     count = 0
 
@@ -327,6 +347,17 @@ def least_angle(relation, limit: float, lower_deg: float, upper_deg: float, *, s
     value = float(many([root])[0])
     note = ""
     if value < limit - 1e-6 * abs(limit):
-        note = (f"set by an inadmissible range below {root:.6g} deg (e.g. an undercut), where {source} "
-                f"is {value:.6g}, under the limit")
+        note = inadmissible_note(root, source, value, reason)
     return PhaseLimit(float(root), value, limit, True, source, count, note)
+
+
+def inadmissible_note(root_deg: float, source: str, value: float, reason=None) -> str:
+    """The note of a least phase angle set by a jump to inadmissible widths rather than by its limit: what
+    makes the widths just below ``root_deg`` inadmissible (``reason(width)``; a generic phrase without it)."""
+    why = ""
+    if reason is not None:
+        below = root_deg * (1.0 - 1e-7) - 1e-9
+        why = reason(below) or ""
+    why = why or "the stretched cam is not admissible"
+    return (f"set at {root_deg:.6g} deg, below which the phase is inadmissible: {why}; {source} there is "
+            f"{value:.6g}, under its limit")

@@ -113,7 +113,7 @@ def run_impact_report(request: ImpactRequest, source: AnalysisSource | None = No
                                                 ("allowed_amplitude_mm", model.allowed_amplitude_mm))
                  if value is not None}
         src = src.with_overrides("stops", given)
-        run = src.machine(("impact",), impact_progress=progress).impact
+        run = src.machine(("impact",), impact_progress=progress, impact_study=True).impact
         if run is None:
             raise CamcadError("the impact did not run", src.where, "give the scene a [machine] rpm or pass --rpm")
     else:
