@@ -51,6 +51,8 @@ class PipelineOptions:
     checks_only : bool
         Only what the checks need (no unit): no smallest base radius, no least phase angles of a mechanism
         the cyclogram does not retime, no pitch curve sampled for writing — what ``camcad sweep`` runs.
+    servo : camcad.profile.servo.ServoExport or None
+        Write each mechanism's servo (electronic cam) table (``--export servo``); None: not.
 
     Examples
     --------
@@ -69,6 +71,8 @@ class PipelineOptions:
     #: the profile, no least phase angles (step 8) of a mechanism the cyclogram does not retime; the checks are
     #: unchanged
     checks_only: bool = False
+    #: ``--export servo``: the servo table settings (camcad.profile.servo.ServoExport) or None
+    servo: Any = None
 
 
 @dataclass
