@@ -215,8 +215,8 @@ pressure_angle_limit_return = 60.0
 @pytest.mark.reference("property", "a harmonic rise from a dwell jumps in acceleration: infinite jerk at its ends")
 def test_acceleration_jumps_are_reported_as_infinite_jerk():
     import camcad
-    from camcad.profile.servo import slave_peaks
     from camcad.profile.scaled_law import law_breakpoints
+    from camcad.profile.servo import slave_peaks
 
     law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 10.0, "harmonic")
     peaks = slave_peaks(law, law_breakpoints(law), rpm=100.0)

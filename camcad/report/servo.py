@@ -31,9 +31,9 @@ from pathlib import Path
 
 import numpy as np
 
-from camcad.profile.servo import ServoExport, servo_table, slave_law, slave_peaks
 from camcad.io.atomic import write_text_atomic
 from camcad.profile.scaled_law import law_breakpoints
+from camcad.profile.servo import ServoExport, servo_table, slave_law, slave_peaks
 
 #: a slave velocity or acceleration below this fraction of its peak is zero when the TwinCAT point type is chosen
 POINT_ZERO = 1e-9
