@@ -96,6 +96,8 @@ def profile(
                                                                      "(rpm; default the scene's highest)."),
     servo_normalise: bool = typer.Option(False, "--servo-normalise", help="Servo slave as a fraction of its stroke."),
     # ----
+    polydyne: float | None = typer.Option(None, "--polydyne", help="Design the cam for the scene's elastic follower "
+                                                                   "at this speed (rpm): a polydyne cam."),
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
@@ -106,7 +108,8 @@ def profile(
 
     options = PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
                               plots=_plot_names(plots, no_plots),
-                              servo=servo_export(export, servo_step, servo_format, servo_normalise, servo_rpm))
+                              servo=servo_export(export, servo_step, servo_format, servo_normalise, servo_rpm),
+                              polydyne_rpm=polydyne)
     if target is not None and target.suffix.lower() == ".toml":
         given = [name for name, value in (("--rb", rb), ("--rr", rr), ("--lift", lift), ("--phases", phases),
                                           ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law))

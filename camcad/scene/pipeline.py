@@ -53,6 +53,9 @@ class PipelineOptions:
         the cyclogram does not retime, no pitch curve sampled for writing — what ``camcad sweep`` runs.
     servo : camcad.profile.servo.ServoExport or None
         Write each mechanism's servo (electronic cam) table (``--export servo``); None: not.
+    polydyne_rpm : float or None
+        Design every mechanism with [dynamics] as a polydyne cam for this speed, rpm (``--polydyne``); None: the
+        scene's ``[dynamics] polydyne_rpm``.
 
     Examples
     --------
@@ -73,6 +76,8 @@ class PipelineOptions:
     checks_only: bool = False
     #: ``--export servo``: the servo table settings (camcad.profile.servo.ServoExport) or None
     servo: Any = None
+    #: ``--polydyne RPM``: the design speed of a polydyne cam (overrides [dynamics] polydyne_rpm), rpm
+    polydyne_rpm: float | None = None
 
 
 @dataclass
@@ -269,6 +274,14 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
         _filter(scene, mech, run, speeds)
     else:
         run.skipped["filter"] = "no [filter] in scene"
+    # ---- polydyne (camcad.scene.polydyne): the cam for the elastic follower at a design speed
+    from camcad.scene.polydyne import polydyne_rpm, polydyne_step
+
+    design = polydyne_rpm(scene, mech, options.polydyne_rpm)
+    if design is not None:
+        say(f"{mech.name}: polydyne cam for {design:g} rpm")
+        polydyne_step(scene, mech, run, speeds, design)
+    # ----
     # 4 profile
     if mech.has("follower") and only_limits:
         pass
