@@ -91,10 +91,12 @@ def plot_drive(report, *, title: str = ""):
     ax_t.axhline(figures.rms, color="0.4", lw=0.8, ls="-.", label=f"RMS {figures.rms:.4g} N·m")
     ax_t.set_ylabel("camshaft torque T, N·m")
     ax_t.legend(fontsize=8, loc="best", ncol=2)
-    ax_p.plot(deg, total * omega / 1000.0, color="black", lw=1.2)
-    ax_p.axhline(figures.mean * omega / 1000.0, color="black", lw=0.8, ls=":",
-                 label=f"mean {figures.mean * omega / 1000:.4g} kW, peak {figures.peak * omega / 1000:.4g} kW")
-    ax_p.set_ylabel("power P = T ω, kW")
+    scale, unit = (1000.0, "kW") if figures.peak * omega >= 2000.0 else (1.0, "W")
+    ax_p.plot(deg, total * omega / scale, color="black", lw=1.2)
+    ax_p.axhline(figures.mean * omega / scale, color="black", lw=0.8, ls=":",
+                 label=(f"mean {figures.mean * omega / scale:.4g} {unit}, "
+                        f"peak {figures.peak * omega / scale:.4g} {unit}"))
+    ax_p.set_ylabel(f"power P = T ω, {unit}")
     ax_p.legend(fontsize=8, loc="best")
     energy = result.energy[rpm]
     ax_e.plot(np.degrees(energy.theta), energy.energy, color=COLOURS["law"], lw=1.2)
@@ -110,7 +112,8 @@ def plot_drive(report, *, title: str = ""):
     if flywheel.get("delta") is not None:
         text += (f"; δ = {flywheel['delta']:.4g} needs J = {flywheel['inertia_required_per_speed_kg_m2'][str(rpm)]:.4g}"
                  " kg·m² here")
-    if delta is not None and result.inertia_present > 0:
+    if delta is not None and result.inertia_present > 0 and (result.spec.motor == "induction"
+                                                             or flywheel.get("delta") is not None):
         text += f"; with {result.inertia_present:.4g} kg·m²: δ = {energy.delta_with(result.inertia_present):.3g}"
     ax_e.set_title(text, fontsize=8, loc="left")
     ax_e.set_ylabel("shaft energy E(θ), J")
@@ -227,14 +230,16 @@ def drive_lines(run) -> list[str]:
                      f"on the camshaft (at {fmt(flywheel['inertia_required_rpm'])} rpm); present "
                      f"{fmt(flywheel['inertia_present_kg_m2'])} kg·m², flywheel to add "
                      f"{fmt(flywheel['flywheel_required_kg_m2'])} kg·m²")
-    if flywheel.get("speed_fluctuation") is not None and flywheel["inertia_present_kg_m2"] > 0:
+    if (flywheel.get("speed_fluctuation") is not None and flywheel["inertia_present_kg_m2"] > 0
+            and (body["motor"]["regime"] == "induction" or flywheel.get("delta") is not None)):
         lines.append(f"speed fluctuation with {fmt(flywheel['inertia_present_kg_m2'])} kg·m²: δ = "
                      f"{fmt(flywheel['speed_fluctuation'])} (at {fmt(flywheel['speed_fluctuation_rpm'])} rpm)")
     motor = body["motor"]
-    lines.append(f"motor ({motor['regime']}, gear ratio {fmt(motor['gear_ratio'])}, efficiency "
-                 f"{fmt(motor['gear_efficiency'])}): {fmt(motor['speed_rpm'])} rpm, RMS {fmt(motor['torque_rms_Nm'])} "
-                 f"N·m, peak {fmt(motor['torque_peak_Nm'])} N·m"
-                 + (f", run-up {fmt(motor['run_up']['torque_Nm'])} N·m" if "run_up" in motor else ""))
+    if report.result.spec.given:
+        lines.append(f"motor ({motor['regime']}, gear ratio {fmt(motor['gear_ratio'])}, efficiency "
+                     f"{fmt(motor['gear_efficiency'])}): {fmt(motor['speed_rpm'])} rpm, RMS "
+                     f"{fmt(motor['torque_rms_Nm'])} N·m, peak {fmt(motor['torque_peak_Nm'])} N·m"
+                     + (f", run-up {fmt(motor['run_up']['torque_Nm'])} N·m" if "run_up" in motor else ""))
     if "elastic" in body:
         e = body["elastic"]
         lines.append(f"elastic model ({', '.join(e['mechanisms'])}): peak {fmt(e['torque_peak_Nm'])} N·m at "

@@ -251,8 +251,9 @@ def mechanism_drive(scene, mech, run) -> MechanismDrive:
         linkage = None
     drive = CamDrive(cam, scale, params.mass, params.spring_rate, params.preload, params.friction, pair,
                      params.closure, _Loads(parts) if parts else None, linkage)
-    if params.assumed:
-        notes.append("[contact]: " + "; ".join(params.assumed))
+    assumed = [a for a in params.assumed if not (a.startswith("load =") and mech.has("load"))]
+    if assumed:
+        notes.append("[contact]: " + "; ".join(assumed))
     return MechanismDrive(mech.name, drive, run.law, cam_inertia, _elastic_of(scene, mech, run), notes)
 
 
@@ -577,6 +578,10 @@ def _verdict(result: DriveResult, body: dict, least_force: dict) -> Verdict:
     if value is not None and value > DELTA_WARN and spec.motor == "induction":
         warnings.append(Warning(f"speed fluctuation {value:.3g} exceeds {DELTA_WARN:g}: the torque at constant speed "
                                 "(the energy method's premise) is doubtful", value, f"delta > {DELTA_WARN:g}"))
+    for check in checks:
+        if check.passed and check.margin == 0.0:
+            warnings.append(Warning(f"{check.name} is at its limit ({check.value:.6g} {check.unit}): no margin",
+                                    check.value, "margin 0"))
     for name, item in body["mechanisms"].items():
         if any(r["torque_peak_Nm"] == 0.0 for r in item["per_speed"]):
             warnings.append(Warning(f"{name}: no torque at all (no mass, spring or load)", 0.0, "torque 0"))
