@@ -16,7 +16,9 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
-Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
+Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft torque),
+``energy_fluctuation`` (flywheel), ``run_drive``/``DriveRequest`` (``camcad drive``), ``servo_table``,
+``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``.
@@ -40,8 +42,11 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.cyclogram.network import Operation, make_network
     from camcad.dynamics.impact import StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
+    from camcad.dynamics.flywheel import energy_fluctuation
+    from camcad.dynamics.polydyne import polydyne_law
     from camcad.dynamics.residual import residual_vibration
     from camcad.dynamics.steady import steady_state
+    from camcad.dynamics.torque import CamDrive
     from camcad.errors import CamcadError
     from camcad.fourier.analysis import analyse
     from camcad.fourier.filter import filter_law
@@ -53,6 +58,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.standard import compose
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
+    from camcad.profile.servo import servo_table
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.report.profile import (
@@ -65,6 +71,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
+    from camcad.scene.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
@@ -87,6 +94,9 @@ _EXPORTS: dict[str, str] = {
     "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
     "residual_vibration": "camcad.dynamics.residual", "StopModel": "camcad.dynamics.impact",
     "impact_sweep": "camcad.dynamics.impact",
+    "CamDrive": "camcad.dynamics.torque", "energy_fluctuation": "camcad.dynamics.flywheel",
+    "polydyne_law": "camcad.dynamics.polydyne", "servo_table": "camcad.profile.servo",
+    "DriveRequest": "camcad.scene.drive", "run_drive": "camcad.scene.drive",
     "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
     "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
     "optimise": "camcad.cyclogram.lp",
@@ -102,9 +112,11 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 __all__ = [
     "BalanceReport",
+    "CamDrive",
     "CamcadError",
     "ContactParams",
     "Correction",
+    "DriveRequest",
     "ElasticFollower",
     "Follower",
     "LoadedLaw",
@@ -120,6 +132,7 @@ __all__ = [
     "compose",
     "contact_stress",
     "correct",
+    "energy_fluctuation",
     "filter_law",
     "impact_sweep",
     "kinematics_deg",
@@ -134,11 +147,14 @@ __all__ = [
     "plot_pressure_angle",
     "plot_profile",
     "plot_summary",
+    "polydyne_law",
     "profile_report",
     "read_scene",
     "residual_vibration",
     "resonant_harmonics",
+    "run_drive",
     "run_scene",
+    "servo_table",
     "steady_state",
     "synthesize",
     "write_corrected",

@@ -453,3 +453,50 @@ def test_drive_json_is_one_object_and_says_what_it_assumed(tmp_path, cli):
     assert any("friction = 0" in note for note in mech["notes"])
     assert payload["drive"]["motor"]["regime"] == "servo"
     assert payload["outputs"][-1].endswith("drive.json")
+
+
+# --------------------------------------------------------------------------------------------
+# docs/drive.md stays true
+# --------------------------------------------------------------------------------------------
+
+def _doc() -> str:
+    from conftest import ROOT
+
+    return (ROOT / "docs" / "drive.md").read_text()
+
+
+def _same(line: str) -> str:
+    return " ".join(line.split())
+
+
+def test_drive_doc_loom_excerpt_is_what_camcad_prints(tmp_path, cli):
+    from conftest import SAMPLES
+
+    block = _doc().split("prints (excerpt)")[1].split("```")[1]
+    result = cli("drive", SAMPLES / "scenes" / "loom_group1.toml", "--delta", "1/30", "-o", tmp_path / "o",
+                 "--no-plots")
+    assert result.code == 0, result.err
+    printed = {_same(line) for line in result.out.splitlines()}
+    for line in block.strip().splitlines():
+        assert _same(line) in printed, line
+
+
+def test_drive_doc_press_feed_and_polydyne_figures_are_what_camcad_finds(tmp_path, cli):
+    from conftest import ROOT
+
+    doc = _doc()
+    result = cli("drive", ROOT / "docs" / "examples" / "press_feed.toml", "-o", tmp_path / "a", "--no-plots")
+    assert result.code == 0, result.err
+    for figure in ("20.86", "8.377", "2.164", "0.8685", "2.196", "2.469"):
+        assert figure in doc and figure in result.out, figure
+    result = cli("profile", ROOT / "docs" / "examples" / "polydyne.toml", "-o", tmp_path / "b", "--no-plots", "--json")
+    rows = {row["rpm"]: row for row in result.json()["polydyne"]["per_speed"]}
+    table = [line.split("|")[1:4] for line in doc.split("| rpm | residual before")[1].split("\n\n")[0].splitlines()[2:]]
+    assert len(table) == len(rows) == 5
+    for rpm, before, after in table:
+        row = rows[float(rpm)]
+        assert float(f"{row['before_mm']:.4g}") == float(before)
+        if "e" in after:
+            assert row["after_mm"] < 1e-12
+        else:
+            assert float(f"{row['after_mm']:.4g}") == float(after)

@@ -65,7 +65,7 @@ def profile(
     origin: OriginOpt = None,
     x_deg: XDegOpt = False,
     rise_law: str | None = typer.Option(
-        None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, "
+        None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, poly56789, "
                                  "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d)."),
     return_law: str | None = typer.Option(None, "--return-law", help="Built-in law: return shape."),
     cw: bool = typer.Option(False, "--cw", help="The cam turns clockwise."),

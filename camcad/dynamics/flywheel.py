@@ -91,6 +91,8 @@ def energy_fluctuation(torque: Callable[[np.ndarray], np.ndarray], breakpoints, 
     Returns
     -------
     EnergyFluctuation
+        T_m (N·m), ΔE (J) and where E is largest and smallest (rad); ``inertia_for(δ)`` (kg·m²),
+        ``delta_with(J)`` (dimensionless).
 
     Examples
     --------

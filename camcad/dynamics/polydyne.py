@@ -297,6 +297,7 @@ def polydyne_law(wanted, follower: ElasticFollower, rpm: float) -> tuple[Polydyn
     Returns
     -------
     (PolydyneLaw, list of str)
+        The cam's motion law (θ rad; s in the law's unit, mm or rad) and the notes on its class and jumps.
 
     Raises
     ------

@@ -145,7 +145,7 @@ def servo_table(law, step_deg: float = 1.0, *, scale: float = 1.0, unit: str = "
     step_deg : float
         Master step, deg; it must divide 360 within 1e-9.
     scale : float
-        The slave's unit per unit of the law's s (1 for mm; 180/π for a swing in rad → deg).
+        The slave's unit per unit of the law's s, a ratio (1 for mm; 180/π for a swing in rad → deg).
     unit : str
         The slave's unit after ``scale`` ("mm" or "deg").
     normalise : bool
@@ -156,6 +156,7 @@ def servo_table(law, step_deg: float = 1.0, *, scale: float = 1.0, unit: str = "
     Returns
     -------
     ServoTable
+        Master angles (deg), the slave's position (mm, deg or a fraction) and its derivatives per master degree.
 
     Examples
     --------

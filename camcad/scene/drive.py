@@ -123,8 +123,23 @@ def parse_drive(table: Any, where: str) -> DriveSpec:
 
 @dataclass(frozen=True)
 class DriveRequest:
-    """What ``camcad drive`` can be asked: the scene, the speeds (the --rpm text; None: the scene's
-    [machine] rpm) and δ (None: the scene's [drive] delta)."""
+    """What ``camcad drive`` can be asked: the scene, the speeds and the speed fluctuation allowed.
+
+    Parameters
+    ----------
+    scene : Path
+        The scene file (.toml).
+    rpm : str or None
+        The speeds as ``--rpm`` takes them ("300", "280:420", "280:420:20"), rpm; None: the scene's [machine] rpm.
+    delta : float or None
+        The coefficient of speed fluctuation allowed, (n_max − n_min)/n_mean (dimensionless); None: the scene's
+        [drive] delta.
+
+    Examples
+    --------
+    >>> DriveRequest("loom.toml", rpm="420", delta=1 / 30).rpm
+    '420'
+    """
 
     scene: Path
     rpm: str | None = None
@@ -294,10 +309,10 @@ def elastic_increment(item: MechanismDrive, rpm: float):
 # --------------------------------------------------------------------------------------------
 
 def run_drive(request: DriveRequest):
-    """``camcad drive``: the camshaft torque and power of a scene's mechanisms on one shaft, the flywheel for a
-    speed fluctuation, the motor through its gearbox — as an AnalysisReport (key ``drive``).
+    """``camcad drive``: camshaft torque and power, flywheel and motor of a scene, as an AnalysisReport.
 
-    The figures (SPEC.md): ``torque_peak_Nm`` (max |T|), ``torque_rms_Nm``, ``torque_mean_Nm``,
+    The mechanisms of the scene drive one shaft; the report (key ``drive``) gives the flywheel for a speed
+    fluctuation and the motor through its gearbox too. The figures (SPEC.md): ``torque_peak_Nm`` (max |T|), ``torque_rms_Nm``, ``torque_mean_Nm``,
     ``power_peak_W``, ``power_mean_W`` of the shaft at the speed of the largest peak (``rpm``), the same at every
     speed (``speeds``) and per mechanism (``mechanisms``), the energy swing and the flywheel (``flywheel``), the
     motor (``motor``), the elastic torque where a mechanism has the elastic model (``elastic``).
@@ -310,7 +325,8 @@ def run_drive(request: DriveRequest):
     Returns
     -------
     camcad.scene.analysis.AnalysisReport
-        ``result`` is the DriveResult the plots and torque.csv are made from.
+        ``body``: the figures (torques N·m, power W, energy J, inertia kg·m², angles deg, speeds rpm),
+        ``verdict``: the checks; ``result`` is the DriveResult the plots and torque.csv are made from.
 
     Raises
     ------

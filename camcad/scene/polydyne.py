@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from camcad.dynamics.polydyne import polydyne_law, residual_about
 from camcad.errors import CamcadError
 from camcad.scene.analysis import rounded_tree
 
@@ -23,6 +22,8 @@ def polydyne_rpm(scene, mech, override: float | None) -> float | None:
 
 def polydyne_step(scene, mech, run, speeds, rpm: float) -> None:
     """Replace ``run.law`` by the polydyne cam for ``rpm`` and put the ``polydyne`` object in ``run.report``."""
+    # imported here: a profile without a design speed must not load camcad.dynamics (tests/test_startup.py)
+    from camcad.dynamics.polydyne import polydyne_law, residual_about
     from camcad.scene.dynamics import parse_dynamics
 
     where = mech.where(scene.path, "dynamics")
