@@ -40,9 +40,9 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.contact import ContactParams, contact_stress
     from camcad.cyclogram.lp import optimise
     from camcad.cyclogram.network import Operation, make_network
+    from camcad.dynamics.flywheel import energy_fluctuation
     from camcad.dynamics.impact import StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
-    from camcad.dynamics.flywheel import energy_fluctuation
     from camcad.dynamics.polydyne import polydyne_law
     from camcad.dynamics.residual import residual_vibration
     from camcad.dynamics.steady import steady_state
