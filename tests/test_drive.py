@@ -281,6 +281,44 @@ def test_linkage_working_member_torque_is_its_own_power(tmp_path):
     assert np.max(np.abs(share - expected)) <= 1e-7 * np.max(np.abs(expected))
 
 
+@pytest.mark.reference("closed form", "form closure (groove), no spring: T = m w^2 s'' s' of both signs")
+def test_groove_cam_torque_changes_sign_with_the_inertia_force(tmp_path):
+    m, rpm = 2.0, 500.0
+    path = roller_scene(tmp_path, rpm=str(rpm), mass=m, spring=0.0, preload=0.0, contact_extra='closure = "form"',
+                        follower_extra="groove = true")
+    report = run_drive(DriveRequest(path))
+    omega = 2 * math.pi * rpm / 60
+    theta = np.radians(np.arange(0.0, 360.0, 0.1))
+    s, v, a = cycloid(theta)
+    expected = m * omega**2 * a * v * 1e-6
+    got = report.result.shaft_torque(theta, rpm)
+    assert np.allclose(got, expected, rtol=1e-10, atol=1e-12)
+    assert got.min() < 0 < got.max()
+    assert not any("spring holds" in c for c in report.verdict.to_dict()["checks"])   # form-closed: no such check
+
+
+@pytest.mark.reference("property", "friction only dissipates: the friction share is >= 0 at every angle, both flanks")
+def test_pair_friction_on_both_flanks_of_a_groove_only_dissipates(tmp_path):
+    path = roller_scene(tmp_path, rpm="500", mass=2.0, spring=0.0, preload=0.0, contact_extra='closure = "form"\n'
+                        "friction = 0.1", follower_extra="groove = true", extra="[load]\npair_friction = 0.01\n")
+    report = run_drive(DriveRequest(path))
+    theta = np.radians(np.arange(0.0, 360.0, 0.1))
+    (parts,) = report.result.components(theta, 500.0).values()
+    assert np.all(parts.friction >= -1e-12)
+    assert np.any(parts.axial_force < 0) and np.any(parts.axial_force > 0)
+    assert report.body["torque_mean_Nm"] > 0
+
+
+@pytest.mark.reference("closed form", "gravity: a vertical follower's weight m g acts like a preload")
+def test_gravity_of_a_vertical_follower_is_a_preload(tmp_path):
+    with_weight = run_drive(DriveRequest(roller_scene(tmp_path, preload=150.0, extra="[load]\ngravity_up_deg = 90\n")))
+    (tmp_path / "b").mkdir()
+    as_preload = run_drive(DriveRequest(roller_scene(tmp_path / "b", preload=150.0 + 1.5 * 9.80665)))
+    theta = np.radians(np.arange(0.0, 360.0, 0.5))
+    assert np.allclose(with_weight.result.shaft_torque(theta, 300.0), as_preload.result.shaft_torque(theta, 300.0),
+                       rtol=1e-12, atol=1e-12)
+
+
 # --------------------------------------------------------------------------------------------
 # The flywheel and the motor
 # --------------------------------------------------------------------------------------------

@@ -187,9 +187,3 @@ def motor_torque(shaft_torque, ratio: float = 1.0, efficiency: float = 1.0) -> n
                           "give a ratio > 0 and an efficiency in (0, 1]")
     shaft_torque = np.asarray(shaft_torque, dtype=float)
     return np.where(shaft_torque >= 0.0, shaft_torque / (ratio * efficiency), shaft_torque * efficiency / ratio)
-
-
-def rms(values) -> float:
-    """Root mean square of equally weighted samples (the unit of ``values``)."""
-    values = np.asarray(values, dtype=float)
-    return float(np.sqrt(np.mean(values**2)))

@@ -315,7 +315,6 @@ def polydyne_law(wanted, follower: ElasticFollower, rpm: float) -> tuple[Polydyn
     if not (math.isfinite(rpm) and rpm > 0.0):
         raise CamcadError(f"the polydyne design speed {rpm:g} rpm is not a speed", "polydyne",
                           "give the speed the cam is designed for, rpm")
-    cycle = float(wanted.cycle)
     breakpoints = _breakpoints(wanted)
     smooth, jumps = law_class(wanted, breakpoints)
     cam = PolydyneLaw(wanted, follower, float(rpm))
@@ -341,7 +340,6 @@ def polydyne_law(wanted, follower: ElasticFollower, rpm: float) -> tuple[Polydyn
         b, size = first[5]
         notes.append(f"the cam's jerk jumps by {k * size:.6g} per rad^3 at {math.degrees(b):.6g} deg (the law is C4, "
                      "not C5): a finite step, as a 3-4-5 law's")
-    del cycle
     return cam, notes
 
 

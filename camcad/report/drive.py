@@ -226,10 +226,13 @@ def drive_lines(run) -> list[str]:
         lines += table(["mechanism", "peak N·m", "at deg", "RMS N·m", "mean N·m"], rows, title=f"at {rpm:g} rpm:")
     flywheel = body["flywheel"]
     if flywheel.get("delta") is not None:
+        parts = flywheel["inertia_parts_kg_m2"]
+        others = flywheel["inertia_present_kg_m2"] - parts["flywheel"]
+        given = f" (the scene's: {fmt(parts['flywheel'])} kg·m²)" if report.result.spec.flywheel_inertia else ""
         lines.append(f"flywheel: δ = {fmt(flywheel['delta'])} needs {fmt(flywheel['inertia_required_kg_m2'])} kg·m² "
-                     f"on the camshaft (at {fmt(flywheel['inertia_required_rpm'])} rpm); present "
-                     f"{fmt(flywheel['inertia_present_kg_m2'])} kg·m², flywheel to add "
-                     f"{fmt(flywheel['flywheel_required_kg_m2'])} kg·m²")
+                     f"on the camshaft (at {fmt(flywheel['inertia_required_rpm'])} rpm); the cams, shaft and motor "
+                     f"give {fmt(others)} kg·m², so the flywheel needs {fmt(flywheel['flywheel_required_kg_m2'])} "
+                     f"kg·m²{given}")
     if (flywheel.get("speed_fluctuation") is not None and flywheel["inertia_present_kg_m2"] > 0
             and (body["motor"]["regime"] == "induction" or flywheel.get("delta") is not None)):
         lines.append(f"speed fluctuation with {fmt(flywheel['inertia_present_kg_m2'])} kg·m²: δ = "

@@ -273,22 +273,35 @@ def mechanism_drive(scene, mech, run) -> MechanismDrive:
 
 
 def _elastic_of(scene, mech, run):
-    """(law, DynamicsSettings, SI per law unit) of the elastic model the pipeline's dynamics step runs, or None."""
+    """(law, DynamicsSettings, SI per law unit) of the elastic model, or None without [dynamics] mass_kg.
+
+    The driven coordinate: behind a [linkage] the working member's law (as the pipeline's dynamics step); for an
+    oscillating follower its swing in rad (the profile's own swing law; J = mass_kg in kg·m²), or the roller's
+    arc in mm when [dynamics] output_unit says "mm"; for a translating follower its lift in mm.
+    """
     if not mech.has("dynamics"):
         return None
     from camcad.dynamics.model import OUTPUT_UNITS
+    from camcad.profile.scaled_law import ScaledLaw
     from camcad.scene.analysis import law_unit
     from camcad.scene.dynamics import parse_dynamics
 
-    settings = parse_dynamics(mech.sections["dynamics"], mech.where(scene.path, "dynamics"),
-                              math.degrees(run.law.cycle))
+    table = mech.sections["dynamics"]
+    settings = parse_dynamics(table, mech.where(scene.path, "dynamics"), math.degrees(run.law.cycle))
     if settings.follower.mass_kg is None:
         return None
-    unit, _ = law_unit(scene, mech, None, run.law)
-    if unit in ("mm", "rad"):
-        settings = replace(settings, output_unit=unit)
-    law = run.law if run.linkage is None else run.linkage.working_law(run.law)
-    return law, settings, OUTPUT_UNITS[settings.output_unit].si_scale
+    follower = run.profile.follower
+    if run.linkage is not None:
+        unit, _ = law_unit(scene, mech, None, run.law)
+        law, unit = run.linkage.working_law(run.law), (unit if unit in ("mm", "rad") else settings.output_unit)
+    elif follower.kind == "oscillating":
+        swing = run.profile.geometry.law
+        explicit = isinstance(table, dict) and table.get("output_unit") == "mm"
+        law, unit = (ScaledLaw(swing, float(follower.arm)), "mm") if explicit else (swing, "rad")
+    else:
+        law, unit = run.law, "mm"
+    settings = replace(settings, output_unit=unit)
+    return law, settings, OUTPUT_UNITS[unit].si_scale
 
 
 def elastic_increment(item: MechanismDrive, rpm: float):
