@@ -289,7 +289,7 @@ def test_groove_cam_torque_changes_sign_with_the_inertia_force(tmp_path):
     report = run_drive(DriveRequest(path))
     omega = 2 * math.pi * rpm / 60
     theta = np.radians(np.arange(0.0, 360.0, 0.1))
-    s, v, a = cycloid(theta)
+    _s, v, a = cycloid(theta)
     expected = m * omega**2 * a * v * 1e-6
     got = report.result.shaft_torque(theta, rpm)
     assert np.allclose(got, expected, rtol=1e-10, atol=1e-12)
