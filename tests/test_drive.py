@@ -141,8 +141,8 @@ def test_torque_csv_power_is_torque_times_omega(tmp_path, cli):
     payload = result.json()
     assert {"torque_peak_Nm", "torque_rms_Nm", "torque_mean_Nm", "power_peak_W", "power_mean_W"} <= set(
         payload["drive"])
-    lines = [line for line in (out / "torque.csv").read_text().splitlines() if not line.startswith("#")]
-    names = lines[0].split(",")
+    lines = (out / "torque.csv").read_text().splitlines()
+    names = lines[0].split(",")                  # the header first: no comment lines
     assert names[:3] == ["theta_deg", "torque_Nm", "power_W"]
     data = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
     omega = 2 * math.pi * 450 / 60

@@ -4,8 +4,8 @@
   shares: inertia, spring, loads, linkage, friction) and the shaft's total with its peak, RMS and mean; the
   power; the shaft's energy over the turn with the swing ΔE and the speed fluctuation it gives.
 - ``plot_drive_speeds``: peak, RMS and mean torque and the inertia δ needs, against speed.
-- ``write_torque_csv``: ``theta_deg,torque_Nm,power_W,…`` at the governing speed (and ``torque_speeds.csv``
-  with one column per speed).
+- ``write_torque_csv``: ``theta_deg,torque_Nm,power_W,…`` at the governing speed (the report's ``rpm``), and
+  ``torque_speeds.csv`` with one column per speed; the header line first, no comment lines.
 """
 
 from __future__ import annotations
@@ -186,21 +186,19 @@ def _csv(names, data, header: list[str]) -> str:
 
 
 def write_torque_csv(report, folder) -> list[Path]:
-    """torque.csv (and torque_speeds.csv with several speeds) into the OutputFolder ``folder``."""
+    """torque.csv (and torque_speeds.csv with several speeds) into the OutputFolder ``folder``: the header line
+    first (SPEC.md: ``theta_deg,torque_Nm,…``; units in the names), no comment lines — the speed is the report's
+    ``rpm``."""
     result = report.result
     names, data = torque_table(report)
-    header = [f"camcad drive: {report.source.get('name', '')} at {result.governing_rpm:g} rpm (the speed of the "
-              f"largest peak torque), step {CSV_STEP_DEG:g} deg",
-              "units: theta deg; torques N m (> 0: the shaft drives the mechanism); power W; energy J"]
-    written = [write_text_atomic(folder.path("torque.csv"), _csv(names, data, header))]
+    written = [write_text_atomic(folder.path("torque.csv"), _csv(names, data, []))]
     if len(result.speeds) > 1:
         theta = _grid()
         columns = {"theta_deg": np.degrees(theta)}
         for rpm in result.speeds:
             columns[f"torque_{rpm:g}rpm_Nm"] = result.shaft_torque(theta, rpm)
         data = np.column_stack(list(columns.values()))
-        written.append(write_text_atomic(folder.path("torque_speeds.csv"), _csv(
-            list(columns), data, ["camcad drive: the camshaft torque (N m) at each speed", "units: theta deg"])))
+        written.append(write_text_atomic(folder.path("torque_speeds.csv"), _csv(list(columns), data, [])))
     return written
 
 
