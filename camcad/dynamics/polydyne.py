@@ -424,11 +424,11 @@ def residual_about(cam, wanted, follower: ElasticFollower, rpm: float, *, nodes:
         if phase.kind == "dwell":
             continue
         cuts = [phase.start, *[float(b) for b in edges_all if phase.start < b < phase.end], phase.end]
-        bounds = []
+        pieces: list[tuple[float, float]] = []
         for lo, hi in itertools.pairwise(cuts):
             count = max(1, math.ceil((hi - lo) * max(rd, 1.0)))
-            bounds.extend(zip(np.linspace(lo, hi, count + 1)[:-1], np.linspace(lo, hi, count + 1)[1:]))
-        bounds = np.array(bounds)
+            pieces.extend(zip(np.linspace(lo, hi, count + 1)[:-1], np.linspace(lo, hi, count + 1)[1:]))
+        bounds = np.array(pieces)
         half = 0.5 * (bounds[:, 1] - bounds[:, 0])[:, None]
         tau = 0.5 * (bounds[:, 1] + bounds[:, 0])[:, None] + half * u[None, :]
         weight = (half * w[None, :]).ravel()

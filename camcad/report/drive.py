@@ -13,15 +13,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camcad.io.atomic import write_text_atomic
+from camcad.report.command import finish, open_folder
 from camcad.report.figure import COLOURS, new_figure, save_figure
-
-if TYPE_CHECKING:
-    from camcad.scene.drive import DriveRequest
+from camcad.report.text import fmt, table, verdict_lines
+from camcad.scene.analysis import require_scene
+from camcad.scene.drive import DriveRequest, run_drive
+from camcad.scene.file import read_scene
 
 #: the step (deg) of torque.csv and of the plotted curves
 CSV_STEP_DEG = 0.5
@@ -203,8 +204,8 @@ def write_torque_csv(report, folder) -> list[Path]:
 
 
 def drive_lines(run) -> list[str]:
-    from camcad.report.text import fmt, table, verdict_lines
-
+    """The text ``camcad drive`` prints: the figures per speed and per mechanism, the flywheel, the motor, the
+    notes and the verdict (tightest margin first)."""
     report = run.report
     body = report.body
     lines = [f"{report.source['name']} ({report.source['scene']}): camshaft torque and drive",
@@ -266,11 +267,6 @@ class DriveCommand:
 def drive_command(command: DriveCommand):
     """Run ``camcad drive``: compute (camcad.scene.drive.run_drive), write torque.csv, the plots and drive.json
     into the output folder (the scene and its files are never replaced). Returns a CommandRun."""
-    from camcad.report.command import finish, open_folder
-    from camcad.scene.analysis import require_scene
-    from camcad.scene.drive import run_drive
-    from camcad.scene.file import read_scene
-
     path = require_scene(command.request.scene, "drive")
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:

@@ -27,14 +27,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from camcad.arrays import unique
+from camcad.dynamics.flywheel import energy_fluctuation, motor_torque
+from camcad.dynamics.model import OUTPUT_UNITS
+from camcad.dynamics.steady import steady_state
+from camcad.dynamics.torque import CamDrive, cycle_figures
 from camcad.errors import CamcadError, excerpt
-from camcad.scene.fields import Field, read_table
+from camcad.profile.scaled_law import ScaledLaw
+from camcad.scene.analysis import AnalysisReport, law_unit, require_scene
+from camcad.scene.contact import parse_contact
+from camcad.scene.dynamics import parse_dynamics
+from camcad.scene.fields import Field, parse_speeds, read_table
+from camcad.scene.file import read_scene
+from camcad.scene.load import gravity_load, parse_load
+from camcad.scene.pipeline import PipelineOptions, analyse_scene
 from camcad.verdict import Check, Verdict, Warning
 
 MOTORS = ("servo", "induction")
@@ -66,7 +78,6 @@ DRIVE_FIELDS: list[Field] = [
 @dataclass(frozen=True)
 class DriveSpec:
     """A parsed ``[drive]`` (module docstring); None where the scene does not give a value."""
-
     delta: float | None = None
     motor: str = "servo"
     gear_ratio: float = 1.0
@@ -140,7 +151,6 @@ class DriveRequest:
     >>> DriveRequest("loom.toml", rpm="420", delta=1 / 30).rpm
     '420'
     """
-
     scene: Path
     rpm: str | None = None
     delta: float | None = None
@@ -149,7 +159,6 @@ class DriveRequest:
 @dataclass
 class MechanismDrive:
     """One mechanism on the shaft: its CamDrive, the law it runs, its elastic data, its cam inertia."""
-
     name: str
     drive: Any                    # camcad.dynamics.torque.CamDrive
     law: Any
@@ -162,7 +171,6 @@ class MechanismDrive:
 class DriveResult:
     """What ``run_drive`` found, for the plots and files: the mechanisms, the speeds (rpm), the governing
     speed, the shaft's torque function per speed, the figures, the energy per speed, the elastic curves."""
-
     mechanisms: list
     speeds: list
     governing_rpm: float
@@ -191,7 +199,6 @@ class DriveResult:
 
 class _Loads:
     """The sum of a mechanism's loads along the path (N, θ rad → array) with their breakpoints."""
-
     def __init__(self, parts: list) -> None:
         self.parts = parts
 
@@ -207,7 +214,6 @@ class _Loads:
 
 class _ContactLoad:
     """[contact] load over its range (N), as camcad contact applies it."""
-
     def __init__(self, params) -> None:
         self.params = params
 
@@ -222,7 +228,6 @@ class _ContactLoad:
 
 class _LinkageForce:
     """The working member behind a [linkage], reduced to the roller's path: (θ rad, rpm) → N."""
-
     def __init__(self, context, law) -> None:
         self.context, self.law = context, law
 
@@ -238,10 +243,6 @@ class _LinkageForce:
 def mechanism_drive(scene, mech, run) -> MechanismDrive:
     """The CamDrive of one mechanism from the pipeline's run (its profile's geometry, its law and linkage)
     and its [contact] and [load] sections."""
-    from camcad.dynamics.torque import CamDrive
-    from camcad.scene.contact import parse_contact
-    from camcad.scene.load import gravity_load, parse_load
-
     params = parse_contact(mech.sections["contact"], mech.where(scene.path, "contact"))
     cam = run.profile.geometry
     follower = cam.follower
@@ -281,10 +282,6 @@ def _elastic_of(scene, mech, run):
     """
     if not mech.has("dynamics"):
         return None
-    from camcad.dynamics.model import OUTPUT_UNITS
-    from camcad.profile.scaled_law import ScaledLaw
-    from camcad.scene.analysis import law_unit
-    from camcad.scene.dynamics import parse_dynamics
 
     table = mech.sections["dynamics"]
     settings = parse_dynamics(table, mech.where(scene.path, "dynamics"), math.degrees(run.law.cycle))
@@ -307,8 +304,6 @@ def _elastic_of(scene, mech, run):
 def elastic_increment(item: MechanismDrive, rpm: float):
     """(θ rad, ΔT N·m) on the response's grid: the elastic torque minus the rigid one of one mechanism,
     m (ÿ − s̈) y' in SI (the driven mass's force with its elastic acceleration, through its law's velocity)."""
-    from camcad.dynamics.steady import steady_state
-
     law, settings, si = item.elastic
     response = steady_state(law, settings.follower, rpm, method=settings.method, samples=settings.samples,
                             solver=settings.solver, rtol=settings.rtol)
@@ -380,13 +375,6 @@ def run_drive(request: DriveRequest):
     >>> abs(report.body["torque_mean_Nm"]) < 1e-9, round(report.body["torque_peak_Nm"], 3)
     (True, 4.376)
     """
-    from camcad.dynamics.flywheel import energy_fluctuation
-    from camcad.dynamics.torque import cycle_figures
-    from camcad.scene.analysis import AnalysisReport, require_scene
-    from camcad.scene.fields import parse_speeds
-    from camcad.scene.file import read_scene
-    from camcad.scene.pipeline import PipelineOptions, analyse_scene
-
     path = require_scene(Path(request.scene), "drive")
     scene = read_scene(path)
     spec = parse_drive(scene.raw.get("drive"), f"{path} [drive]")
@@ -419,12 +407,11 @@ def run_drive(request: DriveRequest):
     least_force: dict[str, tuple[float, float, float]] = {}
     grid = unique(np.concatenate((np.linspace(0.0, 2.0 * math.pi, 2881), bps)))
     for rpm in result.speeds:
-        result.figures[rpm] = cycle_figures(lambda t, n=rpm: result.shaft_torque(t, n), bps, rpm)
-        result.energy[rpm] = energy_fluctuation(lambda t, n=rpm: result.shaft_torque(t, n), bps, rpm,
-                                                result.figures[rpm].mean)
+        shaft = partial(_shaft_at, result, rpm)
+        result.figures[rpm] = cycle_figures(shaft, bps, rpm)
+        result.energy[rpm] = energy_fluctuation(shaft, bps, rpm, result.figures[rpm].mean)
         for item in mechanisms:
-            figures = cycle_figures(lambda t, n=rpm, d=item.drive: d.components(t, n).total,
-                                    item.drive.breakpoints(), rpm)
+            figures = cycle_figures(partial(_total_at, item.drive, rpm), item.drive.breakpoints(), rpm)
             per_mechanism[item.name].append(figures.to_dict())
             if item.drive.closure == "force":
                 force = item.drive.components(grid, rpm).axial_force
@@ -440,6 +427,19 @@ def run_drive(request: DriveRequest):
                                else "the laws' own"),
               "scene_checks_passed": bool(pipeline.passed)}
     return AnalysisReport("drive", body, verdict, source, result, skipped)
+
+
+def _shaft_at(result: DriveResult, rpm: float, theta) -> np.ndarray:
+    return result.shaft_torque(theta, rpm)
+
+
+def _total_at(drive, rpm: float, theta) -> np.ndarray:
+    return drive.components(theta, rpm).total
+
+
+def _motor_at(result: DriveResult, rpm: float, ratio: float, efficiency: float, theta) -> np.ndarray:
+
+    return motor_torque(result.shaft_torque(theta, rpm), ratio, efficiency)
 
 
 def _inertia_present(spec: DriveSpec, mechanisms) -> float:
@@ -475,8 +475,6 @@ def _figures_on_grid(theta, torque, rpm: float) -> dict:
 
 
 def _body(result: DriveResult, per_mechanism: dict) -> dict:
-    from camcad.dynamics.flywheel import motor_torque
-    from camcad.dynamics.torque import cycle_figures
 
     spec = result.spec
     governing = result.figures[result.governing_rpm].to_dict()
@@ -516,7 +514,7 @@ def _body(result: DriveResult, per_mechanism: dict) -> dict:
     bps = result.breakpoints()
     per_speed = []
     for n in result.speeds:
-        shaft = cycle_figures(lambda t, rpm=n: motor_torque(result.shaft_torque(t, rpm), i, eta), bps, n)
+        shaft = cycle_figures(partial(_motor_at, result, n, i, eta), bps, n)
         mean_motor = float(motor_torque(np.array([result.figures[n].mean]), i, eta)[0])
         per_speed.append({"rpm": n, "motor_rpm": n * i, "torque_peak_Nm": shaft.peak, "torque_rms_Nm": shaft.rms,
                           "torque_mean_Nm": mean_motor})

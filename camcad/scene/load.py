@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from camcad.errors import CamcadError, excerpt
+from camcad.io.table_read import read_table as read_rows
 from camcad.scene.fields import Field, read_table
 
 #: standard gravity, m/s² (CGPM 1901)
@@ -185,8 +186,6 @@ def _span(value, where: str) -> tuple[float, float]:
 
 def _rows(rows, file, where: str, base_dir: Path) -> tuple[np.ndarray, np.ndarray]:
     if file is not None:
-        from camcad.io.table_read import read_table as read_rows
-
         path = (base_dir / file).resolve()
         if not path.is_file():
             raise CamcadError(f"load table {excerpt(file)} not found", where, "give the path relative to the scene")

@@ -22,7 +22,7 @@ def polydyne_rpm(scene, mech, override: float | None) -> float | None:
 
 def polydyne_step(scene, mech, run, speeds, rpm: float) -> None:
     """Replace ``run.law`` by the polydyne cam for ``rpm`` and put the ``polydyne`` object in ``run.report``."""
-    # imported here: a profile without a design speed must not load camcad.dynamics (tests/test_startup.py)
+    # imported here (both load camcad.dynamics): a profile without a design speed must not (tests/test_startup.py)
     from camcad.dynamics.polydyne import polydyne_law, residual_about
     from camcad.scene.dynamics import parse_dynamics
 
