@@ -20,7 +20,9 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``, ``LeverBeam``
 (the lever on its stop), ``PublishedImpact``, ``compare_published``, ``rebound_study``; cams on an elastic main
 shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``.
-Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
+Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft torque),
+``energy_fluctuation`` (flywheel), ``run_drive``/``DriveRequest`` (``camcad drive``), ``servo_table``,
+``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
 groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
@@ -44,12 +46,15 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.cyclogram.lp import optimise
     from camcad.cyclogram.machine import Group, make_machine, optimise_machine
     from camcad.cyclogram.network import Operation, make_network
+    from camcad.dynamics.flywheel import energy_fluctuation
     from camcad.dynamics.impact import LeverBeam, StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
+    from camcad.dynamics.polydyne import polydyne_law
     from camcad.dynamics.rebound import PublishedImpact, compare_published, rebound_study
     from camcad.dynamics.residual import residual_vibration
     from camcad.dynamics.shaft import ElasticShaft, ShaftCam, simulate_shaft
     from camcad.dynamics.steady import steady_state
+    from camcad.dynamics.torque import CamDrive
     from camcad.errors import CamcadError
     from camcad.fourier.analysis import analyse
     from camcad.fourier.filter import filter_law
@@ -63,6 +68,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.vdi import catalogue_table, rest_shape
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
+    from camcad.profile.servo import servo_table
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.report.profile import (
@@ -75,6 +81,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
+    from camcad.scene.commands.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
@@ -103,6 +110,9 @@ _EXPORTS: dict[str, str] = {
     "rebound_study": "camcad.dynamics.rebound",
     "ElasticShaft": "camcad.dynamics.shaft", "ShaftCam": "camcad.dynamics.shaft",
     "simulate_shaft": "camcad.dynamics.shaft",
+    "CamDrive": "camcad.dynamics.torque", "energy_fluctuation": "camcad.dynamics.flywheel",
+    "polydyne_law": "camcad.dynamics.polydyne", "servo_table": "camcad.profile.servo",
+    "DriveRequest": "camcad.scene.commands.drive", "run_drive": "camcad.scene.commands.drive",
     "ContactParams": "camcad.contact", "contact_stress": "camcad.contact",
     "Operation": "camcad.cyclogram.network", "make_network": "camcad.cyclogram.network",
     "optimise": "camcad.cyclogram.lp",
@@ -120,9 +130,11 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 __all__ = [
     "BalanceReport",
+    "CamDrive",
     "CamcadError",
     "ContactParams",
     "Correction",
+    "DriveRequest",
     "ElasticFollower",
     "ElasticShaft",
     "Follower",
@@ -146,6 +158,7 @@ __all__ = [
     "compose",
     "contact_stress",
     "correct",
+    "energy_fluctuation",
     "filter_law",
     "impact_sweep",
     "kinematics_deg",
@@ -163,13 +176,16 @@ __all__ = [
     "plot_pressure_angle",
     "plot_profile",
     "plot_summary",
+    "polydyne_law",
     "profile_report",
     "read_scene",
     "rebound_study",
     "residual_vibration",
     "resonant_harmonics",
     "rest_shape",
+    "run_drive",
     "run_scene",
+    "servo_table",
     "simulate_shaft",
     "solve_segments",
     "steady_state",

@@ -10,11 +10,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from camcad.scene.machine import GROUP_FIELDS, MACHINE_FIELDS, MACHINE_OPERATION_FIELDS, NETWORK_FIELDS
 from camcad.scene.sections.contact import CONTACT_FIELDS
 from camcad.scene.sections.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
+from camcad.scene.sections.drive import DRIVE_FIELDS
 from camcad.scene.sections.dynamics import DYNAMICS_FIELDS
 from camcad.scene.sections.filter import FILTER_FIELDS
 from camcad.scene.sections.follower import FOLLOWER_FIELDS
 from camcad.scene.sections.law import SEGMENT_FIELDS, law_fields
 from camcad.scene.sections.linkage import ADJUST_FIELDS, LINKAGE_FIELDS
+from camcad.scene.sections.load import LOAD_FIELDS
 from camcad.scene.sections.published import PUBLISHED_FIELDS
 from camcad.scene.sections.stops import STOPS_FIELDS
 
@@ -28,6 +30,8 @@ SECTIONS = [("law", law_fields(), "camcad.scene.sections.law"),
             ("stops", STOPS_FIELDS, "camcad.scene.sections.stops"),
             ("stops.published", PUBLISHED_FIELDS, "camcad.scene.sections.published"),
             ("contact", CONTACT_FIELDS, "camcad.scene.sections.contact"),
+            ("load", LOAD_FIELDS, "camcad.scene.sections.load"),
+            ("drive", DRIVE_FIELDS, "camcad.scene.sections.drive"),
             ("cyclogram", CYCLOGRAM_FIELDS, "camcad.scene.sections.cyclogram"),
             ("[cyclogram.operations]", OPERATION_FIELDS, "camcad.scene.sections.cyclogram"),
             ("machine", MACHINE_FIELDS, "camcad.scene.machine: a machine scene"),

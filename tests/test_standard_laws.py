@@ -87,7 +87,7 @@ def test_modified_laws_match_nortons_table(name):
 def test_acceleration_jumps_flag():
     # f'' jumps against a dwell (harmonic, constant acceleration: b = 0) or mid-rise (d = 0).
     jumps = {name: peak_coefficients(shape).acceleration_jumps for name, shape in standard.SHAPES.items()}
-    assert jumps == {"cycloidal": False, "harmonic": True, "poly345": False, "poly4567": False,
+    assert jumps == {"cycloidal": False, "harmonic": True, "poly345": False, "poly4567": False, "poly56789": False,
                      "modified_trapezoid": False, "modified_sine": False, "constant_acceleration": True}
 
 

@@ -32,6 +32,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "machine": ("camcad.cli.machine", "Optimise a machine of groups: least cycle or the longest limiting operation."),
+    "drive": ("camcad.cli.drive", "Camshaft torque and power, flywheel and motor sizing."),
     "linkage": ("camcad.cli.linkage",
                 "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),

@@ -65,7 +65,7 @@ def profile(
     origin: OriginOpt = None,
     x_deg: XDegOpt = False,
     rise_law: str | None = typer.Option(
-        None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, "
+        None, "--rise-law", help="Built-in law: rise shape (cycloidal, harmonic, poly345, poly4567, poly56789, "
                                  "modified_trapezoid, modified_sine, constant_acceleration, scca:b:c:d; the VDI 2143 "
                                  "inclined_sine, poly5, poly7, modified_sine:lambda, ...)."),
     segments: str | None = typer.Option(
@@ -91,15 +91,28 @@ def profile(
                               "summary, kinematics, pressure_angle, curvature, profile, hodograph, dynamics, impact, "
                               "contact."),
     no_plots: NoPlotsOpt = False,
+    # ---- --export servo (camcad.profile.servo, camcad.report.servo)
+    export: str | None = typer.Option(None, "--export", help="Extra outputs, a comma list: servo (servo_table.csv)."),
+    servo_step: float = typer.Option(1.0, "--servo-step", help="Master step of the servo table (deg)."),
+    servo_format: str = typer.Option("csv", "--servo-format", help="Servo table format: csv, codesys or twincat."),
+    servo_rpm: float | None = typer.Option(None, "--servo-rpm", help="Master speed for the servo figures per second "
+                                                                     "(rpm; default the scene's highest)."),
+    servo_normalise: bool = typer.Option(False, "--servo-normalise", help="Servo slave as a fraction of its stroke."),
+    # ----
+    polydyne: float | None = typer.Option(None, "--polydyne", help="Design the cam for the scene's elastic follower "
+                                                                   "at this speed (rpm): a polydyne cam."),
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
+    from camcad.profile.servo import servo_export
     from camcad.report.scene import run_scene
     from camcad.scene.file import scene_from_dict
     from camcad.scene.pipeline import PipelineOptions
 
     options = PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
-                              plots=_plot_names(plots, no_plots))
+                              plots=_plot_names(plots, no_plots),
+                              servo=servo_export(export, servo_step, servo_format, servo_normalise, servo_rpm),
+                              polydyne_rpm=polydyne)
     if target is not None and target.suffix.lower() == ".toml":
         given = [name for name, value in (("--rb", rb), ("--rr", rr), ("--lift", lift), ("--phases", phases),
                                           ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law),

@@ -66,9 +66,9 @@ class Cycloidal:
             return 1.0 - np.cos(w * u)
         if order == 2:
             return w * np.sin(w * u)
-        if order == 3:
-            return w**2 * np.cos(w * u)
-        raise ValueError(f"order must be 0..3, got {order}")
+        if order >= 3:   # f^(k) = w^(k-1) sin(w u + (k - 2) π/2), k ≥ 2
+            return w ** (order - 1) * np.sin(w * u + (order - 2) * np.pi / 2)
+        raise ValueError(f"order must be >= 0, got {order}")
 
     def peaks(self) -> PeakCoefficients:
         """f' peaks at u = 1/2, f'' at u = 1/4, |f'''| at u = 0 and 1."""
@@ -89,9 +89,9 @@ class SimpleHarmonic:
             return p * np.sin(p * u) / 2.0
         if order == 2:
             return p**2 * np.cos(p * u) / 2.0
-        if order == 3:
-            return -(p**3) * np.sin(p * u) / 2.0
-        raise ValueError(f"order must be 0..3, got {order}")
+        if order >= 3:   # f^(k) = −(π^k/2) cos(π u + k π/2), k ≥ 1
+            return -(p**order) * np.cos(p * u + order * np.pi / 2) / 2.0
+        raise ValueError(f"order must be >= 0, got {order}")
 
     def peaks(self) -> PeakCoefficients:
         """f' peaks at u = 1/2, f'' at the ends (a jump from a dwell's 0), |f'''| at u = 1/2."""
@@ -107,6 +107,8 @@ class Polynomial:
     coefficients: tuple[float, ...]  # c_0, c_1, … (powers of u)
 
     def evaluate(self, u: np.ndarray, order: int) -> np.ndarray:
+        if order >= len(self._derivatives):
+            return np.zeros_like(u, dtype=float)
         coefficients = self._derivatives[order]
         out = np.full_like(u, coefficients[-1], dtype=float)
         for c in reversed(coefficients[:-1]):  # Horner's rule, highest power first
@@ -116,9 +118,9 @@ class Polynomial:
 
     @functools.cached_property
     def _derivatives(self) -> tuple[tuple[float, ...], ...]:
-        """Coefficients of f and its first three derivatives (computed once): d/du Σ c_k u^k = Σ k c_k u^(k−1)."""
+        """Coefficients of f and its derivatives up to the sixth (computed once): d/du Σ c_k u^k = Σ k c_k u^(k−1)."""
         out = [tuple(float(c) for c in self.coefficients)]
-        for _ in range(3):
+        for _ in range(max(6, len(self.coefficients))):   # every non-zero derivative, at least to the sixth
             previous = out[-1]
             out.append(tuple(k * previous[k] for k in range(1, len(previous))) or (0.0,))
         return tuple(out)
@@ -146,6 +148,9 @@ class Polynomial:
 
 POLY_345 = Polynomial("poly345", (0, 0, 0, 10, -15, 6))
 POLY_4567 = Polynomial("poly4567", (0, 0, 0, 0, 35, -84, 70, -20))
+#: 5-6-7-8-9: f^(k)(0) = f^(k)(1) = 0 for k = 1..4, a law of class C⁴ (the smoothstep polynomial of degree 9):
+#: what a polydyne cam needs for a continuous acceleration (camcad.dynamics.polydyne)
+POLY_56789 = Polynomial("poly56789", (0, 0, 0, 0, 0, 126, -420, 540, -315, 70))
 
 
 @dataclass(frozen=True)
@@ -325,6 +330,26 @@ class CompositeLaw:
             j[inside] = h * seg.shape.evaluate(u, 3) / beta**3
         return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
 
+    def derivative(self, theta, order: int) -> np.ndarray:
+        """d^k s/dθ^k (mm/rad^k) of order k ≥ 0 at θ (rad), each segment's shape differentiated exactly (a shape
+        without that order raises ValueError); order 0 is s itself."""
+        theta = np.asarray(theta, dtype=float)
+        if order == 0:
+            return self.kinematics(theta).s
+        t = wrap(theta, self.cycle)
+        out = np.zeros_like(t)
+        index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        for k in unique(index):
+            seg = self.segments[k]
+            if seg.kind == "dwell":
+                continue
+            inside = index == k
+            beta = seg.end - seg.start
+            u = np.clip((t[inside] - seg.start) / beta, 0.0, 1.0)
+            h = seg.lift if seg.kind == "rise" else -seg.lift
+            out[inside] = h * seg.shape.evaluate(u, order) / beta**order
+        return out
+
     def _at(self, theta: float):
         """Segment index, segment, u ∈ [0, 1] (a 1-element array), width β and signed lift h at one cam
         angle θ (rad): ``kinematics``'s lookup without array overhead (u and h are None in a dwell)."""
@@ -379,6 +404,7 @@ SHAPES: dict[str, RiseShape] = {
     "harmonic": SimpleHarmonic(),
     "poly345": POLY_345,
     "poly4567": POLY_4567,
+    "poly56789": POLY_56789,
     "modified_trapezoid": MODIFIED_TRAPEZOID,
     "modified_sine": MODIFIED_SINE,
     "constant_acceleration": CONSTANT_ACCELERATION,

@@ -22,6 +22,7 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.report.servo import write_servo
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -51,6 +52,11 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             say(f"{name}: writing")
             written[name] = _write_data(run, out, sub, options)
             target = result.report["mechanisms"][name] if result.group else result.report
+            # ---- --export servo (camcad.report.servo)
+            if options.servo is not None:
+                servo_files, target["servo"] = write_servo(run, out, sub, options.servo, result.scene.speeds_rpm)
+                written[name].extend(servo_files)
+            # ----
             if options.plots:
                 for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
                     out.path(*sub, file)

@@ -16,8 +16,9 @@ from pathlib import Path
 from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
 
-MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact")
-TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram") + MECHANISM_SECTIONS
+MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact", "load")
+#: [drive] (camcad.scene.sections.drive) is the camshaft's: one per scene, at the top level of a group scene too
+TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram", "drive") + MECHANISM_SECTIONS
 MACHINE_KEYS = ("rpm",)
 
 
@@ -59,9 +60,10 @@ class Scene:
             law = mech.sections.get("law")
             if isinstance(law, dict) and isinstance(law.get("file"), str):
                 found.append(self.base_dir / law["file"])
-            linkage = mech.sections.get("linkage")  # a [linkage] table of Pi (camcad.scene.linkage)
-            if isinstance(linkage, dict) and isinstance(linkage.get("file"), str):
-                found.append(self.base_dir / linkage["file"])
+            for section in ("linkage", "load"):  # a [linkage] table of Pi, a [load] table of forces
+                table = mech.sections.get(section)
+                if isinstance(table, dict) and isinstance(table.get("file"), str):
+                    found.append(self.base_dir / table["file"])
         return found
 
     def mechanism(self, name: str) -> Mechanism:

@@ -20,6 +20,7 @@ from camcad.scene.filtering import filter_step
 from camcad.scene.laws import pipeline_angles
 from camcad.scene.linkage import linkage_step, prepare, unit_scale
 from camcad.scene.phase_angles import CyclogramAngles, cyclogram_angles, cyclogram_verdict
+from camcad.scene.polydyne import polydyne_step
 from camcad.scene.sections.dynamics import parse_dynamics
 from camcad.scene.sections.filter import parse_filter
 from camcad.scene.sections.stops import parse_stops, published_of
@@ -29,7 +30,7 @@ if TYPE_CHECKING:   # the pipeline imports this module, not the reverse
     from camcad.scene.pipeline import MechanismRun, PipelineOptions
 
 __all__ = ["contact_step_of", "cyclogram_step", "dynamics_step", "filter_step", "impact_step", "linkage_step",
-           "model_law", "model_unit", "prepare"]
+           "model_law", "model_unit", "polydyne_step", "prepare"]
 
 
 def model_law(run: MechanismRun):

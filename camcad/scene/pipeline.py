@@ -76,6 +76,11 @@ class PipelineOptions:
         ``camcad impact``'s ``progress(done, total)`` callback (counts).
     impact_study : bool
         With ``[stops.published]``, also study the rebound's speed dependence against the published figures.
+    servo : camcad.profile.servo.ServoExport or None
+        Write each mechanism's servo (electronic cam) table (``--export servo``); None: not.
+    polydyne_rpm : float or None
+        Design every mechanism with [dynamics] as a polydyne cam for this speed, rpm (``--polydyne``); None: the
+        scene's ``[dynamics] polydyne_rpm``.
 
     Examples
     --------
@@ -108,6 +113,10 @@ class PipelineOptions:
     impact_progress: Callable[[int, int], None] | None = None
     #: ``camcad impact``: with [stops.published], also study the rebound's speed dependence against them
     impact_study: bool = False
+    #: ``--export servo``: the servo table settings (camcad.profile.servo.ServoExport) or None
+    servo: Any = None
+    #: ``--polydyne RPM``: the design speed of a polydyne cam (overrides [dynamics] polydyne_rpm), rpm
+    polydyne_rpm: float | None = None
 
     def runs(self, model: str) -> bool:
         """Whether the analysis pass runs ``model`` (one of ``MODELS``)."""
@@ -356,6 +365,14 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
     if mech.has("linkage") or (mech.sections.get("law") or {}).get("law_of") == "output":
         built, run.linkage = _models().prepare(scene, mech, built)
     run.law = built.law
+    # ---- polydyne (camcad.scene.polydyne): the cam for the elastic follower at a design speed
+    dynamics_table = mech.sections.get("dynamics")
+    design = options.polydyne_rpm if options.polydyne_rpm is not None else (
+        dynamics_table.get("polydyne_rpm") if isinstance(dynamics_table, dict) else None)
+    if design is not None:
+        say(f"{mech.name}: polydyne cam for {design:g} rpm")
+        _models().polydyne_step(scene, mech, run, speeds, design)
+    # ----
     # ----
     # 4 profile
     if mech.has("follower") and (only_limits or not options.runs("profile")):

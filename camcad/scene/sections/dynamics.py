@@ -42,6 +42,8 @@ DYNAMICS_FIELDS = [
     Field("solver", "str", "", default="RK45", choices=SOLVERS),
     Field("rtol", "float", "", default=1e-8, positive=True, maximum=0.1),
     Field("samples", "int", "", default=DEFAULT_SAMPLES, minimum=64, maximum=2**22),
+    Field("polydyne_rpm", "float", "rpm", positive=True,
+          help="design the cam for this speed so the elastic follower does the law (polydyne; camcad.scene.polydyne)"),
 ]
 
 
