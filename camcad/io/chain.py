@@ -27,16 +27,19 @@ The rules (docs/reading.md):
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, NoReturn
 
 import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.dxf_read import Curve, Piece, PieceSet, handles_text
+from camcad.io.outline import band_centre_line
 
 #: default end-to-end join tolerance, as a fraction of the drawing's size
 JOIN_FRACTION = 1e-6
+#: loose ends of two pieces closer than this fraction of the drawing's size are a missed snap: joined, noted
+SNAP_FRACTION = 1e-4
 #: x steps below this fraction of the drawing's size count as vertical (and as not going back)
 X_FRACTION = 1e-9
 #: two chains whose x-ranges agree within this fraction are ambiguous
@@ -79,6 +82,8 @@ class Graph:
     join_tol: float
     x_tol: float
     size: float
+    snaps: tuple = ()
+    snap_tol: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -107,6 +112,8 @@ class LawChain:
     #: how to close the nearest gap a piece stops short of the chain by ("" if none): the likelier cause
     #: when the law read is refused
     gap_fix: str = ""
+    #: the chain's x-range, drawing units
+    span: float = 0.0
 
 
 # ---------------------------------------------------------------------------------------------
@@ -178,7 +185,7 @@ def cluster_points(points: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarr
     return np.asarray(compact).reshape(-1)[inverse], unique[roots]
 
 
-def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Graph:
+def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None, snap: bool = True) -> Graph:
     """Join the pieces' ends into nodes and classify each piece (see the module docstring).
 
     Parameters
@@ -186,6 +193,9 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
     pieces : tuple of Piece
     join_tol : float, optional
         End-to-end join distance (drawing units); default 1e-6 × the drawing's size.
+    snap : bool
+        Join loose ends of different pieces closer than ``SNAP_FRACTION`` × the drawing's size (a
+        missed snap; :func:`snap_dangling_ends`).
 
     Returns
     -------
@@ -200,6 +210,10 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
         join_tol = max(JOIN_FRACTION * size, 1e-12)
     x_tol = max(X_FRACTION * size, 1e-300)
     node_of, node_xy = cluster_points(all_ends, join_tol)
+    snap_tol = SNAP_FRACTION * size
+    snaps: tuple[Snap, ...] = ()
+    if snap and snap_tol > join_tol:
+        node_of, snaps = snap_dangling_ends(node_of, node_xy, count, snap_tol)
     ends = np.column_stack((node_of[:count], node_of[count:]))
     # columns: nodes grouped by x
     order = np.argsort(node_xy[:, 0], kind="stable")
@@ -290,7 +304,77 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
                        for p in pieces])
     return Graph(tuple(pieces), ends, node_xy, column, column_x, usable, vertical, left, right, forward,
                  variation, straight, tuple(problems), zero_length, tuple(keys), widths, float(join_tol),
-                 float(x_tol), size)
+                 float(x_tol), size, snaps, float(max(snap_tol, join_tol)))
+
+
+@dataclass(frozen=True)
+class Snap:
+    """Two piece ends a missed snap left apart, joined: the node they became, the pieces, the gap."""
+
+    node: int
+    pieces: tuple[int, int]
+    gap: float
+
+
+def snap_dangling_ends(node_of: np.ndarray, node_xy: np.ndarray, count: int,
+                       snap_tol: float) -> tuple[np.ndarray, tuple[Snap, ...]]:
+    """Join the loose ends of different pieces that are each other's nearest loose end within ``snap_tol``.
+
+    A loose end is a node that only one piece end reaches. Two loose ends of different pieces closer
+    than ``snap_tol`` (a small fraction of the drawing's size: a missed snap), and each the other's
+    nearest loose end, become one node (the first one's).
+
+    Parameters
+    ----------
+    node_of : ndarray of int, shape (2 count,)
+        Node of every piece end: starts first, then ends.
+    node_xy : ndarray, shape (m, 2)
+        Node coordinates.
+    count : int
+        Number of pieces.
+    snap_tol : float
+        Largest gap joined, drawing units.
+
+    Returns
+    -------
+    (ndarray, tuple of Snap)
+        The new node of every piece end, and the joins made.
+
+    Examples
+    --------
+    Two LINEs 0..1 and 1.001..2 on the x axis, ends 0.001 apart:
+
+    >>> node_of = np.array([0, 2, 1, 3])          # starts (0, 2), ends (1, 3)
+    >>> node_xy = np.array([[0, 0], [1, 0], [1.001, 0], [2, 0]], dtype=float)
+    >>> new, snaps = snap_dangling_ends(node_of, node_xy, 2, 0.01)
+    >>> new.tolist(), [(s.node, s.pieces) for s in snaps]
+    ([0, 1, 1, 3], [(1, (0, 1))])
+    """
+    from scipy.spatial import cKDTree
+
+    degree = np.bincount(node_of, minlength=len(node_xy))
+    piece_of_end = np.concatenate((np.arange(count), np.arange(count)))
+    same = node_of[:count] == node_of[count:]
+    loose = np.flatnonzero(degree == 1)
+    loose = loose[~np.isin(loose, node_of[:count][same])]
+    if len(loose) < 2:
+        return node_of, ()
+    owner = np.empty(len(node_xy), dtype=int)
+    owner[node_of] = piece_of_end
+    tree = cKDTree(node_xy[loose])
+    distance, nearest = tree.query(node_xy[loose], k=2)
+    partner = nearest[:, 1]
+    mutual = np.flatnonzero((partner[partner] == np.arange(len(loose))) & (distance[:, 1] <= snap_tol)
+                            & (np.arange(len(loose)) < partner))
+    new = node_of.copy()
+    snaps = []
+    for k in mutual:
+        a, b = int(loose[k]), int(loose[partner[k]])
+        if owner[a] == owner[b]:
+            continue   # the two ends of one piece: a nearly closed piece is not closed by a snap
+        new[new == b] = a
+        snaps.append(Snap(a, (int(owner[a]), int(owner[b])), float(distance[k, 1])))
+    return new, tuple(snaps)
 
 
 def _extent(points: np.ndarray) -> float:
@@ -686,13 +770,48 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                           f"the drawing holds {_counts_text(piece_set)}; draw the law as a polyline, "
                           "a chain of lines or a spline")
     graph = build_graph(pieces, join_tol)
+    try:
+        found: LawChain | None = _choose(graph, where, layer, handle)
+        error: CamcadError | None = None
+    except CamcadError as err:
+        found, error = None, err
+    # what a designer means but the drawing does not say: an outlined stroke's centre line, the vertical
+    # jumps between plateaus drawn without risers; used when they give a wider law than the drawing as drawn
+    implied = implied_pieces(graph)
+    if implied is not None:
+        other_graph = build_graph(implied.pieces, graph.join_tol)
+        try:
+            other: LawChain | None = _choose(other_graph, where, layer, handle)
+        except CamcadError as err:
+            other = None
+            if found is None and implied.jumps and error is not None and "no curve here can be a law" in error.what:
+                error = err   # the plateaus joined say better what is wrong than "a straight line"
+        if other is not None and (found is None or other.span > found.span * (1 + AMBIGUITY_FRACTION)
+                                  + 2 * graph.x_tol):
+            used = set(other.used)
+            notes = [note for index, note in implied.notes if index in used and not implied.pieces[index].virtual]
+            jumps = [note for index, note in implied.notes if index in used and implied.pieces[index].virtual]
+            if jumps:
+                notes.append(f"plateaus drawn without risers joined by {len(jumps)} vertical jump"
+                             f"{'s' if len(jumps) > 1 else ''} the drawing implies: " + "; ".join(jumps))
+            return replace(other, notes=tuple(notes) + other.notes)
+    if found is None:
+        assert error is not None
+        raise error
+    return found
+
+
+def _choose(graph: Graph, where: str, layer: str | None, handle: str | None) -> LawChain:
+    """:func:`find_law` on a graph of the drawing's pieces (as drawn, or with the pieces it implies)."""
+    pieces = graph.pieces
     layers_of = np.array([p.layer.upper() for p in pieces])
     hidden = np.array([p.hidden for p in pieces])
     notes: list[str] = []
     through_set: list[int] = []
     if handle is not None:
         wanted = handle.strip().upper()
-        through_set = [i for i, p in enumerate(pieces) if p.handle.upper() == wanted]
+        through_set = [i for i, p in enumerate(pieces)
+                       if p.handle.upper() == wanted or any(h.upper() == wanted for h, _ in p.sources)]
         if not through_set:
             raise CamcadError(f"no curve with handle {handle[:20]}", where,
                               f"curve handles here: {_handles_list(pieces)}")
@@ -742,10 +861,26 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                      f"(tolerance {curve.flatten_tol:.3g} drawing units)")
     dropped = _dropped_notes(graph, base)
     notes.extend(dropped)
+    notes.extend(_snap_notes(graph, path))
     gaps = _near_gaps(graph, base, path, excluded)
     notes.extend(note for note, _ in gaps)
     return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1, path.pieces,
-                    gaps[0][1] if gaps else "")
+                    gaps[0][1] if gaps else "", path.span)
+
+
+def _snap_notes(graph: Graph, path: Path) -> list[str]:
+    """A note naming every missed snap the law's chain was joined across."""
+    used = set(path.pieces)
+    notes = []
+    for snap in graph.snaps:
+        a, b = snap.pieces
+        if a in used and b in used:
+            x, y = (float(v) if abs(v) > 1e-9 * graph.size else 0.0 for v in graph.node_xy[snap.node])
+            pa, pb = graph.pieces[a], graph.pieces[b]
+            notes.append(f"{pa.kind} {pa.handle} and {pb.kind} {pb.handle} end {snap.gap:.3g} drawing units apart at "
+                         f"x = {x:.6g}, y = {y:.6g}: joined as a missed snap (loose ends closer than "
+                         f"{SNAP_FRACTION:g} of the drawing's size, {graph.snap_tol:.3g}, are joined)")
+    return notes
 
 
 def _group_paths(graph: Graph, mask: np.ndarray, through_set: list[int], name: str):
@@ -917,9 +1052,143 @@ def _handles_list(pieces) -> str:
 
 
 def _counts_text(piece_set: PieceSet) -> str:
-    if not piece_set.entity_counts:
-        return "no entities"
-    return ", ".join(f"{n} {kind}" for kind, n in sorted(piece_set.entity_counts.items()))
+    """What the drawing holds instead of curves, layout by layout (never "no entities" when it holds some)."""
+    def listed(counts) -> str:
+        return ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items()))
+
+    where = f"the layout {piece_set.layout!r}" if piece_set.layout else "the model space"
+    parts = [listed(piece_set.entity_counts) + (f" in {where}" if piece_set.elsewhere else "")] \
+        if piece_set.entity_counts else []
+    for name, counts in piece_set.elsewhere.items():
+        if name == (piece_set.layout or "Model"):
+            continue
+        parts.append(f"{listed(counts)} in {'the model space' if name == 'Model' else f'the layout {name!r}'}")
+    return "; ".join(parts) if parts else "no entities in the model space or any layout"
+
+
+# ---------------------------------------------------------------------------------------------
+# What the drawing implies: an outlined stroke's centre line, jumps between plateaus without risers
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Implied:
+    """The drawing's pieces with what it implies: every outlined stroke replaced by its centre line, and
+    the vertical jumps between plateaus drawn without risers added (virtual pieces).
+
+    ``notes`` holds (index into ``pieces``, note) for each centre line and each jump, said when the law
+    uses that piece.
+    """
+
+    pieces: tuple[Piece, ...]
+    notes: tuple[tuple[int, str], ...]
+    jumps: int
+
+
+def implied_pieces(graph: Graph) -> Implied | None:
+    """The drawing's pieces with the outlined strokes' centre lines and the implied jumps (see
+    :class:`Implied`), or None when it implies neither.
+
+    An outline is a closed piece, or a closed chain of pieces meeting two at a node, that
+    :func:`camcad.io.outline.band_centre_line` reads as a band. A jump joins two loose ends (reached
+    by one piece each) at one x (within the snap distance) and different heights, one the right end
+    of a piece and the other the left end of another, when no other loose end is at that x.
+    """
+    pieces = list(graph.pieces)
+    keep = np.ones(len(pieces), dtype=bool)
+    centres: list[tuple[Piece, str]] = []
+    for ring in _rings(graph):
+        members = [pieces[i] for i, _ in ring]
+        points = path_points(graph, Path(tuple(ring), 0.0, 0.0))
+        band = band_centre_line(points, graph.x_tol)
+        if band is None:
+            continue
+        keep[[i for i, _ in ring]] = False
+        first = members[0]
+        kind = first.kind if len({p.kind for p in members}) == 1 else "chain"
+        name = f"{kind} {first.handle}" if len(members) == 1 else \
+            f"{kind} {handles_text([p.handle for p in members], 4)}"
+        centre = Piece(band.centre, f"centre line of {kind}", first.handle, first.layer, first.index, exact=False,
+                       flatten_tol=max(p.flatten_tol for p in members), hidden=all(p.hidden for p in members),
+                       breakpoints=band.centre, sources=tuple(e for p in members for e in p.entities))
+        caps = band.caps[0] if band.caps[0] == band.caps[1] else "/".join(band.caps)
+        centres.append((centre, f"{name} is the outline of a stroke of half-width {band.half_width:.4g} drawing "
+                                f"units ({caps} caps), not a curve: read as its centre line (exact on straight "
+                                "stretches, within w²·curvature on curves)"))
+    jumps = _implied_jumps(graph)
+    if not centres and not jumps:
+        return None
+    out = [p for p, k in zip(pieces, keep) if k]
+    notes: list[tuple[int, str]] = []
+    for centre, note in centres:
+        notes.append((len(out), note))
+        out.append(centre)
+    for jump, note in jumps:
+        notes.append((len(out), note))
+        out.append(jump)
+    return Implied(tuple(out), tuple(notes), len(jumps))
+
+
+def _rings(graph: Graph) -> list[list[tuple[int, bool]]]:
+    """Closed pieces, and closed chains of pieces meeting two at a node, each as (piece, own direction)."""
+    rings: list[list[tuple[int, bool]]] = []
+    for i, piece in enumerate(graph.pieces):
+        if not graph.zero_length[i] and graph.problems[i] == "it is closed" and len(piece.points) >= 3:
+            rings.append([(i, True)])
+    mask = ~graph.zero_length & np.array([not p.virtual for p in graph.pieces], dtype=bool)
+    for chain in open_chains(graph, mask):
+        if len(chain) < 2:
+            continue
+        first, last = chain[0], chain[-1]
+        start = graph.ends[first[0], 0 if first[1] else 1]
+        end = graph.ends[last[0], 1 if last[1] else 0]
+        if start == end:
+            rings.append(chain)
+    return rings
+
+
+def _implied_jumps(graph: Graph) -> list[tuple[Piece, str]]:
+    """The vertical jumps between loose ends at one x (see :func:`implied_pieces`)."""
+    count = len(graph.pieces)
+    live = np.flatnonzero(graph.usable & ~graph.zero_length & ~np.array([p.hidden for p in graph.pieces], bool))
+    if len(live) < 2:
+        return []
+    live = live[_representatives(graph, np.isin(np.arange(count), live))[live]]
+    nodes = np.concatenate((graph.ends[live, 0], graph.ends[live, 1]))
+    owners = np.concatenate((live, live))
+    degree = np.bincount(nodes, minlength=len(graph.node_xy))
+    loose = [(int(n), int(p)) for n, p in zip(nodes, owners) if degree[n] == 1]
+    sides = []
+    for node, owner in loose:
+        x = graph.node_xy[node, 0]
+        others = graph.pieces[owner].points[:, 0]
+        if np.all(others <= x + graph.x_tol) and np.any(others < x - graph.x_tol):
+            sides.append((x, node, owner, "arrives"))
+        elif np.all(others >= x - graph.x_tol) and np.any(others > x + graph.x_tol):
+            sides.append((x, node, owner, "leaves"))
+        else:
+            sides.append((x, node, owner, ""))
+    sides.sort()
+    groups: list[list] = []
+    for item in sides:
+        if groups and item[0] - groups[-1][-1][0] <= graph.snap_tol:
+            groups[-1].append(item)
+        else:
+            groups.append([item])
+    jumps = []
+    for group in groups:
+        if len(group) != 2 or {g[3] for g in group} != {"arrives", "leaves"}:
+            continue
+        arrive = next(g for g in group if g[3] == "arrives")
+        leave = next(g for g in group if g[3] == "leaves")
+        a, b = graph.node_xy[arrive[1]], graph.node_xy[leave[1]]
+        if abs(b[1] - a[1]) <= graph.join_tol:
+            continue
+        p, q = graph.pieces[arrive[2]], graph.pieces[leave[2]]
+        points = np.array([a, b], dtype=float)
+        jump = Piece(points, "jump", "", p.layer, -1, exact=False, breakpoints=points, virtual=True)
+        jumps.append((jump, f"{p.kind} {p.handle} ends at y = {a[1]:.6g} and {q.kind} {q.handle} starts at y = "
+                            f"{b[1]:.6g} at x = {a[0]:.6g} with nothing between"))
+    return jumps
 
 
 # ---------------------------------------------------------------------------------------------
@@ -930,14 +1199,15 @@ def make_curve(graph: Graph, path: Path) -> Curve:
     """The :class:`~camcad.io.dxf_read.Curve` of a chain (the contract is in Curve's docstring)."""
     steps = list(path.steps)
     pieces = [graph.pieces[i] for i, _ in steps]
-    handles = tuple(p.handle for p in pieces)
-    indices = tuple(p.index for p in pieces)
+    entities = [entity for p in pieces for entity in p.entities]
+    handles = tuple(handle for handle, _ in entities)
+    indices = tuple(index for _, index in entities)
     layers = tuple(dict.fromkeys(p.layer for p in pieces))
     hidden = any(p.hidden for p in pieces)
     tol = max((p.flatten_tol for p in pieces), default=0.0)
     if len(pieces) == 1:
         piece = pieces[0]
-        editable = piece.exact and piece.kind in ("LWPOLYLINE", "POLYLINE")
+        editable = piece.exact and piece.kind in ("LWPOLYLINE", "POLYLINE") and not piece.sources
         return Curve(piece.points, piece.kind, piece.handle, piece.layer, editable=editable, closed=False,
                      flatten_tol=0.0 if piece.exact else tol, handles=handles, hidden=hidden, pieces=(piece,),
                      reversed_pieces=(False,), entity_indices=indices, breakpoints=piece.breakpoints, layers=layers)
@@ -969,7 +1239,8 @@ def make_curve(graph: Graph, path: Path) -> Curve:
             bp = graph.pieces[i].points[[0, -1]]
         bp = bp if own else bp[::-1]
         breakpoints.append(bp if k == 0 else bp[1:])
-    return Curve(points, kind, handles[0], pieces[0].layer, editable=exact and kind == "LINE chain", closed=False,
+    return Curve(points, kind, handles[0] if handles else pieces[0].handle, pieces[0].layer,
+                 editable=exact and kind == "LINE chain", closed=False,
                  flatten_tol=0.0 if exact else tol, handles=handles,
                  vertex_refs=tuple(tuple(r) for r in refs), hidden=hidden, pieces=tuple(pieces),
                  reversed_pieces=tuple(not own for _, own in steps), entity_indices=indices,

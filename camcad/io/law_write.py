@@ -22,6 +22,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
+from camcad.io.dxf_read import curve_space
 from camcad.io.dxf_write import (
     header_snapshot,
     lwpolyline_from_array,
@@ -162,7 +163,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     entities, unique = _curve_entities(doc, curve)
     in_block = not unique or any(e.dxftype() == "INSERT" for e in entities)
     x_new, y_new = _drawing_coordinates(loaded, law)
-    msp = doc.modelspace()
+    msp = curve_space(doc, curve)   # the model space, or the paper-space layout the law was drawn in
     if curve.editable and not resampled and not in_block and len(law.x) == int(loaded.vertex_map.lo.max()) + 1:
         xs = loaded.vertex_map.ordinates(x_new)
         ys = loaded.vertex_map.ordinates(y_new)
@@ -360,7 +361,7 @@ def _curve_entities(doc, curve) -> tuple[list, bool]:
     """
     wanted = list(dict.fromkeys(curve.handles or (curve.handle,)))
     found: dict[str, list] = {h: [] for h in wanted}
-    for entity in doc.modelspace():
+    for entity in curve_space(doc, curve):
         handle = str(entity.dxf.get("handle", "") or "?")
         if handle in found:
             found[handle].append(entity)
@@ -394,7 +395,7 @@ def _original_block(doc):
 def _keep_insert(doc, insert, curve, block) -> int:
     """A law inside a block reference: the reference moves into ``block``; every entity it draws that is
     not part of the law is drawn again as a copy in model space. Returns how many were copied."""
-    msp = doc.modelspace()
+    msp = curve_space(doc, curve)
     pieces = list(insert.virtual_entities())
     msp.move_to_layout(insert, block)
     copied = 0

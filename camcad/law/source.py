@@ -30,7 +30,7 @@ from camcad.io.input_file import is_regular_file, read_input
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
 from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
-from camcad.law.phases import detect_phases, parse_phases
+from camcad.law.phases import parse_phases, read_phases
 
 #: the largest lift camcad takes (mm, or deg of swing): larger is a typing mistake
 MAX_LIFT = 1e6
@@ -369,7 +369,9 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     elif phases:
         phase_tuple = tuple(phases)
     else:
-        phase_tuple = detect_phases(theta, yk, cycle, where)
+        reading = read_phases(theta, yk, cycle, where, dwells=_drawn_dwells(baseline, x_min, x_max, cycle))
+        phase_tuple = reading.phases
+        notes.extend(reading.notes)
     law = PiecewiseLinearLaw(theta, yk, cycle, phase_tuple)
     if not phases and not cycle_stated and not x_deg:
         _refuse_part_of_a_cycle(law, x_start, x_end, origin, where)
@@ -390,6 +392,21 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
                      x_min=x_min, x_max=x_max, phases_given=bool(phases),
                      vertex_map=VertexMap(lo_law, hi_law, w_law), curve=curve, drawing=drawing,
                      candidates=candidates, y0=float(y0), baseline=baseline)
+
+
+def _drawn_dwells(baseline: Baseline | None, x_min: float, x_max: float,
+                  cycle: float) -> tuple[tuple[float, float], ...]:
+    """The drawn dwell points of an interpolating spline that overshoots between them (drawing x, from the
+    baseline) as cam angles (rad)."""
+    if baseline is None or not baseline.drawn_dwells:
+        return ()
+    scale = cycle / (x_max - x_min)
+    out = []
+    for lo, hi in baseline.drawn_dwells:
+        t0, t1 = max((lo - x_min) * scale, 0.0), min((hi - x_min) * scale, cycle)
+        if t1 > t0:
+            out.append((t0, t1))
+    return tuple(out)
 
 
 def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: float, origin: float,
