@@ -786,8 +786,11 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
             other = None
             if found is None and implied.jumps and error is not None and "no curve here can be a law" in error.what:
                 error = err   # the plateaus joined say better what is wrong than "a straight line"
-        if other is not None and (found is None or other.span > found.span * (1 + AMBIGUITY_FRACTION)
+        # a chain along an outline's side is the law offset by the stroke's half-width: never the law
+        on_outline = found is not None and bool(implied.outlines & set(found.used))
+        if other is not None and (found is None or on_outline or other.span > found.span * (1 + AMBIGUITY_FRACTION)
                                   + 2 * graph.x_tol):
+            _refuse_unjoined_end(other, implied, graph, where)
             used = set(other.used)
             notes = [note for index, note in implied.notes if index in used and not implied.pieces[index].virtual]
             jumps = [note for index, note in implied.notes if index in used and implied.pieces[index].virtual]
@@ -797,8 +800,22 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
             return replace(other, notes=tuple(notes) + other.notes)
     if found is None:
         assert error is not None
+        if implied is not None and implied.unjoined and "no curve here can be a law" in error.what:
+            _x, text = implied.unjoined[0]
+            raise CamcadError(f"plateaus drawn without risers cannot be joined: {text}", where,
+                              "draw the vertical jump of the law there")
         raise error
     return found
+
+
+def _refuse_unjoined_end(chain: LawChain, implied: Implied, graph: Graph, where: str) -> None:
+    """A chain joined by implied jumps that stops where loose ends meet that no jump joins is only part of
+    the plateaus drawn: refused, naming the place."""
+    x_lo, x_hi = float(chain.curve.points[:, 0].min()), float(chain.curve.points[:, 0].max())
+    for x, text in implied.unjoined:
+        if min(abs(x - x_lo), abs(x - x_hi)) <= graph.snap_tol:
+            raise CamcadError(f"plateaus drawn without risers cannot be joined: {text}; the law read would stop there",
+                              where, "draw the vertical jump of the law there")
 
 
 def _choose(graph: Graph, where: str, layer: str | None, handle: str | None) -> LawChain:
@@ -923,8 +940,16 @@ def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set:
         problem = "it is a straight line (an axis or a grid line, not a law)"
     else:
         problem = "it is flat or straight throughout (an axis, a grid or a frame line, not a law)"
-    raise CamcadError(f"no curve here can be a law; the largest, {graph.pieces[widest].label}: {problem}", where,
-                      _problem_fix(problem))
+    fix = _problem_fix(problem)
+    levels = {round(float(graph.pieces[i].points[0, 1]) / max(graph.join_tol, 1e-300))
+              for i in candidates if graph.straight[i] and graph.usable[i] and not graph.vertical[i]
+              and np.ptp(graph.pieces[i].points[:, 1]) <= graph.join_tol}
+    if len(levels) >= 2:
+        raise CamcadError(f"no curve here can be a law: only straight lines, horizontal ones at {len(levels)} heights "
+                          f"(the largest {graph.pieces[widest].label})", where,
+                          "if they are a law's plateaus, make each end at the x where the next starts, or draw the "
+                          "jumps between them")
+    raise CamcadError(f"no curve here can be a law; the largest, {graph.pieces[widest].label}: {problem}", where, fix)
 
 
 def _refuse_wider_backward_chain(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int], where: str) -> None:
@@ -1082,6 +1107,10 @@ class Implied:
     pieces: tuple[Piece, ...]
     notes: tuple[tuple[int, str], ...]
     jumps: int
+    #: (x, description) of every x where loose ends arrive and leave but not one of each: no jump implied
+    unjoined: tuple[tuple[float, str], ...] = ()
+    #: indices (into the drawing's pieces) of the outlines read as centre lines
+    outlines: frozenset = frozenset()
 
 
 def implied_pieces(graph: Graph) -> Implied | None:
@@ -1096,13 +1125,17 @@ def implied_pieces(graph: Graph) -> Implied | None:
     pieces = list(graph.pieces)
     keep = np.ones(len(pieces), dtype=bool)
     centres: list[tuple[Piece, str]] = []
+    outlined: set[int] = set()
     for ring in _rings(graph):
         members = [pieces[i] for i, _ in ring]
         points = path_points(graph, Path(tuple(ring), 0.0, 0.0))
+        if len(points) > 3 and np.hypot(*(points[-1] - points[0])) <= graph.snap_tol:
+            points = points[:-1]   # the ring's closing point: its first, or a missed snap away from it
         band = band_centre_line(points, graph.x_tol)
         if band is None:
             continue
         keep[[i for i, _ in ring]] = False
+        outlined.update(i for i, _ in ring)
         first = members[0]
         kind = first.kind if len({p.kind for p in members}) == 1 else "chain"
         name = f"{kind} {first.handle}" if len(members) == 1 else \
@@ -1114,7 +1147,7 @@ def implied_pieces(graph: Graph) -> Implied | None:
         centres.append((centre, f"{name} is the outline of a stroke of half-width {band.half_width:.4g} drawing "
                                 f"units ({caps} caps), not a curve: read as its centre line (exact on straight "
                                 "stretches, within w²·curvature on curves)"))
-    jumps = _implied_jumps(graph)
+    jumps, unjoined = _implied_jumps(graph)
     if not centres and not jumps:
         return None
     out = [p for p, k in zip(pieces, keep) if k]
@@ -1125,7 +1158,7 @@ def implied_pieces(graph: Graph) -> Implied | None:
     for jump, note in jumps:
         notes.append((len(out), note))
         out.append(jump)
-    return Implied(tuple(out), tuple(notes), len(jumps))
+    return Implied(tuple(out), tuple(notes), len(jumps), tuple(unjoined), frozenset(outlined))
 
 
 def _rings(graph: Graph) -> list[list[tuple[int, bool]]]:
@@ -1146,12 +1179,13 @@ def _rings(graph: Graph) -> list[list[tuple[int, bool]]]:
     return rings
 
 
-def _implied_jumps(graph: Graph) -> list[tuple[Piece, str]]:
-    """The vertical jumps between loose ends at one x (see :func:`implied_pieces`)."""
+def _implied_jumps(graph: Graph) -> tuple[list[tuple[Piece, str]], list[tuple[float, str]]]:
+    """The vertical jumps between loose ends at one x (see :func:`implied_pieces`), and the x where
+    loose ends arrive and leave but not one of each (no jump can be told)."""
     count = len(graph.pieces)
     live = np.flatnonzero(graph.usable & ~graph.zero_length & ~np.array([p.hidden for p in graph.pieces], bool))
     if len(live) < 2:
-        return []
+        return [], []
     live = live[_representatives(graph, np.isin(np.arange(count), live))[live]]
     nodes = np.concatenate((graph.ends[live, 0], graph.ends[live, 1]))
     owners = np.concatenate((live, live))
@@ -1175,8 +1209,14 @@ def _implied_jumps(graph: Graph) -> list[tuple[Piece, str]]:
         else:
             groups.append([item])
     jumps = []
+    unjoined = []
     for group in groups:
-        if len(group) != 2 or {g[3] for g in group} != {"arrives", "leaves"}:
+        kinds = [g[3] for g in group]
+        if "arrives" in kinds and "leaves" in kinds and len(group) > 2:
+            ends = ", ".join(f"{graph.pieces[g[2]].kind} {graph.pieces[g[2]].handle} {g[3]} at y = "
+                             f"{graph.node_xy[g[1], 1]:.6g}" for g in group[:5])
+            unjoined.append((float(group[0][0]), f"{len(group)} loose ends meet at x = {group[0][0]:.6g} ({ends})"))
+        if len(group) != 2 or set(kinds) != {"arrives", "leaves"}:
             continue
         arrive = next(g for g in group if g[3] == "arrives")
         leave = next(g for g in group if g[3] == "leaves")
@@ -1188,7 +1228,7 @@ def _implied_jumps(graph: Graph) -> list[tuple[Piece, str]]:
         jump = Piece(points, "jump", "", p.layer, -1, exact=False, breakpoints=points, virtual=True)
         jumps.append((jump, f"{p.kind} {p.handle} ends at y = {a[1]:.6g} and {q.kind} {q.handle} starts at y = "
                             f"{b[1]:.6g} at x = {a[0]:.6g} with nothing between"))
-    return jumps
+    return jumps, unjoined
 
 
 # ---------------------------------------------------------------------------------------------

@@ -15,8 +15,11 @@ The rule (docs/reading.md):
   by O(w²·curvature) on curves. At a vertical jump it is a step of half the jump over 2w, which keeps
   the area of the jump.
 - **Thin and even.** The band's half-width measured square to the centre line must be the same (within
-  30 %) over at least half of the x-range, and small: at most ``MAX_WIDTH_FRACTION`` of the outline's
-  height and of its width. A closed cam profile, a frame or a filled shape is not a band.
+  20 %) over at least 70 % of the x-range, nowhere less than half of it (but within 2w of the ends), and
+  small: at most ``MAX_WIDTH_FRACTION`` of its length in x. A law and its axis meeting at both ends close
+  a region that is no band (it is thin where the law dwells on the axis).
+  A closed cam profile, a frame or a filled shape is not a band; a thin rectangle is the band of a
+  straight line (OpenSCAD draws an axis so).
 - **Ends.** A butt cap is one edge of length 2w at the outline's extreme, square to the law: the law
   ends at its middle (a square cap looks the same and is read so: the law then reads w longer at that
   end). Otherwise the cap is round, a half circle round the law's end: the law ends w inside it.
@@ -28,12 +31,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: the band's half-width is at most this fraction of the outline's height and of its width
+#: the band's half-width is at most this fraction of its length in x (a thin band, not a filled shape)
 MAX_WIDTH_FRACTION = 0.05
 #: the half-width measured square to the centre line agrees with the band's within this fraction ...
-EVEN_FRACTION = 0.3
+EVEN_FRACTION = 0.2
 #: ... over at least this fraction of the x-range
-EVEN_SHARE = 0.5
+EVEN_SHARE = 0.7
+#: and the band is nowhere (but within 2w of its ends) thinner than this fraction of its width
+THIN_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -125,10 +130,15 @@ def band_centre_line(ring: np.ndarray, x_tol: float) -> Band | None:
     half = (thick_a + thick_b) / 4.0 / np.sqrt(1.0 + slope ** 2)
     w = _weighted_median(half, width)
     span, height = float(xs[-1] - xs[0]), float(np.ptp(pts[:, 1]))
-    if not w > 0 or w > MAX_WIDTH_FRACTION * min(span, height):
+    if not w > 0 or w > MAX_WIDTH_FRACTION * span:
         return None
     even = np.abs(half - w) <= EVEN_FRACTION * w
     if width[even].sum() < EVEN_SHARE * span:
+        return None
+    # a stroke is never thin in its middle: a region between a law and its axis (which meet in the dwells) is
+    # no band, however even it is elsewhere
+    core = (left_x >= xs[0] + 2 * w) & (right_x <= xs[-1] - 2 * w)
+    if np.any(np.minimum(thick_a, thick_b)[core] < THIN_FRACTION * 2 * w):
         return None
     centre = np.empty((2 * len(width), 2))
     centre[0::2, 0], centre[1::2, 0] = left_x, right_x

@@ -75,6 +75,9 @@ class Baseline:
     drawn_dwells : tuple of (float, float)
         Drawing x-ranges (drawing units) between an interpolating spline's own points at the zero that
         the spline leaves: the dwells the designer drew, which the phases take.
+    drawn_zeros : tuple of float
+        Drawing x (drawing units) of an interpolating spline's own points at the zero: where the
+        designer put the lobes' ends.
     """
 
     y0: float
@@ -83,6 +86,7 @@ class Baseline:
     notes: tuple[str, ...]
     axis_pieces: tuple[int, ...] = ()
     drawn_dwells: tuple[tuple[float, float], ...] = ()
+    drawn_zeros: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -279,7 +283,10 @@ def find_baseline(curve: Curve, pieces: tuple[Piece, ...], law_pieces: set[int],
                      f"if that is a dwell, pass --y0 {dwell:.9g}")
     warnings, drawn_dwells = _dwell_warnings(curve, pts, runs, value, height, span, level_tol)
     notes.extend(warnings)
-    return Baseline(value, None if x0 is None else float(x0), source, tuple(notes), axis_pieces, drawn_dwells)
+    zeros = tuple(sorted(float(bx) for piece in curve.pieces if piece.interpolating and piece.breakpoints is not None
+                         for bx, by in piece.breakpoints if abs(by - value) <= level_tol))
+    return Baseline(value, None if x0 is None else float(x0), source, tuple(notes), axis_pieces, drawn_dwells,
+                    zeros)
 
 
 def _overshoot(points: np.ndarray, breakpoints: np.ndarray, y0: float, level_tol: float,

@@ -37,9 +37,12 @@ from camcad.numerics import brent_root
 ZERO_FRACTION = 1e-6
 #: a velocity excursion must reach this fraction of the motion's peak speed to be a phase of its own
 SPLIT_FRACTION = 0.5
-#: between the lobes of a rise and a return with no dwell, a vertex within this fraction of the motion's
-#: peak |a| of the zero touches it
-TOUCH_FRACTION = 1e-3
+#: between the lobes of a rise and a return with no dwell, a local extreme within this fraction of the
+#: motion's peak |a| of the zero touches it (a vertex snapped a hair off the axis, a rounded join of an
+#: outlined stroke: w = 1/40 of the peak lowers a sharp junction by 0.5 % of it)
+TOUCH_FRACTION = 0.02
+#: vertices this fraction of the peak above the lowest of a junction count as its bottom (its middle is taken)
+LEVEL_FRACTION = 1e-3
 #: ... and the acceleration may cross the zero there by at most this fraction of the peak (a vertex drawn a
 #: hair past the axis); a larger excursion is a lobe of its own
 CROSS_FRACTION = 0.05
@@ -124,11 +127,13 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
 
 
 def read_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "",
-                dwells: tuple[tuple[float, float], ...] = ()) -> PhaseReading:
+                dwells: tuple[tuple[float, float], ...] = (), zeros: tuple[float, ...] = ()) -> PhaseReading:
     """The phases of the piecewise-linear law (x rad, a mm/rad²) over [0, cycle], with notes.
 
     ``dwells`` (rad) are stretches the caller knows to be dwells (an interpolating spline's drawn dwell
-    points): they are dwells whatever the acceleration does there.
+    points): they are dwells whatever the acceleration does there. ``zeros`` (rad) are points the designer
+    put on the zero (an interpolating spline's points at the zero): between a rise and a return with no
+    dwell, such a point is the boundary, wherever the spline through it turns.
     """
     x = np.asarray(x, dtype=float)
     a = np.asarray(a, dtype=float)
@@ -155,7 +160,7 @@ def read_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "",
     for start, end in dwell_spans + [(x_last, x_last)]:
         if start > cursor:
             if _max_abs(x, a, cursor, start) > eps:
-                motion, motion_cuts = _split_motion(x, a, cursor, start)
+                motion, motion_cuts = _split_motion(x, a, cursor, start, zeros)
                 phases.extend(motion)
                 cuts.extend(motion_cuts)
             else:
@@ -243,7 +248,8 @@ def _dwell_notes(forced: list[tuple[float, float]]) -> tuple[str, ...]:
             "(the spline interpolates them but leaves the zero between them); --phases overrides",)
 
 
-def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[list[Phase], list[_Cut]]:
+def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
+                  drawn: tuple[float, ...] = ()) -> tuple[list[Phase], list[_Cut]]:
     """Cut one motion (between dwells) into rises and returns (see the module docstring): how many,
     by the sign changes of the velocity; where, at the drawn vertex between the lobes."""
     law = _motion_law(x, a, start, end)
@@ -282,7 +288,7 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tup
     records: list[_Cut] = []
     for root, before in velocity_cuts:
         # the lobes on both sides of the boundary have the sign opposite to the motion before it
-        zeros, crosses = _drawn_vertices(xs, as_, root, -before, a_peak)
+        zeros, crosses = _drawn_vertices(xs, as_, root, -before, a_peak, drawn)
         kinds = ("rise", "return") if before > 0 else ("return", "rise")
         if zeros:
             at = min(zeros, key=lambda z: abs(z - root))
@@ -300,15 +306,16 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tup
     return [Phase(kind, c0, c1) for kind, c0, c1 in zip(kinds, cuts[:-1], cuts[1:]) if c1 > c0], records
 
 
-def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int,
-                    peak: float) -> tuple[list[float], list[bool]]:
+def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, peak: float,
+                    drawn: tuple[float, ...] = ()) -> tuple[list[float], list[bool]]:
     """Where the drawn acceleration touches or crosses zero between two lobes of sign ``sign`` around
     ``root`` (the velocity's sign change): the drawn vertices (rad), and whether each crosses zero.
 
     The stretch looked at runs from ``root`` both ways while sign·a stays above −CROSS_FRACTION·peak
     (past the zero only by a hair); in it, each connected run of vertices within TOUCH_FRACTION·peak of
     the zero (or past it) that has a lobe (sign·a above TOUCH_FRACTION·peak) on both sides gives its
-    vertex nearest the other side (the middle of several equal ones).
+    vertex nearest the other side (the middle of several equal ones). Points the designer put on the zero
+    (``drawn``) inside the stretch, with a lobe on both sides, are taken instead.
     """
     f = sign * as_
     n = len(xs)
@@ -329,6 +336,10 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int,
     near = f[window] <= touch
     lobe = f[window] > touch
     zeros, crosses = [], []
+    lobe_x = xs[window][lobe]
+    placed = [float(t) for t in drawn if len(lobe_x) and lobe_x[0] < t < lobe_x[-1]]
+    if placed:
+        return placed, [False] * len(placed)
     starts = np.flatnonzero(near & np.concatenate(([True], ~near[:-1])))
     for s in starts:
         e = s
@@ -339,7 +350,9 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int,
             continue
         idx = window[s:e + 1]
         low = f[idx].min()
-        at = idx[f[idx] <= low + 1e-12 * peak]
+        # the middle of the lowest vertices (within 1e-3 of the peak): the vertex itself when it is drawn
+        # sharp, the middle of a rounded junction
+        at = idx[f[idx] <= low + LEVEL_FRACTION * peak]
         zeros.append(float((xs[at[0]] + xs[at[-1]]) / 2))
         crosses.append(bool(low < -touch))
     return zeros, crosses

@@ -219,9 +219,9 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     chain = find_law(piece_set, str(path), layer=layer, handle=handle, join_tol=join_tol)
     curve = chain.curve
     used = set(chain.used)
-    baseline = find_baseline(curve, piece_set.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
+    baseline = find_baseline(curve, chain.graph.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
     notes = list(drawing.notes) + list(piece_set.notes) + list(chain.notes)
-    left_out = [piece_set.pieces[i] for i in chain.left_out]
+    left_out = [chain.graph.pieces[i] for i in chain.left_out]
     if left_out:
         notes.append(f"left out as axis or grid lines: {len(left_out)} straight piece"
                      f"{'s' if len(left_out) > 1 else ''} ({_pieces_text(left_out)})")
@@ -369,7 +369,8 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     elif phases:
         phase_tuple = tuple(phases)
     else:
-        reading = read_phases(theta, yk, cycle, where, dwells=_drawn_dwells(baseline, x_min, x_max, cycle))
+        dwells, zeros = _drawn_dwells(baseline, x_min, x_max, cycle)
+        reading = read_phases(theta, yk, cycle, where, dwells=dwells, zeros=zeros)
         phase_tuple = reading.phases
         notes.extend(reading.notes)
     law = PiecewiseLinearLaw(theta, yk, cycle, phase_tuple)
@@ -395,18 +396,19 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
 
 
 def _drawn_dwells(baseline: Baseline | None, x_min: float, x_max: float,
-                  cycle: float) -> tuple[tuple[float, float], ...]:
-    """The drawn dwell points of an interpolating spline that overshoots between them (drawing x, from the
-    baseline) as cam angles (rad)."""
-    if baseline is None or not baseline.drawn_dwells:
-        return ()
+                  cycle: float) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
+    """The drawn dwells and the points on the zero of an interpolating spline (drawing x, from the baseline)
+    as cam angles (rad)."""
+    if baseline is None:
+        return (), ()
     scale = cycle / (x_max - x_min)
-    out = []
+    dwells = []
     for lo, hi in baseline.drawn_dwells:
         t0, t1 = max((lo - x_min) * scale, 0.0), min((hi - x_min) * scale, cycle)
         if t1 > t0:
-            out.append((t0, t1))
-    return tuple(out)
+            dwells.append((t0, t1))
+    zeros = tuple((x - x_min) * scale for x in baseline.drawn_zeros if x_min < x < x_max)
+    return tuple(dwells), zeros
 
 
 def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: float, origin: float,
