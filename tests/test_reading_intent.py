@@ -341,6 +341,30 @@ def make_freecad(folder: Path) -> dict[str, Path]:
             ("freecad_rise_return", "freecad_plateaus", "freecad_outline", "freecad_gap")}
 
 
+GDAL_X0, GDAL_Y0 = 1000.0, 500.0
+
+
+def make_gdal(folder: Path) -> dict[str, Path]:
+    """GDAL's ogr2ogr -f DXF (LWPOLYLINEs from its template, $INSUNITS 1) on GeoJSON: the no-dwell law with its
+    axis, and the balanced twin in two line strings whose ends miss each other by GAP in x."""
+    shift = np.array([GDAL_X0, GDAL_Y0])
+    axis = [[GDAL_X0 - 5, GDAL_Y0], [GDAL_X0 + WIDTH + 5, GDAL_Y0]]
+    twin = polyline(DWELL_RISE_RETURN_TWIN)
+    sources = {"gdal_no_dwell": [axis, (polyline(NO_DWELL) + shift).tolist()],
+               "gdal_gap": [axis, (twin[:2 * N_LOBE + 2] + shift).tolist(),
+                            (twin[2 * N_LOBE + 1:] + shift + [GAP, 0.0]).tolist()]}
+    out = {}
+    for name, lines in sources.items():
+        source = folder / f"{name}.geojson"
+        source.write_text(json.dumps({"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": c}}
+            for c in lines]}))
+        out[name] = folder / f"{name}.dxf"
+        done = _run(["ogr2ogr", "-f", "DXF", str(out[name]), str(source)])
+        assert done.returncode == 0 and out[name].exists(), done.stderr
+    return out
+
+
 def make_byte_level(folder: Path) -> dict[str, Path]:
     out = {}
     for name, data in (("openscad_2019", openscad_2019(openscad_rings())),
@@ -395,8 +419,10 @@ CASES = {
     "freecad_plateaus": (PLATEAUS, "plateaus drawn without risers joined by 6 vertical jumps", 1e-3, 1e-5),
     "freecad_outline": (NO_DWELL, "is the outline of a stroke of half-width 0.3", 0.6, 1e-3),
     "freecad_gap": (DWELL_RISE_RETURN_TWIN, "joined as a missed snap", 0.05, 2e-4),
+    "gdal_no_dwell": (NO_DWELL, "the drawn vertex where the acceleration touches zero", 1e-6, 1e-9),
+    "gdal_gap": (DWELL_RISE_RETURN_TWIN, "joined as a missed snap", 0.05, 2e-4),
 }
-MAKERS = {"inkscape": make_inkscape, "freecad": make_freecad}
+MAKERS = {"inkscape": make_inkscape, "freecad": make_freecad, "gdal": make_gdal}
 
 
 def _program(case: str) -> str | None:
@@ -404,7 +430,7 @@ def _program(case: str) -> str | None:
 
 
 def _available(program: str) -> bool:
-    return shutil.which({"inkscape": "inkscape", "freecad": "freecadcmd"}[program]) is not None
+    return shutil.which({"inkscape": "inkscape", "freecad": "freecadcmd", "gdal": "ogr2ogr"}[program]) is not None
 
 
 def _need(program: str) -> None:

@@ -941,10 +941,13 @@ def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set:
     else:
         problem = "it is flat or straight throughout (an axis, a grid or a frame line, not a law)"
     fix = _problem_fix(problem)
-    levels = {round(float(graph.pieces[i].points[0, 1]) / max(graph.join_tol, 1e-300))
-              for i in candidates if graph.straight[i] and graph.usable[i] and not graph.vertical[i]
-              and np.ptp(graph.pieces[i].points[:, 1]) <= graph.join_tol}
-    if len(levels) >= 2:
+    flat = [i for i in candidates if graph.usable[i] and not graph.zero_length[i] and not graph.vertical[i]]
+    horizontal = [i for i in flat if graph.straight[i] and np.ptp(graph.pieces[i].points[:, 1]) <= graph.join_tol]
+    degree = np.bincount(graph.ends.ravel(), minlength=len(graph.node_xy))
+    loose = [i for i in horizontal if degree[graph.ends[i, 0]] == 1 and degree[graph.ends[i, 1]] == 1]
+    levels = {round(float(graph.pieces[i].points[0, 1]) / max(graph.join_tol, 1e-300)) for i in loose}
+    # nothing but horizontal (and vertical) lines, some of them loose at both ends at several heights: plateaus
+    if len(levels) >= 2 and len(horizontal) == len(flat):
         raise CamcadError(f"no curve here can be a law: only straight lines, horizontal ones at {len(levels)} heights "
                           f"(the largest {graph.pieces[widest].label})", where,
                           "if they are a law's plateaus, make each end at the x where the next starts, or draw the "
@@ -1082,8 +1085,8 @@ def _counts_text(piece_set: PieceSet) -> str:
         return ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items()))
 
     where = f"the layout {piece_set.layout!r}" if piece_set.layout else "the model space"
-    parts = [listed(piece_set.entity_counts) + (f" in {where}" if piece_set.elsewhere else "")] \
-        if piece_set.entity_counts else []
+    others = set(piece_set.elsewhere) - {piece_set.layout or "Model"}
+    parts = [listed(piece_set.entity_counts) + (f" in {where}" if others else "")] if piece_set.entity_counts else []
     for name, counts in piece_set.elsewhere.items():
         if name == (piece_set.layout or "Model"):
             continue
