@@ -667,6 +667,22 @@ def test_no_entities_is_never_said_of_a_drawing_that_holds_some(cli, tmp_path):
     assert "no entities in the model space or any layout" in _one_line(cli("check", tmp_path / "empty.dxf"))
 
 
+def test_a_model_space_of_block_references_without_curves_sends_the_reader_to_the_sheet(cli, tmp_path):
+    import ezdxf
+
+    doc = ezdxf.new("R2018")
+    doc.blocks.new("TITLE").add_text("title block")
+    doc.modelspace().add_blockref("TITLE", (0, 0))
+    sheet = doc.layouts.get("Layout1")
+    sheet.add_lwpolyline(polyline(DWELL_RISE_RETURN) + [X0, Y0])
+    sheet.add_line((X0 - 5, Y0), (X0 + WIDTH + 5, Y0))
+    doc.saveas(tmp_path / "sheet.dxf")
+    payload = _check(cli, tmp_path / "sheet.dxf")
+    assert_phases(phases_deg(payload), EXPECTED[DWELL_RISE_RETURN])
+    assert payload["notes"][0] == ("the model space holds no curves (1 INSERT, 1 TEXT): the law is read from the "
+                                   "paper-space layout 'Layout1'")
+
+
 def test_a_paper_space_law_is_corrected_in_its_layout(made, cli, tmp_path):
     import ezdxf
 

@@ -455,7 +455,7 @@ def units_note(drawing: Drawing, scaled: bool) -> str:
 # Pieces
 # ---------------------------------------------------------------------------------------------
 
-def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> PieceSet:
+def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None, layout: str = "") -> PieceSet:
     """Every curve entity of the model space as a :class:`Piece` (block references exploded).
 
     A block's pieces are computed once per block definition and placed by each reference's
@@ -469,6 +469,9 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
     flatten_tol : float, optional
         Largest distance (drawing units) between a SPLINE, ELLIPSE or arc and its flattening;
         default 1e-5 × the entity's size.
+    layout : str
+        "" for the model space, or a paper-space layout's name. When the model space holds no curve,
+        the first paper-space layout (in tab order) that does is read instead, with a note.
 
     Returns
     -------
@@ -489,12 +492,7 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
     zero = [0]
     blocks = _BlockCache(drawing, flatten_tol, notes, zero)
     expanded = 0
-    space, layout, elsewhere = law_layout(drawing.doc)
-    if layout:
-        others = [name for name in elsewhere if name not in ("Model", layout) and _holds_curves(elsewhere[name])]
-        notes.append(f"the model space holds no curves ({_counter_text(elsewhere.get('Model', Counter()))}): the "
-                     f"law is read from the paper-space layout {layout!r}"
-                     + (f" (other layouts with curves: {', '.join(repr(n) for n in others[:4])})" if others else ""))
+    space = drawing.doc.layouts.get(layout) if layout else drawing.doc.modelspace()
     with ezdxf_messages() as messages:
         for index, entity in enumerate(space):
             kind = entity.dxftype()
@@ -531,41 +529,38 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
     notes.extend(summarise_messages(messages))
     if layout:
         pieces = [replace(p, layout=layout) if p.index >= 0 else p for p in pieces]
-    return PieceSet(tuple(pieces), counts, tuple(notes), layout, elsewhere)
-
-
-def law_layout(doc) -> tuple:
-    """Where to read the law: (the layout's entities, its name — "" for the model space —, the entity
-    counts of the other layouts that hold entities {name: Counter}, "Model" for the model space).
-
-    The model space, unless it holds no curve (no curve entity and no block reference) while a
-    paper-space layout does: then the first such layout in tab order.
-    """
-    msp = doc.modelspace()
-    model = Counter(entity.dxftype() for entity in msp)
-    elsewhere: dict = {}
-    if model:
-        elsewhere["Model"] = model
-    if _holds_curves(model):
-        return msp, "", {}
-    chosen = None
-    try:
-        names = [name for name in doc.layouts.names_in_taborder() if name.upper() != "MODEL"]
-    except Exception:  # noqa: BLE001 - a damaged layout table: the model space only
-        names = []
-    for name in names:
+        return PieceSet(tuple(pieces), counts, tuple(notes), layout)
+    if any(p.index >= 0 for p in pieces):
+        return PieceSet(tuple(pieces), counts, tuple(notes))
+    # the model space holds no curve: the law may be drawn on a sheet
+    elsewhere = {"Model": counts} if counts else {}
+    found = None
+    for name in _paper_layouts(drawing.doc):
         try:
-            layout = doc.layouts.get(name)
-            found = Counter(entity.dxftype() for entity in layout)
+            held = Counter(entity.dxftype() for entity in drawing.doc.layouts.get(name))
         except Exception:  # noqa: BLE001 - a layout ezdxf cannot read holds nothing here
             continue
-        if found:
-            elsewhere[name] = found
-        if chosen is None and _holds_curves(found):
-            chosen = (layout, name)
-    if chosen is None:
-        return msp, "", elsewhere
-    return chosen[0], chosen[1], elsewhere
+        if held:
+            elsewhere[name] = held
+        if found is None and _holds_curves(held):
+            sheet = collect_pieces(drawing, flatten_tol=flatten_tol, layout=name)
+            if any(p.index >= 0 for p in sheet.pieces):
+                found = sheet
+    if found is None:
+        return PieceSet(tuple(pieces), counts, tuple(notes), "", elsewhere)
+    others = [n for n in elsewhere if n not in ("Model", found.layout) and _holds_curves(elsewhere[n])]
+    note = (f"the model space holds no curves ({_counter_text(counts)}): the law is read from the paper-space "
+            f"layout {found.layout!r}" + (f" (other layouts with curves: {', '.join(map(repr, others[:4]))})"
+                                          if others else ""))
+    return replace(found, notes=(note,) + found.notes, elsewhere=elsewhere)
+
+
+def _paper_layouts(doc) -> list[str]:
+    """The paper-space layouts' names in tab order."""
+    try:
+        return [name for name in doc.layouts.names_in_taborder() if name.upper() != "MODEL"]
+    except Exception:  # noqa: BLE001 - a damaged layout table: none
+        return []
 
 
 def _holds_curves(counts: Counter) -> bool:
