@@ -8,6 +8,9 @@ The rules (docs/reading.md):
   the file or layers. Pieces of no length are dropped; pieces drawn twice over (the same ends and
   shape) count once. Nodes are found in O(n log n) (a k-d tree, and a greedy pass over the few
   ends that have a neighbour within the tolerance), so thousands of coincident pieces cost nothing.
+- **Missed snaps.** Loose ends (reached by one piece end) of two pieces closer than ``SNAP_FRACTION``
+  (1e-4) × the drawing's size, each the other's nearest loose end, are joined; a note names them when
+  the law runs through them. A wider gap stays open (warned of, or the refusal says where).
 - **The law is a function of x.** A law's chain runs left to right: each piece runs in x one way
   (a vertical piece is a jump). Among all such chains the law is the one spanning the largest
   x-range; of chains spanning the same range, the one whose y varies most (an axis does not vary,
@@ -23,6 +26,12 @@ The rules (docs/reading.md):
   each object on a layer of its own). Two different chains of the same width are ambiguous.
 - **Not a function of x.** When an open chain that goes back in x is wider than the law found,
   the drawing is refused with the place where it goes back.
+- **What the drawing implies** (:func:`implied_pieces`). A closed outline that is a band of even width
+  (an outlined stroke: OpenSCAD, Illustrator's Outline Stroke, Inkscape's Stroke to Path) stands for its
+  centre line (:mod:`camcad.io.outline`); two loose ends at one x and different heights, one ending a
+  piece and one starting another, with no other loose end there, imply the vertical jump between
+  plateaus drawn without risers. The law is chosen again with them and that law is taken when it is wider,
+  or when the law as drawn runs along an outline's side (the law offset by the stroke's half-width).
 """
 
 from __future__ import annotations
@@ -1292,16 +1301,20 @@ def make_curve(graph: Graph, path: Path) -> Curve:
 
 __all__ = [
     "Graph",
+    "Implied",
     "LawChain",
     "Path",
+    "Snap",
     "best_path",
     "build_graph",
     "cluster_points",
     "drawing_size",
     "find_law",
+    "implied_pieces",
     "is_straight",
     "make_curve",
     "open_chains",
     "path_points",
+    "snap_dangling_ends",
     "widest_law_path",
 ]

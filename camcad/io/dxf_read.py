@@ -975,6 +975,7 @@ __all__ = [
     "curve_space",
     "ezdxf_messages",
     "handles_text",
+    "is_interpolating_cubic",
     "open_drawing",
     "summarise_messages",
     "units_note",
