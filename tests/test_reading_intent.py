@@ -567,6 +567,37 @@ def test_a_vertex_drawn_a_hair_past_the_zero_is_the_boundary():
     assert any("crosses zero" in n for n in reading.notes), reading.notes
 
 
+@pytest.mark.reference("closed form", "boundary by construction: sin² lobes meet at 180 deg with zero slope")
+def test_lobes_meeting_the_zero_tangentially_meet_there():
+    # sin² lobes (zero acceleration and zero jerk at their ends, like a 4-5-6-7 polynomial) sampled every
+    # 0.5 deg; the rise's decelerating lobe 15 % weak: the velocity changes sign far from 180 deg
+    theta = np.arange(0.0, 360.25, 0.5)
+    lobe = np.sin(np.radians(theta) * 2) ** 2
+    a = np.where(theta < 90, 1.0, np.where(theta < 180, -0.85, np.where(theta < 270, -1.0, 1.0))) * lobe
+    reading = read_phases(np.radians(theta), a, 2 * math.pi)
+    assert [(p.kind, math.degrees(p.start), math.degrees(p.end)) for p in reading.phases] == \
+        [("rise", 0.0, pytest.approx(180.0, abs=1e-9)), ("return", pytest.approx(180.0, abs=1e-9), 360.0)]
+    assert any("drawn vertex" in n for n in reading.notes)
+
+
+@pytest.mark.reference("property", "a far dwell drawn wavering about the zero (a filtered law) shows no vertex: "
+                                   "the velocity's zero is the boundary and the law stays balanced")
+def test_an_acceleration_wavering_about_the_zero_is_no_drawn_vertex():
+    # a balanced rise (sin 4θ over 0..90 deg) and return (−sin 4θ over 270..360 deg), and between them a far
+    # dwell drawn wavering about the zero by 1 % of the peak
+    theta = np.arange(0.0, 360.25, 0.25)
+    t = np.radians(theta)
+    a = np.where(theta <= 90, np.sin(4 * t), np.where(theta >= 270, -np.sin(4 * t), 0.01 * np.sin(60 * t)))
+    reading = read_phases(t, a, 2 * math.pi)
+    rise_end = next(p.end for p in reading.phases if p.kind == "rise")
+    from camcad.law.law import PiecewiseLinearLaw
+
+    law = PiecewiseLinearLaw(t, a, 2 * math.pi, reading.phases)
+    assert abs(law.kinematics(np.array([rise_end])).v[0]) < 1e-9
+    assert not any("drawn vertex" in n for n in reading.notes)
+    assert any("wavers about the zero (no single vertex) between their lobes" in n for n in reading.notes)
+
+
 @pytest.mark.reference("property", "a law whose acceleration never reaches zero between rise and return: the "
                                    "velocity's zero is the only boundary it shows, and --phases restates it")
 def test_no_zero_between_the_lobes_uses_the_velocity_and_says_how_to_state_it():

@@ -115,7 +115,7 @@ class _Cut:
     after: str
     at: float               # rad, the boundary used
     velocity_at: float      # rad, where the velocity changes sign
-    rule: str               # "vertex" (the drawn vertex), "velocity" (no zero between the lobes)
+    rule: str               # "vertex" (the drawn vertex), "velocity" (no zero between the lobes), "wavering"
     zeros: tuple[float, ...] = ()   # rad, every place the acceleration reaches zero between the lobes
     crosses: bool = False   # the drawn vertex lies past the zero (a crossing), not on it
 
@@ -221,8 +221,9 @@ def _cut_notes(cuts: list[_Cut], phases: tuple[Phase, ...], cycle: float) -> lis
     tol = NOTE_FRACTION * cycle
     for cut in cuts:
         pair = f"the {cut.before} and the {cut.after} meet with no dwell"
-        if cut.rule == "velocity":
-            notes.append(f"{pair} and the drawn acceleration does not reach zero between their lobes: the boundary "
+        if cut.rule in ("velocity", "wavering"):
+            how = "does not reach zero" if cut.rule == "velocity" else "wavers about the zero (no single vertex)"
+            notes.append(f"{pair} and the drawn acceleration {how} between their lobes: the boundary "
                          f"is taken where the velocity changes sign, at {_deg(cut.at)} deg; if the lobes meet "
                          f"elsewhere, state the phases, e.g. {stated}")
             continue
@@ -288,14 +289,14 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
     records: list[_Cut] = []
     for root, before in velocity_cuts:
         # the lobes on both sides of the boundary have the sign opposite to the motion before it
-        zeros, crosses = _drawn_vertices(xs, as_, root, -before, a_peak, drawn)
-        kinds = ("rise", "return") if before > 0 else ("return", "rise")
+        zeros, crosses, wavering = _drawn_vertices(xs, as_, root, -before, a_peak, drawn)
+        pair = ("rise", "return") if before > 0 else ("return", "rise")
         if zeros:
             at = min(zeros, key=lambda z: abs(z - root))
-            records.append(_Cut(*kinds, at, root, "vertex", tuple(zeros), crosses[zeros.index(at)]))
+            records.append(_Cut(*pair, at, root, "vertex", tuple(zeros), crosses[zeros.index(at)]))
         else:
             at = root
-            records.append(_Cut(*kinds, at, root, "velocity"))
+            records.append(_Cut(*pair, at, root, "wavering" if wavering else "velocity"))
         cuts.append(max(at, cuts[-1]))
     cuts.append(end)
     kinds = []
@@ -307,7 +308,7 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
 
 
 def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, peak: float,
-                    drawn: tuple[float, ...] = ()) -> tuple[list[float], list[bool]]:
+                    drawn: tuple[float, ...] = ()) -> tuple[list[float], list[bool], bool]:
     """Where the drawn acceleration touches or crosses zero between two lobes of sign ``sign`` around
     ``root`` (the velocity's sign change): the drawn vertices (rad), and whether each crosses zero.
 
@@ -315,12 +316,13 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, pea
     (past the zero only by a hair); in it, each connected run of vertices within TOUCH_FRACTION·peak of
     the zero (or past it) that has a lobe (sign·a above TOUCH_FRACTION·peak) on both sides gives its
     vertex nearest the other side (the middle of several equal ones). Points the designer put on the zero
-    (``drawn``) inside the stretch, with a lobe on both sides, are taken instead.
+    (``drawn``) inside the stretch, with a lobe on both sides, are taken instead. The last value says the
+    acceleration wavers about the zero there (no vertex).
     """
     f = sign * as_
     n = len(xs)
     if n < 3 or peak <= 0:
-        return [], []
+        return [], [], False
     touch, cross = TOUCH_FRACTION * peak, -CROSS_FRACTION * peak
     k = int(np.clip(np.searchsorted(xs, root, side="right") - 1, 0, n - 2))
     allowed = f > cross
@@ -331,7 +333,7 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, pea
     blocked_right = np.flatnonzero(~allowed[right + 1:])
     right = right + int(blocked_right[0]) if len(blocked_right) else n - 1
     if right - left < 2:
-        return [], []
+        return [], [], False
     window = np.arange(left, right + 1)
     near = f[window] <= touch
     lobe = f[window] > touch
@@ -339,7 +341,9 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, pea
     lobe_x = xs[window][lobe]
     placed = [float(t) for t in drawn if len(lobe_x) and lobe_x[0] < t < lobe_x[-1]]
     if placed:
-        return placed, [False] * len(placed)
+        return placed, [False] * len(placed), False
+    wavering = False
+    quiet = f[window] <= -cross           # within CROSS_FRACTION of the zero, either side
     starts = np.flatnonzero(near & np.concatenate(([True], ~near[:-1])))
     for s in starts:
         e = s
@@ -348,6 +352,19 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, pea
         # a lobe on both sides, inside the motion (not its ends)
         if not (lobe[:s].any() and lobe[e + 1:].any()):
             continue
+        # a touch or a hair's crossing leaves the zero at once; an acceleration that wavers about the zero
+        # (three or more crossings in the quiet stretch round it: a dwell drawn not quite at zero, a
+        # filtered law) shows no vertex
+        q0, q1 = s, e
+        while q0 > 0 and quiet[q0 - 1]:
+            q0 -= 1
+        while q1 + 1 < len(window) and quiet[q1 + 1]:
+            q1 += 1
+        stretch = as_[window[q0:q1 + 1]]
+        signs = np.sign(stretch[np.abs(stretch) > ZERO_FRACTION * peak])
+        if np.count_nonzero(signs[1:] != signs[:-1]) >= 3:
+            wavering = True
+            continue
         idx = window[s:e + 1]
         low = f[idx].min()
         # the middle of the lowest vertices (within 1e-3 of the peak): the vertex itself when it is drawn
@@ -355,7 +372,7 @@ def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, pea
         at = idx[f[idx] <= low + LEVEL_FRACTION * peak]
         zeros.append(float((xs[at[0]] + xs[at[-1]]) / 2))
         crosses.append(bool(low < -touch))
-    return zeros, crosses
+    return zeros, crosses, wavering and not zeros
 
 
 def _first_lobe_sign(law: PiecewiseLinearLaw) -> int:
