@@ -1367,7 +1367,7 @@ def band_centre_line(ring: np.ndarray, x_tol: float) -> Band | None:
     width = right_x - left_x
     slope = (mid_b - mid_a) / width
     # the half-width square to the centre line, at the middle of each slab
-    half = (thick_a + thick_b) / 4.0 / np.sqrt(1.0 + slope ** 2)
+    half = (thick_a + thick_b) / 4.0 / np.hypot(1.0, slope)
     w = _weighted_median(half, width)
     span, height = float(xs[-1] - xs[0]), float(np.ptp(pts[:, 1]))
     if not w > 0 or w > MAX_WIDTH_FRACTION * span:
