@@ -8,6 +8,9 @@ The rules (docs/reading.md):
   the file or layers. Pieces of no length are dropped; pieces drawn twice over (the same ends and
   shape) count once. Nodes are found in O(n log n) (a k-d tree, and a greedy pass over the few
   ends that have a neighbour within the tolerance), so thousands of coincident pieces cost nothing.
+- **Missed snaps.** Loose ends (reached by one piece end) of two pieces closer than ``SNAP_FRACTION``
+  (1e-4) × the drawing's size, each the other's nearest loose end, are joined; a note names them when
+  the law runs through them. A wider gap stays open (warned of, or the refusal says where).
 - **The law is a function of x.** A law's chain runs left to right: each piece runs in x one way
   (a vertical piece is a jump). Among all such chains the law is the one spanning the largest
   x-range; of chains spanning the same range, the one whose y varies most (an axis does not vary,
@@ -23,11 +26,17 @@ The rules (docs/reading.md):
   each object on a layer of its own). Two different chains of the same width are ambiguous.
 - **Not a function of x.** When an open chain that goes back in x is wider than the law found,
   the drawing is refused with the place where it goes back.
+- **What the drawing implies** (:func:`implied_pieces`). A closed outline that is a band of even width
+  (an outlined stroke: OpenSCAD, Illustrator's Outline Stroke, Inkscape's Stroke to Path) stands for its
+  centre line (:func:`band_centre_line`); two loose ends at one x and different heights, one ending a
+  piece and one starting another, with no other loose end there, imply the vertical jump between
+  plateaus drawn without risers. The law is chosen again with them and that law is taken when it is wider,
+  or when the law as drawn runs along an outline's side (the law offset by the stroke's half-width).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, NoReturn
 
 import numpy as np
@@ -37,6 +46,8 @@ from camcad.io.dxf_read import Curve, Piece, PieceSet, handles_text
 
 #: default end-to-end join tolerance, as a fraction of the drawing's size
 JOIN_FRACTION = 1e-6
+#: loose ends of two pieces closer than this fraction of the drawing's size are a missed snap: joined, noted
+SNAP_FRACTION = 1e-4
 #: x steps below this fraction of the drawing's size count as vertical (and as not going back)
 X_FRACTION = 1e-9
 #: two chains whose x-ranges agree within this fraction are ambiguous
@@ -79,6 +90,8 @@ class Graph:
     join_tol: float
     x_tol: float
     size: float
+    snaps: tuple = ()
+    snap_tol: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -107,6 +120,8 @@ class LawChain:
     #: how to close the nearest gap a piece stops short of the chain by ("" if none): the likelier cause
     #: when the law read is refused
     gap_fix: str = ""
+    #: the chain's x-range, drawing units
+    span: float = 0.0
 
 
 # ---------------------------------------------------------------------------------------------
@@ -178,7 +193,7 @@ def cluster_points(points: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarr
     return np.asarray(compact).reshape(-1)[inverse], unique[roots]
 
 
-def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Graph:
+def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None, snap: bool = True) -> Graph:
     """Join the pieces' ends into nodes and classify each piece (see the module docstring).
 
     Parameters
@@ -186,6 +201,9 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
     pieces : tuple of Piece
     join_tol : float, optional
         End-to-end join distance (drawing units); default 1e-6 × the drawing's size.
+    snap : bool
+        Join loose ends of different pieces closer than ``SNAP_FRACTION`` × the drawing's size (a
+        missed snap; :func:`snap_dangling_ends`).
 
     Returns
     -------
@@ -200,6 +218,10 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
         join_tol = max(JOIN_FRACTION * size, 1e-12)
     x_tol = max(X_FRACTION * size, 1e-300)
     node_of, node_xy = cluster_points(all_ends, join_tol)
+    snap_tol = SNAP_FRACTION * size
+    snaps: tuple[Snap, ...] = ()
+    if snap and snap_tol > join_tol:
+        node_of, snaps = snap_dangling_ends(node_of, node_xy, count, snap_tol)
     ends = np.column_stack((node_of[:count], node_of[count:]))
     # columns: nodes grouped by x
     order = np.argsort(node_xy[:, 0], kind="stable")
@@ -290,7 +312,77 @@ def build_graph(pieces: tuple[Piece, ...], join_tol: float | None = None) -> Gra
                        for p in pieces])
     return Graph(tuple(pieces), ends, node_xy, column, column_x, usable, vertical, left, right, forward,
                  variation, straight, tuple(problems), zero_length, tuple(keys), widths, float(join_tol),
-                 float(x_tol), size)
+                 float(x_tol), size, snaps, float(max(snap_tol, join_tol)))
+
+
+@dataclass(frozen=True)
+class Snap:
+    """Two piece ends a missed snap left apart, joined: the node they became, the pieces, the gap."""
+
+    node: int
+    pieces: tuple[int, int]
+    gap: float
+
+
+def snap_dangling_ends(node_of: np.ndarray, node_xy: np.ndarray, count: int,
+                       snap_tol: float) -> tuple[np.ndarray, tuple[Snap, ...]]:
+    """Join the loose ends of different pieces that are each other's nearest loose end within ``snap_tol``.
+
+    A loose end is a node that only one piece end reaches. Two loose ends of different pieces closer
+    than ``snap_tol`` (a small fraction of the drawing's size: a missed snap), and each the other's
+    nearest loose end, become one node (the first one's).
+
+    Parameters
+    ----------
+    node_of : ndarray of int, shape (2 count,)
+        Node of every piece end: starts first, then ends.
+    node_xy : ndarray, shape (m, 2)
+        Node coordinates.
+    count : int
+        Number of pieces.
+    snap_tol : float
+        Largest gap joined, drawing units.
+
+    Returns
+    -------
+    (ndarray, tuple of Snap)
+        The new node of every piece end, and the joins made.
+
+    Examples
+    --------
+    Two LINEs 0..1 and 1.001..2 on the x axis, ends 0.001 apart:
+
+    >>> node_of = np.array([0, 2, 1, 3])          # starts (0, 2), ends (1, 3)
+    >>> node_xy = np.array([[0, 0], [1, 0], [1.001, 0], [2, 0]], dtype=float)
+    >>> new, snaps = snap_dangling_ends(node_of, node_xy, 2, 0.01)
+    >>> new.tolist(), [(s.node, s.pieces) for s in snaps]
+    ([0, 1, 1, 3], [(1, (0, 1))])
+    """
+    from scipy.spatial import cKDTree
+
+    degree = np.bincount(node_of, minlength=len(node_xy))
+    piece_of_end = np.concatenate((np.arange(count), np.arange(count)))
+    same = node_of[:count] == node_of[count:]
+    loose = np.flatnonzero(degree == 1)
+    loose = loose[~np.isin(loose, node_of[:count][same])]
+    if len(loose) < 2:
+        return node_of, ()
+    owner = np.empty(len(node_xy), dtype=int)
+    owner[node_of] = piece_of_end
+    tree = cKDTree(node_xy[loose])
+    distance, nearest = tree.query(node_xy[loose], k=2)
+    partner = nearest[:, 1]
+    mutual = np.flatnonzero((partner[partner] == np.arange(len(loose))) & (distance[:, 1] <= snap_tol)
+                            & (np.arange(len(loose)) < partner))
+    new = node_of.copy()
+    snaps = []
+    for k in mutual:
+        a, b = int(loose[k]), int(loose[partner[k]])
+        if owner[a] == owner[b]:
+            continue   # the two ends of one piece: a nearly closed piece is not closed by a snap
+        new[new == b] = a
+        snaps.append(Snap(a, (int(owner[a]), int(owner[b])), float(distance[k, 1])))
+    return new, tuple(snaps)
 
 
 def _extent(points: np.ndarray) -> float:
@@ -686,13 +778,65 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                           f"the drawing holds {_counts_text(piece_set)}; draw the law as a polyline, "
                           "a chain of lines or a spline")
     graph = build_graph(pieces, join_tol)
+    try:
+        found: LawChain | None = _choose(graph, where, layer, handle)
+        error: CamcadError | None = None
+    except CamcadError as err:
+        found, error = None, err
+    # what a designer means but the drawing does not say: an outlined stroke's centre line, the vertical
+    # jumps between plateaus drawn without risers; used when they give a wider law than the drawing as drawn
+    implied = implied_pieces(graph)
+    if implied is not None:
+        other_graph = build_graph(implied.pieces, graph.join_tol)
+        try:
+            other: LawChain | None = _choose(other_graph, where, layer, handle)
+        except CamcadError as err:
+            other = None
+            if found is None and implied.jumps and error is not None and "no curve here can be a law" in error.what:
+                error = err   # the plateaus joined say better what is wrong than "a straight line"
+        # a chain along an outline's side is the law offset by the stroke's half-width: never the law
+        on_outline = found is not None and bool(implied.outlines & set(found.used))
+        if other is not None and (found is None or on_outline or other.span > found.span * (1 + AMBIGUITY_FRACTION)
+                                  + 2 * graph.x_tol):
+            _refuse_unjoined_end(other, implied, graph, where)
+            used = set(other.used)
+            notes = [note for index, note in implied.notes if index in used and not implied.pieces[index].virtual]
+            jumps = [note for index, note in implied.notes if index in used and implied.pieces[index].virtual]
+            if jumps:
+                notes.append(f"plateaus drawn without risers joined by {len(jumps)} vertical jump"
+                             f"{'s' if len(jumps) > 1 else ''} the drawing implies: " + "; ".join(jumps))
+            return replace(other, notes=tuple(notes) + other.notes)
+    if found is None:
+        assert error is not None
+        if implied is not None and implied.unjoined and "no curve here can be a law" in error.what:
+            _x, text = implied.unjoined[0]
+            raise CamcadError(f"plateaus drawn without risers cannot be joined: {text}", where,
+                              "draw the vertical jump of the law there")
+        raise error
+    return found
+
+
+def _refuse_unjoined_end(chain: LawChain, implied: Implied, graph: Graph, where: str) -> None:
+    """A chain joined by implied jumps that stops where loose ends meet that no jump joins is only part of
+    the plateaus drawn: refused, naming the place."""
+    x_lo, x_hi = float(chain.curve.points[:, 0].min()), float(chain.curve.points[:, 0].max())
+    for x, text in implied.unjoined:
+        if min(abs(x - x_lo), abs(x - x_hi)) <= graph.snap_tol:
+            raise CamcadError(f"plateaus drawn without risers cannot be joined: {text}; the law read would stop there",
+                              where, "draw the vertical jump of the law there")
+
+
+def _choose(graph: Graph, where: str, layer: str | None, handle: str | None) -> LawChain:
+    """:func:`find_law` on a graph of the drawing's pieces (as drawn, or with the pieces it implies)."""
+    pieces = graph.pieces
     layers_of = np.array([p.layer.upper() for p in pieces])
     hidden = np.array([p.hidden for p in pieces])
     notes: list[str] = []
     through_set: list[int] = []
     if handle is not None:
         wanted = handle.strip().upper()
-        through_set = [i for i, p in enumerate(pieces) if p.handle.upper() == wanted]
+        through_set = [i for i, p in enumerate(pieces)
+                       if p.handle.upper() == wanted or any(h.upper() == wanted for h, _ in p.sources)]
         if not through_set:
             raise CamcadError(f"no curve with handle {handle[:20]}", where,
                               f"curve handles here: {_handles_list(pieces)}")
@@ -742,10 +886,26 @@ def find_law(piece_set: PieceSet, where: str, layer: str | None = None, handle: 
                      f"(tolerance {curve.flatten_tol:.3g} drawing units)")
     dropped = _dropped_notes(graph, base)
     notes.extend(dropped)
+    notes.extend(_snap_notes(graph, path))
     gaps = _near_gaps(graph, base, path, excluded)
     notes.extend(note for note, _ in gaps)
     return LawChain(curve, tuple(notes), tuple(left_out), graph, len(single) or 1, path.pieces,
-                    gaps[0][1] if gaps else "")
+                    gaps[0][1] if gaps else "", path.span)
+
+
+def _snap_notes(graph: Graph, path: Path) -> list[str]:
+    """A note naming every missed snap the law's chain was joined across."""
+    used = set(path.pieces)
+    notes = []
+    for snap in graph.snaps:
+        a, b = snap.pieces
+        if a in used and b in used:
+            x, y = (float(v) if abs(v) > 1e-9 * graph.size else 0.0 for v in graph.node_xy[snap.node])
+            pa, pb = graph.pieces[a], graph.pieces[b]
+            notes.append(f"{pa.kind} {pa.handle} and {pb.kind} {pb.handle} end {snap.gap:.3g} drawing units apart at "
+                         f"x = {x:.6g}, y = {y:.6g}: joined as a missed snap (loose ends closer than "
+                         f"{SNAP_FRACTION:g} of the drawing's size, {graph.snap_tol:.3g}, are joined)")
+    return notes
 
 
 def _group_paths(graph: Graph, mask: np.ndarray, through_set: list[int], name: str):
@@ -788,8 +948,19 @@ def _refuse_without_law(graph: Graph, mask: np.ndarray, where: str, through_set:
         problem = "it is a straight line (an axis or a grid line, not a law)"
     else:
         problem = "it is flat or straight throughout (an axis, a grid or a frame line, not a law)"
-    raise CamcadError(f"no curve here can be a law; the largest, {graph.pieces[widest].label}: {problem}", where,
-                      _problem_fix(problem))
+    fix = _problem_fix(problem)
+    flat = [i for i in candidates if graph.usable[i] and not graph.zero_length[i] and not graph.vertical[i]]
+    horizontal = [i for i in flat if graph.straight[i] and np.ptp(graph.pieces[i].points[:, 1]) <= graph.join_tol]
+    degree = np.bincount(graph.ends.ravel(), minlength=len(graph.node_xy))
+    loose = [i for i in horizontal if degree[graph.ends[i, 0]] == 1 and degree[graph.ends[i, 1]] == 1]
+    levels = {round(float(graph.pieces[i].points[0, 1]) / max(graph.join_tol, 1e-300)) for i in loose}
+    # nothing but horizontal (and vertical) lines, some of them loose at both ends at several heights: plateaus
+    if len(levels) >= 2 and len(horizontal) == len(flat):
+        raise CamcadError(f"no curve here can be a law: only straight lines, horizontal ones at {len(levels)} heights "
+                          f"(the largest {graph.pieces[widest].label})", where,
+                          "if they are a law's plateaus, make each end at the x where the next starts, or draw the "
+                          "jumps between them")
+    raise CamcadError(f"no curve here can be a law; the largest, {graph.pieces[widest].label}: {problem}", where, fix)
 
 
 def _refuse_wider_backward_chain(graph: Graph, mask: np.ndarray, path: Path, excluded: set[int], where: str) -> None:
@@ -917,9 +1088,362 @@ def _handles_list(pieces) -> str:
 
 
 def _counts_text(piece_set: PieceSet) -> str:
-    if not piece_set.entity_counts:
-        return "no entities"
-    return ", ".join(f"{n} {kind}" for kind, n in sorted(piece_set.entity_counts.items()))
+    """What the drawing holds instead of curves, layout by layout (never "no entities" when it holds some)."""
+    def listed(counts) -> str:
+        return ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items()))
+
+    where = f"the layout {piece_set.layout!r}" if piece_set.layout else "the model space"
+    others = set(piece_set.elsewhere) - {piece_set.layout or "Model"}
+    parts = [listed(piece_set.entity_counts) + (f" in {where}" if others else "")] if piece_set.entity_counts else []
+    for name, counts in piece_set.elsewhere.items():
+        if name == (piece_set.layout or "Model"):
+            continue
+        parts.append(f"{listed(counts)} in {'the model space' if name == 'Model' else f'the layout {name!r}'}")
+    return "; ".join(parts) if parts else "no entities in the model space or any layout"
+
+
+# ---------------------------------------------------------------------------------------------
+# What the drawing implies: an outlined stroke's centre line, jumps between plateaus without risers
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Implied:
+    """The drawing's pieces with what it implies: every outlined stroke replaced by its centre line, and
+    the vertical jumps between plateaus drawn without risers added (virtual pieces).
+
+    ``notes`` holds (index into ``pieces``, note) for each centre line and each jump, said when the law
+    uses that piece.
+    """
+
+    pieces: tuple[Piece, ...]
+    notes: tuple[tuple[int, str], ...]
+    jumps: int
+    #: (x, description) of every x where loose ends arrive and leave but not one of each: no jump implied
+    unjoined: tuple[tuple[float, str], ...] = ()
+    #: indices (into the drawing's pieces) of the outlines read as centre lines
+    outlines: frozenset = frozenset()
+
+
+def implied_pieces(graph: Graph) -> Implied | None:
+    """The drawing's pieces with the outlined strokes' centre lines and the implied jumps (see
+    :class:`Implied`), or None when it implies neither.
+
+    An outline is a closed piece, or a closed chain of pieces meeting two at a node, that
+    :func:`band_centre_line` reads as a band. A jump joins two loose ends (reached
+    by one piece each) at one x (within the snap distance) and different heights, one the right end
+    of a piece and the other the left end of another, when no other loose end is at that x.
+    """
+    pieces = list(graph.pieces)
+    keep = np.ones(len(pieces), dtype=bool)
+    centres: list[tuple[Piece, str]] = []
+    outlined: set[int] = set()
+    for ring in _rings(graph):
+        members = [pieces[i] for i, _ in ring]
+        points = path_points(graph, Path(tuple(ring), 0.0, 0.0))
+        if len(points) > 3 and np.hypot(*(points[-1] - points[0])) <= graph.snap_tol:
+            points = points[:-1]   # the ring's closing point: its first, or a missed snap away from it
+        band = band_centre_line(points, graph.x_tol)
+        if band is None:
+            continue
+        keep[[i for i, _ in ring]] = False
+        outlined.update(i for i, _ in ring)
+        first = members[0]
+        kind = first.kind if len({p.kind for p in members}) == 1 else "chain"
+        name = f"{kind} {first.handle}" if len(members) == 1 else \
+            f"{kind} {handles_text([p.handle for p in members], 4)}"
+        centre = Piece(band.centre, f"centre line of {kind}", first.handle, first.layer, first.index, exact=False,
+                       flatten_tol=max(p.flatten_tol for p in members), hidden=all(p.hidden for p in members),
+                       breakpoints=band.centre, sources=tuple(e for p in members for e in p.entities))
+        caps = band.caps[0] if band.caps[0] == band.caps[1] else "/".join(band.caps)
+        centres.append((centre, f"{name} is the outline of a stroke of half-width {band.half_width:.4g} drawing "
+                                f"units ({caps} caps), not a curve: read as its centre line (exact on straight "
+                                "stretches, within w²·curvature on curves)"))
+    jumps, unjoined = _implied_jumps(graph)
+    if not centres and not jumps:
+        return None
+    out = [p for p, k in zip(pieces, keep) if k]
+    notes: list[tuple[int, str]] = []
+    for centre, note in centres:
+        notes.append((len(out), note))
+        out.append(centre)
+    for jump, note in jumps:
+        notes.append((len(out), note))
+        out.append(jump)
+    return Implied(tuple(out), tuple(notes), len(jumps), tuple(unjoined), frozenset(outlined))
+
+
+def _rings(graph: Graph) -> list[list[tuple[int, bool]]]:
+    """Closed pieces, and closed chains of pieces meeting two at a node, each as (piece, own direction)."""
+    rings: list[list[tuple[int, bool]]] = []
+    for i, piece in enumerate(graph.pieces):
+        if not graph.zero_length[i] and graph.problems[i] == "it is closed" and len(piece.points) >= 3:
+            rings.append([(i, True)])
+    mask = ~graph.zero_length & np.array([not p.virtual for p in graph.pieces], dtype=bool)
+    for chain in open_chains(graph, mask):
+        if len(chain) < 2:
+            continue
+        first, last = chain[0], chain[-1]
+        start = graph.ends[first[0], 0 if first[1] else 1]
+        end = graph.ends[last[0], 1 if last[1] else 0]
+        if start == end:
+            rings.append(chain)
+    return rings
+
+
+def _implied_jumps(graph: Graph) -> tuple[list[tuple[Piece, str]], list[tuple[float, str]]]:
+    """The vertical jumps between loose ends at one x (see :func:`implied_pieces`), and the x where
+    loose ends arrive and leave but not one of each (no jump can be told)."""
+    count = len(graph.pieces)
+    live = np.flatnonzero(graph.usable & ~graph.zero_length & ~np.array([p.hidden for p in graph.pieces], bool))
+    if len(live) < 2:
+        return [], []
+    live = live[_representatives(graph, np.isin(np.arange(count), live))[live]]
+    nodes = np.concatenate((graph.ends[live, 0], graph.ends[live, 1]))
+    owners = np.concatenate((live, live))
+    degree = np.bincount(nodes, minlength=len(graph.node_xy))
+    loose = [(int(n), int(p)) for n, p in zip(nodes, owners) if degree[n] == 1]
+    sides = []
+    for node, owner in loose:
+        x = graph.node_xy[node, 0]
+        others = graph.pieces[owner].points[:, 0]
+        if np.all(others <= x + graph.x_tol) and np.any(others < x - graph.x_tol):
+            sides.append((x, node, owner, "arrives"))
+        elif np.all(others >= x - graph.x_tol) and np.any(others > x + graph.x_tol):
+            sides.append((x, node, owner, "leaves"))
+        else:
+            sides.append((x, node, owner, ""))
+    sides.sort()
+    groups: list[list] = []
+    for item in sides:
+        if groups and item[0] - groups[-1][-1][0] <= graph.snap_tol:
+            groups[-1].append(item)
+        else:
+            groups.append([item])
+    jumps = []
+    unjoined = []
+    for group in groups:
+        kinds = [g[3] for g in group]
+        if "arrives" in kinds and "leaves" in kinds and len(group) > 2:
+            ends = ", ".join(f"{graph.pieces[g[2]].kind} {graph.pieces[g[2]].handle} {g[3]} at y = "
+                             f"{graph.node_xy[g[1], 1]:.6g}" for g in group[:5])
+            unjoined.append((float(group[0][0]), f"{len(group)} loose ends meet at x = {group[0][0]:.6g} ({ends})"))
+        if len(group) != 2 or set(kinds) != {"arrives", "leaves"}:
+            continue
+        arrive = next(g for g in group if g[3] == "arrives")
+        leave = next(g for g in group if g[3] == "leaves")
+        a, b = graph.node_xy[arrive[1]], graph.node_xy[leave[1]]
+        if abs(b[1] - a[1]) <= graph.join_tol:
+            continue
+        p, q = graph.pieces[arrive[2]], graph.pieces[leave[2]]
+        points = np.array([a, b], dtype=float)
+        jump = Piece(points, "jump", "", p.layer, -1, exact=False, breakpoints=points, virtual=True)
+        jumps.append((jump, f"{p.kind} {p.handle} ends at y = {a[1]:.6g} and {q.kind} {q.handle} starts at y = "
+                            f"{b[1]:.6g} at x = {a[0]:.6g} with nothing between"))
+    return jumps, unjoined
+
+
+# ---------------------------------------------------------------------------------------------
+# Outlined strokes: a closed outline of a band around the law, read as its centre line
+# ---------------------------------------------------------------------------------------------
+# A law drawn as an outlined stroke: the closed outline of a band of half-width w around the law, read
+# as its centre line.
+#
+# OpenSCAD cannot draw a line, only areas: a law modelled there (``offset``, or the hull of circles along
+# it) is exported as the closed outline of a band around the law, one closed LWPOLYLINE (or one LINE per
+# edge in older releases). Illustrator's "Outline Stroke" and Inkscape's "Stroke to Path" do the same to a
+# drawn stroke. Either side of the band is the law offset by w, so neither is the law; the centre line is.
+#
+# The rule (docs/reading.md):
+#
+# - **A band.** Cut the outline by vertical lines through all its vertices: between two consecutive ones,
+#   every vertical line must cross the outline exactly twice (an upper and a lower side, each straight
+#   there). The centre line is the mid-point of the two crossings: exact on every straight stretch of the
+#   law, whatever its slope (both offsets of a line of slope m lie w·√(1+m²) above and below it), and off
+#   by O(w²·curvature) on curves. At a vertical jump it is a step of half the jump over 2w, which keeps
+#   the area of the jump.
+# - **Thin and even.** The band's half-width measured square to the centre line must be the same (within
+#   20 %) over at least 70 % of the x-range, nowhere less than half of it (but within 2w of the ends), and
+#   small: at most ``MAX_WIDTH_FRACTION`` of its length in x. A law and its axis meeting at both ends close
+#   a region that is no band (it is thin where the law dwells on the axis).
+#   A closed cam profile, a frame or a filled shape is not a band; a thin rectangle is the band of a
+#   straight line (OpenSCAD draws an axis so).
+# - **Ends.** A butt cap is one edge of length 2w at the outline's extreme, square to the law: the law
+#   ends at its middle (a square cap looks the same and is read so: the law then reads w longer at that
+#   end). Otherwise the cap is round, a half circle round the law's end: the law ends w inside it.
+
+#: the band's half-width is at most this fraction of its length in x (a thin band, not a filled shape)
+MAX_WIDTH_FRACTION = 0.05
+#: the half-width measured square to the centre line agrees with the band's within this fraction ...
+EVEN_FRACTION = 0.2
+#: ... over at least this fraction of the x-range
+EVEN_SHARE = 0.7
+#: and the band is nowhere (but within 2w of its ends) thinner than this fraction of its width
+THIN_FRACTION = 0.5
+
+
+@dataclass(frozen=True)
+class Band:
+    """The centre line of an outlined stroke and what it was read with.
+
+    Attributes
+    ----------
+    centre : ndarray, shape (n, 2)
+        The centre line, left to right (drawing units); equal x at consecutive points is a jump.
+    half_width : float
+        The band's half-width w (drawing units).
+    caps : tuple of str
+        "butt" or "round" at the left and the right end.
+    """
+
+    centre: np.ndarray
+    half_width: float
+    caps: tuple[str, str]
+
+
+def band_centre_line(ring: np.ndarray, x_tol: float) -> Band | None:
+    """The centre line of a closed outline that is a band around a function of x, or None.
+
+    Parameters
+    ----------
+    ring : ndarray, shape (n, 2)
+        The outline's vertices in order (drawing units); closing back to the first is implied.
+    x_tol : float
+        x values closer than this are one (drawing units).
+
+    Returns
+    -------
+    Band or None
+        None when the outline is not a thin band of even width around a function of x (see the module
+        docstring).
+
+    Examples
+    --------
+    A band of half-width 0.5 around the line y = x/10 from x = 0 to 100, butt caps:
+
+    >>> ring = np.array([[0, 0.5], [100, 10.5], [100, 9.5], [0, -0.5]])
+    >>> band = band_centre_line(ring, 1e-9)
+    >>> band.centre.tolist(), round(band.half_width, 6), band.caps
+    ([[0.0, 0.0], [100.0, 10.0]], 0.497519, ('butt', 'butt'))
+    """
+    pts = np.asarray(ring, dtype=float)
+    if len(pts) >= 2 and np.array_equal(pts[0], pts[-1]):
+        pts = pts[:-1]
+    if len(pts) < 4:
+        return None
+    start, end = pts, np.roll(pts, -1, axis=0)
+    order = np.argsort(pts[:, 0], kind="stable")
+    xs_sorted = pts[order, 0]
+    new = np.concatenate(([True], np.diff(xs_sorted) > x_tol))
+    columns = np.cumsum(new) - 1
+    xs = np.bincount(columns, weights=xs_sorted) / np.bincount(columns)
+    column_of = np.empty(len(pts), dtype=int)
+    column_of[order] = columns
+    if len(xs) < 2:
+        return None
+    c0, c1 = column_of, np.roll(column_of, -1)
+    lo, hi = np.minimum(c0, c1), np.maximum(c0, c1)
+    slanted = hi > lo
+    # every non-vertical edge covers the slabs lo..hi-1; a band has exactly two edges over each slab
+    edge = np.flatnonzero(slanted)
+    counts = hi[edge] - lo[edge]
+    slab = np.repeat(lo[edge], counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+    owner = np.repeat(edge, counts)
+    per_slab = np.bincount(slab, minlength=len(xs) - 1)
+    if np.any(per_slab != 2):
+        return None
+    sort = np.argsort(slab, kind="stable")
+    pairs = owner[sort].reshape(-1, 2)
+    left_x, right_x = xs[:-1], xs[1:]
+
+    def y_at(e: np.ndarray, x: np.ndarray) -> np.ndarray:
+        p, q = start[e], end[e]
+        t = (x - p[:, 0]) / (q[:, 0] - p[:, 0])
+        return p[:, 1] + t * (q[:, 1] - p[:, 1])
+
+    ya = np.column_stack((y_at(pairs[:, 0], left_x), y_at(pairs[:, 1], left_x)))
+    yb = np.column_stack((y_at(pairs[:, 0], right_x), y_at(pairs[:, 1], right_x)))
+    mid_a, mid_b = ya.mean(axis=1), yb.mean(axis=1)
+    thick_a, thick_b = np.abs(ya[:, 0] - ya[:, 1]), np.abs(yb[:, 0] - yb[:, 1])
+    width = right_x - left_x
+    slope = (mid_b - mid_a) / width
+    # the half-width square to the centre line, at the middle of each slab
+    half = (thick_a + thick_b) / 4.0 / np.hypot(1.0, slope)
+    w = _weighted_median(half, width)
+    span, height = float(xs[-1] - xs[0]), float(np.ptp(pts[:, 1]))
+    if not w > 0 or w > MAX_WIDTH_FRACTION * span:
+        return None
+    even = np.abs(half - w) <= EVEN_FRACTION * w
+    if width[even].sum() < EVEN_SHARE * span:
+        return None
+    # a stroke is never thin in its middle: a region between a law and its axis (which meet in the dwells) is
+    # no band, however even it is elsewhere
+    core = (left_x >= xs[0] + 2 * w) & (right_x <= xs[-1] - 2 * w)
+    if np.any(np.minimum(thick_a, thick_b)[core] < THIN_FRACTION * 2 * w):
+        return None
+    centre = np.empty((2 * len(width), 2))
+    centre[0::2, 0], centre[1::2, 0] = left_x, right_x
+    centre[0::2, 1], centre[1::2, 1] = mid_a, mid_b
+    # consecutive slabs meet at one x: one point where they agree, a jump where they do not
+    keep = np.ones(len(centre), dtype=bool)
+    keep[2::2] = np.abs(centre[2::2, 1] - centre[1:-1:2, 1]) > 1e-12 * max(height, 1e-300)
+    centre = centre[keep]
+    left_cap = _butt_cap(pts, int(np.argmin(pts[:, 0])), w)
+    right_cap = _butt_cap(pts, int(np.argmax(pts[:, 0])), w)
+    caps = ("butt" if left_cap is not None else "round", "butt" if right_cap is not None else "round")
+    # a butt cap is one edge of length 2w square to the law: the law ends at its middle; a round cap is a
+    # half circle of radius w round the law's end
+    if left_cap is not None:
+        mid, reach = left_cap
+        centre = np.vstack((mid, centre[centre[:, 0] > max(reach, mid[0])]))
+    else:
+        centre = _trim(centre, float(xs[0]) + w, left=True)
+    if right_cap is not None:
+        mid, reach = right_cap
+        centre = np.vstack((centre[centre[:, 0] < min(reach, mid[0])], mid))
+    else:
+        centre = _trim(centre, float(xs[-1]) - w, left=False)
+    if len(centre) < 2 or np.ptp(centre[:, 0]) <= 0:
+        return None
+    return Band(centre, float(w), caps)
+
+
+#: a butt cap's edge is 2w long within this fraction
+CAP_FRACTION = 0.1
+
+
+def _butt_cap(pts: np.ndarray, extreme: int, w: float) -> tuple[np.ndarray, float] | None:
+    """The butt cap at the outline's extreme vertex: (its middle, the x where it ends inward), or None
+    (no edge of length 2w there: a round cap)."""
+    n = len(pts)
+    for other in ((extreme - 1) % n, (extreme + 1) % n):
+        edge = pts[other] - pts[extreme]
+        if abs(float(np.hypot(*edge)) - 2 * w) <= CAP_FRACTION * 2 * w:
+            mid = (pts[extreme] + pts[other]) / 2.0
+            inward = pts[other, 0] if pts[other, 0] != pts[extreme, 0] else mid[0]
+            return mid, float(inward)
+    return None
+
+
+def _weighted_median(values: np.ndarray, weights: np.ndarray) -> float:
+    order = np.argsort(values)
+    cumulative = np.cumsum(weights[order])
+    return float(values[order][np.searchsorted(cumulative, cumulative[-1] / 2.0)])
+
+
+def _trim(centre: np.ndarray, x: float, left: bool) -> np.ndarray:
+    """The centre line cut at x (the round cap's centre): the part right of x (``left``) or left of it."""
+    xs = centre[:, 0]
+    if left:
+        k = int(np.searchsorted(xs, x, side="right"))
+        if k == 0 or k >= len(xs):
+            return centre
+        y = np.interp(x, xs[k - 1:k + 1], centre[k - 1:k + 1, 1])
+        return np.vstack(([x, y], centre[k:]))
+    k = int(np.searchsorted(xs, x, side="left"))
+    if k == 0 or k >= len(xs):
+        return centre
+    y = np.interp(x, xs[k - 1:k + 1], centre[k - 1:k + 1, 1])
+    return np.vstack((centre[:k], [x, y]))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -930,14 +1454,15 @@ def make_curve(graph: Graph, path: Path) -> Curve:
     """The :class:`~camcad.io.dxf_read.Curve` of a chain (the contract is in Curve's docstring)."""
     steps = list(path.steps)
     pieces = [graph.pieces[i] for i, _ in steps]
-    handles = tuple(p.handle for p in pieces)
-    indices = tuple(p.index for p in pieces)
+    entities = [entity for p in pieces for entity in p.entities]
+    handles = tuple(handle for handle, _ in entities)
+    indices = tuple(index for _, index in entities)
     layers = tuple(dict.fromkeys(p.layer for p in pieces))
     hidden = any(p.hidden for p in pieces)
     tol = max((p.flatten_tol for p in pieces), default=0.0)
     if len(pieces) == 1:
         piece = pieces[0]
-        editable = piece.exact and piece.kind in ("LWPOLYLINE", "POLYLINE")
+        editable = piece.exact and piece.kind in ("LWPOLYLINE", "POLYLINE") and not piece.sources
         return Curve(piece.points, piece.kind, piece.handle, piece.layer, editable=editable, closed=False,
                      flatten_tol=0.0 if piece.exact else tol, handles=handles, hidden=hidden, pieces=(piece,),
                      reversed_pieces=(False,), entity_indices=indices, breakpoints=piece.breakpoints, layers=layers)
@@ -969,7 +1494,8 @@ def make_curve(graph: Graph, path: Path) -> Curve:
             bp = graph.pieces[i].points[[0, -1]]
         bp = bp if own else bp[::-1]
         breakpoints.append(bp if k == 0 else bp[1:])
-    return Curve(points, kind, handles[0], pieces[0].layer, editable=exact and kind == "LINE chain", closed=False,
+    return Curve(points, kind, handles[0] if handles else pieces[0].handle, pieces[0].layer,
+                 editable=exact and kind == "LINE chain", closed=False,
                  flatten_tol=0.0 if exact else tol, handles=handles,
                  vertex_refs=tuple(tuple(r) for r in refs), hidden=hidden, pieces=tuple(pieces),
                  reversed_pieces=tuple(not own for _, own in steps), entity_indices=indices,
@@ -977,17 +1503,23 @@ def make_curve(graph: Graph, path: Path) -> Curve:
 
 
 __all__ = [
+    "Band",
     "Graph",
+    "Implied",
     "LawChain",
     "Path",
+    "Snap",
+    "band_centre_line",
     "best_path",
     "build_graph",
     "cluster_points",
     "drawing_size",
     "find_law",
+    "implied_pieces",
     "is_straight",
     "make_curve",
     "open_chains",
     "path_points",
+    "snap_dangling_ends",
     "widest_law_path",
 ]

@@ -80,6 +80,18 @@ class Piece:
     breakpoints : ndarray, shape (m, 2)
         The points the author placed: polyline vertices, LINE and arc ends, a spline's fit points
         (or, without them, the spline's points at its distinct knots).
+    interpolating : bool
+        A spline drawn through its ``breakpoints``: it has fit points, or it is a cubic of three or
+        more spans that is C2 at its knots (an interpolating cubic spline, however it was saved).
+    virtual : bool
+        A piece the drawing implies but does not hold (a vertical jump between plateaus drawn without
+        risers): it stands for no entity.
+    sources : tuple of (str, int)
+        (handle, model-space index) of the entities the piece stands for when it is not one entity of
+        its own (the centre line of an outlined stroke stands for the outline's entities); empty: itself.
+    layout : str
+        The layout the entity is in: "" for the model space, else a paper-space layout's name (then
+        ``index`` counts in that layout).
     """
 
     points: np.ndarray
@@ -93,10 +105,21 @@ class Piece:
     in_block: bool = False
     hidden: bool = False
     breakpoints: np.ndarray | None = None
+    interpolating: bool = False
+    virtual: bool = False
+    sources: tuple[tuple[str, int], ...] = ()
+    layout: str = ""
 
     @property
     def label(self) -> str:
         return f"{self.kind} {self.handle} on layer {self.layer}"
+
+    @property
+    def entities(self) -> tuple[tuple[str, int], ...]:
+        """(handle, model-space index) of the entities this piece stands for (none for a virtual piece)."""
+        if self.virtual:
+            return ()
+        return self.sources or ((self.handle, self.index),)
 
     @property
     def x_range(self) -> float:
@@ -130,6 +153,8 @@ class Curve:
       its own direction.
     - ``breakpoints``: the points the author placed along the curve, in curve order (see
       :class:`Piece`); ``layers``: the layers the curve's pieces are on.
+    - ``layout``: "" when the curve is in the model space, else the paper-space layout it is drawn in
+      (the model space held no curves); ``entity_indices`` then count in that layout.
     """
 
     points: np.ndarray
@@ -147,6 +172,11 @@ class Curve:
     entity_indices: tuple[int, ...] = ()
     breakpoints: np.ndarray | None = None
     layers: tuple[str, ...] = ()
+
+    @property
+    def layout(self) -> str:
+        """The layout the curve is drawn in: "" for the model space, else a paper-space layout's name."""
+        return self.pieces[0].layout if self.pieces else ""
 
     @property
     def label(self) -> str:
@@ -179,11 +209,18 @@ class Drawing:
 
 @dataclass(frozen=True)
 class PieceSet:
-    """Every curve piece of a drawing, what else it holds, and what reading it noted."""
+    """Every curve piece of a drawing, what else it holds, and what reading it noted.
+
+    ``layout`` is the layout the pieces come from ("" for the model space; a paper-space layout's
+    name when the model space holds no curves); ``elsewhere`` counts the entities of every other
+    layout that holds some ({layout name: Counter of entity types}).
+    """
 
     pieces: tuple[Piece, ...]
     entity_counts: Counter = field(default_factory=Counter)
     notes: tuple[str, ...] = ()
+    layout: str = ""
+    elsewhere: dict = field(default_factory=dict)
 
 
 def handles_text(handles, limit: int = 6) -> str:
@@ -418,7 +455,7 @@ def units_note(drawing: Drawing, scaled: bool) -> str:
 # Pieces
 # ---------------------------------------------------------------------------------------------
 
-def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> PieceSet:
+def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None, layout: str = "") -> PieceSet:
     """Every curve entity of the model space as a :class:`Piece` (block references exploded).
 
     A block's pieces are computed once per block definition and placed by each reference's
@@ -432,6 +469,9 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
     flatten_tol : float, optional
         Largest distance (drawing units) between a SPLINE, ELLIPSE or arc and its flattening;
         default 1e-5 × the entity's size.
+    layout : str
+        "" for the model space, or a paper-space layout's name. When the model space holds no curve,
+        the first paper-space layout (in tab order) that does is read instead, with a note.
 
     Returns
     -------
@@ -452,8 +492,9 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
     zero = [0]
     blocks = _BlockCache(drawing, flatten_tol, notes, zero)
     expanded = 0
+    space = drawing.doc.layouts.get(layout) if layout else drawing.doc.modelspace()
     with ezdxf_messages() as messages:
-        for index, entity in enumerate(drawing.doc.modelspace()):
+        for index, entity in enumerate(space):
             kind = entity.dxftype()
             handle = str(entity.dxf.get("handle", "") or "?")
             if kind == "INSERT":
@@ -486,7 +527,50 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None) -> Pie
         notes.append(f"{zero[0]} entit{'y' if zero[0] == 1 else 'ies'} of no length (a point, an arc of radius 0) "
                      "ignored")
     notes.extend(summarise_messages(messages))
-    return PieceSet(tuple(pieces), counts, tuple(notes))
+    if layout:
+        pieces = [replace(p, layout=layout) if p.index >= 0 else p for p in pieces]
+        return PieceSet(tuple(pieces), counts, tuple(notes), layout)
+    if any(p.index >= 0 for p in pieces):
+        return PieceSet(tuple(pieces), counts, tuple(notes))
+    # the model space holds no curve: the law may be drawn on a sheet
+    elsewhere = {"Model": counts} if counts else {}
+    found = None
+    for name in _paper_layouts(drawing.doc):
+        try:
+            held = Counter(entity.dxftype() for entity in drawing.doc.layouts.get(name))
+        except Exception:  # noqa: BLE001 - a layout ezdxf cannot read holds nothing here
+            continue
+        if held:
+            elsewhere[name] = held
+        if found is None and _holds_curves(held):
+            sheet = collect_pieces(drawing, flatten_tol=flatten_tol, layout=name)
+            if any(p.index >= 0 for p in sheet.pieces):
+                found = sheet
+    if found is None:
+        return PieceSet(tuple(pieces), counts, tuple(notes), "", elsewhere)
+    others = [n for n in elsewhere if n not in ("Model", found.layout) and _holds_curves(elsewhere[n])]
+    note = (f"the model space holds no curves ({_counter_text(counts)}): the law is read from the paper-space "
+            f"layout {found.layout!r}" + (f" (other layouts with curves: {', '.join(map(repr, others[:4]))})"
+                                          if others else ""))
+    return replace(found, notes=(note,) + found.notes, elsewhere=elsewhere)
+
+
+def _paper_layouts(doc) -> list[str]:
+    """The paper-space layouts' names in tab order."""
+    try:
+        return [name for name in doc.layouts.names_in_taborder() if name.upper() != "MODEL"]
+    except Exception:  # noqa: BLE001 - a damaged layout table: none
+        return []
+
+
+def _holds_curves(counts: Counter) -> bool:
+    return any(counts.get(kind) for kind in CURVE_TYPES + ("INSERT",))
+
+
+def _counter_text(counts: Counter) -> str:
+    if not counts:
+        return "it is empty"
+    return ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items()))
 
 
 def _entity_piece(entity, kind: str, handle: str, flatten_tol: float | None, notes: list[str],
@@ -775,10 +859,50 @@ def _spline_piece(entity, handle: str, layer: str, flatten_tol: float | None) ->
     points = _checked(np.array([[p.x, p.y] for p in entity.flattening(tol)], dtype=float))
     if len(fit) >= 2:
         breakpoints = _checked(np.array(fit, dtype=float))
+        interpolating = True
     else:
         breakpoints = _knot_points(entity, points)
+        interpolating = is_interpolating_cubic(entity)
     return Piece(points, "SPLINE", handle, layer, closed=bool(entity.closed), flatten_tol=tol,
-                 breakpoints=breakpoints)
+                 breakpoints=breakpoints, interpolating=interpolating)
+
+
+#: a cubic spline whose second derivative jumps at no knot by more than this fraction of its largest
+#: second derivative is C2 (FreeCAD writes coordinates to 4 decimals, which breaks C2 by up to ~2e-3 of it)
+C2_FRACTION = 1e-2
+
+
+def is_interpolating_cubic(entity) -> bool:
+    """The SPLINE (control points and knots) is a cubic of three or more spans whose second derivative
+    is continuous at every knot (to ``C2_FRACTION`` of its largest value): the C2 cubic spline through
+    its knot points, i.e. an interpolating spline however it was saved (FreeCAD writes its interpolated
+    B-splines as control points with knots of multiplicity 3). A designer's chain of Bézier lobes is
+    not C2 where the lobes meet; a uniform control-point spline is C2 too, and then its knot points are
+    taken as the points it was drawn through.
+    """
+    try:
+        tool = entity.construction_tool()
+        if int(tool.degree) != 3 or (hasattr(tool, "is_rational") and tool.is_rational):
+            return False
+        knots = np.asarray(tool.knots(), dtype=float)
+        order = int(tool.order)
+        inner = unique(knots[order - 1: len(knots) - order + 1])
+        if len(inner) < 4:
+            return False
+        step = 1e-7 * float(inner[-1] - inner[0])
+        second = []
+        for t in inner[1:-1]:
+            left = np.asarray(tool.derivative(float(t) - step, 2)[2], dtype=float)[:2]
+            right = np.asarray(tool.derivative(float(t) + step, 2)[2], dtype=float)[:2]
+            second.append((left, right))
+        samples = np.linspace(inner[0], inner[-1], 4 * len(inner))
+        scale = max(float(np.hypot(*np.asarray(tool.derivative(float(t), 2)[2], dtype=float)[:2]))
+                    for t in samples)
+        if not scale > 0:
+            return False
+        return all(float(np.hypot(*(left - right))) <= C2_FRACTION * scale for left, right in second)
+    except Exception:  # noqa: BLE001 - a spline ezdxf cannot evaluate is not known to interpolate
+        return False
 
 
 def _knot_points(entity, points: np.ndarray) -> np.ndarray:
@@ -792,6 +916,17 @@ def _knot_points(entity, points: np.ndarray) -> np.ndarray:
         return _checked(np.array([[p.x, p.y] for p in (tool.point(float(t)) for t in inner)], dtype=float))
     except Exception:  # noqa: BLE001 - the flattening's ends then stand for the spline's points
         return points[[0, -1]]
+
+
+def curve_space(doc, curve: Curve):
+    """The layout ``curve`` is drawn in, in ``doc``: the model space, or the paper-space layout it was read
+    from (``Curve.layout``)."""
+    if curve.layout:
+        try:
+            return doc.layouts.get(curve.layout)
+        except Exception:  # noqa: BLE001 - a layout that is gone: the model space
+            return doc.modelspace()
+    return doc.modelspace()
 
 
 def curve_entities(doc, curve: Curve) -> list:
@@ -814,7 +949,7 @@ def curve_entities(doc, curve: Curve) -> list:
     list
         One entity (or None) per handle of the curve.
     """
-    msp = list(doc.modelspace())
+    msp = list(curve_space(doc, curve))
     found = []
     for handle, index in zip(curve.handles, curve.entity_indices):
         entity = msp[index] if 0 <= index < len(msp) else None
@@ -837,8 +972,10 @@ __all__ = [
     "PieceSet",
     "collect_pieces",
     "curve_entities",
+    "curve_space",
     "ezdxf_messages",
     "handles_text",
+    "is_interpolating_cubic",
     "open_drawing",
     "summarise_messages",
     "units_note",

@@ -23,6 +23,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
+from camcad.io.dxf_read import curve_space
 from camcad.io.dxf_write import (
     header_snapshot,
     lwpolyline_from_array,
@@ -276,7 +277,7 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     entities, unique = _curve_entities(doc, curve)
     in_block = not unique or any(e.dxftype() == "INSERT" for e in entities)
     x_new, y_new = _drawing_coordinates(loaded, law)
-    msp = doc.modelspace()
+    msp = curve_space(doc, curve)   # the model space, or the paper-space layout the law was drawn in
     if curve.editable and not resampled and not in_block and len(law.x) == int(loaded.vertex_map.lo.max()) + 1:
         xs = loaded.vertex_map.ordinates(x_new)
         ys = loaded.vertex_map.ordinates(y_new)
@@ -380,15 +381,40 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     out = Path(out)
     if loaded.curve is not None and out.suffix.lower() == ".dxf":
         return write_corrected_drawing(loaded, law, out, resampled=resampled)
-    theta_deg = loaded.theta_to_x(law.x) if loaded.curve is not None else np.degrees(law.x)
-    accel = loaded.a_to_y(law.a)
+    theta_deg = np.degrees(law.x)
     if out.suffix.lower() == ".dxf":
+        accel = loaded.a_to_y(law.a)
         return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
     table = loaded.table
     delimiter = table.delimiter if table is not None else ","
     decimal_comma = table.decimal_comma if table is not None else False
+    notes = [f"the corrected law is written as a table of {len(theta_deg)} rows"]
+    if loaded.curve is not None:
+        # a table's first column is cam degrees (never the drawing's x) and its a is measured from the zero:
+        # the drawing's y less its zero axis, in the drawing's units, so check reads back the same law
+        accel = np.asarray(law.a) / loaded.y_scale
+        cycle = float(np.degrees(law.cycle))
+        again = [f"--cycle {cycle:.9g}"] if abs(cycle - 360.0) > 1e-9 else []
+        if loaded.y_scale != 1.0:
+            again.append(f"--lift {rise_of(law):.9g}")
+        notes.append(f"theta_deg is the cam angle 0..{cycle:.9g} deg (the drawing's x {loaded.x_min:.6g}.."
+                     f"{loaded.x_max:.6g}) and accel the drawing's y above its zero axis y = {loaded.y0:.9g}, in "
+                     "drawing units" + (f"; read it back with {' '.join(again)}" if again else ""))
+    else:
+        accel = loaded.a_to_y(law.a)
     write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
-    return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
+    return out, notes
+
+
+def rise_of(law) -> float:
+    """Sum of s(end) − s(start) over the law's rise phases (mm), exact: the lift that reads a table of the
+    law back at the same scale."""
+    total = 0.0
+    for phase in law.phases:
+        if phase.kind == "rise":
+            s = law.kinematics(np.array([phase.start, phase.end])).s
+            total += float(s[1] - s[0])
+    return total
 
 
 # --- fidelity ----------------------------------------------------------------------------------------
@@ -474,7 +500,7 @@ def _curve_entities(doc, curve) -> tuple[list, bool]:
     """
     wanted = list(dict.fromkeys(curve.handles or (curve.handle,)))
     found: dict[str, list] = {h: [] for h in wanted}
-    for entity in doc.modelspace():
+    for entity in curve_space(doc, curve):
         handle = str(entity.dxf.get("handle", "") or "?")
         if handle in found:
             found[handle].append(entity)
@@ -508,7 +534,7 @@ def _original_block(doc):
 def _keep_insert(doc, insert, curve, block) -> int:
     """A law inside a block reference: the reference moves into ``block``; every entity it draws that is
     not part of the law is drawn again as a copy in model space. Returns how many were copied."""
-    msp = doc.modelspace()
+    msp = curve_space(doc, curve)
     pieces = list(insert.virtual_entities())
     msp.move_to_layout(insert, block)
     copied = 0

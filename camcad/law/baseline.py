@@ -50,6 +50,10 @@ NOISE_FRACTION = 1e-6
 OVERSHOOT_FRACTION = 1e-3
 #: ... unless it reaches this fraction of the law's peak: then it is a lobe drawn between them
 LOBE_FRACTION = 0.5
+#: an interpolating spline (fit points, or a C2 cubic through its knot points) leaving the zero between its
+#: own points there by more than this fraction of the curve's height overshoots, whatever the amount: two
+#: consecutive points the designer put on the zero mean a dwell, and no lobe can be drawn between them
+INTERPOLATING_NOISE_FRACTION = 1e-5
 
 
 @dataclass(frozen=True)
@@ -68,6 +72,12 @@ class Baseline:
         What was found and used (and the warnings, prefixed "warning: ").
     axis_pieces : tuple of int
         Indices of the pieces forming the axis used.
+    drawn_dwells : tuple of (float, float)
+        Drawing x-ranges (drawing units) between an interpolating spline's own points at the zero that
+        the spline leaves: the dwells the designer drew, which the phases take.
+    drawn_zeros : tuple of float
+        Drawing x (drawing units) of an interpolating spline's own points at the zero: where the
+        designer put the lobes' ends.
     """
 
     y0: float
@@ -75,6 +85,8 @@ class Baseline:
     source: str
     notes: tuple[str, ...]
     axis_pieces: tuple[int, ...] = ()
+    drawn_dwells: tuple[tuple[float, float], ...] = ()
+    drawn_zeros: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -269,8 +281,12 @@ def find_baseline(curve: Curve, pieces: tuple[Piece, ...], law_pieces: set[int],
         notes.append(f"warning: {dwell_how} lie{'' if 'stretches' in dwell_how else 's'} at y = {dwell:.6g}, "
                      f"{abs(dwell - value) / height:.0%} of the curve's height off the zero axis y = {value:.6g}; "
                      f"if that is a dwell, pass --y0 {dwell:.9g}")
-    notes.extend(_dwell_warnings(curve, pts, runs, value, height, span))
-    return Baseline(value, None if x0 is None else float(x0), source, tuple(notes), axis_pieces)
+    warnings, drawn_dwells = _dwell_warnings(curve, pts, runs, value, height, span, level_tol)
+    notes.extend(warnings)
+    zeros = tuple(sorted(float(bx) for piece in curve.pieces if piece.interpolating and piece.breakpoints is not None
+                         for bx, by in piece.breakpoints if abs(by - value) <= level_tol))
+    return Baseline(value, None if x0 is None else float(x0), source, tuple(notes), axis_pieces, drawn_dwells,
+                    zeros)
 
 
 def _overshoot(points: np.ndarray, breakpoints: np.ndarray, y0: float, level_tol: float,
@@ -311,9 +327,9 @@ def _mean_height(pts: np.ndarray) -> float:
 
 
 def _dwell_warnings(curve: Curve, pts: np.ndarray, runs: list[_Run], y0: float, height: float,
-                    span: float) -> list[str]:
+                    span: float, at_zero_tol: float) -> tuple[list[str], tuple[tuple[float, float], ...]]:
     """Warnings about dwells: flat stretches near but not at y0, and flattened pieces leaving y0
-    between the author's dwell points."""
+    between the author's dwell points; and the drawn dwells of interpolating splines that overshoot."""
     warnings: list[str] = []
     # flat stretches drawn near, but not at, the zero
     off = [(abs(r.level - y0), r) for r in runs
@@ -329,21 +345,68 @@ def _dwell_warnings(curve: Curve, pts: np.ndarray, runs: list[_Run], y0: float, 
     level_tol = OVERSHOOT_FRACTION * height
     peak = float(np.max(np.abs(pts[:, 1] - y0))) or 1.0
     worst = None
+    drawn: list[tuple[float, float]] = []
     for piece in curve.pieces:
         if piece.exact or piece.breakpoints is None:
             continue
-        found = _overshoot(_x_order(piece.points), _x_order(piece.breakpoints), y0, level_tol,
-                           DWELL_MIN_FRACTION * span)
-        if found is not None and found[0] < LOBE_FRACTION * peak and (worst is None or found[0] > worst[0]):
+        if piece.interpolating:
+            found_all = interpolating_overshoots(_x_order(piece.points), _x_order(piece.breakpoints), y0,
+                                                 at_zero_tol, INTERPOLATING_NOISE_FRACTION * height,
+                                                 DWELL_MIN_FRACTION * span)
+            drawn.extend((x_lo, x_hi) for _, _, x_lo, x_hi in found_all)
+            found = max(found_all, default=None)
+        else:
+            found = _overshoot(_x_order(piece.points), _x_order(piece.breakpoints), y0, level_tol,
+                               DWELL_MIN_FRACTION * span)
+            if found is not None and found[0] >= LOBE_FRACTION * peak:
+                found = None
+        if found is not None and (worst is None or found[0] > worst[0]):
             worst = found + (piece,)
     if worst is not None:
         size, at, x_lo, x_hi, piece = worst
         what = "spline" if piece.kind == "SPLINE" else "curve"
+        where = f"at x {x_lo:.6g}..{x_hi:.6g}" if len(drawn) <= 1 else \
+            f"at x {x_lo:.6g}..{x_hi:.6g} (and {len(drawn) - 1} more)"
+        then = "; the phases take the drawn dwell points" if drawn else ""
         warnings.append(f"warning: {piece.kind} {piece.handle} leaves the zero between the dwell points "
-                        f"at x {x_lo:.6g}..{x_hi:.6g} by up to {size:.4g} ({size / peak:.1%} of the peak) at x "
-                        f"{at:.6g}: your {what} overshoots through the dwell points; draw the dwells as lines or use "
-                        "a polyline")
-    return warnings
+                        f"{where} by up to {size:.4g} ({size / peak:.1%} of the peak) at x "
+                        f"{at:.6g}: your {what} overshoots through the dwell points{then}; draw the dwells as lines "
+                        "or use a polyline")
+    return warnings, tuple(sorted(drawn))
 
 
-__all__ = ["Baseline", "find_baseline", "flat_runs"]
+def interpolating_overshoots(points: np.ndarray, breakpoints: np.ndarray, y0: float, at_zero_tol: float,
+                             noise: float, min_length: float) -> list[tuple[float, float, float, float]]:
+    """Every run of two or more consecutive points of an interpolating spline at y0 (within
+    ``at_zero_tol``, at least ``min_length`` long in x) that the spline leaves by more than ``noise``
+    between them: (largest departure, x where, run start x, run end x), drawing units.
+
+    Examples
+    --------
+    >>> pts = np.array([[0, 0], [5, -0.3], [10, 0], [15, 0.1], [20, 0], [25, 4], [30, 0]], dtype=float)
+    >>> bps = np.array([[0, 0], [10, 0], [20, 0], [25, 4], [30, 0]], dtype=float)
+    >>> interpolating_overshoots(pts, bps, 0.0, 1e-9, 1e-6, 1.0)
+    [(0.3, 5.0, 0.0, 20.0)]
+    """
+    at_zero = np.abs(breakpoints[:, 1] - y0) <= at_zero_tol
+    found = []
+    i, n = 0, len(breakpoints)
+    while i < n:
+        if not at_zero[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and at_zero[j + 1]:
+            j += 1
+        x_lo, x_hi = float(breakpoints[i, 0]), float(breakpoints[j, 0])
+        inside = (points[:, 0] > x_lo) & (points[:, 0] < x_hi)
+        if j > i and x_hi - x_lo >= min_length and inside.any():
+            dev = np.abs(points[inside, 1] - y0)
+            k = int(np.argmax(dev))
+            if dev[k] > noise:
+                found.append((float(dev[k]), float(points[inside][k, 0]), x_lo, x_hi))
+        i = j + 1
+    return found
+
+
+__all__ = ["Baseline", "find_baseline", "flat_runs", "interpolating_overshoots"]

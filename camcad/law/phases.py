@@ -3,17 +3,27 @@
 How a drawn law shows its phases:
 - a dwell is a stretch of zero acceleration of positive length at either end of the cycle, or
   between two lobes of the *same* sign (− 0 − is a far dwell, + 0 + a near dwell); a zero stretch
-  between lobes of opposite signs (+ 0 −) is the constant-velocity part of a motion;
-- between dwells the follower moves; the motion is cut into a rise and a return where the
-  velocity (integrated from rest at the start of the motion) changes sign and then reaches at
-  least half of the motion's peak speed — a smaller excursion is the drawing's imbalance, not a phase;
-- a motion that starts with positive acceleration is a rise, with negative a return.
+  between lobes of opposite signs (+ 0 −) is the constant-velocity part of a motion; dwells can
+  also be stated by the caller (the drawn dwell points of an interpolating spline that overshoots);
+- between dwells the follower moves; the motion holds a rise and a return when its velocity
+  (integrated from rest at the start of the motion) changes sign and then reaches at least half of
+  the motion's peak speed — a smaller excursion is the drawing's imbalance, not a phase;
+- where a rise and a return meet with no dwell, their boundary is the drawn vertex between their
+  lobes: the rise's decelerating lobe and the return's accelerating lobe have one sign, and the
+  designer draws the boundary where the acceleration touches zero between them (or crosses it by a
+  hair, at most ``CROSS_FRACTION`` of the motion's peak). That is where the designer's lobes meet
+  whether or not the law is balanced; the velocity changes sign there only when the law is balanced.
+  When the acceleration does not reach zero between the lobes (a harmonic or a constant-acceleration
+  law drawn with no dwell), the boundary is where the velocity changes sign, and a note says so and
+  how to state the phases (``--phases``); a note also says which of several zeros was taken;
+- a motion whose velocity first grows positive is a rise, negative a return.
 Within a rise, the accelerating part is where a > 0 and the decelerating part where a < 0; within
 a return the reverse.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from itertools import pairwise
 
 import numpy as np
@@ -27,6 +37,18 @@ from camcad.numerics import brent_root
 ZERO_FRACTION = 1e-6
 #: a velocity excursion must reach this fraction of the motion's peak speed to be a phase of its own
 SPLIT_FRACTION = 0.5
+#: between the lobes of a rise and a return with no dwell, a local extreme within this fraction of the
+#: motion's peak |a| of the zero touches it (a vertex snapped a hair off the axis, a rounded join of an
+#: outlined stroke: w = 1/40 of the peak lowers a sharp junction by 0.5 % of it)
+TOUCH_FRACTION = 0.02
+#: vertices this fraction of the peak above the lowest of a junction count as its bottom (its middle is taken)
+LEVEL_FRACTION = 1e-3
+#: ... and the acceleration may cross the zero there by at most this fraction of the peak (a vertex drawn a
+#: hair past the axis); a larger excursion is a lobe of its own
+CROSS_FRACTION = 0.05
+#: the drawn vertex and the velocity's sign change are said to differ when they are this fraction of the cycle
+#: apart (0.036 deg of 360): closer, the law is as good as balanced there and nothing needs saying
+NOTE_FRACTION = 1e-4
 
 
 def zero_threshold(a: np.ndarray) -> float:
@@ -68,17 +90,61 @@ def sign_runs(x: np.ndarray, a: np.ndarray) -> list[tuple[int, float, float]]:
     return [(int(sg), float(st), float(en)) for sg, st, en in zip(signs[first], starts[first], ends[last])]
 
 
+@dataclass(frozen=True)
+class PhaseReading:
+    """The phases detected in a law and what was decided to find them.
+
+    Attributes
+    ----------
+    phases : tuple of Phase
+        The phases, start and end in rad.
+    notes : tuple of str
+        Decisions a designer should know (the rule used for a boundary with no dwell, dwells taken from
+        the drawn dwell points), angles in deg.
+    """
+
+    phases: tuple[Phase, ...]
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class _Cut:
+    """A boundary between a rise and a return with no dwell: where it was put and by which rule."""
+
+    before: str
+    after: str
+    at: float               # rad, the boundary used
+    velocity_at: float      # rad, where the velocity changes sign
+    rule: str               # "vertex" (the drawn vertex), "velocity" (no zero between the lobes), "wavering"
+    zeros: tuple[float, ...] = ()   # rad, every place the acceleration reaches zero between the lobes
+    crosses: bool = False   # the drawn vertex lies past the zero (a crossing), not on it
+
+
 def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -> tuple[Phase, ...]:
-    """Rise, return and dwell phases of the piecewise-linear law (x rad, a mm/rad²) over [0, cycle]."""
+    """Rise, return and dwell phases of the piecewise-linear law (x rad, a mm/rad²) over [0, cycle]
+    (the rules are in the module docstring; :func:`read_phases` also says how they were found)."""
+    return read_phases(x, a, cycle, where).phases
+
+
+def read_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "",
+                dwells: tuple[tuple[float, float], ...] = (), zeros: tuple[float, ...] = ()) -> PhaseReading:
+    """The phases of the piecewise-linear law (x rad, a mm/rad²) over [0, cycle], with notes.
+
+    ``dwells`` (rad) are stretches the caller knows to be dwells (an interpolating spline's drawn dwell
+    points): they are dwells whatever the acceleration does there. ``zeros`` (rad) are points the designer
+    put on the zero (an interpolating spline's points at the zero): between a rise and a return with no
+    dwell, such a point is the boundary, wherever the spline through it turns.
+    """
+    x = np.asarray(x, dtype=float)
+    a = np.asarray(a, dtype=float)
     runs = sign_runs(x, a)
     if not any(sign for sign, _, _ in runs):
         raise CamcadError("the acceleration is zero everywhere: there is no motion", where,
                           "pick the curve that holds the law (--layer/--handle)")
-    dwell_flags = []
+    intervals = []
     motion_from = None      # where the motion that the current run belongs to started
-    for index, (sign, start, _end) in enumerate(runs):
+    for index, (sign, start, end) in enumerate(runs):
         if sign != 0:
-            dwell_flags.append(False)
             if motion_from is None:
                 motion_from = start
             continue
@@ -89,22 +155,46 @@ def detect_phases(x: np.ndarray, a: np.ndarray, cycle: float, where: str = "") -
             # between lobes of opposite signs: a constant velocity, unless the follower is at rest there (an
             # intermediate stop: + - 0 + - is a rise, a stop and a second rise)
             is_dwell = _at_rest(x, a, motion_from, start)
-        dwell_flags.append(is_dwell)
         if is_dwell:
+            intervals.append((start, end))
             motion_from = None
+    x_first, x_last = float(runs[0][1]), float(runs[-1][2])
+    intervals.extend((max(float(s), x_first), min(float(e), x_last)) for s, e in dwells
+                     if min(float(e), x_last) > max(float(s), x_first))
+    dwell_spans = _union(intervals)
     phases: list[Phase] = []
-    motion_start = None
-    for (_sign, start, end), is_dwell in zip(runs, dwell_flags):
-        if is_dwell:
-            if motion_start is not None:
-                phases.extend(_split_motion(x, a, motion_start, start, runs))
-                motion_start = None
+    cuts: list[_Cut] = []
+    cursor = x_first
+    eps = zero_threshold(a)
+    for start, end in dwell_spans + [(x_last, x_last)]:
+        if start > cursor:
+            if _max_abs(x, a, cursor, start) > eps:
+                motion, motion_cuts = _split_motion(x, a, cursor, start, zeros)
+                phases.extend(motion)
+                cuts.extend(motion_cuts)
+            else:
+                phases.append(Phase("dwell", cursor, start))
+        if end > start:
             phases.append(Phase("dwell", start, end))
-        elif motion_start is None:
-            motion_start = start
-    if motion_start is not None:
-        phases.extend(_split_motion(x, a, motion_start, runs[-1][2], runs))
-    return _merge_dwells(phases)
+        cursor = max(cursor, end)
+    merged = _merge_dwells(phases)
+    forced = [(s, e) for s, e in dwells if e > s]
+    return PhaseReading(merged, tuple(_cut_notes(cuts, merged, cycle)) + _dwell_notes(forced))
+
+
+def _max_abs(x: np.ndarray, a: np.ndarray, start: float, end: float) -> float:
+    _xs, as_ = restrict(x, a, start, end)
+    return float(np.max(np.abs(as_))) if len(as_) else 0.0
+
+
+def _union(intervals: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    out: list[list[float]] = []
+    for s, e in sorted(intervals):
+        if out and s <= out[-1][1]:
+            out[-1][1] = max(out[-1][1], e)
+        else:
+            out.append([s, e])
+    return [(s, e) for s, e in out]
 
 
 #: a zero stretch between lobes of opposite signs is a stop (a dwell) when the velocity there is at most this
@@ -137,12 +227,61 @@ def _merge_dwells(phases: list[Phase]) -> tuple[Phase, ...]:
     return tuple(merged)
 
 
-def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
-                  runs: list[tuple[int, float, float]]) -> list[Phase]:
-    """Cut one motion (between dwells) into rises and returns at the sign changes of velocity.
+def _deg(value: float) -> str:
+    text = f"{np.degrees(value):.6f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
 
-    ``runs`` are the law's ``sign_runs``.
+
+def phases_text(phases: tuple[Phase, ...]) -> str:
+    """The phases as ``--phases`` takes them: "0:90:rise,90:180:dwell,..." (deg).
+
+    Examples
+    --------
+    >>> import math
+    >>> phases_text((Phase("rise", 0.0, math.pi), Phase("return", math.pi, 2 * math.pi)))
+    '0:180:rise,180:360:return'
     """
+    return ",".join(f"{_deg(p.start)}:{_deg(p.end)}:{p.kind}" for p in phases)
+
+
+def _cut_notes(cuts: list[_Cut], phases: tuple[Phase, ...], cycle: float) -> list[str]:
+    notes = []
+    stated = f'--phases "{phases_text(phases)}"'
+    tol = NOTE_FRACTION * cycle
+    for cut in cuts:
+        pair = f"the {cut.before} and the {cut.after} meet with no dwell"
+        if cut.rule in ("velocity", "wavering"):
+            how = "does not reach zero" if cut.rule == "velocity" else "wavers about the zero (no single vertex)"
+            notes.append(f"{pair} and the drawn acceleration {how} between their lobes: the boundary "
+                         f"is taken where the velocity changes sign, at {_deg(cut.at)} deg; if the lobes meet "
+                         f"elsewhere, state the phases, e.g. {stated}")
+            continue
+        touch = "crosses" if cut.crosses else "touches"
+        if len(cut.zeros) > 1:
+            others = ", ".join(_deg(z) for z in cut.zeros)
+            notes.append(f"{pair}; the drawn acceleration reaches zero at {len(cut.zeros)} places between their "
+                         f"lobes ({others} deg): the boundary is taken at {_deg(cut.at)} deg, the one nearest where "
+                         f"the velocity changes sign ({_deg(cut.velocity_at)} deg); if the lobes meet elsewhere, "
+                         f"state the phases, e.g. {stated}")
+        elif abs(cut.at - cut.velocity_at) > tol:
+            notes.append(f"{pair}: the boundary is taken at {_deg(cut.at)} deg, the drawn vertex where the "
+                         f"acceleration {touch} zero between their lobes, not where the velocity changes sign "
+                         f"({_deg(cut.velocity_at)} deg: the {cut.before} is not balanced); --phases overrides")
+    return notes
+
+
+def _dwell_notes(forced: list[tuple[float, float]]) -> tuple[str, ...]:
+    if not forced:
+        return ()
+    spans = ", ".join(f"{_deg(s)}..{_deg(e)}" for s, e in forced)
+    return (f"dwell{'s' if len(forced) > 1 else ''} at {spans} deg taken from the spline's drawn dwell points "
+            "(the spline interpolates them but leaves the zero between them); --phases overrides",)
+
+
+def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
+                  drawn: tuple[float, ...] = ()) -> tuple[list[Phase], list[_Cut]]:
+    """Cut one motion (between dwells) into rises and returns (see the module docstring): how many,
+    by the sign changes of the velocity; where, at the drawn vertex between the lobes."""
     law = _motion_law(x, a, start, end)
     grid = unique(np.concatenate(([start, end], x[(x > start) & (x < end)])))
     # velocity is quadratic on each segment: a few interior samples catch every sign change
@@ -150,11 +289,12 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
     fine = unique(np.append(grid[:-1, None] + np.diff(grid)[:, None] * fraction[None, :-1], grid[-1]))
     v = law.kinematics(fine - start).v
     peak = float(np.max(np.abs(v)))
-    first_sign = 1 if _first_lobe_sign(runs, start, end) > 0 else -1
+    first_sign = _first_lobe_sign(law)
     if peak == 0.0:
-        return [Phase("rise" if first_sign > 0 else "return", start, end)]
+        return [Phase("rise" if first_sign > 0 else "return", start, end)], []
     significant = np.abs(v) >= SPLIT_FRACTION * peak
     cuts = [start]
+    velocity_cuts = []
     current = first_sign
     sign_of_v = np.sign(v)
     # only the first sample of each stretch of one sign can start a new phase: later samples of the
@@ -171,22 +311,103 @@ def _split_motion(x: np.ndarray, a: np.ndarray, start: float, end: float,
                 lo, hi = fine[i - 1], fine[i]
                 root = brent_root(lambda t: float(law.kinematics(np.array([t - start])).v[0]), lo, hi,
                                   xtol=1e-15, rtol=4 * np.finfo(float).eps) if v[i - 1] != 0 else lo
-                cuts.append(root)
+                velocity_cuts.append((root, current))
                 current = -current
+    xs, as_ = restrict(x, a, start, end)
+    a_peak = float(np.max(np.abs(as_)))
+    records: list[_Cut] = []
+    for root, before in velocity_cuts:
+        # the lobes on both sides of the boundary have the sign opposite to the motion before it
+        zeros, crosses, wavering = _drawn_vertices(xs, as_, root, -before, a_peak, drawn)
+        pair = ("rise", "return") if before > 0 else ("return", "rise")
+        if zeros:
+            at = min(zeros, key=lambda z: abs(z - root))
+            records.append(_Cut(*pair, at, root, "vertex", tuple(zeros), crosses[zeros.index(at)]))
+        else:
+            at = root
+            records.append(_Cut(*pair, at, root, "wavering" if wavering else "velocity"))
+        cuts.append(max(at, cuts[-1]))
     cuts.append(end)
     kinds = []
     sign = first_sign
     for _ in range(len(cuts) - 1):
         kinds.append("rise" if sign > 0 else "return")
         sign = -sign
-    return [Phase(kind, c0, c1) for kind, c0, c1 in zip(kinds, cuts[:-1], cuts[1:]) if c1 > c0]
+    return [Phase(kind, c0, c1) for kind, c0, c1 in zip(kinds, cuts[:-1], cuts[1:]) if c1 > c0], records
 
 
-def _first_lobe_sign(runs: list[tuple[int, float, float]], start: float, end: float) -> int:
-    for sign, r0, r1 in runs:
-        if sign and r1 > start and r0 < end:
-            return sign
-    return 1
+def _drawn_vertices(xs: np.ndarray, as_: np.ndarray, root: float, sign: int, peak: float,
+                    drawn: tuple[float, ...] = ()) -> tuple[list[float], list[bool], bool]:
+    """Where the drawn acceleration touches or crosses zero between two lobes of sign ``sign`` around
+    ``root`` (the velocity's sign change): the drawn vertices (rad), and whether each crosses zero.
+
+    The stretch looked at runs from ``root`` both ways while sign·a stays above −CROSS_FRACTION·peak
+    (past the zero only by a hair); in it, each connected run of vertices within TOUCH_FRACTION·peak of
+    the zero (or past it) that has a lobe (sign·a above TOUCH_FRACTION·peak) on both sides gives its
+    vertex nearest the other side (the middle of several equal ones). Points the designer put on the zero
+    (``drawn``) inside the stretch, with a lobe on both sides, are taken instead. The last value says the
+    acceleration wavers about the zero there (no vertex).
+    """
+    f = sign * as_
+    n = len(xs)
+    if n < 3 or peak <= 0:
+        return [], [], False
+    touch, cross = TOUCH_FRACTION * peak, -CROSS_FRACTION * peak
+    k = int(np.clip(np.searchsorted(xs, root, side="right") - 1, 0, n - 2))
+    allowed = f > cross
+    left = k if allowed[k] else k + 1
+    right = k + 1 if allowed[k + 1] else k
+    blocked_left = np.flatnonzero(~allowed[:left])
+    left = int(blocked_left[-1]) + 1 if len(blocked_left) else 0
+    blocked_right = np.flatnonzero(~allowed[right + 1:])
+    right = right + int(blocked_right[0]) if len(blocked_right) else n - 1
+    if right - left < 2:
+        return [], [], False
+    window = np.arange(left, right + 1)
+    near = f[window] <= touch
+    lobe = f[window] > touch
+    zeros, crosses = [], []
+    lobe_x = xs[window][lobe]
+    placed = [float(t) for t in drawn if len(lobe_x) and lobe_x[0] < t < lobe_x[-1]]
+    if placed:
+        return placed, [False] * len(placed), False
+    wavering = False
+    quiet = f[window] <= -cross           # within CROSS_FRACTION of the zero, either side
+    starts = np.flatnonzero(near & np.concatenate(([True], ~near[:-1])))
+    for s in starts:
+        e = s
+        while e + 1 < len(window) and near[e + 1]:
+            e += 1
+        # a lobe on both sides, inside the motion (not its ends)
+        if not (lobe[:s].any() and lobe[e + 1:].any()):
+            continue
+        # a touch or a hair's crossing leaves the zero at once; an acceleration that wavers about the zero
+        # (three or more crossings in the quiet stretch round it: a dwell drawn not quite at zero, a
+        # filtered law) shows no vertex
+        q0, q1 = s, e
+        while q0 > 0 and quiet[q0 - 1]:
+            q0 -= 1
+        while q1 + 1 < len(window) and quiet[q1 + 1]:
+            q1 += 1
+        stretch = as_[window[q0:q1 + 1]]
+        signs = np.sign(stretch[np.abs(stretch) > ZERO_FRACTION * peak])
+        if np.count_nonzero(signs[1:] != signs[:-1]) >= 3:
+            wavering = True
+            continue
+        idx = window[s:e + 1]
+        low = f[idx].min()
+        # the middle of the lowest vertices (within 1e-3 of the peak): the vertex itself when it is drawn
+        # sharp, the middle of a rounded junction
+        at = idx[f[idx] <= low + LEVEL_FRACTION * peak]
+        zeros.append(float((xs[at[0]] + xs[at[-1]]) / 2))
+        crosses.append(bool(low < -touch))
+    return zeros, crosses, wavering and not zeros
+
+
+def _first_lobe_sign(law: PiecewiseLinearLaw) -> int:
+    """The sign of the motion's first lobe (a motion starting with positive acceleration is a rise)."""
+    runs = [sign for sign, _, _ in sign_runs(law.x, law.a) if sign]
+    return runs[0] if runs else 1
 
 
 def _motion_law(x: np.ndarray, a: np.ndarray, start: float, end: float) -> PiecewiseLinearLaw:

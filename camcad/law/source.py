@@ -31,7 +31,7 @@ from camcad.io.phase_record import read_phase_record
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
 from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
-from camcad.law.phases import detect_phases, parse_phases
+from camcad.law.phases import parse_phases, read_phases
 
 #: the largest lift camcad takes (mm, or deg of swing): larger is a typing mistake
 MAX_LIFT = 1e6
@@ -220,9 +220,9 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     chain = find_law(piece_set, str(path), layer=layer, handle=handle, join_tol=join_tol)
     curve = chain.curve
     used = set(chain.used)
-    baseline = find_baseline(curve, piece_set.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
+    baseline = find_baseline(curve, chain.graph.pieces, used, y0=y0, x0=x0, join_tol=chain.graph.join_tol)
     notes = list(drawing.notes) + list(piece_set.notes) + list(chain.notes)
-    left_out = [piece_set.pieces[i] for i in chain.left_out]
+    left_out = [chain.graph.pieces[i] for i in chain.left_out]
     if left_out:
         notes.append(f"left out as axis or grid lines: {len(left_out)} straight piece"
                      f"{'s' if len(left_out) > 1 else ''} ({_pieces_text(left_out)})")
@@ -394,7 +394,10 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     elif phases:
         phase_tuple = tuple(phases)
     else:
-        phase_tuple = detect_phases(theta, yk, cycle, where)
+        dwells, zeros = _drawn_dwells(baseline, x_min, x_max, cycle)
+        reading = read_phases(theta, yk, cycle, where, dwells=dwells, zeros=zeros)
+        phase_tuple = reading.phases
+        notes.extend(reading.notes)
     law = PiecewiseLinearLaw(theta, yk, cycle, phase_tuple)
     if not phases and not cycle_stated and not x_deg:
         _refuse_part_of_a_cycle(law, x_start, x_end, origin, where)
@@ -415,6 +418,22 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
                      x_min=x_min, x_max=x_max, phases_given=bool(phases),
                      vertex_map=VertexMap(lo_law, hi_law, w_law), curve=curve, drawing=drawing,
                      candidates=candidates, y0=float(y0), baseline=baseline)
+
+
+def _drawn_dwells(baseline: Baseline | None, x_min: float, x_max: float,
+                  cycle: float) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
+    """The drawn dwells and the points on the zero of an interpolating spline (drawing x, from the baseline)
+    as cam angles (rad)."""
+    if baseline is None:
+        return (), ()
+    scale = cycle / (x_max - x_min)
+    dwells = []
+    for lo, hi in baseline.drawn_dwells:
+        t0, t1 = max((lo - x_min) * scale, 0.0), min((hi - x_min) * scale, cycle)
+        if t1 > t0:
+            dwells.append((t0, t1))
+    zeros = tuple((x - x_min) * scale for x in baseline.drawn_zeros if x_min < x < x_max)
+    return tuple(dwells), zeros
 
 
 def _refuse_part_of_a_cycle(law: PiecewiseLinearLaw, x_start: float, x_end: float, origin: float,

@@ -1,7 +1,8 @@
 """The pipeline's polydyne step (loaded with ``camcad.scene.models``): with ``[dynamics] polydyne_rpm`` (or
-``camcad profile … --polydyne RPM``) the cam is designed for the elastic follower (``camcad.dynamics.polydyne``): the law becomes the wanted motion of
-the driven mass, and the cam's motion the compensated one; the report says the law's class, what it implies
-for the cam, and the residual vibration before and after at the design speed and at every speed of the scene.
+``camcad profile … --polydyne RPM``) the cam is designed for the elastic follower (``camcad.dynamics.polydyne``):
+the law becomes the wanted motion of the driven mass, and the cam's motion the compensated one; the report says
+the law's class, what it implies for the cam, and the residual vibration before and after at the design speed and
+at every speed of the scene.
 """
 
 from __future__ import annotations
