@@ -75,7 +75,8 @@ def law_corpus() -> list[Path]:
 
 
 def scene_corpus() -> list[Path]:
-    return sorted((SAMPLES / "scenes").glob("*.toml"))
+    """The sample scenes the scene commands take (a machine scene of groups is camcad machine's alone)."""
+    return sorted(path for path in (SAMPLES / "scenes").glob("*.toml") if "[groups." not in path.read_text())
 
 
 #: stands for an absolute folder outside the case (the run's canary folder, watched for strays)
