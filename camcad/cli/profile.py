@@ -30,6 +30,20 @@ from camcad.cli.common import (
     print_json,
     progress_line,
 )
+from camcad.cli.part_options import (
+    BoreOpt,
+    CompOpt,
+    CutterRadiusOpt,
+    DepthOpt,
+    ExportOpt,
+    FeedOpt,
+    KeywayOpt,
+    PlateOpt,
+    StepDegOpt,
+    ThicknessOpt,
+    UnitsOpt,
+    export_options,
+)
 from camcad.errors import CamcadError
 from camcad.profile import defaults
 
@@ -88,6 +102,10 @@ def profile(
                               "summary, kinematics, pressure_angle, curvature, profile, hodograph, dynamics, impact, "
                               "contact."),
     no_plots: NoPlotsOpt = False,
+    export: ExportOpt = None, units: UnitsOpt = None, step_deg: StepDegOpt = None,
+    cutter_radius: CutterRadiusOpt = None,
+    comp: CompOpt = None, feed: FeedOpt = None, depth: DepthOpt = None, thickness: ThicknessOpt = None,
+    bore: BoreOpt = None, keyway: KeywayOpt = None, plate: PlateOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
@@ -95,8 +113,10 @@ def profile(
     from camcad.scene.file import scene_from_dict
     from camcad.scene.pipeline import PipelineOptions
 
+    part = export_options(export=export, units=units, step_deg=step_deg, cutter_radius=cutter_radius, comp=comp,
+                          feed=feed, depth=depth, thickness=thickness, bore=bore, keyway=keyway, plate=plate)
     options = PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
-                              plots=_plot_names(plots, no_plots))
+                              plots=_plot_names(plots, no_plots), export=part)
     if target is not None and target.suffix.lower() == ".toml":
         given = [name for name, value in (("--rb", rb), ("--rr", rr), ("--lift", lift), ("--phases", phases),
                                           ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law))

@@ -22,6 +22,7 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.report.part_files import scene_part_files, write_part_files
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -43,14 +44,18 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     say = progress or (lambda _text: None)
     folder = options.output if options.output is not None else default_folder(result.scene.name)
     outputs: list[Path] = []
+    parts = scene_part_files(result, options.export)   # refused here, before anything is written
     with OutputFolder(folder, result.scene.input_files()) as out:
         written: dict[str, list[Path]] = {}
         jobs = []
         for name, run in result.runs.items():
             sub = (name,) if result.group else ()
             say(f"{name}: writing")
-            written[name] = _write_data(run, out, sub, options)
+            written[name] = _write_data(run, out, sub, options, parts[name].units)
+            written[name] += write_part_files(parts[name], out, sub)
             target = result.report["mechanisms"][name] if result.group else result.report
+            if parts[name].report:
+                target["export"] = parts[name].report
             if options.plots:
                 for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
                     out.path(*sub, file)
@@ -130,12 +135,13 @@ def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOpt
     return write_scene(analyse_scene(source, options, progress), options, progress)
 
 
-def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions) -> list[Path]:
-    """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile)."""
+def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions,
+                units: str = "mm") -> list[Path]:
+    """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile), lengths in ``units``."""
     if run.profile is not None:
         from camcad.report.profile_files import write_outputs
 
-        return write_outputs(run.profile, out, sub=sub, report_json=False, plots=())
+        return write_outputs(run.profile, out, sub=sub, report_json=False, plots=(), units=units)
     theta = np.linspace(0.0, run.law.cycle, LAW_SAMPLES)
     return [write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta))]
 

@@ -51,6 +51,9 @@ class PipelineOptions:
     checks_only : bool
         Only what the checks need (no unit): no smallest base radius, no least phase angles of a mechanism
         the cyclogram does not retime, no pitch curve sampled for writing — what ``camcad sweep`` runs.
+    export : dict, optional
+        The part's files and units given on the command line (``camcad.scene.export.ExportSettings`` field
+        names → values; lengths mm, feed mm/min), put over each mechanism's [export] section.
 
     Examples
     --------
@@ -69,6 +72,7 @@ class PipelineOptions:
     #: the profile, no least phase angles (step 8) of a mechanism the cyclogram does not retime; the checks are
     #: unchanged
     checks_only: bool = False
+    export: dict | None = None
 
 
 @dataclass
