@@ -315,9 +315,12 @@ def step_bytes(shape: PartShape, name: str, units: str = "mm") -> bytes:
         if writer.Write(str(path)) != IFSelect_RetDone:
             raise CamcadError("the kernel could not write the STEP file", "--export step", "report this as a bug")
         data = path.read_bytes()
-    # the kernel's writer stamps the time of the save whatever the header says: the fixed stamp instead
-    return re.sub(rb"('[^']*',)'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", rb"\1'" + STEP_TIME_STAMP.encode() + b"'", data,
+    # the kernel's writer stamps the time of the save whatever the header says, and numbers the products it
+    # names in a process: the fixed stamp and the design's name instead
+    data = re.sub(rb"('[^']*',)'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", rb"\1'" + STEP_TIME_STAMP.encode() + b"'", data,
                   count=1)
+    label = _ascii(name).encode("ascii")
+    return re.sub(rb"= PRODUCT\('[^']*',\s*'[^']*'", b"= PRODUCT('" + label + b"','" + label + b"'", data, count=1)
 
 
 def _ascii(text: str) -> str:
