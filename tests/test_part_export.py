@@ -466,6 +466,33 @@ def test_inches_divide_every_length_by_25_4(cli, tmp_path):
         assert np.abs(pa[-1] - pb[-1]).max() <= 0.5e-5 * INCH + 0.5e-4     # each rounded to its last digit
 
 
+@pytest.mark.reference("closed form", "a triangular lobe of height A over pi/2 rad and its negative: rise A pi^2/8")
+def test_a_law_drawn_in_inches_is_read_and_reported_in_inches(cli, tmp_path):
+    import ezdxf
+
+    height = 8.0 / math.pi**2                       # a rise of exactly 1 (in)
+    law = [(0, 0), (45, height), (90, 0), (135, -height), (180, 0), (225, -height), (270, 0), (315, height),
+           (360, 0)]
+    doc = ezdxf.new("R2000", units=1)
+    doc.modelspace().add_lwpolyline(law)
+    doc.modelspace().add_line((0, 0), (360, 0))
+    path = tmp_path / "law_in.dxf"
+    doc.saveas(path)
+    checked = cli("check", path, "--json")
+    assert checked.code == 0, checked.err
+    report = checked.json()
+    assert report["length_unit"] == "in" and report["rise"] == pytest.approx(1.0, rel=1e-9)
+    assert any("reported in in" in note for note in report["notes"])
+    assert "rise 1 in" in cli("check", path).out
+    made = cli("profile", path, "--rb", 50, "--rr", 10, "--no-plots", "--json", "-o", tmp_path / "out",
+               "--export", "points")
+    assert made.code in (0, 1), made.err
+    notes = made.json()["law"]["notes"]
+    assert any("drawn in in: rise 1 in = 25.4 mm" in note for note in notes), notes
+    rows = table(tmp_path / "out" / "profile_points.csv")
+    assert rows["pitch_r_mm"].max() == pytest.approx(60.0 + 25.4, rel=1e-9)
+
+
 # --------------------------------------------------------------------------------------------------
 # solids
 # --------------------------------------------------------------------------------------------------

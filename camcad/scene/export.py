@@ -28,7 +28,8 @@ COMPENSATION = ("camcad", "machine")
 EXPORT_FIELDS: list[Field] = [
     Field("kinds", "str", help='what to write: a comma list of points, cutter, gcode, step, stl'),
     Field("units", "str", choices=UNITS, default="mm", help="the written files' length unit"),
-    Field("step_deg", "str", default="1", help='step of the points tables (deg), or "chord" for the chord nodes'),
+    Field("step_deg", "str", default="1",
+          help='step of the points tables (deg, a number), or "chord" for the chord nodes'),
     Field("cutter_radius", "float", "mm", positive=True, help="cutter (or grinding wheel) radius"),
     Field("comp", "str", choices=COMPENSATION, default="camcad",
           help="camcad: the program follows the cutter centre; machine: the flank, with G41"),
@@ -36,7 +37,7 @@ EXPORT_FIELDS: list[Field] = [
     Field("depth", "float", "mm", positive=True, help="depth of cut (and a groove's depth); the thickness when absent"),
     Field("thickness", "float", "mm", positive=True, help="plate thickness of the solid"),
     Field("bore", "float", "mm", positive=True, help="bore diameter"),
-    Field("keyway", "str", help='keyway "W,H" (mm): width and depth beyond the bore'),
+    Field("keyway", "str", help='keyway "W,H" or [W, H] (mm): width and depth beyond the bore'),
     Field("plate", "float", "mm", positive=True, help="a groove cam's plate diameter"),
 ]
 
@@ -164,6 +165,13 @@ def parse_keyway(value: Any, where: str = "--keyway") -> tuple[float, float]:
 
 def parse_export(table: Any, where: str) -> ExportSettings:
     """The scene's [export] table → ``ExportSettings`` (not yet validated against the kinds)."""
+    if isinstance(table, dict):   # step_deg = 0.5 and keyway = [6, 2.8] are as good as their text
+        table = dict(table)
+        if isinstance(table.get("step_deg"), (int, float)) and not isinstance(table.get("step_deg"), bool):
+            table["step_deg"] = repr(table["step_deg"])
+        keyway = table.get("keyway")
+        if isinstance(keyway, list) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in keyway):
+            table["keyway"] = ",".join(repr(v) for v in keyway)
     values = read_table(table, EXPORT_FIELDS, where)
     return ExportSettings(
         kinds=parse_kinds(values["kinds"], f"{where} kinds") if values["kinds"] is not None else (),
