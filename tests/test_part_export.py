@@ -646,3 +646,48 @@ def test_groove_and_conjugate_solids(cli, tmp_path):
     pair = run(cli, tmp_path / "b", "--pair-distance", 150, "--export", "step,gcode", "--thickness", 10,
                "--cutter-radius", 5, "--feed", 200)
     assert {"cam.step", "counter_cam.step", "profile.nc", "counter_profile.nc"} <= {p.name for p in pair.iterdir()}
+
+
+# --------------------------------------------------------------------------------------------------
+# LibreOffice and --arcs / --spline: the limitation the output states, measured
+# --------------------------------------------------------------------------------------------------
+
+@pytest.mark.reference("second method", "LibreOffice Draw's own drawing of profile.dxf (its SVG export), mapped back "
+                                        "onto the drawing by a least-squares similarity")
+def test_libreoffice_draws_the_arcs_as_chords_as_the_note_says(cli, tmp_path):
+    if shutil.which("soffice") is None:
+        if os.environ.get("CAMCAD_REQUIRE_READERS") == "1":
+            pytest.fail("soffice is required (CAMCAD_REQUIRE_READERS=1) and missing")
+        pytest.skip("LibreOffice (soffice) is not installed")
+    import ezdxf
+    from ezdxf import appsettings
+
+    made = cli("profile", "--no-plots", "--json", "-o", tmp_path / "a", "--arcs", "--spline")
+    notes = made.json()["notes"]
+    arcs_note = next(n for n in notes if "draws the tangent arcs as their chords" in n)
+    assert any("does not draw SPLINE entities" in n for n in notes)
+    stated = float(re.search(r"up to ([0-9.]+) mm", arcs_note).group(1))
+    # only the profile, so that its path is the one LibreOffice draws
+    source = ezdxf.readfile(tmp_path / "a" / "profile.dxf")
+    (profile,) = [e for e in source.modelspace() if e.dxftype() == "LWPOLYLINE" and e.dxf.layer == "PROFILE"]
+    vertices = np.array([p[:2] for p in profile.get_points("xy")])
+    doc = ezdxf.new("R2000", units=4)
+    doc.modelspace().add_lwpolyline(profile.get_points("xyb"), format="xyb", close=True)
+    appsettings.update_extents(doc)          # LibreOffice collapses a drawing without its extents
+    alone = tmp_path / "alone.dxf"
+    doc.saveas(alone)
+    subprocess.run(["soffice", f"-env:UserInstallation=file://{tmp_path / 'lo'}", "--headless", "--convert-to", "svg",
+                    "--outdir", str(tmp_path), str(alone)], timeout=300, capture_output=True, check=True)
+    svg = (tmp_path / "alone.svg").read_text()
+    paths = [re.findall(r"-?\d+(?:\.\d+)?", d) for d in re.findall(r'd="(M [^"]*)"', svg) if "C" not in d]
+    drawn = max(paths, key=len)
+    drawn = np.array(drawn, dtype=float).reshape(-1, 2)
+    assert len(drawn) == len(vertices)            # one straight line per arc: the bulges are not drawn
+    # the drawn polygon back on the drawing: x' = s R x + t, fitted to the vertices (SVG's y points down)
+    drawn[:, 1] *= -1.0
+    a, b = drawn - drawn.mean(axis=0), vertices - vertices.mean(axis=0)
+    scale = math.sqrt((b**2).sum() / (a**2).sum())
+    mapped = a * scale + vertices.mean(axis=0)
+    assert np.abs(mapped - vertices).max() < 0.2      # the page's rounding (1/100 mm) times the scale
+    measured = float(to_polyline(DEFAULT.profile(FINE), vertices).max())   # the exact profile to the chords
+    assert measured == pytest.approx(stated, rel=0.01)

@@ -309,6 +309,16 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
     if "profile_points" in mech:
         out.print(f"{indent}profile    {mech['profile_points']} points ({mech['profile_representation']}), "
                   f"deviation {_fmt(mech['max_deviation_mm'], 3)} <= {mech['chord_tolerance_mm']:g} mm")
+    part = mech.get("export") or {}
+    if part.get("files"):
+        out.print(f"{indent}part       {', '.join(part['files'])} (lengths in {part['units']})")
+        for name, figures in (part.get("programs") or {}).items():
+            out.print(f"{indent}           {name}: {figures['arcs']} arcs, {figures['lines']} lines within "
+                      f"{figures['tolerance_mm']:g} mm of the exact path, start at {figures['start_deg']:.6g} deg")
+        for name, figures in (part.get("solids") or {}).items():
+            out.print(f"{indent}           {name}: volume {figures['volume_mm3']:.6g} mm3")
+        for note in part.get("notes", [])[1:]:
+            out.print(f"{indent}note       {note}")
     design = mech.get("design") or {}
     if design.get("rb_min_mm") is not None:
         out.print(f"{indent}smallest Rb {design['rb_min_mm']:.6g} mm (limited by {design['limited_by']})")
