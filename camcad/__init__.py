@@ -14,7 +14,8 @@ a name that takes radians says so)::
 
 Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
-``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
+``min_base_radius``, ``write_outputs``. The part: ``ExportSettings``, ``part_files``, ``cutter_paths``,
+``contour_program``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
@@ -55,6 +56,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.followers import Follower
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.profile.toolpath import contour_program, cutter_paths
     from camcad.report.profile import (
         plot_curvature,
         plot_hodograph,
@@ -63,8 +65,10 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
         plot_profile,
         plot_summary,
     )
+    from camcad.report.part_files import part_files
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
+    from camcad.scene.export import ExportSettings
     from camcad.scene.file import read_scene
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
@@ -82,6 +86,8 @@ _EXPORTS: dict[str, str] = {
     "profile_report": "camcad.profile.summary",
     "PipelineOptions": "camcad.scene.pipeline", "min_base_radius": "camcad.profile.design",
     "write_outputs": "camcad.report.profile_files",
+    "ExportSettings": "camcad.scene.export", "part_files": "camcad.report.part_files",
+    "cutter_paths": "camcad.profile.toolpath", "contour_program": "camcad.profile.toolpath",
     "analyse": "camcad.fourier.analysis", "resonant_harmonics": "camcad.fourier.resonance",
     "filter_law": "camcad.fourier.filter",
     "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
@@ -106,6 +112,7 @@ __all__ = [
     "ContactParams",
     "Correction",
     "ElasticFollower",
+    "ExportSettings",
     "Follower",
     "LoadedLaw",
     "Operation",
@@ -119,7 +126,9 @@ __all__ = [
     "check",
     "compose",
     "contact_stress",
+    "contour_program",
     "correct",
+    "cutter_paths",
     "filter_law",
     "impact_sweep",
     "kinematics_deg",
@@ -128,6 +137,7 @@ __all__ = [
     "min_base_radius",
     "optimise",
     "parse_phases",
+    "part_files",
     "plot_curvature",
     "plot_hodograph",
     "plot_kinematics",

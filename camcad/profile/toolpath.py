@@ -511,8 +511,8 @@ def contour_program(result: ProfileResult, part: str, cutter_radius: float, dept
     Returns
     -------
     ContourProgram
-        Its passes: the outside contour, or for a groove the pitch-curve slot and then each flank's
-        finishing pass (when R < Rr).
+        Its passes (moves in mm): the outside contour, or for a groove the pitch-curve slot and then each
+        flank's finishing pass (when R < Rr).
 
     Raises
     ------
