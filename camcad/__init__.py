@@ -57,6 +57,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.profile.toolpath import contour_program, cutter_paths
+    from camcad.report.part_files import part_files
     from camcad.report.profile import (
         plot_curvature,
         plot_hodograph,
@@ -65,7 +66,6 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
         plot_profile,
         plot_summary,
     )
-    from camcad.report.part_files import part_files
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
     from camcad.scene.export import ExportSettings

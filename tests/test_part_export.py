@@ -691,3 +691,17 @@ def test_libreoffice_draws_the_arcs_as_chords_as_the_note_says(cli, tmp_path):
     assert np.abs(mapped - vertices).max() < 0.2      # the page's rounding (1/100 mm) times the scale
     measured = float(to_polyline(DEFAULT.profile(FINE), vertices).max())   # the exact profile to the chords
     assert measured == pytest.approx(stated, rel=0.01)
+
+
+def test_a_part_file_is_never_written_over_an_input(cli, tmp_path):
+    folder = tmp_path / "out"
+    folder.mkdir()
+    law = folder / "profile_points.csv"          # the law is read from the very file --export points would write
+    rows = [(0, 0), (45, 1), (90, 0), (135, -1), (180, 0), (225, -1), (270, 0), (315, 1), (360, 0)]
+    law.write_text("".join(f"{t},{a}\n" for t, a in rows))
+    before = law.read_bytes()
+    result = cli("profile", law, "--rb", 50, "--rr", 10, "--lift", 20, "--no-plots", "-o", folder,
+                 "--export", "points")
+    assert result.code == 2 and len(result.err.strip().splitlines()) == 1, result.err
+    assert law.read_bytes() == before
+    assert not (folder / "profile.dxf").exists()

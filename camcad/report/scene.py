@@ -46,6 +46,9 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     outputs: list[Path] = []
     parts = scene_part_files(result, options.export)   # refused here, before anything is written
     with OutputFolder(folder, result.scene.input_files()) as out:
+        for name in result.runs:   # a part file that would replace an input is refused before anything is written
+            for file in parts[name].files:
+                out.path(*((name,) if result.group else ()), file)
         written: dict[str, list[Path]] = {}
         jobs = []
         for name, run in result.runs.items():
