@@ -277,7 +277,8 @@ def part_files(result: ProfileResult, settings: ExportSettings) -> PartFiles:
     ...                                          depth=8.0))
     >>> sorted(made.files)
     ['profile.nc', 'profile_points.csv']
-    >>> made.files["profile_points.csv"].decode().splitlines()[6].split(",")[:5]
+    >>> lines = made.files["profile_points.csv"].decode().splitlines()
+    >>> next(line for line in lines if not line.startswith("#")).split(",")[:5]
     ['theta_deg', 'x_mm', 'y_mm', 'r_mm', 'polar_deg']
     """
     settings = settings.validate()
