@@ -237,7 +237,9 @@ def test_program_follows_the_exact_offset(cli, tmp_path, cam_name, radius):
     # cutter_path.csv: the exact offset, at its cam angles
     rows = table(folder / "cutter_path.csv")
     exact = cam.cutter(np.radians(rows["theta_deg"]), radius)
-    assert np.abs(np.column_stack((rows["x_mm"], rows["y_mm"])) - exact).max() <= 1e-9
+    table_points = np.column_stack((rows["x_mm"], rows["y_mm"]))
+    assert np.abs(table_points - exact).max() <= 1e-9
+    assert to_polyline(table_points, contour).max() <= 0.01      # the program passes through the table's points
     # the program: the common subset, mm, absolute, XY plane, one feed
     assert "G17 G21 G90 G94 G40" in text and text.rstrip().endswith("M30\n%") and "F300" in text
 

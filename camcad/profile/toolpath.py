@@ -409,7 +409,7 @@ def arc_moves(path: ArcPath, tol: float) -> list[Move]:
         if abs(bulge) < BULGE_STRAIGHT or sagitta <= STRAIGHT_SAGITTA * tol or chord < SHORT_ARC_MM:
             moves.append(Move("line", (float(end[0]), float(end[1]))))
             continue
-        centre, _ = arc_centre(start, end, np.float64(bulge))
+        centre, _ = arc_centre(start, end, np.asarray(bulge))
         moves.append(Move("arc", (float(end[0]), float(end[1])), centre=(float(centre[0]), float(centre[1])),
                           ccw=bulge > 0.0))
     return moves

@@ -335,8 +335,13 @@ def part_files(result: ProfileResult, settings: ExportSettings) -> PartFiles:
 
 def write_part_files(made: PartFiles, out: OutputFolder, sub: tuple[str, ...] = ()) -> list[Path]:
     """Write the files of ``part_files`` into the output folder (atomically; never over an input)."""
-    return [write_atomic(out.path(*sub, name), lambda tmp, data=data: tmp.write_bytes(data))
-            for name, data in made.files.items()]
+    written = []
+    for name, data in made.files.items():
+        def write(tmp: Path, data: bytes = data) -> None:
+            tmp.write_bytes(data)
+
+        written.append(write_atomic(out.path(*sub, name), write))
+    return written
 
 
 
