@@ -540,8 +540,8 @@ def _read_step(path: Path):
     return reader.OneShape()
 
 
-def _outline_points(shape, z: float, per_edge: int = 3000) -> np.ndarray:
-    """Points along the edges of ``shape`` that lie in the plane z (not circles: the bore)."""
+def _outline_edges(shape, z: float, per_edge: int = 2000) -> list[np.ndarray]:
+    """Each edge of ``shape`` in the plane z (not circles: the bore) as points along it, in order."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_Circle
     from OCP.TopAbs import TopAbs_EDGE
@@ -559,7 +559,7 @@ def _outline_points(shape, z: float, per_edge: int = 3000) -> np.ndarray:
         pts = np.array([[p.X(), p.Y(), p.Z()] for p in (curve.Value(float(t)) for t in u)])
         if np.all(np.abs(pts[:, 2] - z) < 1e-9):
             out.append(pts[:, :2])
-    return np.concatenate(out)
+    return out
 
 
 @needs_kernel
@@ -582,10 +582,8 @@ def test_step_read_back_has_the_volume_and_the_profile(cli, tmp_path, units):
     rows = table(folder / "profile_points.csv")
     k = INCH if units == "in" else 1.0
     points = np.column_stack((rows[f"x_{units}"], rows[f"y_{units}"])) * k
-    outline = _outline_points(shape, 0.0)
-    from scipy.spatial import cKDTree
-
-    distance, _ = cKDTree(outline).query(points)
+    edges = _outline_edges(shape, 0.0)
+    distance = np.min([to_polyline(points, edge, closed=False) for edge in edges], axis=0)
     assert distance.max() <= 0.005
 
 
@@ -604,7 +602,8 @@ def test_keyway_volume(cli, tmp_path):
         volumes.append(props.Mass())
     # the slot x in [-3, 3], y in [0, 12.8] less its part inside the circle r = 10
     inside = 2 * (1.5 * math.sqrt(100 - 9) + 50 * math.asin(0.3))
-    assert volumes[0] - volumes[1] == pytest.approx((6 * 12.8 - inside) * 10, rel=1e-6)
+    # to the kernel's volume integration, 1e-6 of the plate (measured 3e-7)
+    assert volumes[0] - volumes[1] == pytest.approx((6 * 12.8 - inside) * 10, abs=1e-6 * volumes[0])
     refused = cli("profile", "--no-plots", "-o", tmp_path / "c", "--export", "step", "--thickness", 10,
                   "--bore", 101)
     assert refused.code == 2 and "--bore" in refused.err
