@@ -16,7 +16,8 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``solve_segments`` (``SegmentSpec``, ``parse_segments``) and the VDI 2143 catalogue (``catalogue_table``,
 ``rest_shape``). Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
-``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
+``min_base_radius``, ``write_outputs``. The part: ``ExportSettings``, ``part_files``, ``cutter_paths``,
+``contour_program``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``, ``LeverBeam``
 (the lever on its stop), ``PublishedImpact``, ``compare_published``, ``rebound_study``; cams on an elastic main
 shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``.
@@ -71,6 +72,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.servo import servo_table
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.profile.toolpath import contour_program, cutter_paths
+    from camcad.report.part_files import part_files
     from camcad.report.profile import (
         plot_curvature,
         plot_hodograph,
@@ -84,6 +87,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.scene.commands.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
+    from camcad.scene.sections.export import ExportSettings
 
 #: public name -> the module that defines it
 _EXPORTS: dict[str, str] = {
@@ -101,6 +105,8 @@ _EXPORTS: dict[str, str] = {
     "profile_report": "camcad.profile.summary",
     "PipelineOptions": "camcad.scene.pipeline", "min_base_radius": "camcad.profile.design",
     "write_outputs": "camcad.report.profile_files",
+    "ExportSettings": "camcad.scene.sections.export", "part_files": "camcad.report.part_files",
+    "cutter_paths": "camcad.profile.toolpath", "contour_program": "camcad.profile.toolpath",
     "analyse": "camcad.fourier.analysis", "resonant_harmonics": "camcad.fourier.resonance",
     "filter_law": "camcad.fourier.filter",
     "ElasticFollower": "camcad.dynamics.model", "steady_state": "camcad.dynamics.steady",
@@ -137,6 +143,7 @@ __all__ = [
     "DriveRequest",
     "ElasticFollower",
     "ElasticShaft",
+    "ExportSettings",
     "Follower",
     "Group",
     "LeverBeam",
@@ -157,7 +164,9 @@ __all__ = [
     "compare_published",
     "compose",
     "contact_stress",
+    "contour_program",
     "correct",
+    "cutter_paths",
     "energy_fluctuation",
     "filter_law",
     "impact_sweep",
@@ -170,6 +179,7 @@ __all__ = [
     "optimise_machine",
     "parse_phases",
     "parse_segments",
+    "part_files",
     "plot_curvature",
     "plot_hodograph",
     "plot_kinematics",

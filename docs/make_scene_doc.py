@@ -12,6 +12,7 @@ from camcad.scene.sections.contact import CONTACT_FIELDS
 from camcad.scene.sections.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
 from camcad.scene.sections.drive import DRIVE_FIELDS
 from camcad.scene.sections.dynamics import DYNAMICS_FIELDS
+from camcad.scene.sections.export import EXPORT_FIELDS
 from camcad.scene.sections.filter import FILTER_FIELDS
 from camcad.scene.sections.follower import FOLLOWER_FIELDS
 from camcad.scene.sections.law import SEGMENT_FIELDS, law_fields
@@ -34,6 +35,7 @@ SECTIONS = [("law", law_fields(), "camcad.scene.sections.law"),
             ("drive", DRIVE_FIELDS, "camcad.scene.sections.drive"),
             ("cyclogram", CYCLOGRAM_FIELDS, "camcad.scene.sections.cyclogram"),
             ("[cyclogram.operations]", OPERATION_FIELDS, "camcad.scene.sections.cyclogram"),
+            ("export", EXPORT_FIELDS, "camcad.scene.sections.export"),
             ("machine", MACHINE_FIELDS, "camcad.scene.machine: a machine scene"),
             ("groups.NAME", GROUP_FIELDS, "camcad.scene.machine"),
             ("network", NETWORK_FIELDS, "camcad.scene.machine"),

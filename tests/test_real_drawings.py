@@ -562,9 +562,11 @@ def test_committed_interpolating_spline_is_warned_of(cli):
     assert "leaves the zero between the dwell points" in warning[0]
 
 
-def test_gdal_inches_are_reported_not_converted(cli):
+def test_gdal_inches_are_reported_in_inches(cli):
+    # GDAL writes $INSUNITS 1 whatever the data are: the law is read (and checked) in inches, as the file says
     payload = _check(cli, FIXTURES / "gdal.dxf")
-    assert any("inches ($INSUNITS 1)" in n and "does not convert" in n for n in payload["notes"])
+    assert any("inches ($INSUNITS 1)" in n and "reported in in" in n for n in payload["notes"])
+    assert payload["length_unit"] == "in"
 
 
 def regenerate() -> None:

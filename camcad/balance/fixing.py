@@ -37,6 +37,7 @@ class CheckReport:
     balance: BalanceReport
     trapezoid: dict | None = None
     plot: str | None = None
+    length_unit: str = "mm"       # the law's lengths: mm, or the drawing's in / cm (LoadedLaw.length_unit)
 
     @property
     def exit_code(self) -> int:
@@ -45,7 +46,8 @@ class CheckReport:
 
     def to_dict(self) -> dict:
         """The JSON of ``camcad check --json`` (SPEC.md keys)."""
-        payload = {"source": self.source, "notes": list(self.notes), **self.balance.to_dict()}
+        payload = {"source": self.source, "notes": list(self.notes), **self.balance.to_dict(),
+                   "length_unit": self.length_unit}
         if self.trapezoid is not None:
             payload["trapezoid"] = self.trapezoid
         if self.plot is not None:
@@ -54,16 +56,16 @@ class CheckReport:
 
     def to_text(self) -> str:
         """The human-readable report (plain text, no markup)."""
-        b = self.balance
+        b, u = self.balance, self.length_unit
         lines = [self.source, *(note_line(n) for n in self.notes), "", "phases"]
-        lines += _table(["phase", "from (deg)", "to (deg)", "area + (mm/rad)", "area - (mm/rad)",
-                         "v at end (mm/rad)", "displacement (mm)"],
+        lines += _table(["phase", "from (deg)", "to (deg)", f"area + ({u}/rad)", f"area - ({u}/rad)",
+                         f"v at end ({u}/rad)", f"displacement ({u})"],
                         [[p["kind"], f"{p['start_deg']:.4f}", f"{p['end_deg']:.4f}", f"{p['area_positive']:.6g}",
                           f"{p['area_negative']:.6g}", f"{p['v_end']:.3e}", f"{p['displacement']:.6g}"]
                          for p in b.phases])
         lines += ["", "balance conditions"]
         lines += _table(["condition", "residual"], [[n, f"{r:.3e}"] for n, r in zip(b.condition_names, b.residuals)])
-        lines.append(f"rise {b.rise:.6g} mm, return {b.return_:.6g} mm, tolerance {b.tolerance_abs:.3g} "
+        lines.append(f"rise {b.rise:.6g} {u}, return {b.return_:.6g} {u}, tolerance {b.tolerance_abs:.3g} "
                      f"(= {b.tolerance:g} x rise)")
         if self.trapezoid is not None:
             trap = self.trapezoid
@@ -97,7 +99,8 @@ def check_law(loaded, tol: float = DEFAULT_TOL, *, trapezoid: bool = False,
     """
     report = check(loaded.law, tol)
     extra = check_by_trapezoid(loaded.law, tol, step_deg) if trapezoid else None
-    return CheckReport(loaded.source, tuple(loaded.notes), report, extra)
+    return CheckReport(loaded.source, tuple(loaded.notes), report, extra,
+                       length_unit=getattr(loaded, "length_unit", "mm"))
 
 
 # ---------------------------------------------------------------------------------------------

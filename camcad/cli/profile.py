@@ -30,6 +30,25 @@ from camcad.cli.common import (
     print_json,
     progress_line,
 )
+from camcad.cli.part_options import (
+    BoreOpt,
+    CompOpt,
+    CutterRadiusOpt,
+    DepthOpt,
+    ExportOpt,
+    FeedOpt,
+    KeywayOpt,
+    PlateOpt,
+    PolydyneOpt,
+    ServoFormatOpt,
+    ServoNormaliseOpt,
+    ServoRpmOpt,
+    ServoStepOpt,
+    StepDegOpt,
+    ThicknessOpt,
+    UnitsOpt,
+    export_options,
+)
 from camcad.errors import CamcadError
 from camcad.profile import defaults
 
@@ -91,16 +110,12 @@ def profile(
                               "summary, kinematics, pressure_angle, curvature, profile, hodograph, dynamics, impact, "
                               "contact."),
     no_plots: NoPlotsOpt = False,
-    # ---- --export servo (camcad.profile.servo, camcad.report.servo)
-    export: str | None = typer.Option(None, "--export", help="Extra outputs, a comma list: servo (servo_table.csv)."),
-    servo_step: float = typer.Option(1.0, "--servo-step", help="Master step of the servo table (deg)."),
-    servo_format: str = typer.Option("csv", "--servo-format", help="Servo table format: csv, codesys or twincat."),
-    servo_rpm: float | None = typer.Option(None, "--servo-rpm", help="Master speed for the servo figures per second "
-                                                                     "(rpm; default the scene's highest)."),
-    servo_normalise: bool = typer.Option(False, "--servo-normalise", help="Servo slave as a fraction of its stroke."),
-    # ----
-    polydyne: float | None = typer.Option(None, "--polydyne", help="Design the cam for the scene's elastic follower "
-                                                                   "at this speed (rpm): a polydyne cam."),
+    export: ExportOpt = None, units: UnitsOpt = None, step_deg: StepDegOpt = None,
+    cutter_radius: CutterRadiusOpt = None,
+    comp: CompOpt = None, feed: FeedOpt = None, depth: DepthOpt = None, thickness: ThicknessOpt = None,
+    bore: BoreOpt = None, keyway: KeywayOpt = None, plate: PlateOpt = None,
+    servo_step: ServoStepOpt = 1.0, servo_format: ServoFormatOpt = "csv", servo_rpm: ServoRpmOpt = None,
+    servo_normalise: ServoNormaliseOpt = False, polydyne: PolydyneOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
@@ -109,8 +124,10 @@ def profile(
     from camcad.scene.file import scene_from_dict
     from camcad.scene.pipeline import PipelineOptions
 
+    part = export_options(export=export, units=units, step_deg=step_deg, cutter_radius=cutter_radius, comp=comp,
+                          feed=feed, depth=depth, thickness=thickness, bore=bore, keyway=keyway, plate=plate)
     options = PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
-                              plots=_plot_names(plots, no_plots),
+                              plots=_plot_names(plots, no_plots), export=part,
                               servo=servo_export(export, servo_step, servo_format, servo_normalise, servo_rpm),
                               polydyne_rpm=polydyne)
     if target is not None and target.suffix.lower() == ".toml":
@@ -316,6 +333,16 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
     if "profile_points" in mech:
         out.print(f"{indent}profile    {mech['profile_points']} points ({mech['profile_representation']}), "
                   f"deviation {_fmt(mech['max_deviation_mm'], 3)} <= {mech['chord_tolerance_mm']:g} mm")
+    part = mech.get("export") or {}
+    if part.get("files"):
+        out.print(f"{indent}part       {', '.join(part['files'])} (lengths in {part['units']})")
+        for name, figures in (part.get("programs") or {}).items():
+            out.print(f"{indent}           {name}: {figures['arcs']} arcs, {figures['lines']} lines within "
+                      f"{figures['tolerance_mm']:g} mm of the exact path, start at {figures['start_deg']:.6g} deg")
+        for name, figures in (part.get("solids") or {}).items():
+            out.print(f"{indent}           {name}: volume {figures['volume_mm3']:.6g} mm3")
+        for note in part.get("notes", [])[1:]:
+            out.print(f"{indent}note       {note}")
     design = mech.get("design") or {}
     if design.get("rb_min_mm") is not None:
         out.print(f"{indent}smallest Rb {design['rb_min_mm']:.6g} mm (limited by {design['limited_by']})")

@@ -48,6 +48,10 @@ UNIT_NAMES = {0: "unitless", 1: "inches", 2: "feet", 3: "miles", 4: "millimetres
               12: "nanometres", 13: "microns", 14: "decimetres", 15: "decametres", 16: "hectometres",
               17: "gigametres", 18: "astronomical units", 19: "light years", 20: "parsecs"}
 
+#: drawing units a law's lengths are read in and converted from where the law meets the follower (mm):
+#: $INSUNITS -> (the unit's short name, mm per unit)
+LENGTH_UNITS = {1: ("in", 25.4), 5: ("cm", 10.0)}
+
 
 @dataclass(frozen=True)
 class Piece:
@@ -422,9 +426,12 @@ def _short(err: Exception, limit: int = 120) -> str:
 def units_note(drawing: Drawing, scaled: bool) -> str:
     """What the drawing's units are and what camcad does with them (one note).
 
-    camcad never converts a law's coordinates by the drawing units: x is mapped to the cycle (or
-    is degrees with ``--x-deg``), and y is the acceleration analog at the drawing's own scale
-    (1 drawing unit = 1 mm/rad²) unless ``--lift`` scales it.
+    x is never a length: it is mapped to the cycle (or is degrees with ``--x-deg``). y is the
+    acceleration analog in the drawing's length unit per rad²: a drawing in inches or centimetres
+    ($INSUNITS 1, 5; ``LENGTH_UNITS``) is read in that unit (in/rad², cm/rad²: ``check`` and ``fix``
+    report its figures in it) and converted to mm where the law meets the follower (``profile``); any
+    other unit is read as mm/rad² per drawing unit. ``--lift`` scales y to a rise in mm, and the
+    units then do not matter.
 
     Parameters
     ----------
@@ -447,6 +454,10 @@ def units_note(drawing: Drawing, scaled: bool) -> str:
         return f"{stated}; not used: x is mapped to the cycle and y is scaled by --lift"
     if code in (None, 0, 4):
         return f"{stated}; y is read as mm/rad² per drawing unit (--lift H scales it to a rise of H mm)"
+    if code in LENGTH_UNITS:
+        short, factor = LENGTH_UNITS[code]
+        return (f"{stated}; y is read as {short}/rad² and the law's lengths are reported in {short} "
+                f"(a profile converts them to mm, x {factor:g}; --lift H scales the rise to H mm instead)")
     return (f"{stated}; camcad does not convert them: y is read as mm/rad² per drawing unit "
             "(--lift H scales it to a rise of H mm)")
 
@@ -963,6 +974,7 @@ def curve_entities(doc, curve: Curve) -> list:
 
 __all__ = [
     "CURVE_TYPES",
+    "LENGTH_UNITS",
     "MAX_BLOCK_DEPTH",
     "MAX_BLOCK_ENTITIES",
     "UNIT_NAMES",

@@ -138,17 +138,41 @@ def set_lwpolyline_rows(entity, rows) -> None:
     entity.lwpoints.set(np.asarray(rows, dtype=float).reshape(-1, 5))
 
 
-def build_document(drawing: Drawing, version: str = "R2000"):
-    """An ezdxf document holding ``drawing`` (units mm; save_document sets the extents when it is written)."""
+#: $INSUNITS of the length units camcad writes (the DXF reference's table)
+INSUNITS = {"mm": 4, "in": 1}
+
+
+def scaled_drawing(drawing: Drawing, factor: float) -> Drawing:
+    """``drawing`` with every length (coordinates, radii, text heights) multiplied by ``factor``: 1/25.4 turns
+    a drawing in mm into one in inches."""
+    from dataclasses import replace
+
+    def xy(point) -> tuple[float, float]:
+        return (float(point[0]) * factor, float(point[1]) * factor)
+
+    return replace(
+        drawing,
+        paths=tuple(replace(p, points=np.asarray(p.points, dtype=float) * factor) for p in drawing.paths),
+        splines=tuple(replace(s, control_points=np.asarray(s.control_points, dtype=float) * factor)
+                      for s in drawing.splines),
+        circles=tuple(replace(c, centre=xy(c.centre), radius=float(c.radius) * factor) for c in drawing.circles),
+        lines=tuple(replace(line, start=xy(line.start), end=xy(line.end)) for line in drawing.lines),
+        texts=tuple(replace(t, insert=xy(t.insert), height=float(t.height) * factor) for t in drawing.texts))
+
+
+def build_document(drawing: Drawing, version: str = "R2000", units: str = "mm"):
+    """An ezdxf document holding ``drawing`` (its lengths in ``units``, "mm" or "in"; save_document sets the
+    extents when it is written)."""
 
     if version not in DXF_VERSIONS:
         raise CamcadError(f"DXF version {version!r} is not supported", "dxf writer", "use R2000 or R12")
     r12 = version == "R12"
     if r12 and drawing.splines:
         raise CamcadError("DXF R12 has no SPLINE entity", "--r12 --spline", "drop --spline or --r12")
-    # $INSUNITS 4 = mm, $MEASUREMENT metric; of ezdxf's standard resources only the linetypes the layers
-    # use (ezdxf's full set of text and dimension styles would be 60 % of the file and of its writing time)
-    doc = new_document(DXF_VERSIONS[version], setup=False, units=4)
+    # $INSUNITS 4 = mm (1 = inch), $MEASUREMENT metric (imperial); of ezdxf's standard resources only the
+    # linetypes the layers use (ezdxf's full set of text and dimension styles would be 60 % of the file and of
+    # its writing time)
+    doc = new_document(DXF_VERSIONS[version], setup=False, units=INSUNITS[units])
     _add_linetypes(doc, sorted(set(LAYER_LINETYPES.values())))
     used = list(drawing.layers)
     item: Any
@@ -201,7 +225,7 @@ def _add_linetypes(doc, names: list[str]) -> None:
             doc.linetypes.new(name, dxfattribs={"description": description, "pattern": pattern})
 
 
-def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000") -> Path:
+def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000", units: str = "mm") -> Path:
     """Write ``drawing`` as an ASCII DXF file (atomically, byte-deterministic); return the path.
 
     Parameters
@@ -212,13 +236,15 @@ def write_dxf(path: str | Path, drawing: Drawing, version: str = "R2000") -> Pat
         The geometry (mm).
     version : str
         "R2000" (default) or "R12".
+    units : str
+        The unit of the drawing's lengths, "mm" or "in" ($INSUNITS 4 or 1 in R2000; R12 cannot say it).
 
     Returns
     -------
     Path
         ``path``.
     """
-    doc = build_document(drawing, version)
+    doc = build_document(drawing, version, units)
     return save_document(doc, path)
 
 

@@ -25,7 +25,15 @@ import numpy as np
 from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.io.chain import find_law
-from camcad.io.dxf_read import Curve, Drawing, collect_pieces, curve_entities, open_drawing, units_note
+from camcad.io.dxf_read import (
+    LENGTH_UNITS,
+    Curve,
+    Drawing,
+    collect_pieces,
+    curve_entities,
+    open_drawing,
+    units_note,
+)
 from camcad.io.input_file import is_regular_file, read_input
 from camcad.io.phase_record import read_phase_record
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
@@ -99,6 +107,11 @@ class LoadedLaw:
         Drawing y of a = 0 (drawing units), found in the drawing unless given.
     baseline : Baseline or None
         The zero axis and origin found in the drawing, with how they were found.
+    length_unit : str
+        The unit of the law's lengths: "mm", or the drawing's "in" or "cm" ($INSUNITS 1, 5) when no ``lift``
+        scales it; ``law.a`` is then in that unit per rad² (``mm_per_unit`` converts it).
+    mm_per_unit : float
+        mm per ``length_unit`` (1.0, 25.4 or 10.0).
     """
 
     law: PiecewiseLinearLaw
@@ -117,6 +130,8 @@ class LoadedLaw:
     extra: dict = field(default_factory=dict)
     y0: float = 0.0
     baseline: Baseline | None = None
+    length_unit: str = "mm"
+    mm_per_unit: float = 1.0
 
     @property
     def x0(self) -> float:
@@ -414,10 +429,14 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
         stated = "" if cycle_stated else " (the default: pass --cycle DEG if the curve spans another working angle)"
         notes.append(f"x {x_min:.6g}..{x_max:.6g} is taken as one cycle of {cycle_deg:g} deg{stated}")
     source = f"{where}, {len(kept)} vertices, x {x_min:g}..{x_max:g} -> 0..{cycle_deg:g} deg"
+    unit, per_unit = "mm", 1.0
+    if lift is None and drawing is not None and drawing.insunits in LENGTH_UNITS:
+        unit, per_unit = LENGTH_UNITS[drawing.insunits]
     return LoadedLaw(law=law, path=path, source=source, notes=tuple(notes), y_scale=y_scale,
                      x_min=x_min, x_max=x_max, phases_given=bool(phases),
                      vertex_map=VertexMap(lo_law, hi_law, w_law), curve=curve, drawing=drawing,
-                     candidates=candidates, y0=float(y0), baseline=baseline)
+                     candidates=candidates, y0=float(y0), baseline=baseline, length_unit=unit,
+                     mm_per_unit=per_unit)
 
 
 def _drawn_dwells(baseline: Baseline | None, x_min: float, x_max: float,

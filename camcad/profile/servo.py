@@ -72,25 +72,18 @@ class ServoExport:
         return self
 
 
-#: the kinds ``camcad profile --export`` knows on this branch (a comma list)
-EXPORT_KINDS = ("servo",)
-
-
 def servo_export(kinds: str | None, step_deg: float = 1.0, fmt: str = "csv", normalise: bool = False,
                  rpm: float | None = None) -> ServoExport | None:
-    """The servo export ``--export KINDS`` asks for (a comma list; None or without "servo": None), validated;
-    an unknown kind or a --servo-* option without ``--export servo`` is a one-line CamcadError.
+    """The servo export ``--export KINDS`` asks for (a comma list, whose kinds ``camcad.scene.sections.export``
+    checks; None or without "servo": None), validated; a --servo-* option without ``--export servo`` is a one-line
+    CamcadError.
 
     Examples
     --------
     >>> servo_export("servo", 0.5).step_deg, servo_export(None)
     (0.5, None)
     """
-    wanted = [k.strip().lower() for k in (kinds or "").split(",") if k.strip()]
-    for kind in wanted:
-        if kind not in EXPORT_KINDS:
-            raise CamcadError(f"--export {kind!r} is not a kind camcad writes", "--export",
-                              f"use a comma list of {', '.join(EXPORT_KINDS)}")
+    wanted = [k.strip().lower() for k in (kinds or "").split(",") if k.strip()]   # checked by the part's parser
     if "servo" not in wanted:
         if (step_deg, fmt, normalise, rpm) != (1.0, "csv", False, None):
             raise CamcadError("--servo-* options shape the servo table, which is not asked for", "--export",

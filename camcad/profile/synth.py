@@ -368,6 +368,18 @@ def _star_shaped(points: np.ndarray) -> bool:
     return bool(abs(abs(math.fsum(turn)) - 2.0 * math.pi) < 1e-9)
 
 
+def libreoffice_arcs_note(arcs: ArcPath) -> str:
+    """What LibreOffice Draw shows of a profile written as tangent arcs: it draws a polyline's bulges as the
+    chords between the arcs' ends (measured with LibreOffice Draw 7.4), up to the largest sagitta
+    c·|b|/2 (c the chord, b the bulge) inside the arcs."""
+    v = arcs.vertices
+    ends = np.roll(v, -1, axis=0) if len(arcs.bulges) == len(v) else v[1:]
+    chord = np.hypot(*(ends - v[: len(ends)]).T)
+    sagitta = float(np.max(chord * np.abs(arcs.bulges[: len(ends)]) / 2.0, initial=0.0))
+    return (f"LibreOffice Draw (7.4) draws the tangent arcs as their chords, up to {sagitta:.3g} mm off the profile; "
+            "for LibreOffice write the profile without --arcs (chords within the tolerance) or use cam.step")
+
+
 def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSettings,
                   analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str],
                   written: bool = True) -> CurveResult:
@@ -400,12 +412,17 @@ def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSett
             if closed:
                 vertices, bulges = vertices[:-1], bulges[:-1]
             arcs = ArcPath(arc_theta, vertices, bulges, path.max_deviation)
+            if name == "profile":
+                notes.append(libreoffice_arcs_note(arcs))
         except CamcadError as err:
             notes.append(f"{name}: no tangent arcs written ({err.what})")
     spline = None
     if want_spline:
         if closed:
             spline = interpolating_spline(curve, np.append(polyline.theta, 2.0 * math.pi))
+            if name == "profile":
+                notes.append("LibreOffice Draw (7.4) does not draw SPLINE entities: it shows the layer PROFILE's "
+                             "chord polyline (within the chord tolerance), not PROFILE_SPLINE")
         else:
             notes.append(f"{name}: no spline written, the curve does not close")
     rho = curve(analysis).rho

@@ -10,7 +10,7 @@ from typing import cast
 import numpy as np
 
 from camcad.io.atomic import write_text_atomic
-from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, write_dxf
+from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfSpline, DxfText, scaled_drawing, write_dxf
 from camcad.io.jsonout import write_json
 from camcad.io.output_folder import OutputFolder
 from camcad.profile.scaled_law import describe_law, describe_phases
@@ -18,6 +18,8 @@ from camcad.profile.summary import profile_report as report
 from camcad.profile.summary import stroke
 from camcad.profile.synth import CurveResult, ProfileResult, ProfileSettings
 
+#: mm per inch
+INCH_MM = 25.4
 LAYERS = ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER", "TEXT")
 
 
@@ -27,8 +29,9 @@ def _path(layer: str, curve: CurveResult, prefer_arcs: bool = True) -> DxfPath:
     return DxfPath(layer, curve.polyline.points, curve.closed)
 
 
-def drawing_texts(result: ProfileResult) -> list[str]:
-    """The TEXT layer's lines (ASCII): law, phases, follower (Rb, Rr, e), lift or swing, key figures."""
+def drawing_texts(result: ProfileResult, units: str = "mm") -> list[str]:
+    """The TEXT layer's lines (ASCII): law, phases, follower (Rb, Rr, e), lift or swing, key figures; the
+    drawing's length unit (``units``: "mm" or "in"; the figures of the text stay in mm)."""
     f = result.follower
     pa = result.pressure_angle
     if f.kind == "oscillating":
@@ -43,13 +46,16 @@ def drawing_texts(result: ProfileResult) -> list[str]:
         f"{size} (the follower's stroke)",
         (f"pressure angle max {math.degrees(pa.maximum.value):.3f} deg at {math.degrees(pa.maximum.at):.3f} deg, "
          f"min {math.degrees(pa.minimum.value):.3f} deg at {math.degrees(pa.minimum.at):.3f} deg"),
-        f"units mm, cam turns {'CW' if f.cw else 'CCW'}, chord tolerance {result.settings.tol_mm:g} mm",
+        (f"units mm, cam turns {'CW' if f.cw else 'CCW'}, chord tolerance {result.settings.tol_mm:g} mm"
+         if units == "mm" else f"units inch (the figures above in mm), cam turns {'CW' if f.cw else 'CCW'}, "
+                               f"chord tolerance {result.settings.tol_mm / 25.4:.3g} in"),
     ]
     return lines
 
 
-def build_drawing(result: ProfileResult) -> Drawing:
-    """The profile drawing: layers PROFILE, PITCH, BASE_CIRCLE, CENTER, ROLLER, TEXT (+ optional)."""
+def build_drawing(result: ProfileResult, units: str = "mm") -> Drawing:
+    """The profile drawing: layers PROFILE, PITCH, BASE_CIRCLE, CENTER, ROLLER, TEXT (+ optional); lengths in
+    ``units`` ("mm", or "in": every length / 25.4)."""
     f = result.follower
     geometry = result.geometry
     paths = [_path("PROFILE", result.profile), _path("PITCH", result.pitch, prefer_arcs=False)]
@@ -94,24 +100,29 @@ def build_drawing(result: ProfileResult) -> Drawing:
     height = max(2.5, round(extent / 40.0, 1))
     top = -extent - 3.0 * height
     texts = [DxfText("TEXT", line, (-extent, top - 1.6 * height * k), height)
-             for k, line in enumerate(drawing_texts(result))]
-    return Drawing(tuple(paths), tuple(splines), tuple(circles), tuple(lines), tuple(texts), LAYERS)
+             for k, line in enumerate(drawing_texts(result, units))]
+    drawing = Drawing(tuple(paths), tuple(splines), tuple(circles), tuple(lines), tuple(texts), LAYERS)
+    return scaled_drawing(drawing, 1.0 / INCH_MM) if units == "in" else drawing
 
 
 _NAN_FIELD = re.compile(r"(?<![^,\n])nan(?![^,\n])")
 
 
-def law_csv_text(result: ProfileResult) -> str:
-    """law.csv: θ, s, v, a, j, pressure angle (and its limit), radii of curvature; one row per step."""
+def law_csv_text(result: ProfileResult, units: str = "mm") -> str:
+    """law.csv: θ, s, v, a, j, pressure angle (and its limit), radii of curvature; one row per step; lengths
+    in ``units`` ("mm" or "in")."""
     t = result.table
-    unit = "rad" if result.follower.kind == "oscillating" else "mm"
+    k = 1.0 / INCH_MM if units == "in" else 1.0
+    swing = result.follower.kind == "oscillating"
+    unit = "rad" if swing else units
+    ks = 1.0 if swing else k
     header = ["theta_deg", f"s_{unit}", f"v_{unit}_per_rad", f"a_{unit}_per_rad2", f"j_{unit}_per_rad3",
-              "pressure_angle_deg", "pressure_angle_limit_deg", "rho_pitch_mm", "rho_profile_mm"]
-    columns = [np.degrees(t.theta), t.s, t.v, t.a, t.j, np.degrees(t.pressure_angle),
-               np.degrees(t.limit), t.rho_pitch, t.rho_profile]
+              "pressure_angle_deg", "pressure_angle_limit_deg", f"rho_pitch_{units}", f"rho_profile_{units}"]
+    columns = [np.degrees(t.theta), t.s * ks, t.v * ks, t.a * ks, t.j * ks, np.degrees(t.pressure_angle),
+               np.degrees(t.limit), t.rho_pitch * k, t.rho_profile * k]
     # one %-format per row (a format per value took 23.5 ms for the default 721-row table, this 4.6 ms); NaN is written
     # as an empty field, infinities as inf and -inf
-    row_format = ",".join(["%.12g"] * len(columns))
+    row_format = ",".join(["%.15g"] * len(columns))
     rows = "\n".join(row_format % row for row in zip(*(c.tolist() for c in columns)))
     rows = _NAN_FIELD.sub("", rows)
     return ",".join(header) + "\n" + rows + ("\n" if rows else "")
@@ -119,7 +130,8 @@ def law_csv_text(result: ProfileResult) -> str:
 
 def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, settings: ProfileSettings | None = None,
                   extra: dict | None = None, *, sub: tuple[str, ...] = (), report_json: bool = True,
-                  inputs: tuple[Path, ...] = (), plots: tuple[str, ...] | None = None) -> list[Path]:
+                  inputs: tuple[Path, ...] = (), plots: tuple[str, ...] | None = None,
+                  units: str = "mm") -> list[Path]:
     """Write a synthesised cam's files: profile.dxf, law.csv, the plots and report.json.
 
     profile.dxf has the layers PROFILE, PITCH, BASE_CIRCLE, CENTER, ROLLER and TEXT (mm, DXF R2000 or
@@ -146,6 +158,8 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
     plots : tuple of str, optional
         Names of ``camcad.report.profile.PLOTS`` to draw ("all" for every one); by default the summary
         page when ``settings.plots`` is true, none otherwise.
+    units : str
+        Length unit of profile.dxf and law.csv: "mm" (default) or "in" (every length / 25.4, $INSUNITS 1).
 
     Returns
     -------
@@ -168,12 +182,14 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
     """
     if not isinstance(out, OutputFolder):
         with OutputFolder(out, inputs) as folder:
-            return write_outputs(result, folder, settings, extra, sub=sub, report_json=report_json, plots=plots)
+            return write_outputs(result, folder, settings, extra, sub=sub, report_json=report_json, plots=plots,
+                                 units=units)
     settings = settings or result.settings
     if plots is None:
         plots = ("summary",) if settings.plots else ()
-    written = [write_dxf(out.path(*sub, "profile.dxf"), build_drawing(result), "R12" if settings.r12 else "R2000"),
-               write_text_atomic(out.path(*sub, "law.csv"), law_csv_text(result))]
+    written = [write_dxf(out.path(*sub, "profile.dxf"), build_drawing(result, units),
+                         "R12" if settings.r12 else "R2000", units),
+               write_text_atomic(out.path(*sub, "law.csv"), law_csv_text(result, units))]
     if plots:
         from camcad.report.profile import save_profile_plots
 

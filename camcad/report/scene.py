@@ -22,6 +22,8 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.profile.servo import ServoExport
+from camcad.report.part_files import scene_part_files, write_part_files
 from camcad.report.servo import write_servo
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
@@ -44,17 +46,26 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     say = progress or (lambda _text: None)
     folder = options.output if options.output is not None else default_folder(result.scene.name)
     outputs: list[Path] = []
+    parts = scene_part_files(result, options.export)   # refused here, before anything is written
     with OutputFolder(folder, result.scene.input_files()) as out:
+        for name in result.runs:   # a part file that would replace an input is refused before anything is written
+            for file in parts[name].files:
+                out.path(*((name,) if result.group else ()), file)
         written: dict[str, list[Path]] = {}
         jobs = []
         for name, run in result.runs.items():
             sub = (name,) if result.group else ()
             say(f"{name}: writing")
-            written[name] = _write_data(run, out, sub, options)
+            written[name] = _write_data(run, out, sub, options, parts[name].units)
+            written[name] += write_part_files(parts[name], out, sub)
             target = result.report["mechanisms"][name] if result.group else result.report
-            # ---- --export servo (camcad.report.servo)
-            if options.servo is not None:
-                servo_files, target["servo"] = write_servo(run, out, sub, options.servo, result.scene.speeds_rpm)
+            if parts[name].report:
+                target["export"] = parts[name].report
+            # ---- --export servo, or servo in the [export] kinds (camcad.report.servo)
+            servo = options.servo if options.servo is not None else (
+                ServoExport().validated() if parts[name].servo else None)
+            if servo is not None:
+                servo_files, target["servo"] = write_servo(run, out, sub, servo, result.scene.speeds_rpm)
                 written[name].extend(servo_files)
             # ----
             if options.plots:
@@ -136,12 +147,13 @@ def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOpt
     return write_scene(analyse_scene(source, options, progress), options, progress)
 
 
-def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions) -> list[Path]:
-    """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile)."""
+def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions,
+                units: str = "mm") -> list[Path]:
+    """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile), lengths in ``units``."""
     if run.profile is not None:
         from camcad.report.profile_files import write_outputs
 
-        return write_outputs(run.profile, out, sub=sub, report_json=False, plots=())
+        return write_outputs(run.profile, out, sub=sub, report_json=False, plots=(), units=units)
     theta = np.linspace(0.0, run.law.cycle, LAW_SAMPLES)
     return [write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta))]
 

@@ -60,6 +60,13 @@ def build_law(spec: LawSpec) -> BuiltLaw:
                       phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
     report = check(loaded.law, spec.tol)
     notes = [loaded.source, *loaded.notes]
+    if loaded.mm_per_unit != 1.0:   # a drawing in inches or centimetres: its lengths become mm here
+        unit, factor = loaded.length_unit, loaded.mm_per_unit
+        notes.append(f"the law is drawn in {unit}: rise {report.rise:.6g} {unit} = {report.rise * factor:.6g} mm, "
+                     f"return {report.return_:.6g} {unit}; converted to mm (x {factor:g}) for the follower")
+        loaded = replace(loaded, law=loaded.law.with_ordinates(loaded.law.a * factor), y_scale=loaded.y_scale * factor,
+                         length_unit="mm", mm_per_unit=1.0)
+        report = check(loaded.law, spec.tol)
     if spec.fix == "none":
         if not report.balanced:
             notes.append("the drawn law is NOT balanced (fix = \"min-change\" in [law] corrects it)")

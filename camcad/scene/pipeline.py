@@ -81,6 +81,9 @@ class PipelineOptions:
     polydyne_rpm : float or None
         Design every mechanism with [dynamics] as a polydyne cam for this speed, rpm (``--polydyne``); None: the
         scene's ``[dynamics] polydyne_rpm``.
+    export : dict, optional
+        The part's files and units given on the command line (``camcad.scene.sections.export.ExportSettings`` field
+        names → values; lengths mm, feed mm/min), put over each mechanism's [export] section.
 
     Examples
     --------
@@ -117,6 +120,8 @@ class PipelineOptions:
     servo: Any = None
     #: ``--polydyne RPM``: the design speed of a polydyne cam (overrides [dynamics] polydyne_rpm), rpm
     polydyne_rpm: float | None = None
+    #: the part's files and units given on the command line (``ExportSettings`` field names → values), or None
+    export: dict | None = None
 
     def runs(self, model: str) -> bool:
         """Whether the analysis pass runs ``model`` (one of ``MODELS``)."""
