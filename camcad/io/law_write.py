@@ -16,6 +16,7 @@ and Inkscape draws a frozen one too), so a render shows one law, and nothing the
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,8 @@ from camcad.io.dxf_write import (
     save_document,
     set_lwpolyline_rows,
 )
+from camcad.io.law_record import LawRecord, attach_to_entity, table_line, vertex_digest
+from camcad.io.table_read import write_table
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
@@ -42,7 +45,7 @@ _ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
 
 
 def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *, layer: str = "ACCEL",
-                  r12: bool = False, title: str = "") -> Path:
+                  r12: bool = False, title: str = "", record: LawRecord | None = None) -> Path:
     """An acceleration law as a polyline: x = cam angle (deg), y = acceleration analog (mm/rad²).
 
     Besides the law (LWPOLYLINE, or POLYLINE for R12) on ``layer``, the file holds the θ axis on
@@ -64,6 +67,9 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
         Write DXF R12 (POLYLINE) instead of R2000 (LWPOLYLINE).
     title : str
         Text above the law (ASCII).
+    record : LawRecord, optional
+        camcad's record of the law (its phases and the rule it was judged by), stored as XDATA on the
+        polyline with the vertex count and digest (``camcad.io.law_record``).
 
     Returns
     -------
@@ -82,9 +88,13 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
             doc.layers.add(name, color=color)
     msp = doc.modelspace()
     if r12:
-        msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)], dxfattribs={"layer": layer})
+        entity = msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)],
+                                    dxfattribs={"layer": layer})
     else:
-        lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": layer})
+        entity = lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": layer})
+    if record is not None:
+        points = np.column_stack((theta_deg, accel))
+        attach_to_entity(doc, entity, replace(record, vertices=len(points), digest=vertex_digest(points)))
     msp.add_line((float(theta_deg[0]), 0.0), (float(theta_deg[-1]), 0.0), dxfattribs={"layer": "AXES"})
     height = max(float(np.ptp(accel)), 1e-9) * 0.04
     # plain ASCII without '^' (a caret starts a control code in DXF text)
@@ -94,8 +104,9 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
     return save_document(doc, path)
 
 
-def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None) -> Path:
-    """θ (deg), s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³) and any extra columns, one row per sample.
+def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None, *,
+                  record: LawRecord | None = None, unit: str = "mm") -> Path:
+    """θ (deg), s, v (per rad), a (per rad²), j (per rad³) and any extra columns, one row per sample.
 
     Parameters
     ----------
@@ -103,23 +114,32 @@ def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | N
     kinematics : camcad.law.law.Kinematics
     extra : dict of str to ndarray, optional
         Further columns, one value per sample.
+    record : LawRecord, optional
+        camcad's record of the law, written as the comment line before the header
+        (``camcad.io.law_record``); read back, the table keeps its phases.
+    unit : str
+        Unit of s ("mm", or "rad"/"deg" of swing): the columns are named s_<unit>, v_<unit>_per_rad,
+        a_<unit>_per_rad2, j_<unit>_per_rad3.
 
     Returns
     -------
     Path
         ``path`` (12 significant digits, ``\\n`` line ends: the same bytes for the same numbers).
     """
-    columns = {"theta_deg": np.degrees(kinematics.theta), "s_mm": kinematics.s, "v_mm_per_rad": kinematics.v,
-               "a_mm_per_rad2": kinematics.a, "j_mm_per_rad3": kinematics.j}
+    columns = {"theta_deg": np.degrees(kinematics.theta), f"s_{unit}": kinematics.s,
+               f"v_{unit}_per_rad": kinematics.v, f"a_{unit}_per_rad2": kinematics.a,
+               f"j_{unit}_per_rad3": kinematics.j}
     columns.update(extra or {})
     names = list(columns)
     data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
-    lines = [",".join(names)]
+    lines = [table_line(record)] if record is not None else []
+    lines.append(",".join(names))
     lines.extend(",".join(f"{value:.12g}" for value in row) for row in data)
     return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
-def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
+def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = False,
+                            record: LawRecord | None = None) -> tuple[Path, list[str]]:
     """A copy of the user's drawing with the law's curve replaced by ``law`` (same layer).
 
     Every other entity, layer, block and header variable is kept (see the module docstring for the
@@ -141,6 +161,9 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
         The DXF file to write.
     resampled : bool
         The corrected law has other vertices than the drawn one.
+    record : LawRecord, optional
+        camcad's record of the corrected law, stored as XDATA on its polyline (the first entity of a
+        chain) with the vertex count and digest of the curve as written.
 
     Returns
     -------
@@ -171,6 +194,9 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
             kept.dxf.layer = ORIGINAL_LAYER
             block.add_entity(kept)
         moved = _move_vertices(curve, entities, xs, ys)
+        if record is not None and entities:
+            attach_to_entity(doc, entities[0], replace(record, vertices=len(xs),
+                                                       digest=vertex_digest(np.column_stack((xs, ys)))))
         notes.insert(0, f"{curve.label}: {moved} of {len(xs)} vertices moved in place; the original is kept in "
                         f"block {block.name} (not inserted, so not drawn)")
     else:
@@ -186,9 +212,11 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
                 entity.dxf.layer = ORIGINAL_LAYER
         points = np.column_stack((x_new, y_new))
         if doc.dxfversion <= "AC1009":
-            msp.add_polyline2d([(float(x), float(y)) for x, y in points], dxfattribs={"layer": layer})
+            written = msp.add_polyline2d([(float(x), float(y)) for x, y in points], dxfattribs={"layer": layer})
         else:
-            lwpolyline_from_array(msp, points, dxfattribs={"layer": layer})
+            written = lwpolyline_from_array(msp, points, dxfattribs={"layer": layer})
+        if record is not None:
+            attach_to_entity(doc, written, replace(record, vertices=len(points), digest=vertex_digest(points)))
         why = "resampled" if resampled else (
             f"{curve.kind} cannot take the corrected vertices in place" if not in_block else
             f"{curve.kind} inside a block reference" if unique else f"{curve.kind} whose handles are not unique")
@@ -217,7 +245,8 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     return out, notes
 
 
-def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
+def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False,
+                    record: LawRecord | None = None) -> tuple[Path, list[str]]:
     """Save a corrected law the way ``camcad fix`` does, by the output's suffix and the input's kind.
 
     - a law read from a drawing, saved as ``.dxf``: a corrected copy of the drawing
@@ -236,6 +265,9 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
         The file to write (.dxf, or a table); written atomically, never over the input.
     resampled : bool
         The corrected law has other vertices than the drawn one.
+    record : LawRecord, optional
+        camcad's record of the law (its phases and the rule it was judged by), kept in the file
+        (``camcad.io.law_record``) so it reads back with these phases.
 
     Returns
     -------
@@ -261,19 +293,18 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     >>> camcad.check(camcad.load_law(path, lift=10.0).law).balanced
     True
     """
-    from camcad.io.table_read import write_table
-
     out = Path(out)
     if loaded.curve is not None and out.suffix.lower() == ".dxf":
-        return write_corrected_drawing(loaded, law, out, resampled=resampled)
+        return write_corrected_drawing(loaded, law, out, resampled=resampled, record=record)
     theta_deg = loaded.theta_to_x(law.x) if loaded.curve is not None else np.degrees(law.x)
     accel = loaded.a_to_y(law.a)
     if out.suffix.lower() == ".dxf":
-        return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
+        return (write_law_dxf(out, theta_deg, accel, record=record),
+                ["the corrected law is written as an acceleration polyline"])
     table = loaded.table
     delimiter = table.delimiter if table is not None else ","
     decimal_comma = table.decimal_comma if table is not None else False
-    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
+    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma, record=record))
     return out, [f"the corrected law is written as a table of {len(theta_deg)} rows"]
 
 

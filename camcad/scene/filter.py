@@ -41,6 +41,7 @@ from camcad.fourier.filter import FilterResult, filter_law
 from camcad.fourier.leadin import LeadInResult, add_lead_in
 from camcad.fourier.resonance import resonant_harmonics
 from camcad.fourier.series import Spectrum
+from camcad.io.law_record import LawRecord
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 from camcad.scene.fields import Field, parse_rpm, read_table
 from camcad.verdict import Check, Verdict, Warning
@@ -307,6 +308,29 @@ def judge_filter(original: MotionLaw, outcome: FilterOutcome, settings: FilterSe
     return figures, Verdict(tuple(checks), tuple(warnings))
 
 
+def written_record(original: MotionLaw, outcome: FilterOutcome, settings: FilterSettings, unit: str = "mm",
+                   writer: str = "camcad spectrum --filter") -> LawRecord:
+    """camcad's record of the written law (``camcad.io.law_record``): its phases, and the rule it was judged
+    by here, so ``camcad check`` of the written file judges it the same way. A law that passes the balance
+    conditions with its phases (a lead-in law, exact dwells) keeps the "balance" rule; a filtered law, whose
+    dwells keep the filter's small residue, the "closure" rule with this run's dwell tolerance and each
+    dwell's level (the original's s there, from rest at s = 0)."""
+    final = outcome.law
+    lift = float(np.ptp(original.kinematics(np.linspace(0.0, original.cycle, 4097)).s))
+    balanced = (outcome.lead_in.balanced if outcome.lead_in is not None
+                else outcome.exported is not None and outcome.exported.balanced_with_phases)
+    extra = {"removed": list(outcome.filtered.band.removed)} if outcome.filtered is not None else {}
+    if balanced:
+        return LawRecord.for_law(final, writer, unit=unit, basis="balance", tol=settings.closure_tol, lift=lift,
+                                 extra=extra)
+    zero = float(original.kinematics(np.zeros(1)).s[0])
+    levels = tuple(float(original.kinematics(np.array([(p.start + p.end) / 2.0])).s[0]) - zero
+                   for p in final.phases if p.kind == "dwell")
+    dwell_tol = settings.dwell_tol_mm if settings.dwell_tol_mm is not None else DEFAULT_DWELL_TOL_FRACTION * lift
+    return LawRecord.for_law(final, writer, unit=unit, basis="closure", tol=settings.closure_tol, lift=lift,
+                             dwell_tol=dwell_tol, dwell_levels=levels, extra=extra)
+
+
 # =============================================================================================
 # Step 3 of the pipeline
 # =============================================================================================
@@ -488,6 +512,7 @@ class SpectrumResult:
     listed: int
     after: Any = None
     figures: WrittenFigures | None = None
+    record: LawRecord | None = None
 
 
 def run_spectrum(request: SpectrumRequest, source=None):
@@ -587,7 +612,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
         body["resonance"] = {"fn_hz": resonance.fn_hz, "rpm": list(resonance.rpm), "band": resonance.band,
                              "k_band": [resonance.k_low, resonance.k_high], "resonant": list(resonance.core),
                              "neighbours": resonance.neighbours, "to_remove": list(resonance.removed)}
-    outcome = figures = after = None
+    outcome = figures = after = record = None
     verdict = Verdict()
     applies = src.angles.describe() if src.angles is not None else ""
     if wants_filter or settings.lead_in_deg is not None:
@@ -605,8 +630,10 @@ def run_spectrum(request: SpectrumRequest, source=None):
         body.update(_filter_body(outcome, figures, unit))
         if outcome.filtered is not None:
             after = fourier.analyse(outcome.filtered.law, len(result.coefficients))
+        record = written_record(law, outcome, filter_settings, unit,
+                                "camcad spectrum --filter" if wants_filter else "camcad spectrum --lead-in")
     spectrum_result = SpectrumResult(law, result, resonance, outcome, rms, max_err, tol, unit, src.name,
-                                     settings.harmonics, after, figures)
+                                     settings.harmonics, after, figures, record)
     summary = src.summary()
     summary["notes"] = notes
     return AnalysisReport("spectrum", body, verdict, summary, spectrum_result)
