@@ -27,10 +27,11 @@ oscillated with the step, smoothed again by a cubic spline):
    command takes as drawn. The change and the law's deviation from the fitted motion are reported.
 
 Refused with one line: fewer than 8 rows, angles outside the cycle, two rows at one angle, a gap in the
-angles (the table does not cover the cycle), a table that does not close (its motion jumps at the
-seam of the cycle by more than 5 standard errors of the local fit and more than 1e-6 of the stroke),
+angles (the table does not cover the cycle), a table that does not close (its motion drifts over the
+cycle by more than 5 standard errors of the fit and more than 1e-4 of the stroke),
 and a motion that is not at rest at 0° (camcad's laws start from rest: the fix names the angle to
-shift the table by). The 360° row may be there or not.
+shift the table by). Whether a table closes is judged by fitting it with the periodic spline plus a ramp
+J·θ/T (unpenalised; a row at the cycle's end sits at the ramp's top): J is the drift over the cycle. The 360° row may be there or not.
 """
 
 from __future__ import annotations
@@ -68,9 +69,10 @@ CORRECTION_STEP_DEG = 2.0
 CORRECTION_PENALTY = 1e-6
 #: a phase boundary found within this angle (deg; or two table steps) of 0° or of the cycle's end is taken there
 SNAP_DEG = 1.0
-#: the seam of the cycle: rows on each side of it in the local closure fit
-SEAM_ROWS = 8
+#: a table does not close when its fitted drift over the cycle exceeds this many standard errors...
 SEAM_SIGMAS = 5.0
+#: ... and more than this fraction of the stroke (a local cubic across a motion is not exact)
+SEAM_FLOOR = 1e-4
 
 
 @dataclass(frozen=True)
@@ -122,6 +124,29 @@ class ProfileFollower:
             raise CamcadError("an oscillating follower needs the pivot distance, arm and roller radius", where,
                               "give pivot C, arm L and roller_radius (mm)")
         return self
+
+
+def follower_from_options(kind: str | None, roller_radius: float | None = None, offset: float = 0.0,
+                          pivot: float | None = None, arm: float | None = None, cw: bool = False,
+                          where: str = "--follower") -> ProfileFollower | None:
+    """The ``ProfileFollower`` of the command-line options (``--follower roller|knife|oscillating --rr R
+    --offset E --pivot C --arm L --cw``), None when ``kind`` is None.
+
+    Examples
+    --------
+    >>> follower_from_options("roller", 10.0, offset=5.0).describe()
+    'translating roller Rr 10 mm, offset e 5 mm, CCW'
+    """
+    if kind is None:
+        return None
+    if kind not in ("roller", "knife", "oscillating"):
+        raise CamcadError(f"follower {kind!r} cannot follow a radius table", where,
+                          "give --follower roller, knife or oscillating")
+    if kind == "roller" and roller_radius is None:
+        raise CamcadError("a roller follower needs its radius", "--rr", "give --rr R (mm)")
+    radius = 0.0 if kind == "knife" else float(roller_radius or 0.0)
+    return ProfileFollower("oscillating" if kind == "oscillating" else "translating", radius, float(offset or 0.0),
+                           pivot, arm, cw).validate(where)
 
 
 @dataclass(frozen=True)
@@ -332,6 +357,9 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     """
     theta_deg = np.asarray(theta_deg, dtype=float)
     values = np.asarray(values, dtype=float)
+    if isinstance(accel_smoothing, str) and accel_smoothing not in ("gcv", "none"):
+        raise CamcadError(f"accel smoothing {accel_smoothing!r} is not gcv, none or an error", where,
+                          "give gcv, none, or the stated error of a (its unit per rad^2)")
     notes: list[str] = []
     n_rows = len(theta_deg)
     if n_rows < MIN_ROWS:
@@ -360,12 +388,17 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     stroke = float(np.ptp(values))
     if not stroke > 0:
         raise CamcadError("the motion is constant: there is no law", where, "check the column")
-    fit = fit_periodic(np.radians(data_theta), data_values, cycle, degree=5, sigma=sigma, where=where)
-    seam = _seam_jump(theta_deg, values, cycle_deg, fit.sigma, closing)
-    if abs(seam["jump"]) > SEAM_SIGMAS * seam["standard_error"] and abs(seam["jump"]) > 1e-6 * stroke:
-        raise CamcadError(f"the table does not close: its motion jumps by {seam['jump']:.4g} {unit} across "
-                          f"{cycle_deg:g} deg (noise about {fit.sigma:.2g} {unit})", where,
+    # closure: the table fitted with a periodic spline plus a ramp J·θ/T (a row at the cycle's end is at the
+    # ramp's top): J is how far the motion is from returning to its start
+    ramp = np.where(theta_deg >= cycle_deg * (1 - 1e-9), 1.0, theta_deg / cycle_deg)
+    test = fit_periodic(np.radians(theta_deg), values, cycle, degree=5, ramp=ramp, where=where)
+    jump, jump_error = float(test.ramp or 0.0), float(test.ramp_error or 0.0)
+    if abs(jump) > SEAM_SIGMAS * jump_error and abs(jump) > SEAM_FLOOR * stroke:
+        raise CamcadError(f"the table does not close: its motion drifts by {jump:.4g} {unit} over the cycle "
+                          f"(noise about {test.sigma:.2g} {unit})", where,
                           "give a table of one whole cycle whose motion returns to its start")
+    fit = fit_periodic(np.radians(data_theta), data_values, cycle, degree=5, sigma=sigma, where=where)
+    seam = {"jump": jump, "standard_error": jump_error}
     spline = fit.spline
     at = np.radians(data_theta)
     a_raw = spline(at, 2)
@@ -447,30 +480,6 @@ def _method_text(fit: SmoothingFit) -> str:
             "interpolation": "interpolation"}[fit.method]
     extra = f", a knot every {fit.knots_every} rows" if fit.knots_every > 1 else ""
     return f"{text}, {fit.dof:.1f} degrees of freedom of {fit.n}{extra}"
-
-
-def _seam_jump(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float, sigma: float,
-               closing: bool) -> dict:
-    """The jump of the motion across the cycle's end, from a local cubic with a step at the seam fitted
-    to ``SEAM_ROWS`` rows on each side (the 360° row, when there, on the left), and its standard error."""
-    k = SEAM_ROWS
-    left_theta = theta_deg[-k:] - cycle_deg
-    left_values = values[-k:]
-    right_theta, right_values = theta_deg[:k], values[:k]
-    if closing:
-        left_theta, left_values = theta_deg[-k - 1:] - cycle_deg, values[-k - 1:]
-        right_theta, right_values = theta_deg[:k], values[:k]
-    t = np.concatenate((left_theta, right_theta))
-    y = np.concatenate((left_values, right_values))
-    side = np.concatenate((np.zeros(len(left_theta)), np.ones(len(right_theta))))
-    if closing:
-        side[len(left_theta) - 1] = 0.0   # the 360° row belongs to the left side at t = 0
-    scale = max(float(np.ptp(t)), 1e-300)
-    u = t / scale
-    basis = np.column_stack((np.ones_like(u), u, u**2, u**3, side))
-    coefficients, *_ = np.linalg.lstsq(basis, y, rcond=None)
-    covariance = np.linalg.pinv(basis.T @ basis)
-    return {"jump": float(coefficients[-1]), "standard_error": float(sigma * math.sqrt(max(covariance[-1, -1], 0.0)))}
 
 
 def _rest_shift(grid: np.ndarray, v: np.ndarray, peak: float) -> float:
@@ -732,4 +741,5 @@ def _integrate(x: np.ndarray, a: np.ndarray, at: np.ndarray) -> np.ndarray:
     return PiecewiseLinearLaw(x, a, float(x[-1])).kinematics(at).s
 
 
-__all__ = ["MotionTableLaw", "ProfileFollower", "find_phases", "motion_law", "radius_to_motion"]
+__all__ = ["MotionTableLaw", "ProfileFollower", "find_phases", "follower_from_options", "motion_law",
+           "radius_to_motion"]

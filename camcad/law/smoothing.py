@@ -81,7 +81,8 @@ class SmoothingFit:
     ``spline``: the fit; ``lam``: λ (units of y² per unit of the penalty); ``method``: "gcv",
     "stated" (σ given) or "interpolation"; ``rss``: Σ w (y − f)²; ``dof``: tr H; ``sigma``: the
     estimated (or stated) measurement error √(RSS/(n − tr H)); ``residual_rms`` and ``residual_max``:
-    of y − f at the table's angles; ``knots_every``: 1 when every angle is a knot.
+    of y − f at the table's angles; ``knots_every``: 1 when every angle is a knot; ``ramp`` and
+    ``ramp_error``: the coefficient of the unpenalised ramp column and its standard error (when asked).
     """
 
     spline: PeriodicSpline
@@ -94,6 +95,8 @@ class SmoothingFit:
     residual_rms: float
     residual_max: float
     knots_every: int
+    ramp: float | None = None
+    ramp_error: float | None = None
 
 
 def extended_knots(knots: np.ndarray, period: float, degree: int) -> np.ndarray:
@@ -140,25 +143,29 @@ def penalty(knots: np.ndarray, period: float, degree: int) -> np.ndarray:
 
 def fit_periodic(theta: np.ndarray, y: np.ndarray, period: float, *, degree: int = 5,
                  sigma: float | None = None, lam: float | None = None, weights: np.ndarray | None = None,
-                 where: str = "table") -> SmoothingFit:
+                 ramp: np.ndarray | None = None, where: str = "table") -> SmoothingFit:
     """The periodic smoothing spline of degree ``degree`` (odd) through (θ, y), θ in rad over ``period``.
 
     Parameters
     ----------
     theta : ndarray
-        Angles (rad), any order, distinct modulo the period.
+        Angles (rad), any order; an angle may repeat (modulo the period) when ``ramp`` tells the rows apart.
     y : ndarray
         Values (any unit).
     period : float
         The period T (rad).
     degree : int
-        5 (quintic, penalty on f''') or 3 (cubic, penalty on f'').
+        5 (quintic, the penalty on the third derivative) or 3 (cubic, on the second).
     sigma : float, optional
         The stated measurement error of y (its unit): λ from RSS = (n − tr H)σ²; None: GCV.
     lam : float, optional
         λ itself (overrides ``sigma`` and GCV; 0 interpolates).
     weights : ndarray, optional
         w_i (default 1).
+    ramp : ndarray, optional
+        A further, unpenalised column r_i (e.g. θ_i/T, 1 for a row at the cycle's end): the fit is then
+        f(θ) + J·r and ``SmoothingFit.ramp`` is J with its standard error — how far the table is from
+        closing. The returned ``spline`` is the periodic part f.
     where : str
         For messages.
 
@@ -183,25 +190,31 @@ def fit_periodic(theta: np.ndarray, y: np.ndarray, period: float, *, degree: int
     order = np.argsort(theta, kind="stable")
     theta, y = theta[order], y[order]
     w = np.ones(len(y)) if weights is None else np.asarray(weights, dtype=float)[order]
+    extra = None if ramp is None else np.asarray(ramp, dtype=float)[order]
     n = len(theta)
     if n < degree + 3:
         raise CamcadError(f"{n} rows are too few for a spline of degree {degree}", where,
                           f"give at least {degree + 3} rows over the cycle")
     distinct = np.concatenate(([True], np.diff(theta) > 1e-12 * period))
-    if not distinct.all():
+    if not distinct.all() and extra is None:
         raise CamcadError("two rows have the same angle", where, "delete or average the repeated rows")
-    every = max(1, math.ceil(n / MAX_KNOTS))
-    knots = theta[::every].copy()
+    angles = theta[distinct]
+    every = max(1, math.ceil(len(angles) / MAX_KNOTS))
+    knots = angles[::every].copy()
+    m = len(knots)
     d = design(theta, knots, period, degree)
+    omega = penalty(knots, period, degree)
+    if extra is not None:
+        d = np.column_stack((d, extra))
+        omega = np.pad(omega, ((0, 1), (0, 1)))
     a = d.T @ (d * w[:, None])
     b = d.T @ (w * y)
-    omega = penalty(knots, period, degree)
-    scale = float(np.trace(a)) / len(knots)
+    scale = float(np.trace(a)) / a.shape[0]
     import scipy.linalg  # start-up cost: loaded when a table is smoothed
 
     try:
         # Vᵀ A V = I, Vᵀ Ω V = diag(d): the columns of D V are W-orthonormal (module docstring)
-        d_eig, v = scipy.linalg.eigh((omega + omega.T) / 2.0, a + 1e-13 * scale * np.eye(len(knots)))
+        d_eig, v = scipy.linalg.eigh((omega + omega.T) / 2.0, a + 1e-13 * scale * np.eye(a.shape[0]))
     except np.linalg.LinAlgError:
         raise CamcadError("the table's angles do not determine a spline", where,
                           "give rows spread over the whole cycle") from None
@@ -231,10 +244,7 @@ def fit_periodic(theta: np.ndarray, y: np.ndarray, period: float, *, degree: int
         if excess(hi) < 0:
             raise CamcadError(f"the stated measurement error {sigma:g} is larger than the table's whole scatter "
                               "about its smoothest fit", where, "give a smaller error, or let camcad choose (GCV)")
-        if excess(lo) > 0:
-            chosen = 10.0 ** lo
-        else:
-            chosen = 10.0 ** brent_root(excess, lo, hi, xtol=1e-6)
+        chosen = 10.0 ** lo if excess(lo) > 0 else 10.0 ** brent_root(excess, lo, hi, xtol=1e-6)
     else:
         method = "gcv"
 
@@ -255,8 +265,14 @@ def fit_periodic(theta: np.ndarray, y: np.ndarray, period: float, *, degree: int
     rss, dof = rss_dof(chosen)
     sigma_hat = float(sigma) if method == "stated" and sigma is not None else \
         math.sqrt(max(rss, 0.0) / max(n - dof, 1.0))
-    return SmoothingFit(PeriodicSpline(knots, coefficients, degree, float(period)), chosen, method, rss, dof, n,
-                        sigma_hat, float(np.sqrt(np.mean(residual**2))), float(np.max(np.abs(residual))), every)
+    ramp_value = ramp_error = None
+    if extra is not None:
+        ramp_value = float(coefficients[m])
+        # Cov(c) = σ² V diag(shrink²) Vᵀ for the W-orthonormal columns D V (module docstring)
+        ramp_error = sigma_hat * math.sqrt(float(np.sum((v[m] * shrink) ** 2)))
+    return SmoothingFit(PeriodicSpline(knots, coefficients[:m], degree, float(period)), chosen, method, rss, dof,
+                        n, sigma_hat, float(np.sqrt(np.mean(residual**2))), float(np.max(np.abs(residual))), every,
+                        ramp_value, ramp_error)
 
 
 __all__ = ["MAX_KNOTS", "PeriodicSpline", "SmoothingFit", "design", "extended_knots", "fit_periodic", "penalty"]

@@ -217,7 +217,7 @@ def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
         raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",
                           "add [law] with standard, phases and lift (or file)")
     spec = parse_law(mech.sections["law"], mech.where(scene.path, "law"), scene.base_dir)
-    built = build_law(spec)
+    built = build_law(spec, mech.sections.get("follower"), mech.where(scene.path, "follower"))
     if phases is None:
         scene.built_laws[mech.name] = built
         return built

@@ -13,6 +13,11 @@ Keys (angles deg, lengths mm):
     tol              balance tolerance (fraction of the rise)
     law_of           "follower" (default), or "output": the law is the working member's after the [linkage],
                      and the cam is designed for psi = Pi^-1(y) (camcad.scene.linkage)
+    smoothing_error  a motion table's measurement error (its unit): the quintic spline's smoothing; absent:
+                     generalised cross-validation (camcad.law.motion_table)
+    accel_smoothing  "gcv" (default) or "none": the cubic re-smoothing of a motion table's second derivative;
+    accel_smoothing_error  its stated error instead (unit per rad^2)
+A table of radius-vectors (``theta_deg,r_mm``) becomes a motion through the scene's [follower].
 """
 
 from __future__ import annotations
@@ -22,7 +27,9 @@ from pathlib import Path
 from typing import cast
 
 from camcad.errors import CamcadError, excerpt
+from camcad.law.motion_table import ProfileFollower
 from camcad.scene.fields import Field, read_table
+from camcad.scene.follower import FOLLOWER_FIELDS
 
 
 def _shape_names() -> tuple[str, ...]:
@@ -51,6 +58,12 @@ def law_fields() -> list[Field]:
         Field("tol", "float", default=DEFAULT_TOL, positive=True),
         Field("law_of", "str", choices=("follower", "output"), default="follower",
               help="(what the law describes: the follower, or the working member after the [linkage])"),
+        Field("smoothing_error", "float", "the table's unit", positive=True,
+              help="(a motion table's measurement error; absent: smoothing by generalised cross-validation)"),
+        Field("accel_smoothing", "str", choices=("gcv", "none"), default="gcv",
+              help="(a motion table's second derivative smoothed again by a cubic spline, or not)"),
+        Field("accel_smoothing_error", "float", "the table's unit per rad^2", positive=True,
+              help="(the stated error of the second derivative, instead of gcv)"),
     ]
 
 
@@ -74,6 +87,8 @@ class LawSpec:
     fix: str = "none"
     tol: float = 1e-5
     law_of: str = "follower"
+    smoothing_error: float | None = None
+    accel_smoothing: str | float = "gcv"
 
 
 @dataclass(frozen=True)
@@ -122,7 +137,9 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
                    handle=values["handle"], y0=values["y0"], x0=values["x0"], cycle=values["cycle"],
                    cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"],
-                   law_of=values["law_of"])
+                   law_of=values["law_of"], smoothing_error=values["smoothing_error"],
+                   accel_smoothing=(values["accel_smoothing_error"] if values["accel_smoothing_error"] is not None
+                                    else values["accel_smoothing"]))
 
 
 def _as_shown(path: Path) -> Path:
@@ -134,8 +151,23 @@ def _as_shown(path: Path) -> Path:
         return path
 
 
-def build_law(spec: LawSpec) -> BuiltLaw:
-    """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
+def profile_follower(table, where: str):
+    """The follower of a scene's [follower] table as a radius-vector table needs it (kind, roller, offset,
+    pivot, arm, turn), or None without a table."""
+    if not isinstance(table, dict):
+        return None
+    values = read_table(table, FOLLOWER_FIELDS, where)
+    kind = "oscillating" if values["type"] == "oscillating" else "translating"
+    if values["type"] == "flat":
+        raise CamcadError("a radius-vector table needs a roller follower (a flat face touches the profile "
+                          "elsewhere)", where, "give type = \"roller\", \"knife\" or \"oscillating\"")
+    return ProfileFollower(kind, float(values["roller_radius"] or 0.0), float(values["offset"]), values["pivot"],
+                           values["arm"], bool(values["cw"]))
+
+
+def build_law(spec: LawSpec, follower_table=None, follower_where: str = "[follower]") -> BuiltLaw:
+    """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file; a
+    radius-vector table through the scene's [follower] (``follower_table``)."""
     from camcad.law.phases import parse_phases
     from camcad.law.standard import compose
 
@@ -155,7 +187,9 @@ def build_law(spec: LawSpec) -> BuiltLaw:
 
     loaded = load_law(cast(Path, spec.file), layer=spec.layer, handle=spec.handle,
                       cycle_deg=spec.cycle if spec.cycle_stated else None, lift=spec.lift,
-                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
+                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0,
+                      follower=profile_follower(follower_table, follower_where), smoothing=spec.smoothing_error,
+                      accel_smoothing=spec.accel_smoothing)
     report = check(loaded.law, spec.tol)
     notes = [loaded.source, *loaded.notes]
     if spec.fix == "none":
