@@ -31,7 +31,8 @@ angles (the table does not cover the cycle), a table that does not close (its mo
 cycle by more than 5 standard errors of the fit and more than 1e-4 of the stroke),
 and a motion that is not at rest at 0° (camcad's laws start from rest: the fix names the angle to
 shift the table by). Whether a table closes is judged by fitting it with the periodic spline plus a ramp
-J·θ/T (unpenalised; a row at the cycle's end sits at the ramp's top): J is the drift over the cycle. The 360° row may be there or not.
+J·θ/T (unpenalised; a row at the cycle's end sits at the ramp's top): J is the drift over the cycle.
+The 360° row may be there or not.
 """
 
 from __future__ import annotations
@@ -352,8 +353,8 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     >>> peak = 2 * math.pi * 20 / (math.pi / 2) ** 2
     >>> abs(float(np.max(law.a)) / peak - 1) < 5e-3
     True
-    >>> [(p.kind, round(math.degrees(p.start), 1)) for p in law.phases]
-    [('dwell', 0.0), ('rise', 90.0), ('dwell', 180.0), ('return', 270.0)]
+    >>> [(p.kind, round(math.degrees(p.start))) for p in law.phases]
+    [('dwell', 0), ('rise', 90), ('dwell', 180), ('return', 270)]
     """
     theta_deg = np.asarray(theta_deg, dtype=float)
     values = np.asarray(values, dtype=float)
