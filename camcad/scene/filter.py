@@ -309,14 +309,16 @@ def judge_filter(original: MotionLaw, outcome: FilterOutcome, settings: FilterSe
 
 
 def written_record(original: MotionLaw, outcome: FilterOutcome, settings: FilterSettings, unit: str = "mm",
-                   writer: str = "camcad spectrum --filter") -> LawRecord:
+                   writer: str = "camcad spectrum --filter", lift: float | None = None) -> LawRecord:
     """camcad's record of the written law (``camcad.io.law_record``): its phases, and the rule it was judged
     by here, so ``camcad check`` of the written file judges it the same way. A law that passes the balance
     conditions with its phases (a lead-in law, exact dwells) keeps the "balance" rule; a filtered law, whose
     dwells keep the filter's small residue, the "closure" rule with this run's dwell tolerance and each
-    dwell's level (the original's s there, from rest at s = 0)."""
+    dwell's level (the original's s there, from rest at s = 0). ``lift``: the lift the limits were taken
+    from (``WrittenFigures.lift``; default: the original's stroke on 4097 samples)."""
     final = outcome.law
-    lift = float(np.ptp(original.kinematics(np.linspace(0.0, original.cycle, 4097)).s))
+    if lift is None:
+        lift = float(np.ptp(original.kinematics(np.linspace(0.0, original.cycle, 4097)).s))
     balanced = (outcome.lead_in.balanced if outcome.lead_in is not None
                 else outcome.exported is not None and outcome.exported.balanced_with_phases)
     extra = {"removed": list(outcome.filtered.band.removed)} if outcome.filtered is not None else {}
@@ -631,7 +633,8 @@ def run_spectrum(request: SpectrumRequest, source=None):
         if outcome.filtered is not None:
             after = fourier.analyse(outcome.filtered.law, len(result.coefficients))
         record = written_record(law, outcome, filter_settings, unit,
-                                "camcad spectrum --filter" if wants_filter else "camcad spectrum --lead-in")
+                                "camcad spectrum --filter" if wants_filter else "camcad spectrum --lead-in",
+                                figures.lift)
     spectrum_result = SpectrumResult(law, result, resonance, outcome, rms, max_err, tol, unit, src.name,
                                      settings.harmonics, after, figures, record)
     summary = src.summary()
