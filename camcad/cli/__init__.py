@@ -28,6 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
+    "compare": ("camcad.cli.compare", "Two laws on one mechanism, side by side: A, B and A/B."),
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "linkage": ("camcad.cli.linkage",
                 "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),

@@ -140,7 +140,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     if fastest in result.unbounded:
         skipped["start_load"] = f"no bounded steady state at {fastest:g} rpm"
     else:
-        report["start_load"] = {"rpm": fastest, "phases": _start_load_entries(law, follower, fastest, settings)}
+        report["start_load"] = {"rpm": fastest, "phases": start_load_entries(law, follower, fastest, settings)}
         if compare is not None:
             report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
         if lead_in is not None:
@@ -337,7 +337,7 @@ def _one_or_list(values):
     return values[0] if len(values) == 1 else values
 
 
-def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
+def start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
     from camcad.dynamics.model import OUTPUT_UNITS, LoadSum
     from camcad.dynamics.residual import motion_phases
@@ -394,7 +394,7 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
 
 def _compared(report: dict, other, follower, rpm: float, settings, unit) -> dict:
     """Start-of-motion loads of another law and this law's load over it, phase by phase (rise, return, ...)."""
-    theirs = _start_load_entries(other, follower, rpm, settings)
+    theirs = start_load_entries(other, follower, rpm, settings)
     key = f"peak_link_accel_{unit.accel_key}"
     ours = report["start_load"]["phases"]
     return {"rpm": rpm, "phases": theirs, "reduction": [a[key] / b[key] for a, b in zip(ours, theirs)]}

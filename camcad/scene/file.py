@@ -16,7 +16,7 @@ from pathlib import Path
 from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
 
-MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact")
+MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact", "compare")
 TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram") + MECHANISM_SECTIONS
 MACHINE_KEYS = ("rpm",)
 
