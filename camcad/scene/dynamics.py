@@ -11,14 +11,19 @@ from typing import Any, cast
 import numpy as np
 
 from camcad.arrays import unique
+from camcad.dynamics.compare import compare_laws
 from camcad.dynamics.model import (
     ElasticFollower,
     StiffnessTable,
     damping_ratio_from_psi,
 )
+from camcad.dynamics.runs import run_dynamics
 from camcad.dynamics.steady import DEFAULT_SAMPLES, SOLVERS
 from camcad.errors import CamcadError
+from camcad.law.source import load_law
+from camcad.scene.analysis import require_file
 from camcad.scene.fields import Field, read_table
+from camcad.scene.law import profile_follower
 
 # --------------------------------------------------------------------------------------------
 # The scene's [dynamics] section
@@ -283,24 +288,37 @@ def run_dynamics_report(request: DynamicsRequest, source=None, progress=None):
     -------
     camcad.scene.analysis.AnalysisReport
     """
-    from camcad.dynamics.runs import run_dynamics
     from camcad.scene.analysis import AnalysisReport, resolve_source
 
     src = source if source is not None else resolve_source(request.law, command="dynamics")
     speeds = src.require_speeds("dynamics")
     settings = dynamics_settings(request, src)
     law, notes, step = analysis_law(src, speeds)
-    other = None
-    if request.compare is not None:
-        from camcad.law.source import load_law
-        from camcad.scene.analysis import require_file
-
-        other = load_law(require_file(request.compare, "law file"), cycle_deg=math.degrees(src.law.cycle)).law
     lead = lead_in_request(request.lead_in, src) if step is None or step.report is None else None
     applies = src.angles.describe() if src.angles is not None else ""
-    run = run_dynamics(law, settings, speeds, progress=progress, lead_in=lead, compare=other,
-                       compare_name=str(request.compare) if request.compare is not None else "", applies=applies)
+    run = run_dynamics(law, settings, speeds, progress=progress, lead_in=lead, applies=applies)
+    if request.compare is not None and "start_load" in run.report:
+        run.report["compare"] = compared_with(law, run, request.compare, src, settings, speeds)
     summary = src.summary()
     summary["notes"] = list(src.notes) + notes
     return AnalysisReport("dynamics", run.report, run.verdict, summary, run)
+
+
+def compared_with(law, run, path, src, settings, speeds) -> dict:
+    """``dynamics --compare LAW``: ``camcad compare``'s kernel on this law (A) and the one named (B), read as
+    ``camcad compare`` reads it (its recorded phases, the scene's [follower] for a radius table), with the
+    start-of-motion loads of B and this law's over B's (``reduction``) phase by phase."""
+    follower = None
+    if src.section("follower") is not None:
+        follower = profile_follower(src.section("follower"), src.section_where("follower"))
+    loaded = load_law(require_file(path, "law file"), cycle_deg=math.degrees(law.cycle), follower=follower)
+    other = run_dynamics(loaded.law, settings, speeds)
+    comparison = compare_laws(law, loaded.law, speeds, settings=settings, unit=settings.output_unit,
+                              runs=(run, other))
+    fastest = max(float(s) for s in speeds)
+    pairs = [f for f in comparison.figures if f.name == "start_load"]
+    return {"law": str(path), "rpm": fastest, "phases_read": [p.as_deg() for p in loaded.law.phases],
+            "notes": [loaded.source, *loaded.notes],
+            "phases": other.report.get("start_load", {}).get("phases", []),
+            "reduction": [f.ratio for f in pairs], "side_by_side": comparison.to_dict()}
 
