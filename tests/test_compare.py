@@ -118,7 +118,7 @@ def test_the_displacement_deviation_of_two_closed_form_laws(tmp_path, scene):
 
 
 def test_published_figures_get_their_status(cli, tmp_path, scene):
-    law, half = _law_file(tmp_path, "law.dxf"), _law_file(tmp_path, "half.dxf", lift=10.0)
+    _law_file(tmp_path, "law.dxf"), _law_file(tmp_path, "half.dxf", lift=10.0)
     text = scene.read_text() + """
 [compare]
 a = "law.dxf"
