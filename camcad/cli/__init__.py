@@ -29,6 +29,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
     "compare": ("camcad.cli.compare", "Two laws on one mechanism, side by side: A, B and A/B."),
+    "synth": ("camcad.cli.synth", "Synthesise a law of a given tachogram from the harmonic database."),
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "linkage": ("camcad.cli.linkage",
                 "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),
