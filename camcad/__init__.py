@@ -12,10 +12,13 @@ a name that takes radians says so)::
     figure = camcad.plot_summary(result)                          # a matplotlib Figure
     camcad.write_outputs(result, "out/")                          # profile.dxf, law.csv, report.json
 
-Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``. Balance: ``check``,
-``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
-``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
-Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
+Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``, ``motion_law`` and
+``radius_to_motion`` (tables of the motion, ``ProfileFollower``), ``LawRecord`` (the phases a written law
+carries). Balance: ``check``, ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``,
+``synthesize``, ``profile_report``, ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``,
+``resonant_harmonics``, ``filter_law``, ``tachogram_phases``, ``synthesise_tachogram``.
+Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``,
+``harmonic_beats``, ``compare_laws`` (two laws side by side).
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
@@ -38,6 +41,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.contact import ContactParams, contact_stress
     from camcad.cyclogram.lp import optimise
     from camcad.cyclogram.network import Operation, make_network
+    from camcad.dynamics.beats import harmonic_beats
+    from camcad.dynamics.compare import compare_laws
     from camcad.dynamics.impact import StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
     from camcad.dynamics.residual import residual_vibration
@@ -46,8 +51,11 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.fourier.analysis import analyse
     from camcad.fourier.filter import filter_law
     from camcad.fourier.resonance import resonant_harmonics
+    from camcad.fourier.synth import synthesise_tachogram, tachogram_phases
+    from camcad.io.law_record import LawRecord
     from camcad.io.law_write import write_corrected
     from camcad.law.kinematics_deg import kinematics_deg
+    from camcad.law.motion_table import ProfileFollower, motion_law, radius_to_motion
     from camcad.law.phases import parse_phases
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
@@ -74,6 +82,10 @@ _EXPORTS: dict[str, str] = {
     "load_law": "camcad.law.source", "LoadedLaw": "camcad.law.source",
     "compose": "camcad.law.standard", "parse_phases": "camcad.law.phases",
     "kinematics_deg": "camcad.law.kinematics_deg",
+    "motion_law": "camcad.law.motion_table", "radius_to_motion": "camcad.law.motion_table",
+    "ProfileFollower": "camcad.law.motion_table", "LawRecord": "camcad.io.law_record",
+    "tachogram_phases": "camcad.fourier.synth", "synthesise_tachogram": "camcad.fourier.synth",
+    "harmonic_beats": "camcad.dynamics.beats", "compare_laws": "camcad.dynamics.compare",
     "check": "camcad.balance.checking", "BalanceReport": "camcad.balance.checking",
     "correct": "camcad.balance.correction", "Correction": "camcad.balance.correction",
     "write_corrected": "camcad.io.law_write",
@@ -107,9 +119,11 @@ __all__ = [
     "Correction",
     "ElasticFollower",
     "Follower",
+    "LawRecord",
     "LoadedLaw",
     "Operation",
     "PipelineOptions",
+    "ProfileFollower",
     "ProfileResult",
     "ProfileSettings",
     "StopModel",
@@ -117,15 +131,18 @@ __all__ = [
     "analyse",
     "analyse_scene",
     "check",
+    "compare_laws",
     "compose",
     "contact_stress",
     "correct",
     "filter_law",
+    "harmonic_beats",
     "impact_sweep",
     "kinematics_deg",
     "load_law",
     "make_network",
     "min_base_radius",
+    "motion_law",
     "optimise",
     "parse_phases",
     "plot_curvature",
@@ -135,12 +152,15 @@ __all__ = [
     "plot_profile",
     "plot_summary",
     "profile_report",
+    "radius_to_motion",
     "read_scene",
     "residual_vibration",
     "resonant_harmonics",
     "run_scene",
     "steady_state",
+    "synthesise_tachogram",
     "synthesize",
+    "tachogram_phases",
     "write_corrected",
     "write_outputs",
 ]

@@ -79,6 +79,8 @@ def harmonic_beats(law: MotionLaw, follower: ElasticFollower, rpm: float, k: int
     Returns
     -------
     HarmonicBeats
+        Cam angle in deg; s and y in the law's unit (mm or rad), a in the law's unit per s²; frequencies Hz,
+        beat period s.
 
     Examples
     --------

@@ -166,7 +166,7 @@ def compare_laws(law_a: MotionLaw, law_b: MotionLaw, speeds: list[float], *, set
     Parameters
     ----------
     law_a, law_b : MotionLaw
-        The laws (same cycle; displacement in ``unit``).
+        The laws (same cycle, θ in rad; displacement in mm, or rad/deg of swing: ``unit``).
     speeds : list of float
         Cam speeds, rpm (the first is the residual-vibration speed, the fastest the start-of-motion one,
         as ``camcad dynamics`` takes them).
@@ -190,6 +190,8 @@ def compare_laws(law_a: MotionLaw, law_b: MotionLaw, speeds: list[float], *, set
     Returns
     -------
     LawComparison
+        The figures of A and B and A/B: lengths in the laws' unit (mm, or rad/deg), velocities m/s (rad/s),
+        accelerations m/s² (rad/s²), stresses MPa, speeds rpm; the harmonic amplitudes in the laws' unit.
 
     Examples
     --------

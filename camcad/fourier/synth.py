@@ -173,8 +173,28 @@ def drawn_shapes(law: MotionLaw, label: str = "drawn") -> dict:
 
 def tachogram_phases(kind: str, rise_deg: float, return_deg: float, *, start_deg: float = 0.0,
                      far_dwell_deg: float = 0.0, cycle_deg: float = 360.0) -> list[tuple[str, float]]:
-    """(kind, width deg) of a tachogram (``TACHOGRAM_KINDS``): ``start_deg`` the dwell before the rise,
-    ``far_dwell_deg`` the dwell at the top; the rest of the cycle is the dwell after the return.
+    """The phases (kind, width deg) of a tachogram (``TACHOGRAM_KINDS``).
+
+    ``start_deg`` is the dwell before the rise, ``far_dwell_deg`` the dwell at the top; the rest of the cycle
+    is the dwell after the return.
+
+    Parameters
+    ----------
+    kind : str
+        "DRTD", "DRDTD", "RT" or "RDTD" (D dwell, R rise, T return).
+    rise_deg, return_deg : float
+        The rise and return angles, deg.
+    start_deg : float
+        The dwell before the rise, deg (tachograms that start with a dwell).
+    far_dwell_deg : float
+        The dwell at the top, deg (DRDTD, RDTD).
+    cycle_deg : float
+        The cycle, deg.
+
+    Returns
+    -------
+    list of (str, float)
+        (kind, width in deg) of each phase, adding up to the cycle.
 
     Examples
     --------
@@ -264,9 +284,9 @@ class DatabaseSynthesis:
     shapes: tuple[str, str]
 
 
-def synthesise(phases_deg, lift: float, rise, back, *, rise_shape, return_shape, tol: float | None = None,
-               harmonics: int | None = None, cycle_deg: float = 360.0, samples: int = 1 << 15,
-               names: tuple[str, str] = ("rise", "return")) -> DatabaseSynthesis:
+def synthesise_tachogram(phases_deg, lift: float, rise, back, *, rise_shape, return_shape,
+                         tol: float | None = None, harmonics: int | None = None, cycle_deg: float = 360.0,
+                         samples: int = 1 << 15, names: tuple[str, str] = ("rise", "return")) -> DatabaseSynthesis:
     """The law of the tachogram ``phases_deg`` from the database (module docstring).
 
     Parameters
@@ -293,6 +313,8 @@ def synthesise(phases_deg, lift: float, rise, back, *, rise_shape, return_shape,
     Returns
     -------
     DatabaseSynthesis
+        The series (s in the lift's unit: mm, or rad/deg of swing), N, and its RMS and largest error in the
+        same unit.
 
     Examples
     --------
@@ -302,8 +324,8 @@ def synthesise(phases_deg, lift: float, rise, back, *, rise_shape, return_shape,
     >>> phases = tachogram_phases("DRTD", 64, 64, start_deg=100)
     >>> database = full_database()
     >>> shape = camcad.law.standard.SHAPES["cycloidal"]
-    >>> found = synthesise(phases, 0.421, database["cycloidal"], database["cycloidal"], rise_shape=shape,
-    ...                    return_shape=shape, tol=0.421e-3)
+    >>> found = synthesise_tachogram(phases, 0.421, database["cycloidal"], database["cycloidal"],
+    ...                              rise_shape=shape, return_shape=shape, tol=0.421e-3)
     >>> found.harmonics, found.reached
     (13, True)
     """
@@ -363,4 +385,4 @@ def named_shape(name: str, drawn: dict | None = None):
 
 __all__ = ["DATABASE_Z", "TACHOGRAM_KINDS", "DatabaseSynthesis", "DrawnShape", "MotionPattern", "NumericPattern",
            "database_spectrum", "drawn_shapes", "full_database", "named_shape", "numeric_pattern", "shape_pattern",
-           "synthesise", "tachogram_phases"]
+           "synthesise_tachogram", "tachogram_phases"]

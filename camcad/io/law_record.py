@@ -60,11 +60,11 @@ class LawRecord:
     tol : float
         Closure tolerance, a fraction of the lift (dimensionless).
     dwell_tol : float or None
-        "closure": the largest |s − level| allowed on a dwell (law unit).
+        "closure": the largest |s − level| allowed on a dwell, mm (or rad/deg of swing: ``unit``).
     dwell_levels : tuple of float
-        "closure": s of each dwell (law unit), in the order of the dwells in ``phases``.
+        "closure": s of each dwell, mm (or rad/deg of swing), in the order of the dwells in ``phases``.
     lift : float or None
-        The lift the tolerances refer to (law unit).
+        The lift the tolerances refer to, mm (or rad/deg of swing).
     vertices : int or None
         The number of vertices written (DXF).
     digest : str or None

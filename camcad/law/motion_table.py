@@ -94,10 +94,15 @@ class ProfileFollower:
         Rr, mm (≥ 0; > 0 for an oscillating roller).
     offset : float
         e, mm (translating).
-    pivot, arm : float
+    pivot, arm : float or None
         C and L, mm (oscillating).
     cw : bool
         The cam turns clockwise.
+
+    Examples
+    --------
+    >>> ProfileFollower("oscillating", 25.0, pivot=160.0, arm=120.0).describe()
+    'oscillating roller Rr 25 mm, pivot C 160 mm, arm L 120 mm, CCW'
     """
 
     kind: str
@@ -184,10 +189,10 @@ def radius_to_motion(theta_deg: np.ndarray, r_mm: np.ndarray, follower: ProfileF
     theta_deg : ndarray
         Polar angles of the profile points in the cam's frame (deg), over one turn.
     r_mm : ndarray
-        Their radii (mm).
+        Their radii, mm.
     follower : ProfileFollower
     cycle_deg : float
-        Must be 360 (a profile is one turn).
+        Must be 360 deg (a profile is one turn).
     where : str
         For messages.
     samples_per_deg : int
@@ -318,7 +323,7 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
         Cam angles (deg), increasing, within [0, cycle]; unequal steps allowed; the row at the cycle's
         end (360°) may be there or not.
     values : ndarray
-        The motion (``unit``: mm, deg or rad).
+        The motion: mm, or deg or rad of swing (``unit``).
     cycle_deg : float
         The cycle (deg).
     unit : str
@@ -326,9 +331,11 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     kind : str
         What the table held ("displacement", "swing_deg", "swing_rad", "radius"), for the report.
     sigma : float, optional
-        The stated measurement error of the motion (its unit); None: GCV chooses the smoothing.
+        The stated measurement error of the motion (mm, or rad or deg of swing: its unit); None: GCV
+        chooses the smoothing.
     accel_smoothing : str or float
-        The cubic re-smoothing of a = s'': "gcv", "none", or the stated error of a (unit per rad²).
+        The cubic re-smoothing of a = s'': "gcv", "none", or the stated error of a (mm/rad², or the swing's
+        unit per rad²).
     phases : tuple of Phase, optional
         The phases (rad); None: found from the motion (module docstring, step 4).
     where : str
@@ -337,6 +344,8 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     Returns
     -------
     MotionTableLaw
+        The acceleration polyline (θ in rad, a in the motion's unit per rad²: mm/rad², or rad or deg of
+        swing per rad²), its phases (rad) and the smoothing's figures.
 
     Examples
     --------
@@ -547,11 +556,12 @@ def find_phases(grid: np.ndarray, a: np.ndarray, v: np.ndarray, s: np.ndarray, c
     rolled: list[Phase] = []
     position = float(theta[0])
     for start, end in bounds:
+        if end <= max(start, position) + 1e-12:
+            continue    # the motion passes through rest without stopping (the top of a rise-return)
         if start > position + 1e-12:
             rolled.extend(_motions(position, start, theta, sr))
-        if end > max(start, position) + 1e-12:
-            rolled.append(Phase("dwell", max(start, position), end))
-        position = max(position, end)
+        rolled.append(Phase("dwell", max(start, position), end))
+        position = end
     base = float(theta[0])
     phases: list[Phase] = []
     for phase in rolled:  # back to 0..cycle: the phase over the cycle's end is cut in two

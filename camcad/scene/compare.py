@@ -68,6 +68,8 @@ PUBLISHED_FIELDS = [
     Field("motion", "str", help="(rise, return, rise_2, ...; absent: the first motion)"),
     Field("source", "str", help="(where the source gives it)"),
     Field("input", "bool", default=False, help="(the figure is an input taken from the source)"),
+    Field("calibrated", "bool", default=False,
+          help="(camcad's inputs were chosen to meet this figure: depends_on says which)"),
     Field("tolerance", "float", default=DEFAULT_TOLERANCE, positive=True, help="(relative)"),
     Field("depends_on", "str", help="(the chosen inputs camcad's figure depends on)"),
     Field("why_not", "str", help="(why camcad does not reproduce the figure)"),
@@ -417,20 +419,40 @@ def _select(found, law: str) -> float | None:
 
 
 def _status(entry: dict, value, camcad_value) -> tuple[str, str]:
+    """(status, why): "published" for an input taken from the source or a figure the inputs were chosen to
+    meet; "not reproduced" with the entry's why; "depends on chosen inputs" (which, and how far camcad's
+    figure is from the published one) when it depends on inputs the source does not give; "reproduced" when
+    camcad's figure, independent of chosen inputs, is within the tolerance; else "not reproduced"."""
+    off = _offset(value, camcad_value, entry["tolerance"])
     if entry["why_not"] is not None:
         return "not reproduced", entry["why_not"]
     if entry["input"]:
-        return "published", "an input taken from the source"
+        return "published", "an input taken from the source" + (f" ({off})" if off else "")
+    if entry["calibrated"]:
+        return "published", f"calibrated: {entry['depends_on'] or 'camcad inputs chosen to meet it'}" + (
+            f" ({off})" if off else "")
     if camcad_value is None or value is None:
         return "not reproduced", "camcad has no value for it"
-    low, high = (value, value) if isinstance(value, float) else (float(value[0]), float(value[1]))
-    tol = entry["tolerance"]
-    if min(low, high) * (1 - tol) <= camcad_value <= max(low, high) * (1 + tol) or (
-            low < 0 and max(low, high) * (1 + tol) <= camcad_value <= min(low, high) * (1 - tol)):
-        return "reproduced", f"within {100 * tol:g} %"
     if entry["depends_on"] is not None:
-        return "depends on chosen inputs", entry["depends_on"]
-    return "not reproduced", f"outside {100 * tol:g} % of the published value"
+        return "depends on chosen inputs", f"{entry['depends_on']}; {off}"
+    if off.startswith("within"):
+        return "reproduced", off
+    return "not reproduced", off
+
+
+def _offset(value, camcad_value, tol: float) -> str:
+    """camcad's figure against the published one, in words ("within 5 %", "+8.8 % off", "below the range")."""
+    if value is None or camcad_value is None:
+        return ""
+    low, high = (value, value) if isinstance(value, float) else (float(value[0]), float(value[1]))
+    low, high = min(low, high), max(low, high)
+    if low * (1 - tol) <= camcad_value <= high * (1 + tol) or (
+            high < 0 and high * (1 - tol) >= camcad_value >= low * (1 + tol)):
+        return f"within {100 * tol:g} %"
+    reference = high if camcad_value > high else low
+    if reference == 0:
+        return "off"
+    return f"{100 * (camcad_value - reference) / abs(reference):+.3g} % off the published value"
 
 
 __all__ = ["COMPARE_FIELDS", "PUBLISHED_FIELDS", "CompareReport", "CompareRequest", "PublishedFigure",

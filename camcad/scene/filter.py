@@ -481,12 +481,14 @@ def _check_spectrum_options(request: SpectrumRequest) -> None:
                           "give the RMS tolerance in the law's unit, e.g. 0.001")
 
 
-def _is_balanced(law, lift: float) -> tuple[bool, str]:
-    """(balanced, figures) — ``camcad check`` for a drawn law; closure of s and v for any other law."""
+def _is_balanced(law, lift: float, loaded=None) -> tuple[bool, str]:
+    """(balanced, figures) — ``camcad check`` for a drawn law (by the rule camcad recorded in the file when
+    its phases came from there: a filtered or synthesised law); closure of s and v for any other law."""
     if isinstance(law, PiecewiseLinearLaw):
-        from camcad.balance.checking import check
+        from camcad.balance.checking import check, check_recorded
 
-        report = check(law)
+        recorded = loaded is not None and loaded.record is not None and loaded.phases_from_record
+        report = check_recorded(law, loaded.record) if recorded else check(law)
         if report.balanced:
             return True, ""
         closures = report.velocity_closure
@@ -618,7 +620,7 @@ def run_spectrum(request: SpectrumRequest, source=None):
     verdict = Verdict()
     applies = src.angles.describe() if src.angles is not None else ""
     if wants_filter or settings.lead_in_deg is not None:
-        balanced, why = _is_balanced(law, lift)
+        balanced, why = _is_balanced(law, lift, src.loaded if src.law is law else None)
         if not balanced and not request.force:
             raise CamcadError(f"the law is not balanced ({why}): its filtered law would hide the break", src.where,
                               "fix it first with camcad fix, or pass --force")

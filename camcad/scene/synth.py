@@ -12,7 +12,7 @@ deviation, closure of s and v. The written law carries camcad's record (its phas
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -25,13 +25,14 @@ from camcad.fourier.synth import (
     drawn_shapes,
     full_database,
     named_shape,
-    synthesise,
+    synthesise_tachogram,
     tachogram_phases,
 )
 from camcad.io.law_record import LawRecord
 from camcad.law.phases import parse_phases
 from camcad.law.source import load_law
-from camcad.scene.analysis import LAW_UNITS, require_file, rounded_tree
+from camcad.scene.analysis import LAW_UNITS, law_unit, looks_like_scene, require_file, rounded_tree
+from camcad.scene.file import mechanism_law, read_scene
 from camcad.scene.filter import DEFAULT_CLOSURE_TOL, DEFAULT_DWELL_TOL_FRACTION, written_figures
 from camcad.verdict import Check, Verdict
 
@@ -121,19 +122,27 @@ def run_synth(request: SynthRequest) -> SynthReport:
     """
     if request.unit not in LAW_UNITS:
         raise CamcadError(f"unknown unit {request.unit!r}", "--unit", f"use one of {', '.join(LAW_UNITS)}")
-    if request.lift is None or not (math.isfinite(request.lift) and request.lift > 0):
-        raise CamcadError("the lift (or swing) must be given and positive", "--lift",
-                          "give --lift H (mm, or rad/deg of swing with --unit)")
     if not (math.isfinite(request.step_deg) and 0 < request.step_deg <= 5):
         raise CamcadError(f"--step {request.step_deg:g} deg is not in (0, 5]", "--step", "give e.g. 0.1")
-    lift = float(request.lift)
-    phases_deg = synth_phases(request)
     notes: list[str] = []
     drawn: dict = {}
     if request.shape_from is not None:
-        loaded = load_law(require_file(Path(request.shape_from), "law file"), cycle_deg=request.cycle)
-        drawn = drawn_shapes(loaded.law, Path(request.shape_from).stem)
+        source, unit = _drawn_law(Path(request.shape_from), request.cycle)
+        drawn = drawn_shapes(source, Path(request.shape_from).stem)
         notes.append(f"drawn shapes from {request.shape_from}: " + ", ".join(sorted(drawn)))
+        if request.phases is None and request.tachogram is None:
+            # the drawn law's own tachogram: its phases and its stroke
+            text = ",".join(f"{math.degrees(p.start):.10g}:{math.degrees(p.end):.10g}:{p.kind}" for p in source.phases)
+            stroke = float(np.ptp(source.kinematics(np.linspace(0.0, source.cycle, 8193)).s))
+            request = replace(request, phases=text, lift=request.lift if request.lift is not None else stroke,
+                              unit=unit if unit is not None else request.unit)
+            notes.append(f"the tachogram of {Path(request.shape_from).name}: {text} (deg), lift {request.lift:.6g} "
+                         f"{request.unit}")
+    if request.lift is None or not (math.isfinite(request.lift) and request.lift > 0):
+        raise CamcadError("the lift (or swing) must be given and positive", "--lift",
+                          "give --lift H (mm, or rad/deg of swing with --unit)")
+    lift = float(request.lift)
+    phases_deg = synth_phases(request)
     rise_name = _resolve(request.shape, "rise", drawn)
     back_name = _resolve(request.return_shape or request.shape, "return", drawn)
     rise_shape, back_shape = named_shape(rise_name, drawn), named_shape(back_name, drawn)
@@ -146,7 +155,7 @@ def run_synth(request: SynthRequest) -> SynthReport:
     if tol is None and request.harmonics is None:
         tol = DEFAULT_TOL_FRACTION * lift
         notes.append(f"RMS error wanted not given: {DEFAULT_TOL_FRACTION:g} of the lift, {tol:.4g} {request.unit}")
-    found = synthesise(phases_deg, lift, database[rise_name], database[back_name], rise_shape=rise_shape,
+    found = synthesise_tachogram(phases_deg, lift, database[rise_name], database[back_name], rise_shape=rise_shape,
                        return_shape=back_shape, tol=tol, harmonics=request.harmonics, cycle_deg=request.cycle,
                        names=(rise_name, back_name))
     dwell_tol = request.dwell_tol if request.dwell_tol is not None else DEFAULT_DWELL_TOL_FRACTION * lift
@@ -199,6 +208,21 @@ def run_synth(request: SynthRequest) -> SynthReport:
     if request.harmonics is None and found.rms_predicted > (tol or 0) * 1.000001:
         notes.append(f"no series of up to {len(spectrum.coefficients)} harmonics meets the RMS error {tol:g}")
     return SynthReport(body, verdict, found, written, record, database, unit, notes)
+
+
+def _drawn_law(path: Path, cycle: float):
+    """(law, unit or None) of --shape-from: a law file (DXF or table, its recorded phases), or a scene's law
+    (through its [follower] for a radius table) in the scene's unit."""
+    path = require_file(path, "law or scene file")
+    if looks_like_scene(path):
+        scene = read_scene(path)
+        if len(scene.mechanisms) != 1:
+            raise CamcadError("--shape-from takes a scene of one mechanism", str(path), "give the law file itself")
+        mech = scene.mechanisms[0]
+        law = mechanism_law(scene, mech).law
+        return law, law_unit(scene, mech, None, law)[0]
+    loaded = load_law(path, cycle_deg=cycle)
+    return loaded.law, loaded.unit
 
 
 def _resolve(name: str, kind: str, drawn: dict) -> str:
