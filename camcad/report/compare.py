@@ -88,7 +88,7 @@ def plot_speed(report):
     for ax, figure in ((top, "peak_accel_rigid"), (bottom, "peak_velocity")):
         for rpm, value, law, label in _published_points(report, figure):
             ax.plot([rpm], [value], marker="*", ms=12, ls="none", color=_A if law == "A" else _B,
-                    markeredgecolor="black", label=f"published: {label} at {rpm:g} rpm")
+                    markeredgecolor="black", label=f"published: {label}")
         ax.grid(color="0.9")
         ax.legend(fontsize=8, loc="best")
     top.set_ylabel(f"peak acceleration, {a_unit}")
