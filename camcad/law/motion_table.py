@@ -668,21 +668,14 @@ def dwell_cores(phases: tuple[Phase, ...], cycle: float, margin: float) -> list[
     return cores
 
 
-def _cumulative_rows(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(V, S): row i of V gives v(x_i) = ∫_0^{x_i} a dθ and row i of S gives s(x_i) = ∫_0^{x_i} (x_i − θ) a dθ
-    of the polyline (x, a) from rest at s = 0, as linear functionals of its ordinates (exact)."""
-    n = len(x)
-    lengths = np.diff(x)
-    area = np.zeros((n - 1, n))
-    moment = np.zeros((n - 1, n))
-    index = np.arange(n - 1)
-    area[index, index] = lengths / 2.0
-    area[index, index + 1] = lengths / 2.0
-    moment[index, index] = lengths * (2.0 * x[:-1] + x[1:]) / 6.0
-    moment[index, index + 1] = lengths * (x[:-1] + 2.0 * x[1:]) / 6.0
-    velocity = np.vstack((np.zeros(n), np.cumsum(area, axis=0)))
-    first = np.vstack((np.zeros(n), np.cumsum(moment, axis=0)))
-    return velocity, x[:, None] * velocity - first
+def _integrals(x: np.ndarray, columns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(V, S): v and s at every knot of the polylines (x, columns[:, j]) from rest at s = 0 (exact: v piecewise
+    quadratic, s piecewise cubic), one column per polyline."""
+    lengths = np.diff(x)[:, None]
+    dv = lengths * (columns[:-1] + columns[1:]) / 2.0
+    velocity = np.vstack((np.zeros((1, columns.shape[1])), np.cumsum(dv, axis=0)))
+    ds = velocity[:-1] * lengths + lengths**2 * (2.0 * columns[:-1] + columns[1:]) / 6.0
+    return velocity, np.vstack((np.zeros((1, columns.shape[1])), np.cumsum(ds, axis=0)))
 
 
 def _balance(x: np.ndarray, a: np.ndarray, phases: tuple[Phase, ...], cores: list[tuple[float, float]],
@@ -700,7 +693,19 @@ def _balance(x: np.ndarray, a: np.ndarray, phases: tuple[Phase, ...], cores: lis
         fixed |= on
     levels = [float(np.mean(s_fit(np.linspace(lo, hi, 65)))) for lo, hi in cores]
     reference = levels[0] if cores and cores[0][0] == 0.0 else float(s_fit(np.zeros(1))[0])
-    velocity, displacement = _cumulative_rows(x)
+    # the correction: hat functions on a coarse grid, nothing on the cores
+    nodes = np.linspace(0.0, cycle, max(8, math.ceil(math.degrees(cycle) / CORRECTION_STEP_DEG)) + 1)
+    basis = np.zeros((len(x), len(nodes)))
+    for j in range(len(nodes)):
+        hat = np.zeros(len(nodes))
+        hat[j] = 1.0
+        basis[:, j] = np.interp(x, nodes, hat)
+    basis[fixed] = 0.0
+    basis = basis[:, np.flatnonzero(np.any(basis != 0.0, axis=0))]
+    if basis.shape[1] == 0:
+        return a, 0.0
+    # v and s of the law (column 0) and of each correction (the others) at every knot
+    velocity, displacement = _integrals(x, np.column_stack((a, basis)))
     position = {float(value): i for i, value in enumerate(x)}
     rows, goals = [], []
     for (lo, _hi), level in zip(cores, levels):
@@ -715,34 +720,21 @@ def _balance(x: np.ndarray, a: np.ndarray, phases: tuple[Phase, ...], cores: lis
         rows.append(displacement[-1])
         goals.append(0.0)
     g = np.array(rows)
-    # the correction: hat functions on a coarse grid, nothing on the cores
-    nodes = np.linspace(0.0, cycle, max(8, math.ceil(math.degrees(cycle) / CORRECTION_STEP_DEG)) + 1)
-    basis = np.zeros((len(x), len(nodes)))
-    for j in range(len(nodes)):
-        hat = np.zeros(len(nodes))
-        hat[j] = 1.0
-        basis[:, j] = np.interp(x, nodes, hat)
-    basis[fixed] = 0.0
-    used = np.flatnonzero(np.any(basis != 0.0, axis=0))
-    basis = basis[:, used]
-    if basis.shape[1] == 0:
-        return a, 0.0
     mass = np.zeros(len(x))
     lengths = np.diff(x)
     mass[:-1] += lengths / 2.0
     mass[1:] += lengths / 2.0
     rows_at = np.array([position[float(t)] for t in at])
     weights = np.sqrt(np.full(len(at), cycle / len(at)))
-    response = displacement[rows_at] @ basis * weights[:, None]
-    target = (s_fit(at) - reference - displacement[rows_at] @ a) * weights
+    response = displacement[rows_at, 1:] * weights[:, None]
+    target = (s_fit(at) - reference - displacement[rows_at, 0]) * weights
     smooth = np.sqrt(CORRECTION_PENALTY * mass)[:, None] * basis
-    lhs = np.vstack((response, smooth))
-    rhs = np.concatenate((target, np.zeros(len(x))))
-    c_matrix = g @ basis
-    d_vector = np.array(goals) - g @ a
+    normal = response.T @ response + smooth.T @ smooth
+    c_matrix = g[:, 1:]
+    d_vector = np.array(goals) - g[:, 0]
     size = basis.shape[1]
-    kkt = np.block([[lhs.T @ lhs, c_matrix.T], [c_matrix, np.zeros((len(goals), len(goals)))]])
-    solution = np.linalg.lstsq(kkt, np.concatenate((lhs.T @ rhs, d_vector)), rcond=None)[0]
+    kkt = np.block([[normal, c_matrix.T], [c_matrix, np.zeros((len(goals), len(goals)))]])
+    solution = np.linalg.lstsq(kkt, np.concatenate((response.T @ target, d_vector)), rcond=None)[0]
     change = basis @ solution[:size]
     return a + change, float(np.max(np.abs(change)))
 
