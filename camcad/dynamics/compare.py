@@ -291,7 +291,8 @@ _ORDER = {name: i for i, name in enumerate((
     "start_load", "start_load_pulse", "start_deformation", "residual_vibration", "sigma_max", "safety_factor"))}
 
 
-def _elastic_figures(runs, pairs, speeds, fastest, window, window_deg, scale, a_unit, unit) -> list[ComparedFigure]:
+def _elastic_figures(runs: tuple[Any, Any], pairs, speeds, fastest, window, window_deg, scale, a_unit,
+                     unit) -> list[ComparedFigure]:
     """Figures of the elastic follower (``run_dynamics`` of A and B)."""
     figures = []
     for index, rpm in enumerate(speeds):
@@ -321,9 +322,10 @@ def _elastic_figures(runs, pairs, speeds, fastest, window, window_deg, scale, a_
                            for r, p in zip(responses, (pa, pb))]
             figures.append(ComparedFigure("start_deformation", f"deformation |y - s| at the start of the {label}",
                                           unit, deformation[0], deformation[1], applies, fastest, label))
-        entries = [next((e for e in load if abs(e["start_deg"] - math.degrees(p.start)) < 1e-9), None)
-                   for load, p in zip(loads, (pa, pb))]
-        if accel_key is not None and all(e is not None for e in entries):
+        found = [next((e for e in load if abs(e["start_deg"] - math.degrees(p.start)) < 1e-9), None)
+                 for load, p in zip(loads, (pa, pb))]
+        entries = [e for e in found if e is not None]
+        if accel_key is not None and len(entries) == 2:
             one_period = (f"one free period after the start of the {label} (A {math.degrees(pa.start):.4g}, B "
                           f"{math.degrees(pb.start):.4g} deg) at {fastest:g} rpm")
             figures.append(ComparedFigure("start_load", f"load in the elastic link at the start of the {label} "
@@ -336,10 +338,11 @@ def _elastic_figures(runs, pairs, speeds, fastest, window, window_deg, scale, a_
                     f"{ratio:g} x peak, half the free period)", a_unit, entries[0]["with_pulse"][accel_key],
                     entries[1]["with_pulse"][accel_key], one_period, fastest, label))
     for label, pa, pb in pairs:
-        entries = [next((r for r in run.report["residual_vibration_phases"]
-                         if abs(r["start_deg"] - math.degrees(p.start)) < 1e-9), None)
-                   for run, p in zip(runs, (pa, pb))]
-        if all(e is not None for e in entries):
+        found = [next((r for r in run.report["residual_vibration_phases"]
+                       if abs(r["start_deg"] - math.degrees(p.start)) < 1e-9), None)
+                 for run, p in zip(runs, (pa, pb))]
+        entries = [e for e in found if e is not None]
+        if len(entries) == 2:
             key = next(k for k in entries[0] if k.startswith("amplitude"))
             figures.append(ComparedFigure(
                 "residual_vibration", f"residual vibration after the {label} (started from rest)", unit,

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -383,7 +383,7 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,
                                          shaft, position_scale=scale)
     motor = settings.motor_torque is not None
-    drive = MotorCurve(settings.motor_torque) if motor else SpeedDrive(rpm)
+    drive: MotorCurve | SpeedDrive = MotorCurve(settings.motor_torque) if motor else SpeedDrive(rpm)
     start_rpm = drive.nominal_rpm
     period = 2.0 * math.pi / rpm_to_rad_s(start_rpm)
     cycles = 8 if motor else 3
@@ -401,7 +401,8 @@ def _multimass_entry(law, settings, rpm: float) -> dict:
         entry["shaft_frequency_hz"] = math.sqrt(model.shaft_stiffness / model.cam_inertia) / (2.0 * math.pi)
     if motor:
         speeds = result.cam_speed_rpm[last]
-        torque = np.array([drive(w) for w in result.dphi0[last]])
+        curve = cast(MotorCurve, drive)
+        torque = np.array([curve(w) for w in result.dphi0[last]])
         entry.update({"rpm": float(np.mean(speeds)), "started_at_rpm": start_rpm,
                       "motor_torque_Nm": [float(torque.min()), float(torque.max())],
                       "motor_torque_mean_Nm": float(np.mean(torque)),

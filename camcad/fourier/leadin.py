@@ -135,7 +135,7 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
             edges = np.flatnonzero((xs == phase.start) | (xs == phase.end))
             as_[inside] = 0.0
             held |= inside
-            for index in edges:   # the dwell's side of a boundary vertex (of a jump, the one next to the dwell)
+            for index in edges.tolist():   # the dwell's side of a boundary vertex (of a jump, next to the dwell)
                 neighbour = index + 1 if xs[index] == phase.start else index - 1
                 if 0 <= neighbour < len(xs) and phase.start <= xs[neighbour] <= phase.end:
                     as_[index] = 0.0

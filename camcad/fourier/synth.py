@@ -136,7 +136,7 @@ def numeric_pattern(shape, name: str | None = None) -> NumericPattern:
         f = np.asarray(shape.evaluate(u, 0), dtype=float)
         first += float(np.sum(half * weights * f))
         second += float(np.sum(half * weights * f * f))
-    return NumericPattern(name or getattr(shape, "name", "shape"), shape, breaks, (first, second))
+    return NumericPattern(str(name or getattr(shape, "name", "shape")), shape, breaks, (first, second))
 
 
 def shape_pattern(shape, name: str | None = None):
@@ -337,18 +337,18 @@ def synthesise_tachogram(phases_deg, lift: float, rise, back, *, rise_shape, ret
     if harmonics is not None and not 1 <= harmonics <= MAX_HARMONICS:
         raise CamcadError(f"{harmonics} harmonics is not in 1..{MAX_HARMONICS}", "--harmonics", "give e.g. 32")
     count = harmonics if harmonics is not None else 64
+    found: int | None = None
     while True:
         spectrum = database_spectrum(phases_deg, lift, rise, back, count, cycle_deg)
-        if harmonics is not None:
-            n = harmonics
+        if harmonics is not None or tol is None:
+            found = count
             break
-        n = spectrum.least_harmonics(tol)
-        if n is not None or count >= MAX_HARMONICS:
+        found = spectrum.least_harmonics(tol)
+        if found is not None or count >= MAX_HARMONICS:
             break
         count = min(4 * count, MAX_HARMONICS)
-    reached_count = n is not None
-    if n is None:
-        n = count
+    reached_count = found is not None
+    n = found if found is not None else count
     phases = _phase_tuple(phases_deg)
     law = spectrum.truncated(n, phases)
     exact = compose(list(phases_deg), lift, rise_shape, return_shape, cycle_deg)

@@ -149,7 +149,9 @@ def read_table(path: str | Path) -> Table:
     if delimiter == "," and not quoted:
         _refuse_ambiguous_commas(split, where)
     theta, accel, lines = [], [], []
-    kind, column, header, header_notes = "acceleration", 1, (), []
+    kind, column = "acceleration", 1
+    header: tuple[str, ...] = ()
+    header_notes: list[str] = []
     for index, (number, fields) in enumerate(split):
         if index == 0 and any(_number(f.replace(",", ".") if decimal_comma else f) is None for f in fields[:2]):
             header = tuple(fields)
@@ -164,14 +166,15 @@ def read_table(path: str | Path) -> Table:
         if len(fields) <= column:
             raise CamcadError(f"line {number} has {len(fields)} columns, the header names {column + 1}", where,
                               "give every row a value in each column of the header")
-        if values[0] is None or values[column] is None:
-            bad = fields[0] if values[0] is None else fields[column]
+        first, value = values[0], values[column]
+        if first is None or value is None:
+            bad = fields[0] if first is None else fields[column]
             raise CamcadError(f"line {number}: {_excerpt(bad)} is not a number", where, "fix or delete that line")
-        if not (math.isfinite(values[0]) and math.isfinite(values[column])):
+        if not (math.isfinite(first) and math.isfinite(value)):
             raise CamcadError(f"line {number}: non-finite value ({_excerpt(fields[0])}, {_excerpt(fields[column])})",
                               where, "give finite numbers")
-        theta.append(values[0])
-        accel.append(values[column])
+        theta.append(first)
+        accel.append(value)
         lines.append(number)
     if not theta:
         raise CamcadError("the table has a header but no rows", where, "add rows 'angle_deg, value'")

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -257,7 +258,7 @@ def radius_to_motion(theta_deg: np.ndarray, r_mm: np.ndarray, follower: ProfileF
         figures["base_radius_mm"] = math.hypot(height, follower.offset) - follower.roller_radius
         figures["unit"] = "mm"
     else:
-        c_, l_ = float(follower.pivot), float(follower.arm)
+        c_, l_ = float(cast(float, follower.pivot)), float(cast(float, follower.arm))
         prime = math.sqrt(c_**2 + l_**2 - 2.0 * c_ * l_ * math.cos(lowest))
         figures["base_radius_mm"] = prime - follower.roller_radius
         figures["arm_angle_on_base_circle_deg"] = math.degrees(lowest)
@@ -277,7 +278,7 @@ def _contact(x: np.ndarray, y: np.ndarray, follower: ProfileFollower) -> np.ndar
         inside = np.abs(dx) <= rr
         candidate = np.where(inside, y + np.sqrt(np.clip(rr * rr - dx * dx, 0.0, None)), -np.inf)
     else:
-        c_, l_ = float(follower.pivot), float(follower.arm)
+        c_, l_ = float(cast(float, follower.pivot)), float(cast(float, follower.arm))
         ux, uy = x - c_, y
         rho = np.hypot(ux, uy)
         beta = np.arctan2(uy, -ux)
@@ -449,7 +450,7 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
     deviation = float(np.max(np.abs(law_s - s_fit)))
     oscillation = a_raw - (accel_fit.spline(at) if accel_fit is not None else a_raw)
     peak_raw = float(np.max(np.abs(a_raw)))
-    figures = {
+    figures: dict[str, Any] = {
         "kind": kind, "unit": unit, "rows": n_rows, "step_deg": median, "equal_steps": bool(np.ptp(np.diff(
             data_theta)) <= 1e-9 * cycle_deg), "row_at_cycle_end": bool(closing),
         "smoothing": {"degree": 5, "method": fit.method, "lambda": fit.lam, "dof": fit.dof,
@@ -470,7 +471,7 @@ def motion_law(theta_deg: np.ndarray, values: np.ndarray, cycle_deg: float = 360
                     f"quintic smoothing spline ({_method_text(fit)}), residual RMS {fit.residual_rms:.3g} {unit}, "
                     f"max {fit.residual_max:.3g} {unit}")
     if accel_fit is not None:
-        removed = figures["accel_smoothing"]
+        removed = cast(dict, figures["accel_smoothing"])
         notes.insert(1, f"second derivative smoothed again by a cubic spline ({_method_text(accel_fit)}): "
                         f"oscillation removed RMS {removed[f'oscillation_removed_rms_{unit}_per_rad2']:.3g}, "
                         f"max {float(np.max(np.abs(oscillation))):.3g} {unit}/rad^2 "
@@ -575,13 +576,14 @@ def find_phases(grid: np.ndarray, a: np.ndarray, v: np.ndarray, s: np.ndarray, c
             phases.append(Phase(phase.kind, 0.0, hi - cycle))
     phases.sort(key=lambda p: p.start)
     snapped = []
+
     def snapped_at(angle: float) -> float:
         return 0.0 if angle <= snap else cycle if angle >= cycle - snap else angle
 
     for phase in phases:
-        lo, hi = snapped_at(phase.start), snapped_at(phase.end)
-        if hi - lo > 1e-12:
-            snapped.append(Phase(phase.kind, lo, hi))
+        begin, finish = snapped_at(phase.start), snapped_at(phase.end)
+        if finish - begin > 1e-12:
+            snapped.append(Phase(phase.kind, begin, finish))
     merged: list[Phase] = []
     for phase in snapped:
         if phase.end - phase.start <= 1e-12:
@@ -639,8 +641,9 @@ def _motions(start: float, end: float, grid: np.ndarray, s: np.ndarray) -> list[
     inside = (grid >= start) & (grid <= end)
     theta, values = grid[inside], s[inside]
     if len(values) < 3:
-        return [Phase("rise" if s[min(np.searchsorted(grid, end), len(s) - 1)] >= s[np.searchsorted(grid, start)]
-                      else "return", start, end)]
+        last = min(int(np.searchsorted(grid, end)), len(s) - 1)
+        first = min(int(np.searchsorted(grid, start)), len(s) - 1)
+        return [Phase("rise" if s[last] >= s[first] else "return", start, end)]
     net = values[-1] - values[0]
     top, bottom = int(np.argmax(values)), int(np.argmin(values))
     span = float(np.ptp(values))

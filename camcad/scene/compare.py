@@ -210,7 +210,7 @@ def run_compare(request: CompareRequest, progress=None) -> CompareReport:
         # one law with a scene: compared with the scene's own law
         request = replace(request, a=None, b=request.a)
         context.notes.append("one law given: A is the scene's law, B the law given")
-    names = [None, None]
+    names: list[str] = ["", ""]
     laws = []
     for index, (given, key) in enumerate(((request.a, "a"), (request.b, "b"))):
         if given is not None:

@@ -136,7 +136,8 @@ def run_synth(request: SynthRequest) -> SynthReport:
             stroke = float(np.ptp(source.kinematics(np.linspace(0.0, source.cycle, 8193)).s))
             request = replace(request, phases=text, lift=request.lift if request.lift is not None else stroke,
                               unit=unit if unit is not None else request.unit)
-            notes.append(f"the tachogram of {Path(request.shape_from).name}: {text} (deg), lift {request.lift:.6g} "
+            notes.append(f"the tachogram of {Path(request.shape_from or '').name}: {text} (deg), lift "
+                         f"{request.lift:.6g} "
                          f"{request.unit}")
     if request.lift is None or not (math.isfinite(request.lift) and request.lift > 0):
         raise CamcadError("the lift (or swing) must be given and positive", "--lift",
