@@ -12,15 +12,19 @@ a name that takes radians says so)::
     figure = camcad.plot_summary(result)                          # a matplotlib Figure
     camcad.write_outputs(result, "out/")                          # profile.dxf, law.csv, report.json
 
-Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``; designed from scratch:
+Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematics_deg``, ``motion_law`` and
+``radius_to_motion`` (tables of the motion, ``ProfileFollower``), ``LawRecord`` (the phases a written law
+carries); designed from scratch:
 ``solve_segments`` (``SegmentSpec``, ``parse_segments``) and the VDI 2143 catalogue (``catalogue_table``,
 ``rest_shape``). Balance: ``check``,
 ``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
 ``min_base_radius``, ``write_outputs``. The part: ``ExportSettings``, ``part_files``, ``cutter_paths``,
-``contour_program``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
+``contour_program``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``, ``tachogram_phases``,
+``synthesise_tachogram``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``, ``LeverBeam``
 (the lever on its stop), ``PublishedImpact``, ``compare_published``, ``rebound_study``; cams on an elastic main
-shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``.
+shaft: ``ShaftCam``, ``ElasticShaft``, ``simulate_shaft``; ``harmonic_beats``, ``compare_laws`` (two laws side by
+side).
 Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft torque),
 ``energy_fluctuation`` (flywheel), ``run_drive``/``DriveRequest`` (``camcad drive``), ``servo_table``,
 ``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
@@ -47,6 +51,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.cyclogram.lp import optimise
     from camcad.cyclogram.machine import Group, make_machine, optimise_machine
     from camcad.cyclogram.network import Operation, make_network
+    from camcad.dynamics.beats import harmonic_beats
+    from camcad.dynamics.compare import compare_laws
     from camcad.dynamics.flywheel import energy_fluctuation
     from camcad.dynamics.impact import LeverBeam, StopModel, impact_sweep
     from camcad.dynamics.model import ElasticFollower
@@ -60,8 +66,11 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.fourier.analysis import analyse
     from camcad.fourier.filter import filter_law
     from camcad.fourier.resonance import resonant_harmonics
+    from camcad.fourier.synth import synthesise_tachogram, tachogram_phases
+    from camcad.io.law_record import LawRecord
     from camcad.io.law_write import write_corrected
     from camcad.law.kinematics_deg import kinematics_deg
+    from camcad.law.motion_table import ProfileFollower, motion_law, radius_to_motion
     from camcad.law.phases import parse_phases
     from camcad.law.segments import SegmentSpec, parse_segments, solve_segments
     from camcad.law.source import LoadedLaw, load_law
@@ -97,6 +106,10 @@ _EXPORTS: dict[str, str] = {
     "kinematics_deg": "camcad.law.kinematics_deg",
     "SegmentSpec": "camcad.law.segments", "solve_segments": "camcad.law.segments",
     "parse_segments": "camcad.law.segments", "catalogue_table": "camcad.law.vdi", "rest_shape": "camcad.law.vdi",
+    "motion_law": "camcad.law.motion_table", "radius_to_motion": "camcad.law.motion_table",
+    "ProfileFollower": "camcad.law.motion_table", "LawRecord": "camcad.io.law_record",
+    "tachogram_phases": "camcad.fourier.synth", "synthesise_tachogram": "camcad.fourier.synth",
+    "harmonic_beats": "camcad.dynamics.beats", "compare_laws": "camcad.dynamics.compare",
     "check": "camcad.balance.checking", "BalanceReport": "camcad.balance.checking",
     "correct": "camcad.balance.correction", "Correction": "camcad.balance.correction",
     "write_corrected": "camcad.io.law_write",
@@ -146,10 +159,12 @@ __all__ = [
     "ExportSettings",
     "Follower",
     "Group",
+    "LawRecord",
     "LeverBeam",
     "LoadedLaw",
     "Operation",
     "PipelineOptions",
+    "ProfileFollower",
     "ProfileResult",
     "ProfileSettings",
     "PublishedImpact",
@@ -161,6 +176,7 @@ __all__ = [
     "analyse_scene",
     "catalogue_table",
     "check",
+    "compare_laws",
     "compare_published",
     "compose",
     "contact_stress",
@@ -169,12 +185,14 @@ __all__ = [
     "cutter_paths",
     "energy_fluctuation",
     "filter_law",
+    "harmonic_beats",
     "impact_sweep",
     "kinematics_deg",
     "load_law",
     "make_machine",
     "make_network",
     "min_base_radius",
+    "motion_law",
     "optimise",
     "optimise_machine",
     "parse_phases",
@@ -188,6 +206,7 @@ __all__ = [
     "plot_summary",
     "polydyne_law",
     "profile_report",
+    "radius_to_motion",
     "read_scene",
     "rebound_study",
     "residual_vibration",
@@ -199,7 +218,9 @@ __all__ = [
     "simulate_shaft",
     "solve_segments",
     "steady_state",
+    "synthesise_tachogram",
     "synthesize",
+    "tachogram_phases",
     "write_corrected",
     "write_outputs",
 ]

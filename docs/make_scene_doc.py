@@ -8,6 +8,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from camcad.scene.machine import GROUP_FIELDS, MACHINE_FIELDS, MACHINE_OPERATION_FIELDS, NETWORK_FIELDS
+from camcad.scene.sections.compare import COMPARE_FIELDS, COMPARE_PUBLISHED_FIELDS
 from camcad.scene.sections.contact import CONTACT_FIELDS
 from camcad.scene.sections.cyclogram import CYCLOGRAM_FIELDS, OPERATION_FIELDS
 from camcad.scene.sections.drive import DRIVE_FIELDS
@@ -31,6 +32,8 @@ SECTIONS = [("law", law_fields(), "camcad.scene.sections.law"),
             ("stops", STOPS_FIELDS, "camcad.scene.sections.stops"),
             ("stops.published", PUBLISHED_FIELDS, "camcad.scene.sections.published"),
             ("contact", CONTACT_FIELDS, "camcad.scene.sections.contact"),
+            ("compare", COMPARE_FIELDS, "camcad.scene.sections.compare"),
+            ("[compare.published]", COMPARE_PUBLISHED_FIELDS, "camcad.scene.sections.compare"),
             ("load", LOAD_FIELDS, "camcad.scene.sections.load"),
             ("drive", DRIVE_FIELDS, "camcad.scene.sections.drive"),
             ("cyclogram", CYCLOGRAM_FIELDS, "camcad.scene.sections.cyclogram"),

@@ -48,10 +48,10 @@ def test_rows_out_of_order_are_sorted_keeping_jumps(tmp_path):
     assert any("sorted" in n for n in table.notes)
 
 
-def test_more_columns_than_two_keep_the_first_two(tmp_path):
+def test_a_header_names_the_law_column_and_no_header_keeps_the_first_two(tmp_path):
     path = tmp_path / "law.csv"
     path.write_text("theta_deg,s_mm,a\n0,0,0\n90,1.5,2\n")
-    assert read_table(path).accel.tolist() == [0.0, 1.5]
+    assert read_table(path).accel.tolist() == [0.0, 2.0] and read_table(path).kind == "acceleration"
     headerless = tmp_path / "three.csv"
     headerless.write_text("0,0,0\n90,1.5,2\n")
     assert read_table(headerless).accel.tolist() == [0.0, 1.5]

@@ -3,10 +3,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from camcad.arrays import unique
 from camcad.balance.conditions import (
     DEFAULT_STEP_DEG,
     DEFAULT_TOL,
@@ -52,6 +53,9 @@ class BalanceReport:
         Each balance condition's residual (mm/rad or mm), in the order of ``condition_names``.
     condition_names : tuple of str
         The conditions, e.g. "velocity at the end of the rise (150 deg)".
+    basis : dict or None
+        The rule the verdict came from when it is not the balance conditions: a law camcad wrote with
+        the "closure" rule (``check_recorded``): its figures, limits and who wrote it.
     """
 
     areas: dict
@@ -65,14 +69,18 @@ class BalanceReport:
     phases: tuple[dict, ...]
     residuals: tuple[float, ...]
     condition_names: tuple[str, ...]
+    basis: dict | None = None
 
     def to_dict(self) -> dict:
-        return {"areas": self.areas, "velocity_closure": self.velocity_closure,
-                "displacement_closure": self.displacement_closure, "rise": self.rise,
-                "return": self.return_, "balanced": self.balanced, "tolerance": self.tolerance,
-                "tolerance_abs": self.tolerance_abs, "phases": list(self.phases),
-                "conditions": [{"name": n, "residual": r}
-                               for n, r in zip(self.condition_names, self.residuals)]}
+        out = {"areas": self.areas, "velocity_closure": self.velocity_closure,
+               "displacement_closure": self.displacement_closure, "rise": self.rise,
+               "return": self.return_, "balanced": self.balanced, "tolerance": self.tolerance,
+               "tolerance_abs": self.tolerance_abs, "phases": list(self.phases),
+               "conditions": [{"name": n, "residual": r}
+                              for n, r in zip(self.condition_names, self.residuals)]}
+        if self.basis is not None:
+            out["basis"] = self.basis
+        return out
 
 
 def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
@@ -151,6 +159,65 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
                          tolerance=tol, tolerance_abs=limit, phases=tuple(phase_rows),
                          residuals=tuple(float(r) for r in residuals),
                          condition_names=tuple(c.name for c in conds))
+
+
+#: uniform samples of the cycle on which the "closure" rule looks for the largest dwell deviation (plus every
+#: knot and phase end from both sides): the grid ``camcad spectrum`` judges a written law on
+RECORDED_SAMPLES = 1 << 15
+
+
+def check_recorded(law: PiecewiseLinearLaw, record) -> BalanceReport:
+    """The verdict on a law camcad wrote, by the rule it recorded (``camcad.io.law_record``).
+
+    "balance": ``check`` with the recorded tolerance. "closure" (a filtered law, whose dwells keep the
+    filter's small residue): s and v close over the cycle within ``record.tol`` × ``record.lift``, and on
+    each dwell |s − level| ≤ ``record.dwell_tol`` (the level recorded for it) — the rule and the sampling
+    ``camcad spectrum --filter`` judged the written law by. The balance conditions are still computed and
+    reported as figures.
+
+    Parameters
+    ----------
+    law : PiecewiseLinearLaw
+        The law as read back, with the recorded phases.
+    record : camcad.io.law_record.LawRecord
+
+    Returns
+    -------
+    BalanceReport
+        ``basis`` holds the rule's figures and limits; ``balanced`` is its verdict.
+    """
+    report = check(law, record.tol)
+    if record.basis != "closure":
+        return replace(report, basis={"rule": "balance", "written_by": record.writer, "tolerance": record.tol})
+    cycle = law.cycle
+    points = [np.arange(RECORDED_SAMPLES + 1) * (cycle / RECORDED_SAMPLES), np.asarray(law.x, dtype=float),
+              np.array([p.start for p in law.phases] + [p.end for p in law.phases])]
+    knots = np.concatenate(points)
+    knots = knots[(knots >= 0.0) & (knots <= cycle)]
+    grid = unique(np.concatenate((knots, np.nextafter(knots, -np.inf).clip(0.0))))
+    kin = law.kinematics(grid)
+    s = kin.s - law.kinematics(np.zeros(1)).s[0]
+    ends = law.kinematics(np.array([0.0, cycle]))
+    closure_s, closure_v = float(ends.s[1] - ends.s[0]), float(ends.v[1] - ends.v[0])
+    lift = record.lift if record.lift is not None else _scale(law)
+    limit = record.tol * lift
+    dwells = [p for p in law.phases if p.kind == "dwell"]
+    deviation, at = 0.0, None
+    if dwells and len(record.dwell_levels) == len(dwells):
+        for phase, level in zip(dwells, record.dwell_levels):
+            on = (grid >= phase.start) & (grid <= phase.end)
+            if on.any():
+                local = np.abs(s[on] - level)
+                k = int(np.argmax(local))
+                if local[k] > deviation:
+                    deviation, at = float(local[k]), float(np.degrees(grid[on][k]))
+    dwell_tol = record.dwell_tol
+    dwell_ok = dwell_tol is None or deviation <= dwell_tol
+    balanced = abs(closure_s) <= limit and abs(closure_v) <= limit and dwell_ok
+    basis = {"rule": "closure", "written_by": record.writer, "closure_s": closure_s, "closure_v": closure_v,
+             "closure_limit": limit, "tolerance": record.tol, "lift": lift, "dwell_deviation": deviation,
+             "dwell_deviation_at_deg": at, "dwell_tol": dwell_tol, "balanced": bool(balanced)}
+    return replace(report, balanced=bool(balanced), basis=basis)
 
 
 def trapezoid_residuals(law: PiecewiseLinearLaw, step_deg: float = DEFAULT_STEP_DEG,

@@ -19,9 +19,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
-from camcad.balance.checking import BalanceReport, check, check_by_trapezoid
+from camcad.balance.checking import BalanceReport, check, check_by_trapezoid, check_recorded
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL, valid_tol
 from camcad.balance.correction import Correction, correct
+from camcad.io.law_record import LawRecord
 from camcad.verdict import note_line
 
 # ---------------------------------------------------------------------------------------------
@@ -67,6 +68,16 @@ class CheckReport:
         lines += _table(["condition", "residual"], [[n, f"{r:.3e}"] for n, r in zip(b.condition_names, b.residuals)])
         lines.append(f"rise {b.rise:.6g} {u}, return {b.return_:.6g} {u}, tolerance {b.tolerance_abs:.3g} "
                      f"(= {b.tolerance:g} x rise)")
+        if b.basis is not None and b.basis["rule"] == "closure":
+            k = b.basis
+            lines.append(f"judged as {k['written_by']} judged it (its record in the file): the cycle closes, s gap "
+                         f"{k['closure_s']:.3e}, v gap {k['closure_v']:.3e} (limit {k['closure_limit']:.3g}); dwell "
+                         f"deviation {k['dwell_deviation']:.4g} (limit {k['dwell_tol']:.4g}"
+                         + (f", at {k['dwell_deviation_at_deg']:.4g} deg" if k['dwell_deviation_at_deg'] is not None
+                            else "") + "); the balance conditions above are figures only")
+        elif b.basis is not None:
+            lines.append(f"judged by the balance conditions, tolerance {b.basis['tolerance']:g} recorded by "
+                         f"{b.basis['written_by']}")
         if self.trapezoid is not None:
             trap = self.trapezoid
             lines.append(f"source's method (trapezoid, step {trap['step_deg']:g} deg): residuals "
@@ -87,7 +98,8 @@ def check_law(loaded, tol: float = DEFAULT_TOL, *, trapezoid: bool = False,
     ----------
     loaded : camcad.law.source.LoadedLaw
     tol : float
-        Closure tolerance, fraction of the rise.
+        Closure tolerance, fraction of the rise (a law whose phases were restored from camcad's record is
+        judged by the rule and tolerance recorded: ``balance.checking.check_recorded``).
     trapezoid : bool
         Also check by the source's method (resample with ``step_deg``, trapezoidal rule).
     step_deg : float
@@ -97,7 +109,10 @@ def check_law(loaded, tol: float = DEFAULT_TOL, *, trapezoid: bool = False,
     -------
     CheckReport
     """
-    report = check(loaded.law, tol)
+    if loaded.record is not None and loaded.phases_from_record:
+        report = check_recorded(loaded.law, loaded.record)
+    else:
+        report = check(loaded.law, tol)
     extra = check_by_trapezoid(loaded.law, tol, step_deg) if trapezoid else None
     return CheckReport(loaded.source, tuple(loaded.notes), report, extra,
                        length_unit=getattr(loaded, "length_unit", "mm"))
@@ -259,7 +274,8 @@ def fix_law(loaded, mode: str = "min-change", *, output: str | Path | None = Non
                      moves=law_moves, max_stretch=max_stretch, where=str(loaded.path), keep_lift=not free_lift)
     if not result.changed and not force:
         return FixReport(loaded.source, tuple(loaded.notes), result, loaded.y_scale, None, "already balanced")
-    written, notes = write_corrected(loaded, result.law, out, resampled=result.resampled)
+    record = LawRecord.for_law(result.law, f"camcad fix --mode {mode}", unit=loaded.unit or "mm", tol=tol)
+    written, notes = write_corrected(loaded, result.law, out, resampled=result.resampled, record=record)
     status = "fixed" if result.changed else "copied"
     return FixReport(loaded.source, tuple(loaded.notes), result, loaded.y_scale, Path(written), status,
                      write_notes=tuple(notes))

@@ -30,6 +30,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "dynamics": ("camcad.cli.dynamics", "Elastic follower over a speed range: rigid vs elastic acceleration."),
     "impact": ("camcad.cli.dynamics", "Impact on a limit stop: force and first rebound against speed."),
     "contact": ("camcad.cli.contact", "Hertz contact stress along the profile, safety factor, phase limits."),
+    "compare": ("camcad.cli.compare", "Two laws on one mechanism, side by side: A, B and A/B."),
+    "synth": ("camcad.cli.synth", "Synthesise a law of a given tachogram from the harmonic database."),
     "cyclogram": ("camcad.cli.contact", "Optimise a group's cyclogram: least makespan under the phase limits."),
     "machine": ("camcad.cli.machine", "Optimise a machine of groups: least cycle or the longest limiting operation."),
     "drive": ("camcad.cli.drive", "Camshaft torque and power, flywheel and motor sizing."),

@@ -45,12 +45,26 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
               "--trapezoid",
               help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
           step: Annotated[float, typer.Option("--step", help="Resampling step of --trapezoid (deg).")] = 0.1,
+          follower: Annotated[str | None, typer.Option(
+              "--follower", help="The follower of a radius-vector table (r_mm): roller, knife or oscillating.")] = None,
+          rr: Annotated[float | None, typer.Option("--rr", help="Roller radius of --follower (mm).")] = None,
+          offset: Annotated[float, typer.Option("--offset", help="Offset of a translating --follower (mm).")] = 0.0,
+          pivot: Annotated[float | None, typer.Option("--pivot", help="Pivot distance C (mm).")] = None,
+          arm: Annotated[float | None, typer.Option("--arm", help="Arm length L (mm).")] = None,
+          cw: Annotated[bool, typer.Option("--cw", help="The cam of a radius table turns clockwise.")] = False,
+          smoothing: Annotated[float | None, typer.Option(
+              "--smoothing", help="A motion table's measurement error (its unit); default: chosen by GCV.")] = None,
+          accel_smoothing: Annotated[str, typer.Option(
+              "--accel-smoothing", help="A motion table's a re-smoothed by a cubic spline: gcv or none.")] = "gcv",
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
     and with --trapezoid the source's resample-and-trapezoid check beside it."""
     from camcad.balance.fixing import check_law
+    from camcad.law.motion_table import follower_from_options
 
-    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin)
+    table_follower = follower_from_options(follower, rr, offset, pivot, arm, cw)
+    loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin,
+                                   follower=table_follower, smoothing=smoothing, accel_smoothing=accel_smoothing)
     report = check_law(loaded, tol, trapezoid=trapezoid, step_deg=step)
     if plot is not None:
         from camcad.report.balance import plot_balance

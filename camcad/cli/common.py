@@ -120,12 +120,13 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object on 
 
 def load_law_from_options(path: Path, layer: str | None, handle: str | None, cycle: float, lift: float | None,
                           phases: str | None, x_deg: bool = False, y0: float | None = None, x0: float | None = None,
-                          origin: str | None = None):
+                          origin: str | None = None, **table_options):
     """Read the law as the common options say (see camcad.law.source.load_law).
 
     --cycle counts as stated only when it was given on the command line (its default, 360, is an
     assumption: a curve that is not a whole cycle is then refused, not stretched); --origin X,Y
-    sets --x0 and --y0 at once.
+    sets --x0 and --y0 at once. ``table_options`` (follower, smoothing, accel_smoothing) go to
+    ``load_law`` for motion tables.
     """
     from camcad.law.source import load_law
 
@@ -133,7 +134,7 @@ def load_law_from_options(path: Path, layer: str | None, handle: str | None, cyc
         x0, y0 = parse_origin(origin, x0, y0)
     stated = cycle != 360.0 or _given("cycle")
     return load_law(path, layer=layer, handle=handle, cycle_deg=cycle if stated else None, lift=lift,
-                    phases=phases, x_deg=x_deg, y0=y0, x0=x0)
+                    phases=phases, x_deg=x_deg, y0=y0, x0=x0, **table_options)
 
 
 def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, float]:

@@ -67,6 +67,8 @@ def dynamics(source: SourceArg = None,
                  "--max-error", help="Allowed dynamic error (law unit: mm, or rad).")] = None,
              max_residual: Annotated[float | None, typer.Option(
                  "--max-residual", help="Allowed residual vibration (law unit).")] = None,
+             harmonic: Annotated[int | None, typer.Option(
+                 "--harmonic", help="Draw harmonic K of s and a and its beats with the free vibration.")] = None,
              unit: UnitOpt = None, phase_angles: PhaseAnglesOpt = "auto",
              standard: StandardOpt = None, return_standard: ReturnStandardOpt = None, phases: PhasesOpt = None,
              lift: LiftOpt = None, layer: LayerOpt = None, handle: HandleOpt = None, cycle: CycleOpt = 360.0,
@@ -83,7 +85,7 @@ def dynamics(source: SourceArg = None,
     law = LawRequest(source, standard, return_standard, phases, lift, layer, handle, cycle, x_deg, mechanism, unit,
                      phase_angles, rpm)
     request = DynamicsRequest(law, fn, zeta, psi, mass, method, solver, rtol, samples, start_pulse, compare, lead_in,
-                              max_ratio, max_error, max_residual)
+                              max_ratio, max_error, max_residual, harmonic)
     callback, close = progress(not as_json, "dynamics")
     try:
         run = dynamics_command(DynamicsCommand(request, output, not no_plots), callback)

@@ -33,8 +33,9 @@ be taken zero"):
 - rigid shaft with a speed drive: φ1 = ω t and J2 q̈ + b2 (q̇ − Π' ω) + c2 (q − Π) = M2 — exactly the
   single-DOF follower of ``sdof`` with y = q/scale, s = Π/scale, ωn² = c2/J2, ζ = b2/(2√(c2 J2)).
 
-Drives: ``SpeedDrive(rpm)`` or ``MotorDrive(torque, no_load_rpm, slope)`` with the linear static
-characteristic M0 = torque + slope (ω_idle − φ̇0) (N·m; slope N·m·s/rad).
+Drives: ``SpeedDrive(rpm)``, ``MotorDrive(torque, no_load_rpm, slope)`` with the linear static
+characteristic M0 = torque + slope (ω_idle − φ̇0) (N·m; slope N·m·s/rad), or ``MotorCurve`` with a motor's
+tabulated characteristic M0(n) (a scene's [dynamics] motor_torque).
 
 Units: SI throughout (kg·m², N·m/rad, N/m or N·m/rad, s); the law's displacement (mm or rad) is
 turned into Π by ``position_scale`` (1e-3 for mm → m, 1 for rad).
@@ -44,6 +45,7 @@ Machines (2015), ch. 1–3.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -133,6 +135,47 @@ class MotorDrive:
 
     def __call__(self, speed: float) -> float:
         return self.torque + self.slope * (rpm_to_rad_s(self.no_load_rpm) - speed)
+
+
+@dataclass(frozen=True)
+class MotorCurve:
+    """Driving torque on the flywheel from a motor's static characteristic: M0(n) tabulated against speed
+    (``points``: (rpm, N·m) pairs, rpm increasing), linear between the points and continued along the end
+    segments beyond them (an induction motor above its synchronous speed brakes). The model starts at
+    ``nominal_rpm``: where the torque falls to zero (the no-load speed) when the table crosses zero, else its
+    fastest speed.
+
+    Examples
+    --------
+    >>> motor = MotorCurve(((0.0, 400.0), (400.0, 300.0), (430.0, 0.0)))
+    >>> motor.nominal_rpm, round(motor(rpm_to_rad_s(415.0)), 9)
+    (430.0, 150.0)
+    """
+
+    points: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        rpm = [p[0] for p in self.points]
+        if len(self.points) < 2 or any(b <= a for a, b in itertools.pairwise(rpm)):
+            raise ValueError("a motor characteristic needs two or more (rpm, N m) points, rpm increasing")
+
+    @property
+    def nominal_rpm(self) -> float:
+        rpm = np.array([p[0] for p in self.points])
+        torque = np.array([p[1] for p in self.points])
+        crossing = np.flatnonzero((torque[:-1] > 0) & (torque[1:] <= 0))
+        if len(crossing):
+            i = int(crossing[0])
+            return float(rpm[i] + torque[i] * (rpm[i + 1] - rpm[i]) / (torque[i] - torque[i + 1]))
+        return float(rpm[-1])
+
+    def __call__(self, speed: float) -> float:
+        rpm = speed * 60.0 / (2.0 * math.pi)
+        points = self.points
+        if rpm <= points[0][0] or rpm >= points[-1][0]:
+            (r0, t0), (r1, t1) = (points[0], points[1]) if rpm <= points[0][0] else (points[-2], points[-1])
+            return float(t0 + (t1 - t0) * (rpm - r0) / (r1 - r0))
+        return float(np.interp(rpm, [p[0] for p in points], [p[1] for p in points]))
 
 
 @dataclass(frozen=True)
@@ -304,7 +347,8 @@ class _Budgeted:
         return self.rhs(t, y)
 
 
-def simulate(model: MultiMassModel, law: MotionLaw, drive: SpeedDrive | MotorDrive, duration_s: float, *,
+def simulate(model: MultiMassModel, law: MotionLaw, drive: SpeedDrive | MotorDrive | MotorCurve,
+             duration_s: float, *,
              samples: int = 2001, q0: float | None = None, dq0: float | None = None,
              load: Callable[[float], float] | None = None, method: str = "RK45", rtol: float = 1e-9,
              atol: float | None = None, where: str = "[dynamics]") -> MultiMassResult:

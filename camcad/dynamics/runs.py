@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -56,6 +56,7 @@ class DynamicsRun:
     lift: float = 0.0
     phases: tuple = ()
     cycle: float = 2.0 * math.pi
+    beats: Any = None     # camcad.dynamics.beats.HarmonicBeats when one harmonic is drawn
 
     def to_dict(self) -> dict:
         """``report`` with ``passed``, ``checks``, ``tightest`` and ``warnings`` of the verdict."""
@@ -140,7 +141,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     if fastest in result.unbounded:
         skipped["start_load"] = f"no bounded steady state at {fastest:g} rpm"
     else:
-        report["start_load"] = {"rpm": fastest, "phases": _start_load_entries(law, follower, fastest, settings)}
+        report["start_load"] = {"rpm": fastest, "phases": start_load_entries(law, follower, fastest, settings)}
         if compare is not None:
             report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
         if lead_in is not None:
@@ -150,7 +151,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
             result_lead = add_lead_in(law, angle, fraction, where="lead-in")
             report["lead_in"] = {"angle_deg": angle, "fraction": fraction, "balanced": result_lead.balanced,
                                  **_compared(report, result_lead.law, follower, fastest, settings, unit)}
-    if settings.has_multimass and settings.shaft_stiffness is not None:
+    if settings.has_multimass and (settings.shaft_stiffness is not None or settings.motor_torque is not None):
         report["multimass"] = _multimass_entry(law, settings, fastest)
     elif settings.has_multimass:
         skipped["multimass"] = "rigid shaft: the multi-mass model reduces to the single-DOF one"
@@ -358,7 +359,7 @@ def _one_or_list(values):
     return values[0] if len(values) == 1 else values
 
 
-def _start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
+def start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
     from camcad.dynamics.model import OUTPUT_UNITS, LoadSum
     from camcad.dynamics.residual import motion_phases
@@ -393,29 +394,48 @@ def _start_load_dict(load, unit) -> dict:
 
 
 def _multimass_entry(law, settings, rpm: float) -> dict:
-    """The multi-mass model at ``rpm``: flywheel held at speed, elastic shaft; figures over the third cycle."""
+    """The multi-mass model at ``rpm``: flywheel held at speed (or turned by the motor's characteristic M0(n)),
+    elastic or rigid shaft; figures over the last cycle."""
     from camcad.dynamics.model import rpm_to_rad_s, unit_key
-    from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
+    from camcad.dynamics.multimass import MotorCurve, MultiMassModel, SpeedDrive, simulate
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0
+    shaft = settings.shaft_stiffness if settings.shaft_stiffness is not None else math.inf
     model = MultiMassModel.from_follower(settings.follower, settings.flywheel_inertia, settings.cam_inertia,
-                                         settings.shaft_stiffness, position_scale=scale)
-    period = 2.0 * math.pi / rpm_to_rad_s(rpm)
-    result = simulate(model, law, SpeedDrive(rpm), 3.0 * period, samples=3 * 1024 + 1, method=settings.solver,
+                                         shaft, position_scale=scale)
+    motor = settings.motor_torque is not None
+    drive: MotorCurve | SpeedDrive = MotorCurve(settings.motor_torque) if motor else SpeedDrive(rpm)
+    start_rpm = drive.nominal_rpm
+    period = 2.0 * math.pi / rpm_to_rad_s(start_rpm)
+    cycles = 8 if motor else 3
+    result = simulate(model, law, drive, cycles * period, samples=cycles * 1024 + 1, method=settings.solver,
                       rtol=settings.rtol, where=settings.where)
-    last = result.time >= 2.0 * period
-    rigid = law.kinematics(result.phi1[last]).a * rpm_to_rad_s(rpm)**2
-    return {"rpm": rpm, "drive": "flywheel at constant speed", "cycles": 3,
-            "shaft_frequency_hz": math.sqrt(model.shaft_stiffness / model.cam_inertia) / (2.0 * math.pi),
-            "peak_accel_ratio": float(np.max(np.abs(result.accel_elastic[last])) / np.max(np.abs(rigid))),
-            unit_key("dynamic_error_max_mm", settings.output_unit):
-                float(np.max(np.abs(result.dynamic_error[last]))),
-            "cam_speed_range_rpm": [float(result.cam_speed_rpm[last].min()), float(result.cam_speed_rpm[last].max())]}
+    last = result.time >= (cycles - 1) * period
+    rigid = law.kinematics(result.phi1[last]).a * result.dphi1[last] ** 2
+    entry = {"rpm": rpm, "drive": "motor characteristic M0(n)" if motor else "flywheel at constant speed",
+             "cycles": cycles, "peak_accel_ratio": float(np.max(np.abs(result.accel_elastic[last])) /
+                                                         np.max(np.abs(rigid))),
+             unit_key("dynamic_error_max_mm", settings.output_unit):
+                 float(np.max(np.abs(result.dynamic_error[last]))),
+             "cam_speed_range_rpm": [float(result.cam_speed_rpm[last].min()), float(result.cam_speed_rpm[last].max())]}
+    if math.isfinite(shaft):
+        entry["shaft_frequency_hz"] = math.sqrt(model.shaft_stiffness / model.cam_inertia) / (2.0 * math.pi)
+    if motor:
+        speeds = result.cam_speed_rpm[last]
+        curve = cast(MotorCurve, drive)
+        torque = np.array([curve(w) for w in result.dphi0[last]])
+        entry.update({"rpm": float(np.mean(speeds)), "started_at_rpm": start_rpm,
+                      "motor_torque_Nm": [float(torque.min()), float(torque.max())],
+                      "motor_torque_mean_Nm": float(np.mean(torque)),
+                      "speed_fluctuation": float((speeds.max() - speeds.min()) / np.mean(speeds)),
+                      "note": "the motor sets the speed: rpm is the mean cam speed over the last of "
+                              f"{cycles} cycles from {start_rpm:g} rpm"})
+    return entry
 
 
 def _compared(report: dict, other, follower, rpm: float, settings, unit) -> dict:
     """Start-of-motion loads of another law and this law's load over it, phase by phase (rise, return, ...)."""
-    theirs = _start_load_entries(other, follower, rpm, settings)
+    theirs = start_load_entries(other, follower, rpm, settings)
     key = f"peak_link_accel_{unit.accel_key}"
     ours = report["start_load"]["phases"]
     return {"rpm": rpm, "phases": theirs, "reduction": [a[key] / b[key] for a, b in zip(ours, theirs)]}

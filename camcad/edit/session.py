@@ -58,6 +58,7 @@ from camcad.balance import MODES, BalanceReport, Correction, check, correct, dif
 from camcad.balance.conditions import DEFAULT_TOL, valid_tol
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_text_atomic
+from camcad.io.law_record import LawRecord
 from camcad.io.law_write import write_corrected
 from camcad.io.table_read import TABLE_SUFFIXES
 from camcad.law.law import Phase, PiecewiseLinearLaw
@@ -885,7 +886,9 @@ class EditSession:
         if suffix == ".json":
             written = write_text_atomic(path, json.dumps(self.export_script(), indent=1) + "\n")
         else:
-            written, _notes = write_corrected(self.loaded, self.law, path, resampled=self._state.restructured)
+            law_record = LawRecord.for_law(self.law, "camcad edit", unit=self.loaded.unit or "mm")
+            written, _notes = write_corrected(self.loaded, self.law, path, resampled=self._state.restructured,
+                                              record=law_record)
         self.outputs.append(Path(written))
         if record:
             self._log.append({"op": "save", "path": str(path)})

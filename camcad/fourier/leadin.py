@@ -66,7 +66,9 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     """The source's remedy for the load at the start of motion: before every motion that follows a dwell,
     a plateau of acceleration fraction × max|a| (sign of the motion's first acceleration) over
     ``angle_deg``, so the follower is brought up to the cam at low speed; then the law is rebalanced with
-    ``camcad.balance.correct`` (min-change, the plateaus and the dwells held) so it still closes.
+    ``camcad.balance.correct`` (min-change, the plateaus and the dwells held) so it still closes. The dwells
+    are set to rest (a = 0): a filtered law's residue on them would keep the follower moving after its last
+    motion, and the law would not close over the cycle.
 
     The plateau becomes part of the motion's phase (the dwell before it is shortened). ``tol`` is the
     balance tolerance (fraction of the rise; default the corrector's own). The lead-in adds travel, so
@@ -124,8 +126,21 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
         segments.append((lo, start, level))
         jumps_after.append(max(abs(level - a_left), abs(a_right - level)))
         velocities.append(level * angle)
-    unbalanced = PiecewiseLinearLaw(xs, as_, law.cycle, tuple(new_phases))
+    # the dwells at rest: a filtered law's residue on them would leave the follower moving after its last
+    # motion (v(T) != 0, a law that does not close), so a = 0 there, held
     held = np.zeros(len(xs), dtype=bool)
+    for phase in new_phases:
+        if phase.kind == "dwell":
+            inside = (xs > phase.start) & (xs < phase.end)
+            edges = np.flatnonzero((xs == phase.start) | (xs == phase.end))
+            as_[inside] = 0.0
+            held |= inside
+            for index in edges.tolist():   # the dwell's side of a boundary vertex (of a jump, next to the dwell)
+                neighbour = index + 1 if xs[index] == phase.start else index - 1
+                if 0 <= neighbour < len(xs) and phase.start <= xs[neighbour] <= phase.end:
+                    as_[index] = 0.0
+                    held[index] = True
+    unbalanced = PiecewiseLinearLaw(xs, as_, law.cycle, tuple(new_phases))
     for lo, hi, level in segments:
         held |= (xs >= lo) & (xs <= hi) & (as_ == level)
     kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,8 @@ from camcad.io.dxf_write import (
     save_document,
     set_lwpolyline_rows,
 )
-from camcad.io.phase_record import write_phase_record
+from camcad.io.law_record import LawRecord, attach_to_entity, rows_text, table_line, vertex_digest
+from camcad.io.table_read import write_table
 
 ORIGINAL_LAYER = "CAMCAD_ORIGINAL"
 ORIGINAL_BLOCK = "CAMCAD_ORIGINAL"
@@ -45,7 +47,7 @@ _ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
 
 
 def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *, layer: str = "ACCEL",
-                  r12: bool = False, title: str = "") -> Path:
+                  r12: bool = False, title: str = "", record: LawRecord | None = None) -> Path:
     """An acceleration law as a polyline: x = cam angle (deg), y = acceleration analog (mm/rad²).
 
     Besides the law (LWPOLYLINE, or POLYLINE for R12) on ``layer``, the file holds the θ axis on
@@ -67,6 +69,9 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
         Write DXF R12 (POLYLINE) instead of R2000 (LWPOLYLINE).
     title : str
         Text above the law (ASCII).
+    record : LawRecord, optional
+        camcad's record of the law (its phases and the rule it was judged by), stored as XDATA on the
+        polyline with the vertex count and digest (``camcad.io.law_record``).
 
     Returns
     -------
@@ -85,9 +90,13 @@ def write_law_dxf(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *,
             doc.layers.add(name, color=color)
     msp = doc.modelspace()
     if r12:
-        msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)], dxfattribs={"layer": layer})
+        entity = msp.add_polyline2d([(float(t), float(a)) for t, a in zip(theta_deg, accel)],
+                                    dxfattribs={"layer": layer})
     else:
-        lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": layer})
+        entity = lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": layer})
+    if record is not None:
+        points = np.column_stack((theta_deg, accel))
+        attach_to_entity(doc, entity, replace(record, vertices=len(points), digest=vertex_digest(points)))
     msp.add_line((float(theta_deg[0]), 0.0), (float(theta_deg[-1]), 0.0), dxfattribs={"layer": "AXES"})
     height = max(float(np.ptp(accel)), 1e-9) * 0.04
     # plain ASCII without '^' (a caret starts a control code in DXF text)
@@ -103,14 +112,14 @@ LAW_LAYERS = {"ACCELERATION": 5, "AXES": 8, "PHASE_MARKS": 3, "TEXT": 7}
 
 def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray, *, cycle_deg: float,
                       phases: list[tuple], labels: list[str] | None = None, title: str = "",
-                      r12: bool = False) -> Path:
+                      r12: bool = False, writer: str = "camcad law") -> Path:
     """A designed law as a drawing: its acceleration, the axes and the phase marks, with the phases kept.
 
     Layers: ACCELERATION (the law: x = cam angle in deg, y = acceleration analog in mm/rad², taken literally
     when read back), AXES (the θ axis, the a axis at θ = 0 and a tick every 30° or twelfth of the cycle),
     PHASE_MARKS (a vertical line at every phase boundary and each phase's label above the law), TEXT (the
     title and the axes' captions). The phases, with the position and velocity each states at its end, are
-    kept as XDATA of the law's polyline (``camcad.io.phase_record``), so ``camcad check`` reads the drawing
+    kept in camcad's record on the law's polyline (``camcad.io.law_record``), so ``camcad check`` reads the drawing
     back with them. ASCII DXF, unitless ($INSUNITS 0: neither axis is a length), byte-deterministic.
 
     Parameters
@@ -131,6 +140,8 @@ def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray
         Text above the drawing (ASCII).
     r12 : bool
         DXF R12 (POLYLINE) instead of R2000 (LWPOLYLINE).
+    writer : str
+        The command named in the record as the law's writer.
 
     Returns
     -------
@@ -153,7 +164,9 @@ def write_law_drawing(path: str | Path, theta_deg: np.ndarray, accel: np.ndarray
                                    dxfattribs={"layer": "ACCELERATION"})
     else:
         curve = lwpolyline_from_array(msp, np.column_stack((theta_deg, accel)), dxfattribs={"layer": "ACCELERATION"})
-    write_phase_record(doc, curve, phases, cycle_deg)
+    record = LawRecord(rows_text(phases), float(cycle_deg), writer, vertices=len(theta_deg),
+                       digest=vertex_digest(np.column_stack((theta_deg, accel))))
+    attach_to_entity(doc, curve, record)
     low, high = float(min(accel.min(), 0.0)), float(max(accel.max(), 0.0))
     span = max(high - low, 1e-9)
     height = 0.03 * max(span, cycle_deg / 4.0)
@@ -209,8 +222,9 @@ def _text(msp, text: str, at: tuple[float, float], height: float, layer: str) ->
     msp.add_text(label, dxfattribs={"layer": layer, "height": height}).set_placement((float(at[0]), float(at[1])))
 
 
-def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None) -> Path:
-    """θ (deg), s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³) and any extra columns, one row per sample.
+def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | None = None, *,
+                  record: LawRecord | None = None, unit: str = "mm") -> Path:
+    """θ (deg), s, v (per rad), a (per rad²), j (per rad³) and any extra columns, one row per sample.
 
     Parameters
     ----------
@@ -218,23 +232,32 @@ def write_law_csv(path: str | Path, kinematics, extra: dict[str, np.ndarray] | N
     kinematics : camcad.law.law.Kinematics
     extra : dict of str to ndarray, optional
         Further columns, one value per sample.
+    record : LawRecord, optional
+        camcad's record of the law, written as the comment line before the header
+        (``camcad.io.law_record``); read back, the table keeps its phases.
+    unit : str
+        Unit of s ("mm", or "rad"/"deg" of swing): the columns are named s_<unit>, v_<unit>_per_rad,
+        a_<unit>_per_rad2, j_<unit>_per_rad3.
 
     Returns
     -------
     Path
         ``path`` (12 significant digits, ``\\n`` line ends: the same bytes for the same numbers).
     """
-    columns = {"theta_deg": np.degrees(kinematics.theta), "s_mm": kinematics.s, "v_mm_per_rad": kinematics.v,
-               "a_mm_per_rad2": kinematics.a, "j_mm_per_rad3": kinematics.j}
+    columns = {"theta_deg": np.degrees(kinematics.theta), f"s_{unit}": kinematics.s,
+               f"v_{unit}_per_rad": kinematics.v, f"a_{unit}_per_rad2": kinematics.a,
+               f"j_{unit}_per_rad3": kinematics.j}
     columns.update(extra or {})
     names = list(columns)
     data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
-    lines = [",".join(names)]
+    lines = [table_line(record)] if record is not None else []
+    lines.append(",".join(names))
     lines.extend(",".join(f"{value:.12g}" for value in row) for row in data)
     return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
-def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
+def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = False,
+                            record: LawRecord | None = None) -> tuple[Path, list[str]]:
     """A copy of the user's drawing with the law's curve replaced by ``law`` (same layer).
 
     Every other entity, layer, block and header variable is kept (see the module docstring for the
@@ -256,6 +279,9 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
         The DXF file to write.
     resampled : bool
         The corrected law has other vertices than the drawn one.
+    record : LawRecord, optional
+        camcad's record of the corrected law, stored as XDATA on its polyline (the first entity of a
+        chain) with the vertex count and digest of the curve as written.
 
     Returns
     -------
@@ -286,6 +312,9 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
             kept.dxf.layer = ORIGINAL_LAYER
             block.add_entity(kept)
         moved = _move_vertices(curve, entities, xs, ys)
+        if record is not None and entities:
+            attach_to_entity(doc, entities[0], replace(record, vertices=len(xs),
+                                                       digest=vertex_digest(np.column_stack((xs, ys)))))
         notes.insert(0, f"{curve.label}: {moved} of {len(xs)} vertices moved in place; the original is kept in "
                         f"block {block.name} (not inserted, so not drawn)")
     else:
@@ -301,9 +330,11 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
                 entity.dxf.layer = ORIGINAL_LAYER
         points = np.column_stack((x_new, y_new))
         if doc.dxfversion <= "AC1009":
-            msp.add_polyline2d([(float(x), float(y)) for x, y in points], dxfattribs={"layer": layer})
+            written = msp.add_polyline2d([(float(x), float(y)) for x, y in points], dxfattribs={"layer": layer})
         else:
-            lwpolyline_from_array(msp, points, dxfattribs={"layer": layer})
+            written = lwpolyline_from_array(msp, points, dxfattribs={"layer": layer})
+        if record is not None:
+            attach_to_entity(doc, written, replace(record, vertices=len(points), digest=vertex_digest(points)))
         why = "resampled" if resampled else (
             f"{curve.kind} cannot take the corrected vertices in place" if not in_block else
             f"{curve.kind} inside a block reference" if unique else f"{curve.kind} whose handles are not unique")
@@ -332,7 +363,8 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     return out, notes
 
 
-def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) -> tuple[Path, list[str]]:
+def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False,
+                    record: LawRecord | None = None) -> tuple[Path, list[str]]:
     """Save a corrected law the way ``camcad fix`` does, by the output's suffix and the input's kind.
 
     - a law read from a drawing, saved as ``.dxf``: a corrected copy of the drawing
@@ -351,6 +383,9 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
         The file to write (.dxf, or a table); written atomically, never over the input.
     resampled : bool
         The corrected law has other vertices than the drawn one.
+    record : LawRecord, optional
+        camcad's record of the law (its phases and the rule it was judged by), kept in the file
+        (``camcad.io.law_record``) so it reads back with these phases.
 
     Returns
     -------
@@ -376,15 +411,14 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
     >>> camcad.check(camcad.load_law(path, lift=10.0).law).balanced
     True
     """
-    from camcad.io.table_read import write_table
-
     out = Path(out)
     if loaded.curve is not None and out.suffix.lower() == ".dxf":
-        return write_corrected_drawing(loaded, law, out, resampled=resampled)
+        return write_corrected_drawing(loaded, law, out, resampled=resampled, record=record)
     theta_deg = np.degrees(law.x)
     if out.suffix.lower() == ".dxf":
         accel = loaded.a_to_y(law.a)
-        return write_law_dxf(out, theta_deg, accel), ["the corrected law is written as an acceleration polyline"]
+        return (write_law_dxf(out, theta_deg, accel, record=record),
+                ["the corrected law is written as an acceleration polyline"])
     table = loaded.table
     delimiter = table.delimiter if table is not None else ","
     decimal_comma = table.decimal_comma if table is not None else False
@@ -402,7 +436,7 @@ def write_corrected(loaded, law, out: str | Path, *, resampled: bool = False) ->
                      "drawing units" + (f"; read it back with {' '.join(again)}" if again else ""))
     else:
         accel = loaded.a_to_y(law.a)
-    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma))
+    write_atomic(out, lambda tmp: write_table(tmp, theta_deg, accel, delimiter, decimal_comma, record=record))
     return out, notes
 
 

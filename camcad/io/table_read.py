@@ -1,4 +1,23 @@
-"""Reading a law from a text table: two columns, cam angle θ (deg) and acceleration analog a.
+"""Reading a law from a text table: cam angle θ (deg) and one column of the motion, its kind named by the header.
+
+Kinds (SPEC.md "Tables name their kind in the header"; the first column is the cam angle θ in deg):
+
+=====================================  ==========================================================
+header                                 the second column is
+=====================================  ==========================================================
+``theta_deg,a…`` (a, accel, a_mm…)     the acceleration analog a (mm/rad²), as before
+no header                              the acceleration analog a (mm/rad²), as before
+``theta_deg,s_mm``                     the follower's displacement s (mm)
+``theta_deg,psi_deg`` / ``psi_rad``    the swing ψ of an oscillating follower (deg or rad)
+``theta_deg,r_mm``                     radius-vectors of the cam profile (mm; θ is the polar angle)
+=====================================  ==========================================================
+
+A header whose law column camcad does not know is refused (one line naming the columns camcad reads),
+never read as an acceleration. A table with several columns is read by the one that gives the law most
+directly: an acceleration column when there is one (camcad's own ``law.csv`` and ``filtered.csv`` hold
+s, v, a and j: their ``a_mm_per_rad2`` is the law exactly), else its one motion column; the other
+columns are named in a note. A comment line ``# camcad-law: {...}`` is the record camcad writes with
+its laws (``camcad.io.law_record``): the table's phase angles and the rule it was judged by.
 
 Accepted: comma, semicolon, tab or whitespace separators; values in double quotes (as spreadsheets
 write them); a decimal comma when the separator is a semicolon or a tab, or inside quoted values of
@@ -21,18 +40,54 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input
+from camcad.io.law_record import LawRecord, record_of_comment, table_line
 
 TABLE_SUFFIXES = (".csv", ".txt", ".tsv", ".dat", ".tab")
+#: the kinds of law column, and the unit of each
+TABLE_KINDS = {"acceleration": "mm/rad^2", "displacement": "mm", "swing_deg": "deg", "swing_rad": "rad",
+               "radius": "mm"}
+#: the headers camcad reads, for messages
+KNOWN_HEADERS = "theta_deg with a (acceleration), s_mm, psi_deg, psi_rad or r_mm"
+
+_ANGLE = re.compile(r"^(theta|θ|phi|φ|fi|angle|cam|alpha|α|deg|x$|x_)")
+_ACCEL = re.compile(r"^(a|a_.*|acc.*|y|y_.*)$")
+_DISPLACEMENT = re.compile(r"^(s|s_mm|s_mm_.*|displacement(_mm)?|lift(_mm)?|stroke(_mm)?)$")
+_SWING_DEG = re.compile(r"^(psi|ψ|swing)_(deg|degrees?)$")
+_SWING_RAD = re.compile(r"^(psi|ψ|swing)_rad(ians?)?$")
+_SWING_BARE = re.compile(r"^(psi|ψ|swing)$")
+_RADIUS = re.compile(r"^(r|r_mm|radius(_mm)?|rho(_mm)?|radius_vector(_mm)?)$")
+#: further columns that camcad's own law tables hold beside their law column
+_DERIVED = re.compile(r"^(v|v_.*|j|j_.*|s|s_.*|vel.*|jerk.*)$")
 
 
 @dataclass(frozen=True)
 class Table:
+    """A table as read: θ (deg) and the values of its law column, of the ``kind`` the header names.
+
+    ``values`` are accelerations (mm/rad²), displacements (mm), swings (deg or rad) or radius-vectors
+    (mm) per ``kind`` (``TABLE_KINDS``); ``accel`` is the same array under its old name. ``record`` is
+    the ``LawRecord`` of a table camcad wrote (its phases and the rule it was judged by), else None.
+    """
+
     theta_deg: np.ndarray
-    accel: np.ndarray
+    values: np.ndarray
     delimiter: str          # as found: ",", ";", "\t" or " "
     decimal_comma: bool
     line_numbers: np.ndarray  # 1-based line of each row in the file
     notes: tuple[str, ...] = ()
+    kind: str = "acceleration"
+    header: tuple[str, ...] = ()
+    column: int = 1
+    record: LawRecord | None = None
+
+    @property
+    def accel(self) -> np.ndarray:
+        """The law column's values (the acceleration for an acceleration table)."""
+        return self.values
+
+    @property
+    def unit(self) -> str:
+        return TABLE_KINDS[self.kind]
 
 
 def read_table(path: str | Path) -> Table:
@@ -46,7 +101,8 @@ def read_table(path: str | Path) -> Table:
     Returns
     -------
     Table
-        θ (deg) and a per row, in angle order, with the dialect found and notes.
+        θ (deg) and the law column per row, in angle order, with its kind, the dialect found, notes
+        and the record camcad wrote with it (if any).
 
     Raises
     ------
@@ -70,8 +126,17 @@ def read_table(path: str | Path) -> Table:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
     rows: list[tuple[int, str]] = []
+    record = None
     for number, line in enumerate(text.splitlines(), start=1):
-        content = line.split("#", 1)[0].strip()
+        content, _, comment = line.partition("#")
+        content = content.strip()
+        if comment and not content:
+            try:
+                found = record_of_comment(comment)
+            except ValueError as err:
+                raise CamcadError(f"line {number}: camcad's record of the law cannot be read ({err})", where,
+                                  "delete that comment line, or write the table again with camcad") from None
+            record = found or record
         if content:
             rows.append((number, content))
     if not rows:
@@ -84,28 +149,39 @@ def read_table(path: str | Path) -> Table:
     if delimiter == "," and not quoted:
         _refuse_ambiguous_commas(split, where)
     theta, accel, lines = [], [], []
+    kind, column = "acceleration", 1
+    header: tuple[str, ...] = ()
+    header_notes: list[str] = []
     for index, (number, fields) in enumerate(split):
+        if index == 0 and any(_number(f.replace(",", ".") if decimal_comma else f) is None for f in fields[:2]):
+            header = tuple(fields)
+            kind, column, header_notes = header_kind(header, where, number)
+            continue  # a header line of column names
         if decimal_comma:
             fields = [f.replace(",", ".") for f in fields]
         values = [_number(f) for f in fields]
-        if index == 0 and any(v is None for v in values[:2]):
-            continue  # a header line of column names
         if len(fields) < 2:
             raise CamcadError(f"line {number} has {len(fields)} column, need 2 (angle_deg, acceleration)",
                               where, "write one angle and one acceleration per line")
-        if values[0] is None or values[1] is None:
-            bad = fields[0] if values[0] is None else fields[1]
+        if len(fields) <= column:
+            raise CamcadError(f"line {number} has {len(fields)} columns, the header names {column + 1}", where,
+                              "give every row a value in each column of the header")
+        first, value = values[0], values[column]
+        if first is None or value is None:
+            bad = fields[0] if first is None else fields[column]
             raise CamcadError(f"line {number}: {_excerpt(bad)} is not a number", where, "fix or delete that line")
-        if not (math.isfinite(values[0]) and math.isfinite(values[1])):
-            raise CamcadError(f"line {number}: non-finite value ({_excerpt(fields[0])}, {_excerpt(fields[1])})", where,
-                              "give finite numbers")
-        theta.append(values[0])
-        accel.append(values[1])
+        if not (math.isfinite(first) and math.isfinite(value)):
+            raise CamcadError(f"line {number}: non-finite value ({_excerpt(fields[0])}, {_excerpt(fields[column])})",
+                              where, "give finite numbers")
+        theta.append(first)
+        accel.append(value)
         lines.append(number)
+    if not theta:
+        raise CamcadError("the table has a header but no rows", where, "add rows 'angle_deg, value'")
     theta_arr = np.array(theta, dtype=float)
     accel_arr = np.array(accel, dtype=float)
     line_arr = np.array(lines, dtype=int)
-    notes: list[str] = []
+    notes: list[str] = list(header_notes)
     if encoding not in ("utf-8", "latin-1"):
         notes.append(f"the table is {encoding.upper()} text" if encoding != "utf-8-sig"
                      else "the table starts with a UTF-8 byte-order mark (ignored)")
@@ -115,7 +191,73 @@ def read_table(path: str | Path) -> Table:
         order = np.argsort(theta_arr, kind="stable")
         theta_arr, accel_arr, line_arr = theta_arr[order], accel_arr[order], line_arr[order]
         notes.append("rows were not in angle order; sorted by angle (rows of equal angle keep their order)")
-    return Table(theta_arr, accel_arr, delimiter, decimal_comma, line_arr, tuple(notes))
+    return Table(theta_arr, accel_arr, delimiter, decimal_comma, line_arr, tuple(notes), kind, header, column,
+                 record)
+
+
+def _name(text: str) -> str:
+    """A column name reduced for matching: lower case, no quotes, units in brackets joined with '_'
+    ("Theta (deg)" -> "theta_deg", "a [mm/rad²]" -> "a_mm/rad²")."""
+    name = text.strip().strip('"').strip("'").lower()
+    name = re.sub(r"[\s\(\)\[\]{}]+", "_", name)
+    return re.sub(r"_+", "_", name).strip("_")
+
+
+def header_kind(header: tuple[str, ...], where: str = "table", line: int = 1) -> tuple[str, int, list[str]]:
+    """(kind, index of the law column, notes) of a table's header (module docstring's table).
+
+    Raises CamcadError (one line, exit 2) for a header whose law column camcad does not know.
+
+    Examples
+    --------
+    >>> header_kind(("theta_deg", "s_mm"))[:2]
+    ('displacement', 1)
+    >>> header_kind(("theta_deg", "s_mm", "v_mm_per_rad", "a_mm_per_rad2", "j_mm_per_rad3"))[:2]
+    ('acceleration', 3)
+    >>> header_kind(("theta_deg", "torque_Nm"))
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: table: line 1: the header names the columns 'theta_deg', 'torque_Nm'; camcad reads a law from theta_deg with a (acceleration), s_mm, psi_deg, psi_rad or r_mm; name the columns so (or remove the header line: an unnamed second column is the acceleration)
+    """  # noqa: E501 - a doctest's expected output is one line
+    names = [_name(h) for h in header]
+    listed = ", ".join(_excerpt(h) for h in header[:6]) + (", ..." if len(header) > 6 else "")
+    fix = "name the columns so (or remove the header line: an unnamed second column is the acceleration)"
+    refuse = CamcadError(f"line {line}: the header names the columns {listed}; camcad reads a law from "
+                         f"{KNOWN_HEADERS}", where, fix)
+    if len(names) < 2 or not _ANGLE.match(names[0]):
+        raise refuse
+    kinds = []
+    for index, name in enumerate(names[1:], start=1):
+        if _ACCEL.match(name):
+            kinds.append(("acceleration", index))
+        elif _DISPLACEMENT.match(name):
+            kinds.append(("displacement", index))
+        elif _SWING_DEG.match(name):
+            kinds.append(("swing_deg", index))
+        elif _SWING_RAD.match(name):
+            kinds.append(("swing_rad", index))
+        elif _RADIUS.match(name):
+            kinds.append(("radius", index))
+        elif _SWING_BARE.match(name):
+            raise CamcadError(f"line {line}: the column {_excerpt(header[index])} does not say its unit", where,
+                              "name it psi_deg or psi_rad")
+    if not kinds:
+        raise refuse
+    chosen = next((k for k in kinds if k[0] == "acceleration"), None)
+    if chosen is None:
+        motion = {k for k, _ in kinds}
+        if len(motion) > 1:
+            raise CamcadError(f"line {line}: the header names {len(motion)} kinds of law ({listed})", where,
+                              "keep one law column: s_mm, psi_deg, psi_rad or r_mm")
+        chosen = kinds[0]
+    kind, column = chosen
+    notes = []
+    others = [header[i] for i in range(1, len(header)) if i != column]
+    if others:
+        notes.append(f"the law is read from the column {header[column]!r} ({kind}); "
+                     f"the column{'s' if len(others) > 1 else ''} {', '.join(repr(o) for o in others)} "
+                     "ignored")
+    return kind, column, notes
 
 
 def _refuse_ambiguous_commas(split: list[tuple[int, list[str]]], where: str) -> None:
@@ -166,10 +308,12 @@ def _number(text: str) -> float | None:
 
 
 def write_table(path: Path, theta_deg: np.ndarray, accel: np.ndarray, delimiter: str = ",",
-                decimal_comma: bool = False, header: str = "theta_deg,accel") -> None:
-    """Write a two-column law table in the same dialect it was read in (not atomic; see io.atomic)."""
+                decimal_comma: bool = False, header: str = "theta_deg,accel", record: LawRecord | None = None) -> None:
+    """Write a two-column law table in the same dialect it was read in (not atomic; see io.atomic); with
+    ``record``, its comment line first (``camcad.io.law_record``)."""
     sep = delimiter if delimiter != " " else " "
-    lines = [f"# {header.replace(',', sep)}"]
+    lines = [table_line(record)] if record is not None else []
+    lines.append(f"# {header.replace(',', sep)}")
     for t, a in zip(theta_deg, accel):
         row = f"{t:.10g}{sep}{a:.12g}"
         if decimal_comma:

@@ -492,8 +492,11 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
             raise CamcadError(f"phase {item!r}: kind must be rise, return or dwell", where, "fix the kind")
         if not end > start:
             raise CamcadError(f"phase {item!r} ends before it starts", where, "give start < end")
-        stated = []
+        stated: list[float | None] = []
         for text, unit in zip(parts[3:], ("mm", "mm/deg")):
+            if text.strip() == "-" and unit == "mm":     # the position not stated, only the velocity
+                stated.append(None)
+                continue
             try:
                 value = float(text)
             except ValueError:
@@ -505,7 +508,7 @@ def parse_phases(text: str, cycle_deg: float, where: str = "--phases") -> tuple[
                                   "give a finite number")
             stated.append(value)
         s_end = stated[0] if stated else None
-        v_end = float(np.degrees(stated[1])) if len(stated) > 1 else 0.0    # mm/deg -> mm/rad
+        v_end = float(np.degrees(stated[1])) if len(stated) > 1 and stated[1] is not None else 0.0  # mm/deg -> mm/rad
         if kind == "dwell" and v_end != 0.0:
             raise CamcadError(f"phase {item!r}: a dwell rests, it cannot end at {stated[1]:g} mm/deg", where,
                               "drop the velocity of the dwell")

@@ -13,6 +13,11 @@ Conventions (SPEC.md "Acceleration-law input", docs/reading.md):
   it is refused with the options that state it, never silently stretched to 360°.
 - A vertical segment is a jump of acceleration; duplicated vertices are ignored; a curve drawn
   right-to-left is accepted. The law starts from rest at s = 0 at θ = 0.
+- A table names its kind in its header (``camcad.io.table_read``): an acceleration is read as drawn; a
+  displacement, a swing, or a cam profile's radius-vectors (through the ``follower`` given) become a law
+  by the batten study's smoothing (``camcad.law.motion_table``).
+- A law camcad wrote carries its record (``camcad.io.law_record``): its phases are restored from it (with
+  a note) unless ``phases`` is given, and ``camcad check`` judges it by the rule recorded.
 """
 
 from __future__ import annotations
@@ -35,10 +40,11 @@ from camcad.io.dxf_read import (
     units_note,
 )
 from camcad.io.input_file import is_regular_file, read_input
-from camcad.io.phase_record import read_phase_record
+from camcad.io.law_record import LawRecord, record_of_entity, vertex_digest
 from camcad.io.table_read import TABLE_SUFFIXES, Table, read_table
 from camcad.law.baseline import Baseline, find_baseline
 from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.motion_table import MotionTableLaw, ProfileFollower, motion_law, radius_to_motion
 from camcad.law.phases import parse_phases, read_phases
 
 #: the largest lift camcad takes (mm, or deg of swing): larger is a typing mistake
@@ -112,6 +118,15 @@ class LoadedLaw:
         scales it; ``law.a`` is then in that unit per rad² (``mm_per_unit`` converts it).
     mm_per_unit : float
         mm per ``length_unit`` (1.0, 25.4 or 10.0).
+    record : LawRecord or None
+        camcad's record in the file (a law camcad wrote): its phases, unit and the rule it was judged by.
+    phases_from_record : bool
+        The phases were restored from ``record``.
+    motion : MotionTableLaw or None
+        A motion table's smoothing (fit residual, oscillation removed, balance change), None otherwise.
+    unit : str or None
+        Unit of the law's displacement when the file says it (a swing table: "deg" or "rad"; a record);
+        None: mm unless the command is told otherwise.
     """
 
     law: PiecewiseLinearLaw
@@ -132,6 +147,10 @@ class LoadedLaw:
     baseline: Baseline | None = None
     length_unit: str = "mm"
     mm_per_unit: float = 1.0
+    record: LawRecord | None = None
+    phases_from_record: bool = False
+    motion: MotionTableLaw | None = None
+    unit: str | None = None
 
     @property
     def x0(self) -> float:
@@ -151,7 +170,8 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
              cycle_deg: float | None = None, lift: float | None = None,
              phases: str | tuple[Phase, ...] | None = None, x_deg: bool = False,
              flatten_tol: float | None = None, join_tol: float | None = None,
-             y0: float | None = None, x0: float | None = None) -> LoadedLaw:
+             y0: float | None = None, x0: float | None = None, follower: ProfileFollower | None = None,
+             smoothing: float | None = None, accel_smoothing: str | float = "gcv") -> LoadedLaw:
     """Read the acceleration law of a DXF drawing or a table file (see the module docstring).
 
     Parameters
@@ -173,6 +193,14 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
         SPLINE/arc flattening and end-to-end joining tolerances (drawing units).
     y0, x0 : float, optional
         The zero axis (drawing y of a = 0) and the origin's x (θ = 0); found in the drawing when None.
+    follower : ProfileFollower, optional
+        The follower of a radius-vector table (``theta_deg,r_mm``); such a table is refused without it.
+    smoothing : float, optional
+        A motion table's measurement error (its unit): the quintic spline's smoothing for it; None: chosen
+        by generalised cross-validation.
+    accel_smoothing : str or float
+        A motion table's second derivative smoothed again by a cubic spline: "gcv", "none", or the stated
+        error of a (unit per rad²).
 
     Returns
     -------
@@ -229,7 +257,7 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
         raise CamcadError("this is a scene file, not a drawn law", str(path),
                           "give a drawing (.dxf) or a table (.csv, .txt); a scene runs with camcad profile SCENE")
     if _is_table(path):
-        return _from_table(path, cycle_deg, lift, phases, y0, x0)
+        return _from_table(path, cycle_deg, lift, phases, y0, x0, follower, smoothing, accel_smoothing)
     drawing = open_drawing(path)
     piece_set = collect_pieces(drawing, flatten_tol=flatten_tol)
     chain = find_law(piece_set, str(path), layer=layer, handle=handle, join_tol=join_tol)
@@ -243,40 +271,19 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
                      f"{'s' if len(left_out) > 1 else ''} ({_pieces_text(left_out)})")
     notes.extend(baseline.notes)
     notes.append(units_note(drawing, scaled=lift is not None))
-    if phases is None:
-        recorded = _recorded_phases(drawing, curve, cycle_deg if cycle_stated else None)
-        if recorded is not None:
-            cycle_deg, phases, note = recorded
-            cycle_stated = True
-            notes.append(note)
     x_tol = chain.graph.join_tol if len(curve.pieces) > 1 else 0.0
+    record = _drawing_record(drawing, curve, notes)
+    if record is not None and not cycle_stated and phases is None:
+        cycle_deg, cycle_stated = record.cycle_deg, True    # the law camcad wrote covers the cycle it recorded
     try:
         return _build(path, curve.points, cycle_deg, lift, phases, x_deg, notes, where=f"{path}, {curve.label}",
                       curve=curve, drawing=drawing, candidates=chain.candidates, y0=baseline.y0, x0=baseline.x0,
-                      x_tol=x_tol, cycle_stated=cycle_stated, baseline=baseline)
+                      x_tol=x_tol, cycle_stated=cycle_stated, baseline=baseline, record=record)
     except CamcadError as err:
         if not chain.gap_fix:
             raise
         # the law read is only part of the drawn one: the gap is the likelier cause than what went wrong
         raise CamcadError(err.what, err.where, chain.gap_fix) from None
-
-
-def _recorded_phases(drawing: Drawing, curve: Curve, cycle_deg: float | None):
-    """(cycle_deg, phases, note) from the phase record camcad keeps on the law's curve (``camcad.io.phase_record``),
-    or None when the curve has none, or its cycle differs from the one the user stated."""
-    entities = [e for e in curve_entities(drawing.doc, curve) if e is not None]
-    found = read_phase_record(entities[0]) if len(entities) == 1 else None
-    if found is None:
-        return None
-    cycle, rows = found
-    if cycle_deg is not None and abs(cycle - cycle_deg) > 1e-9 * cycle:
-        return None
-    phases = tuple(Phase(kind, float(np.radians(start)), float(np.radians(end)), s_end, float(np.degrees(v_end)))
-                   for kind, start, end, s_end, v_end in rows)
-    stated = sum(p.states_end for p in phases)
-    note = (f"{len(phases)} phases read from the drawing's camcad record (cycle {cycle:g} deg"
-            + (f"; {stated} state their end position or velocity" if stated else "") + ")")
-    return cycle, phases, note
 
 
 def _pieces_text(pieces) -> str:
@@ -300,9 +307,55 @@ def _is_table(path: Path) -> bool:
     return b"SECTION" not in head and b"AutoCAD Binary DXF" not in head
 
 
+def _drawing_record(drawing: Drawing, curve: Curve, notes: list[str]) -> LawRecord | None:
+    """camcad's record on the law's entities (the first one that has it), with a note when the curve
+    differs from the one camcad wrote; None when there is none (or it cannot be read: a note says so)."""
+    for entity in curve_entities(drawing.doc, curve):
+        if entity is None:
+            continue
+        try:
+            record = record_of_entity(entity)
+        except ValueError as err:
+            notes.append(f"camcad's record on {entity.dxftype()} {entity.dxf.get('handle', '?')} cannot be "
+                         f"read ({err}); ignored")
+            return None
+        if record is None:
+            continue
+        if record.vertices is not None and (record.vertices != len(curve.points) or (
+                record.digest is not None and record.digest != vertex_digest(curve.points))):
+            notes.append(f"the curve was changed after {record.writer} wrote it ({len(curve.points)} vertices, "
+                         f"{record.vertices} written): its recorded phases are still used; check them or give "
+                         "--phases")
+        return record
+    return None
+
+
+def _record_phases(record: LawRecord | None, phases, cycle_deg: float, notes: list[str], where: str):
+    """(phases to use, taken from the record?) — the given phases first, then the record's."""
+    if record is None:
+        return phases, False
+    if phases:
+        notes.append(f"the phases recorded by {record.writer} ({record.phases}) are overridden by the phases given")
+        return phases, False
+    if abs(record.cycle_deg - cycle_deg) > 1e-9 * cycle_deg:
+        notes.append(f"the phases recorded by {record.writer} are for a cycle of {record.cycle_deg:g} deg, not "
+                     f"{cycle_deg:g}: ignored, the phases are detected")
+        return phases, False
+    try:
+        restored = parse_phases(record.phases, cycle_deg, where=f"{where} (camcad's record)")
+    except CamcadError as err:
+        notes.append(f"the phases recorded by {record.writer} cannot be used ({err.what}): the phases are detected")
+        return phases, False
+    notes.append(f"phases restored from camcad's record in the file ({record.writer}): {record.phases}")
+    return restored, True
+
+
 def _from_table(path: Path, cycle_deg: float, lift: float | None, phases, y0: float | None = None,
-                x0: float | None = None) -> LoadedLaw:
+                x0: float | None = None, follower: ProfileFollower | None = None, smoothing: float | None = None,
+                accel_smoothing: str | float = "gcv") -> LoadedLaw:
     table = read_table(path)
+    if table.kind != "acceleration":
+        return _from_motion_table(path, table, cycle_deg, lift, phases, follower, smoothing, accel_smoothing)
     theta, accel = table.theta_deg, table.accel
     notes = list(table.notes)
     where = str(path)
@@ -335,14 +388,45 @@ def _from_table(path: Path, cycle_deg: float, lift: float | None, phases, y0: fl
     if y0 is not None:
         points[:, 1] += y0  # _build takes the zero off again, so a_to_y gives the table's own values back
     loaded = _build(path, points, cycle_deg, lift, phases, True, notes, where=where, x0=0.0, cycle_stated=True,
-                    y0=float(y0 or 0.0))
+                    y0=float(y0 or 0.0), record=table.record)
     return replace(loaded, table=table, source=f"table {path.name}, {len(theta)} rows")
+
+
+def _from_motion_table(path: Path, table: Table, cycle_deg: float, lift: float | None, phases,
+                       follower: ProfileFollower | None, smoothing: float | None,
+                       accel_smoothing: str | float) -> LoadedLaw:
+    """A displacement, swing or radius-vector table → the smoothed, balanced law (camcad.law.motion_table)."""
+    where = str(path)
+    notes = list(table.notes)
+    theta, values = table.theta_deg, table.values
+    unit = {"displacement": "mm", "swing_deg": "deg", "swing_rad": "rad", "radius": "mm"}[table.kind]
+    if table.kind == "radius":
+        if follower is None:
+            raise CamcadError("a table of radius-vectors (r_mm) needs its follower to become a motion", where,
+                              "name the follower: in a scene's [follower], or --follower roller|oscillating --rr R "
+                              "[--offset E] [--pivot C --arm L]")
+        theta, values, figures = radius_to_motion(theta, values, follower, cycle_deg, where=where)
+        unit = figures["unit"]
+        notes.append(f"radius-vectors turned into the motion of the {follower.describe()} (profile base radius "
+                     f"{figures['base_radius_mm']:.6g} mm); the motion is in {unit}")
+    stated = parse_phases(phases, cycle_deg) if isinstance(phases, str) else (tuple(phases) if phases else None)
+    record_phases, from_record = _record_phases(table.record, stated, cycle_deg, notes, where)
+    motion = motion_law(theta, values, cycle_deg, unit=unit, kind=table.kind, sigma=smoothing,
+                        accel_smoothing=accel_smoothing, phases=record_phases, where=where)
+    notes.extend(motion.notes)
+    points = np.column_stack((np.degrees(motion.x), motion.a))
+    loaded = _build(path, points, cycle_deg, lift, motion.phases, True, notes, where=where, x0=0.0,
+                    cycle_stated=True)
+    return replace(loaded, table=table, source=f"table {path.name}, {len(table.theta_deg)} rows of {table.kind}",
+                   motion=motion, unit=unit, record=table.record, phases_from_record=from_record,
+                   phases_given=stated is not None)
 
 
 def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None, phases, x_deg: bool,
            notes: list[str], where: str, curve: Curve | None = None, drawing: Drawing | None = None,
            candidates: int = 1, y0: float = 0.0, x0: float | None = None, x_tol: float = 0.0,
-           cycle_stated: bool = True, baseline: Baseline | None = None) -> LoadedLaw:
+           cycle_stated: bool = True, baseline: Baseline | None = None, record: LawRecord | None = None
+           ) -> LoadedLaw:
     """The law of a curve's points (drawing order): a = (y − y0)·scale, θ from x (see the module docstring)."""
     points = np.asarray(points, dtype=float)
     if not np.isfinite(points).all():
@@ -404,6 +488,10 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
         x_min, x_max = origin, x_end
     theta = (xk - x_min) / (x_max - x_min) * cycle
     theta[0], theta[-1] = 0.0, cycle
+    given = bool(phases)
+    if isinstance(phases, str):
+        phases = parse_phases(phases, cycle_deg)
+    phases, from_record = _record_phases(record, phases, cycle_deg, notes, where)
     if isinstance(phases, str):
         phase_tuple = parse_phases(phases, cycle_deg)
     elif phases:
@@ -433,10 +521,11 @@ def _build(path: Path, points: np.ndarray, cycle_deg: float, lift: float | None,
     if lift is None and drawing is not None and drawing.insunits in LENGTH_UNITS:
         unit, per_unit = LENGTH_UNITS[drawing.insunits]
     return LoadedLaw(law=law, path=path, source=source, notes=tuple(notes), y_scale=y_scale,
-                     x_min=x_min, x_max=x_max, phases_given=bool(phases),
+                     x_min=x_min, x_max=x_max, phases_given=given,
                      vertex_map=VertexMap(lo_law, hi_law, w_law), curve=curve, drawing=drawing,
                      candidates=candidates, y0=float(y0), baseline=baseline, length_unit=unit,
-                     mm_per_unit=per_unit)
+                     mm_per_unit=per_unit, record=record, phases_from_record=from_record,
+                     unit=record.unit if record is not None else None)
 
 
 def _drawn_dwells(baseline: Baseline | None, x_min: float, x_max: float,

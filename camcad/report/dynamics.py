@@ -200,7 +200,45 @@ def dynamics_figures(report) -> list[tuple[str, object]]:
     if len(run.sweep.speeds_rpm) > 1:
         figures.append(("dynamics_speed.png", plot_speed_sweep(run, title=f"{name}: against speed",
                                                                verdict=report.verdict)))
+    if run.beats is not None:
+        figures.append((f"harmonic_{run.beats.k}.png", plot_harmonic_beats(run.beats, run.phases, unit=unit,
+                                                                           title=name)))
     return figures
+
+
+def plot_harmonic_beats(beats, phases=(), *, unit: str = "mm", title: str = ""):
+    """The k-th harmonic of s (top) and of a (bottom) over the cycles drawn, with the follower's response to it
+    from rest: its beats with the free vibration (the batten study's Figs. 8–9). The motions of the law are
+    shaded in every cycle."""
+    fig, (top, bottom) = new_figure(11, 7, rows=2, sharex=True)
+    top.plot(beats.theta_deg, beats.s, color=COLOURS["original"], lw=1.0, label=f"harmonic {beats.k} of s")
+    top.plot(beats.theta_deg, beats.y, color=COLOURS["elastic"], lw=1.0, label="follower, from rest")
+    bottom.plot(beats.theta_deg, beats.a, color=COLOURS["original"], lw=1.0, label=f"harmonic {beats.k} of a")
+    bottom.plot(beats.theta_deg, beats.y_accel, color=COLOURS["elastic"], lw=1.0, label="follower, from rest")
+    span = float(beats.theta_deg[-1])
+    cycle = 360.0 if not phases else math.degrees(phases[-1].end)
+    for start in np.arange(0.0, span, cycle):
+        for phase in phases:
+            if phase.kind != "dwell":
+                for ax in (top, bottom):
+                    ax.axvspan(start + math.degrees(phase.start), start + math.degrees(phase.end),
+                               color=COLOURS[phase.kind], alpha=0.35, lw=0, zorder=0)
+    if math.isfinite(beats.beat_deg):
+        text = f"beat period {beats.beat_period_s:.3g} s = {beats.beat_deg:.4g} deg of cam angle"
+        if beats.decay_s < 0.5 * beats.beat_period_s:
+            text += (f"; the free vibration decays in {beats.decay_s:.2g} s, before a beat: the response settles at "
+                     f"{beats.steady_amplitude / max(beats.amplitude, 1e-300):.3g} x the harmonic")
+    else:
+        text = "exactly tuned: no beats, the response grows"
+    top.set_title(f"{title}: harmonic {beats.k} at {beats.rpm:g} rpm ({beats.forced_hz:.4g} Hz) against the free "
+                  f"vibration ({beats.free_hz:.4g} Hz)\n{text}", fontsize=9)
+    top.set_ylabel(f"s, {unit}")
+    bottom.set_ylabel(f"a, {unit}/s²")
+    bottom.set_xlabel("cam angle θ (deg, from the start); shaded: the motions")
+    for ax in (top, bottom):
+        ax.grid(color="0.9")
+        ax.legend(fontsize=8, loc="upper left")
+    return fig
 
 
 def plot_rebound(sweep, model, *, title: str = "", verdict=None):
@@ -381,6 +419,10 @@ def dynamics_lines(run) -> list[str]:
         lines.append(f"multi-mass model at {fmt(mm['rpm'])} rpm: elastic/rigid {fmt(mm['peak_accel_ratio'])}, dynamic "
                      f"error {fmt(mm[unit_key('dynamic_error_max_mm', unit)])} {unit}, cam speed "
                      f"{fmt(mm['cam_speed_range_rpm'][0])}…{fmt(mm['cam_speed_range_rpm'][1])} rpm")
+        if "motor_torque_mean_Nm" in mm:
+            lines.append(f"  driven by the motor's characteristic M0(n): mean torque {fmt(mm['motor_torque_mean_Nm'])} "
+                         f"N·m, speed fluctuation {fmt(100 * mm['speed_fluctuation'])} % (from "
+                         f"{fmt(mm['started_at_rpm'])} rpm)")
     for note in d.get("notes", []):
         lines.append(note_line(note))
     lines += verdict_lines(report.verdict, common_applies(report))

@@ -8,7 +8,7 @@ output folder as
   the axes (AXES), a mark and a label at every phase (PHASE_MARKS), the title (TEXT). The polyline is the
   closed form sampled until its chords are within ``tol`` of the peak acceleration, then balanced with the
   least change so that every phase ends where the law does (``camcad.balance.drawn``); the phases are kept in
-  the drawing (``camcad.io.phase_record``), so ``camcad check`` reads it back with them and ``camcad edit``
+  the drawing (``camcad.io.law_record``), so ``camcad check`` reads it back with them and ``camcad edit``
   opens it to go on by hand;
 - ``law.csv``: θ (deg), s (mm), v (mm/rad), a (mm/rad²), j (mm/rad³) every ``step`` degrees and at every phase
   boundary, from the closed form;

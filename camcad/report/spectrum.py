@@ -13,7 +13,7 @@ deviations in its thousandth (µm, mrad, mdeg), accelerations as analogs per rad
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -263,8 +263,10 @@ def write_spectrum(report, out, *, r12: bool = False, plots: bool = True) -> lis
         title = (f"camcad spectrum {result.name}: " + ("filtered" if outcome.filtered is not None else "")
                  + (" + lead-in" if outcome.lead_in is not None else "") + f" law, a ({unit}/rad^2) vs deg")
         outputs.append(write_law_dxf(out.path("filtered.dxf"), np.degrees(final.x), final.a, layer="ACCEL",
-                                     r12=r12, title=title))
-        outputs.append(write_law_csv(out.path("filtered.csv"), final.kinematics(final.x)))
+                                     r12=r12, title=title, record=result.record))
+        # a at the polyline's own ordinates: both values of a jump (kinematics gives the right-hand one twice)
+        rows = replace(final.kinematics(final.x), a=np.asarray(final.a))
+        outputs.append(write_law_csv(out.path("filtered.csv"), rows, record=result.record, unit=unit))
     if plots:
         name = result.name
         figures = [("spectrum.png", plot_spectrum(result.spectrum, band=result.resonance, filtered=result.after,

@@ -16,7 +16,8 @@ from pathlib import Path
 from camcad.errors import CamcadError, excerpt, nearest_name
 from camcad.scene.fields import parse_speeds
 
-MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact", "load", "export")
+MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact", "load", "export",
+                      "compare")
 #: [drive] (camcad.scene.sections.drive) is the camshaft's: one per scene, at the top level of a group scene too
 TOP_LEVEL = ("name", "description", "machine", "mechanisms", "cyclogram", "drive") + MECHANISM_SECTIONS
 MACHINE_KEYS = ("rpm",)

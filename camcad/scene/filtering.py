@@ -36,6 +36,7 @@ from camcad.fourier.export import ExportedLaw, export_polyline
 from camcad.fourier.filter import FilterResult, filter_law
 from camcad.fourier.leadin import LeadInResult, add_lead_in
 from camcad.fourier.resonance import resonant_harmonics
+from camcad.io.law_record import LawRecord
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 from camcad.scene.analysis_report import AnalysisReport
 from camcad.scene.sections.dynamics import parse_dynamics
@@ -234,6 +235,31 @@ def judge_filter(original: MotionLaw, outcome: FilterOutcome, settings: FilterSe
 # =============================================================================================
 # Step 3 of the pipeline
 # =============================================================================================
+
+def written_record(original: MotionLaw, outcome: FilterOutcome, settings: FilterSettings, unit: str = "mm",
+                   writer: str = "camcad spectrum --filter", lift: float | None = None) -> LawRecord:
+    """camcad's record of the written law (``camcad.io.law_record``): its phases, and the rule it was judged
+    by here, so ``camcad check`` of the written file judges it the same way. A law that passes the balance
+    conditions with its phases (a lead-in law, exact dwells) keeps the "balance" rule; a filtered law, whose
+    dwells keep the filter's small residue, the "closure" rule with this run's dwell tolerance and each
+    dwell's level (the original's s there, from rest at s = 0). ``lift``: the lift the limits were taken
+    from (``WrittenFigures.lift``; default: the original's stroke on 4097 samples)."""
+    final = outcome.law
+    if lift is None:
+        lift = float(np.ptp(original.kinematics(np.linspace(0.0, original.cycle, 4097)).s))
+    balanced = (outcome.lead_in.balanced if outcome.lead_in is not None
+                else outcome.exported is not None and outcome.exported.balanced_with_phases)
+    extra = {"removed": list(outcome.filtered.band.removed)} if outcome.filtered is not None else {}
+    if balanced:
+        return LawRecord.for_law(final, writer, unit=unit, basis="balance", tol=settings.closure_tol, lift=lift,
+                                 extra=extra)
+    zero = float(original.kinematics(np.zeros(1)).s[0])
+    levels = tuple(float(original.kinematics(np.array([(p.start + p.end) / 2.0])).s[0]) - zero
+                   for p in final.phases if p.kind == "dwell")
+    dwell_tol = settings.dwell_tol_mm if settings.dwell_tol_mm is not None else DEFAULT_DWELL_TOL_FRACTION * lift
+    return LawRecord.for_law(final, writer, unit=unit, basis="closure", tol=settings.closure_tol, lift=lift,
+                             dwell_tol=dwell_tol, dwell_levels=levels, extra=extra)
+
 
 @dataclass(frozen=True)
 class FilterStep:

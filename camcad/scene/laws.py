@@ -23,6 +23,7 @@ from camcad.law.source import load_law
 from camcad.law.standard import compose
 from camcad.scene.analysis_report import PhaseAngles
 from camcad.scene.file import Mechanism, Scene
+from camcad.scene.sections.follower import profile_follower
 from camcad.scene.sections.law import LawSpec, parse_law
 
 
@@ -38,8 +39,9 @@ class BuiltLaw:
     extra: dict = field(default_factory=dict)
 
 
-def build_law(spec: LawSpec) -> BuiltLaw:
-    """The law of a scene: composed from standard shapes, or read (and balanced when asked) from a file."""
+def build_law(spec: LawSpec, follower_table=None, follower_where: str = "[follower]") -> BuiltLaw:
+    """The law of a scene: composed from standard shapes or segments, or read (and balanced when asked) from a
+    file; a radius-vector table through the scene's [follower] (``follower_table``)."""
     if spec.segments is not None:
         segment_law = solve_segments(spec.segments, spec.cycle, f"{spec.where} segments")
         classes = ", ".join(sorted({j.class_ for j in segment_law.joints}))
@@ -57,7 +59,9 @@ def build_law(spec: LawSpec) -> BuiltLaw:
         return BuiltLaw(law, (f"standard law {name}, lift {spec.lift:g}, phases {spec.phases}",))
     loaded = load_law(cast(Path, spec.file), layer=spec.layer, handle=spec.handle,
                       cycle_deg=spec.cycle if spec.cycle_stated else None, lift=spec.lift,
-                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0)
+                      phases=spec.phases, x_deg=spec.x_deg, y0=spec.y0, x0=spec.x0,
+                      follower=profile_follower(follower_table, follower_where), smoothing=spec.smoothing_error,
+                      accel_smoothing=spec.accel_smoothing)
     report = check(loaded.law, spec.tol)
     notes = [loaded.source, *loaded.notes]
     if loaded.mm_per_unit != 1.0:   # a drawing in inches or centimetres: its lengths become mm here
@@ -85,7 +89,7 @@ def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
         raise CamcadError("missing [law] section", mech.where(scene.path, "law")[:-len("law]")] + "]",
                           "add [law] with standard, phases and lift (or file)")
     spec = parse_law(mech.sections["law"], mech.where(scene.path, "law"), scene.base_dir)
-    built = build_law(spec)
+    built = build_law(spec, mech.sections.get("follower"), mech.where(scene.path, "follower"))
     if phases is None:
         scene.built_laws[mech.name] = built
         return built

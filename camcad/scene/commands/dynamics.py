@@ -6,8 +6,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any, cast
+from typing import Any
 
+from camcad.dynamics.beats import harmonic_beats
+from camcad.dynamics.compare import compare_laws
 from camcad.dynamics.model import ElasticFollower, damping_ratio_from_psi
 from camcad.dynamics.runs import run_dynamics
 from camcad.errors import CamcadError
@@ -15,10 +17,9 @@ from camcad.law.source import load_law
 from camcad.scene.analysis_report import AnalysisReport
 from camcad.scene.commands.source import AnalysisSource, require_file, resolve_source
 from camcad.scene.fields import read_table
-from camcad.scene.file import Mechanism, Scene
-from camcad.scene.laws import mechanism_law
 from camcad.scene.pipeline import DynamicsExtras
 from camcad.scene.sections.dynamics import DYNAMICS_FIELDS, DynamicsSettings, check_settings
+from camcad.scene.sections.follower import profile_follower
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,7 @@ class DynamicsRequest:
     max_ratio: float | None = None
     max_error: float | None = None
     max_residual: float | None = None
+    harmonic: int | None = None
 
 
 #: command-line option → [dynamics] field (validated by the field's type and range)
@@ -146,22 +148,50 @@ def run_dynamics_report(request: DynamicsRequest, source: AnalysisSource | None 
     lead = lead_in_option(request.lead_in)
     if src.scene is not None and src.mechanism is not None:
         src = scene_overrides(src, given)
-        scene, mech = cast(Scene, src.scene), cast(Mechanism, src.mechanism)   # with_overrides keeps both
-        cycle = mechanism_law(scene, mech).law.cycle
-    else:
-        cycle = src.law.cycle
-    other = None
-    if request.compare is not None:
-        other = load_law(require_file(request.compare, "law file"), cycle_deg=math.degrees(cycle)).law
-    compare_name = str(request.compare) if request.compare is not None else ""
-    if src.scene is not None:
-        extras = DynamicsExtras(lead, other, compare_name, progress)
-        run = src.machine(("dynamics",), dynamics_extras=extras).dynamics
-        if run is None:
+        found = src.machine(("dynamics",), dynamics_extras=DynamicsExtras(lead, progress=progress)).dynamics
+        if found is None:
             raise CamcadError("the dynamics did not run", src.where, "give the scene a [machine] rpm or pass --rpm")
+        run = found
     else:
         settings = file_settings(given, src.unit)
         applies = src.angles.describe() if src.angles is not None else ""
-        run = run_dynamics(src.law, settings, speeds, progress=progress, lead_in=lead, compare=other,
-                           compare_name=compare_name, applies=applies)
+        run = run_dynamics(src.law, settings, speeds, progress=progress, lead_in=lead, applies=applies)
+    law, settings = src.law, run.settings
+    if request.compare is not None and "start_load" in run.report:
+        run.report["compare"] = compared_with(law, run, request.compare, src, settings, speeds)
+    harmonic = request.harmonic if request.harmonic is not None else settings.harmonic_plot
+    if harmonic is not None:
+        run = replace(run, beats=harmonic_beats(law, settings.follower, max(float(v) for v in speeds), harmonic))
+        run.report["harmonic"] = beats_summary(run.beats, settings)
     return AnalysisReport("dynamics", run.report, run.verdict, src.summary(), run)
+
+
+def beats_summary(beats, settings) -> dict:
+    """The figures of one harmonic and its beats with the free vibration (``camcad.dynamics.beats``)."""
+    unit = settings.output_unit
+    out = {"k": beats.k, "rpm": beats.rpm, f"amplitude_{unit}": beats.amplitude, "phase_deg": beats.phase_deg,
+           "forced_hz": beats.forced_hz, "free_hz": beats.free_hz, "beat_period_s": beats.beat_period_s,
+           "beat_period_deg": beats.beat_deg, f"steady_amplitude_{unit}": beats.steady_amplitude,
+           "free_vibration_decay_s": beats.decay_s}
+    if not settings.follower.constant_stiffness:
+        out["note"] = "drawn with the nominal stiffness (the stiffness variation is left out of this plot)"
+    return out
+
+
+def compared_with(law, run, path, src: AnalysisSource, settings, speeds) -> dict:
+    """``dynamics --compare LAW``: ``camcad compare``'s kernel on this law (A) and the one named (B), read as
+    ``camcad compare`` reads it (its recorded phases, the scene's [follower] for a radius table), with the
+    start-of-motion loads of B and this law's over B's (``reduction``) phase by phase."""
+    follower = None
+    if src.section("follower") is not None:
+        follower = profile_follower(src.section("follower"), src.section_where("follower"))
+    loaded = load_law(require_file(path, "law file"), cycle_deg=math.degrees(law.cycle), follower=follower)
+    other = run_dynamics(loaded.law, settings, speeds)
+    comparison = compare_laws(law, loaded.law, speeds, settings=settings, unit=settings.output_unit,
+                              runs=(run, other))
+    fastest = max(float(s) for s in speeds)
+    pairs = [f for f in comparison.figures if f.name == "start_load"]
+    return {"law": str(path), "rpm": fastest, "phases_read": [p.as_deg() for p in loaded.law.phases],
+            "notes": [loaded.source, *loaded.notes],
+            "phases": other.report.get("start_load", {}).get("phases", []),
+            "reduction": [f.ratio for f in pairs], "side_by_side": comparison.to_dict()}

@@ -281,7 +281,9 @@ def resolve_source(request: LawRequest, *, allow_scene: bool = True, scene_only:
         raise CamcadError("no law given", "command line", "give a scene, a law file, or --standard NAME")
     loaded = load_law(source, layer=request.layer, handle=request.handle, cycle_deg=request.cycle, lift=request.lift,
                       phases=request.phases, x_deg=request.x_deg)
-    note = "given with --phases" if request.phases is not None else "detected from the law"
+    note = ("given with --phases" if request.phases is not None else "restored from camcad's record in the file"
+            if loaded.phases_from_record else "detected from the law")
+    unit = request.unit or loaded.unit or "mm"   # a swing table, or camcad's record, says its unit
     return AnalysisSource(loaded.law, source.stem, str(source), [loaded.source, *loaded.notes], loaded=loaded,
                           unit=unit, angles=PhaseAngles.of_law(loaded.law, note=note), speeds=speeds,
                           inputs=[source])

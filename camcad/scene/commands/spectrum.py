@@ -11,15 +11,23 @@ from typing import Any, cast
 import numpy as np
 
 from camcad import fourier
-from camcad.balance.checking import check
+from camcad.balance.checking import check, check_recorded
 from camcad.dynamics.model import unit_key
 from camcad.errors import CamcadError
 from camcad.fourier.series import Spectrum
+from camcad.io.law_record import LawRecord
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.scene.analysis_report import AnalysisReport
 from camcad.scene.commands.source import AnalysisSource, resolve_source
 from camcad.scene.fields import parse_rpm, read_table
-from camcad.scene.filtering import FilterOutcome, WrittenFigures, apply_filter, filter_body, judge_filter
+from camcad.scene.filtering import (
+    FilterOutcome,
+    WrittenFigures,
+    apply_filter,
+    filter_body,
+    judge_filter,
+    written_record,
+)
 from camcad.scene.sections.dynamics import parse_dynamics
 from camcad.scene.sections.filter import (
     DEFAULT_CLOSURE_TOL,
@@ -95,10 +103,12 @@ def _check_spectrum_options(request: SpectrumRequest) -> None:
                           "give the RMS tolerance in the law's unit, e.g. 0.001")
 
 
-def _is_balanced(law, lift: float) -> tuple[bool, str]:
-    """(balanced, figures) — ``camcad check`` for a drawn law; closure of s and v for any other law."""
+def _is_balanced(law, lift: float, loaded=None) -> tuple[bool, str]:
+    """(balanced, figures) — ``camcad check`` for a drawn law (by the rule camcad recorded in the file when
+    its phases came from there: a filtered or synthesised law); closure of s and v for any other law."""
     if isinstance(law, PiecewiseLinearLaw):
-        report = check(law)
+        recorded = loaded is not None and loaded.record is not None and loaded.phases_from_record
+        report = check_recorded(law, loaded.record) if recorded else check(law)
         if report.balanced:
             return True, ""
         closures = report.velocity_closure
@@ -126,6 +136,7 @@ class SpectrumResult:
     listed: int
     after: Any = None
     figures: WrittenFigures | None = None
+    record: LawRecord | None = None
 
 
 def run_spectrum(request: SpectrumRequest, source: AnalysisSource | None = None):
@@ -225,11 +236,11 @@ def run_spectrum(request: SpectrumRequest, source: AnalysisSource | None = None)
         body["resonance"] = {"fn_hz": resonance.fn_hz, "rpm": list(resonance.rpm), "band": resonance.band,
                              "k_band": [resonance.k_low, resonance.k_high], "resonant": list(resonance.core),
                              "neighbours": resonance.neighbours, "to_remove": list(resonance.removed)}
-    outcome = figures = after = None
+    outcome = figures = after = record = None
     verdict = Verdict()
     applies = src.angles.describe() if src.angles is not None else ""
     if wants_filter or settings.lead_in_deg is not None:
-        balanced, why = _is_balanced(law, lift)
+        balanced, why = _is_balanced(law, lift, src.loaded if src.law is law else None)
         if not balanced and not request.force:
             raise CamcadError(f"the law is not balanced ({why}): its filtered law would hide the break", src.where,
                               "fix it first with camcad fix, or pass --force")
@@ -243,8 +254,11 @@ def run_spectrum(request: SpectrumRequest, source: AnalysisSource | None = None)
         body.update(filter_body(outcome, figures, unit))
         if outcome.filtered is not None:
             after = fourier.analyse(outcome.filtered.law, len(result.coefficients))
+        record = written_record(law, outcome, filter_settings, unit,
+                                "camcad spectrum --filter" if wants_filter else "camcad spectrum --lead-in",
+                                figures.lift)
     spectrum_result = SpectrumResult(law, result, resonance, outcome, rms, max_err, tol, unit, src.name,
-                                     settings.harmonics, after, figures)
+                                     settings.harmonics, after, figures, record)
     summary = src.summary()
     summary["notes"] = notes
     return AnalysisReport("spectrum", body, verdict, summary, spectrum_result)

@@ -35,6 +35,12 @@ DYNAMICS_FIELDS = [
     Field("cam_inertia_kg_m2", "float", "kg·m²", positive=True, help="J1 (multi-mass model)"),
     Field("shaft_stiffness_N_m_per_rad", "float", "N·m/rad", positive=True,
           help="c1 between flywheel and cam (multi-mass model; omit for a rigid shaft)"),
+    Field("drive", "str", "", default="speed", choices=("speed", "motor"),
+          help="the multi-mass model's drive: speed (the flywheel at the machine's speed) or motor (motor_torque)"),
+    Field("motor_torque", "list", "[rpm, N·m]",
+          help="the motor's static characteristic M0(n) as [[rpm, torque_Nm], ...] (drive = \"motor\")"),
+    Field("harmonic_plot", "int", "", minimum=1, maximum=1024,
+          help="draw this harmonic of s and a over the cycle and its beats with the free vibration"),
     Field("allowed_peak_accel_ratio", "float", "", positive=True),
     Field("allowed_dynamic_error_mm", "float", "mm", positive=True),
     Field("allowed_residual_mm", "float", "mm", positive=True),
@@ -65,6 +71,8 @@ class DynamicsSettings:
     rtol: float = 1e-8
     samples: int = DEFAULT_SAMPLES
     where: str = "[dynamics]"   # the section in its file, for errors found when the model runs
+    motor_torque: tuple[tuple[float, float], ...] | None = None   # (rpm, N·m): drive = "motor"
+    harmonic_plot: int | None = None
 
     @property
     def has_multimass(self) -> bool:
@@ -107,11 +115,35 @@ def parse_dynamics(table: Any, where: str, cycle_deg: float = 360.0) -> Dynamics
                           where, "give both (and shaft_stiffness_N_m_per_rad for an elastic shaft), or neither")
     if values["flywheel_inertia_kg_m2"] is not None and mass is None:
         raise CamcadError("the multi-mass model needs the driven mass", where, "add mass_kg = ...")
+    motor = _motor(values["drive"], values["motor_torque"], where)
+    if motor is not None and values["flywheel_inertia_kg_m2"] is None:
+        raise CamcadError("a motor drive turns the flywheel of the multi-mass model", where,
+                          "give flywheel_inertia_kg_m2 and cam_inertia_kg_m2 (and mass_kg)")
     return check_settings(DynamicsSettings(
         follower, values["output_unit"], values["start_pulse_ratio"], values["flywheel_inertia_kg_m2"],
         values["cam_inertia_kg_m2"], shaft, values["allowed_peak_accel_ratio"], values["allowed_dynamic_error_mm"],
-        values["allowed_residual_mm"], values["method"], values["solver"], values["rtol"], values["samples"], where),
-        where)
+        values["allowed_residual_mm"], values["method"], values["solver"], values["rtol"], values["samples"], where,
+        motor, values["harmonic_plot"]), where)
+
+
+def _motor(drive: str, table, where: str) -> tuple[tuple[float, float], ...] | None:
+    """The motor characteristic of ``drive = "motor"``: (rpm, N·m) pairs, rpm increasing, torque finite."""
+    fix = 'write motor_torque = [[0, 450.0], [400, 320.0], [430, 0.0]] (rpm, N m) with drive = "motor"'
+    if drive == "speed":
+        if table is not None:
+            raise CamcadError("motor_torque is given but drive is \"speed\"", where, 'set drive = "motor"')
+        return None
+    if table is None:
+        raise CamcadError("drive = \"motor\" needs the motor's characteristic", where, fix)
+    try:
+        pairs = np.asarray(table, dtype=float)
+    except (TypeError, ValueError):
+        raise CamcadError("motor_torque must be a list of [rpm, N m] pairs", where, fix) from None
+    if pairs.ndim != 2 or pairs.shape[1] != 2 or len(pairs) < 2 or not np.isfinite(pairs).all():
+        raise CamcadError("motor_torque must be a list of two or more [rpm, N m] pairs", where, fix)
+    if np.any(np.diff(pairs[:, 0]) <= 0) or pairs[0, 0] < 0:
+        raise CamcadError("motor_torque speeds must start at 0 or more and increase", where, fix)
+    return tuple((float(a), float(b)) for a, b in pairs)
 
 
 def check_settings(settings: DynamicsSettings, where: str) -> DynamicsSettings:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from camcad.errors import CamcadError
+from camcad.law.motion_table import ProfileFollower
 from camcad.profile import defaults
 from camcad.profile.followers import FOLLOWER_KINDS, Follower
 from camcad.scene.fields import Field, read_table
@@ -120,3 +121,17 @@ def _limit(value: float | None) -> float | None:
     if value is None or value <= 0.0 or value >= 90.0:
         return None
     return value
+
+
+def profile_follower(table, where: str) -> ProfileFollower | None:
+    """The follower of a scene's [follower] table as a radius-vector table needs it (kind, roller, offset,
+    pivot, arm, turn), or None without a table."""
+    if not isinstance(table, dict):
+        return None
+    values = read_table(table, FOLLOWER_FIELDS, where)
+    kind = "oscillating" if values["type"] == "oscillating" else "translating"
+    if values["type"] == "flat":
+        raise CamcadError("a radius-vector table needs a roller follower (a flat face touches the profile "
+                          "elsewhere)", where, "give type = \"roller\", \"knife\" or \"oscillating\"")
+    return ProfileFollower(kind, float(values["roller_radius"] or 0.0), float(values["offset"]), values["pivot"],
+                           values["arm"], bool(values["cw"]))

@@ -16,6 +16,11 @@ Keys (angles deg, lengths mm):
     segments         [[law.segments]] tables: a law designed from segments (camcad.law.segments), each with
                      to_deg, shape, to_mm and optional v_end, a_end, j_end ("match" or a number per deg) and
                      lambda; the first starts at 0 deg and 0 mm, the last ends at ``cycle``
+    smoothing_error  a motion table's measurement error (its unit): the quintic spline's smoothing; absent:
+                     generalised cross-validation (camcad.law.motion_table)
+    accel_smoothing  "gcv" (default) or "none": the cubic re-smoothing of a motion table's second derivative;
+    accel_smoothing_error  its stated error instead (unit per rad^2)
+A table of radius-vectors (``theta_deg,r_mm``) becomes a motion through the scene's [follower].
 """
 
 from __future__ import annotations
@@ -73,6 +78,12 @@ def law_fields() -> list[Field]:
         Field("law_of", "str", choices=("follower", "output"), default="follower",
               help="(what the law describes: the follower, or the working member after the [linkage])"),
         Field("segments", "list", help="(a law designed from [[law.segments]] tables: see [law.segments])"),
+        Field("smoothing_error", "float", "the table's unit", positive=True,
+              help="(a motion table's measurement error; absent: smoothing by generalised cross-validation)"),
+        Field("accel_smoothing", "str", choices=("gcv", "none"), default="gcv",
+              help="(a motion table's second derivative smoothed again by a cubic spline, or not)"),
+        Field("accel_smoothing_error", "float", "the table's unit per rad^2", positive=True,
+              help="(the stated error of the second derivative, instead of gcv)"),
     ]
 
 
@@ -97,6 +108,8 @@ class LawSpec:
     tol: float = 1e-5
     law_of: str = "follower"
     segments: tuple[SegmentSpec, ...] | None = None
+    smoothing_error: float | None = None
+    accel_smoothing: str | float = "gcv"
 
 
 def parse_segments_table(items, where: str) -> tuple[SegmentSpec, ...]:
@@ -173,7 +186,9 @@ def parse_law(table: dict, where: str, base_dir: Path) -> LawSpec:
                    phases=values["phases"], lift=values["lift"], file=file, layer=values["layer"],
                    handle=values["handle"], y0=values["y0"], x0=values["x0"], cycle=values["cycle"],
                    cycle_stated="cycle" in table, x_deg=values["x_deg"], fix=values["fix"], tol=values["tol"],
-                   law_of=values["law_of"])
+                   law_of=values["law_of"], smoothing_error=values["smoothing_error"],
+                   accel_smoothing=(values["accel_smoothing_error"] if values["accel_smoothing_error"] is not None
+                                    else values["accel_smoothing"]))
 
 
 def _as_shown(path: Path) -> Path:
