@@ -16,7 +16,7 @@ import pytest
 import camcad
 from camcad.scene.file import read_scene
 from camcad.scene.laws import mechanism_law
-from tests.conftest import SAMPLES
+from conftest import SAMPLES
 
 SCENE = SAMPLES / "scenes" / "batten_study.toml"
 SWING = 0.421

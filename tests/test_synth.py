@@ -16,7 +16,7 @@ from scipy.integrate import quad
 import camcad
 from camcad.fourier.synth import full_database, numeric_pattern, tachogram_phases
 from camcad.law.standard import SHAPES
-from tests.conftest import SAMPLES
+from conftest import SAMPLES
 
 
 @pytest.mark.reference("second method", "the cycloidal pattern in closed form (MotionPattern) against quadrature")
