@@ -59,14 +59,15 @@ def edit(law_file: SourceArg = None,
                            (source.loaded.path if source.loaded is not None else None),
                            tol=tol, notes=source.notes, step_deg=step)
     outcome = run_editor(session, script=script, output=output, web=web, port=port, open_browser=not no_browser,
-                         announce=lambda text: typer.echo(text, err=as_json))
+                         announce=lambda text: typer.echo(text, err=as_json),
+                         inputs=source.scene.input_files() if source.scene is not None else ())
     payload = outcome.payload
     if as_json:
         print_json(payload)
     else:
         out = console()
-        verdict = "[green]the profile closes[/green]" if payload["balanced"] else \
-            f"[red]the profile does not close[/red] (gap {payload['displacement_closure']:.3g} mm)"
+        verdict = "the profile closes" if payload["balanced"] else \
+            f"the profile does not close (gap {payload['displacement_closure']:.3g} mm)"
         out.print(f"{payload['operations']} operations applied; {verdict}; max change {payload['max_change']:.4g}, "
                   f"RMS change {payload['rms_change']:.4g} (input y units)")
         for path in payload["outputs"]:

@@ -87,8 +87,7 @@ def sweep(
     stem = Path(name).stem if scene is not None else "default"
     folder = output if output is not None else Path("camcad-out") / f"{safe_name(stem)}-sweep"
     with OutputFolder(folder, inputs) as out:
-        for name_out in OUTPUT_NAMES:  # an output that would replace an input is refused before any work
-            out.path(name_out)
+        out.plan(OUTPUT_FILES, folders=OUTPUT_FOLDERS)  # a clash with an input is refused before any work
         if resume and chunk is None:
             found = store.read_manifest(out.folder)
             if found is not None:
@@ -136,8 +135,9 @@ def sweep(
     raise typer.Exit(0 if counts["feasible"] else 1)
 
 
-#: every name the sweep writes into its folder
-OUTPUT_NAMES = ("sweep.json", "results", "report.json", "best.toml", "best", "region.png", "pareto.png", "pareto.csv")
+#: every file the sweep writes into its folder, and the folders it fills
+OUTPUT_FILES = ("sweep.json", "report.json", "best.toml", "region.png", "pareto.png", "pareto.csv")
+OUTPUT_FOLDERS = ("results", "best")
 
 
 def _space(plan):

@@ -21,7 +21,7 @@ import numpy as np
 
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
-from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.io.output_folder import OutputFolder, distinct_names, safe_name
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -43,7 +43,17 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     say = progress or (lambda _text: None)
     folder = options.output if options.output is not None else default_folder(result.scene.name)
     outputs: list[Path] = []
-    with OutputFolder(folder, result.scene.input_files()) as out:
+    if result.group:   # each mechanism's own subfolder: "lift 1" and "lift_1" would share one
+        distinct_names(result.runs, "mechanisms", str(result.scene.path))
+    cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
+    with OutputFolder(folder, [(p, "an input of the scene") for p in result.scene.input_files()]) as out:
+        # every file of the run, checked as a set before any is written (the plots are drawn in other processes)
+        planned = [(name, (name,) if result.group else (), file) for name, run in result.runs.items()
+                   for file in _data_files(run) + (MECHANISM_PLOT_FILES if options.plots else ())]
+        planned += [(CYCLOGRAM_JOB, (), file) for file in (CYCLOGRAM_PLOT_FILES if cyclogram_plots else ())]
+        planned.append(("", (), "report.json"))
+        out.plan([(*sub, file) for _, sub, file in planned],
+                 [f"{file} of {name}" if name else file for name, _, file in planned])
         written: dict[str, list[Path]] = {}
         jobs = []
         for name, run in result.runs.items():
@@ -52,13 +62,8 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             written[name] = _write_data(run, out, sub, options)
             target = result.report["mechanisms"][name] if result.group else result.report
             if options.plots:
-                for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
-                    out.path(*sub, file)
                 jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
-        cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
         if cyclogram_plots:
-            for file in CYCLOGRAM_PLOT_FILES:
-                out.path(file)
             jobs.append((CYCLOGRAM_JOB, result.scene, out.folder, (), result.report["cyclogram"]))
         drawn: list[Path] = []
         if jobs:
@@ -128,6 +133,11 @@ def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOpt
     ['law.csv', 'profile.dxf', 'report.json']
     """
     return write_scene(analyse_scene(source, options, progress), options, progress)
+
+
+def _data_files(run: MechanismRun) -> tuple[str, ...]:
+    """The data files ``_write_data`` writes for a mechanism."""
+    return ("profile.dxf", "law.csv") if run.profile is not None else ("law.csv",)
 
 
 def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions) -> list[Path]:
