@@ -22,6 +22,7 @@ import numpy as np
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, distinct_names, safe_name
+from camcad.io.worker import init_worker
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -227,7 +228,8 @@ def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
     # MechanismRun.memo holds the pipeline's solved limits: not needed to draw, and not worth pickling
     light = [(name, run if name == CYCLOGRAM_JOB else _without_memo(run), folder, plots, report)
              for name, run, folder, plots, report in jobs]
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork")) as pool:
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                             initializer=init_worker, initargs=(os.getpid(),)) as pool:
         return list(pool.map(_plot_job, light))
 
 
