@@ -1,36 +1,56 @@
 """The editor in a browser: the view's figure served through matplotlib's WebAgg protocol by a small
-tornado application bound to 127.0.0.1 only.
+tornado application bound to 127.0.0.1 only, answering only the user who started it.
 
 The page holds matplotlib's own canvas (``mpl.js``: mouse and key events go to the server, PNG frames
 come back) and a live panel: during a drag the server sends only the numbers (a ``camcad`` message:
-closures, areas, the readout), and the figure is redrawn in full on release. Requests whose Host header
-is not this server's loopback address are refused (a page on another site cannot drive the editor
-through DNS rebinding), and the websocket accepts only its own origin (tornado's default).
+closures, areas, the readout), and the figure is redrawn in full on release.
+
+Who may drive it:
+
+- **A token.** The URL the command prints (and opens) carries a random token as its first path part
+  (``http://127.0.0.1:PORT/TOKEN/``, 192 bits from ``secrets``); every HTTP request and the websocket must
+  carry it (compared in constant time), anything else gets HTTP 403. Another process on the machine can
+  reach the port but not the token.
+- **The host and origin.** Requests whose Host header is not this server's loopback address are refused
+  (a page on another site cannot drive the editor through DNS rebinding), and the websocket accepts only
+  its own origin (tornado's default).
+- **Checked messages.** Every websocket message is checked (``camcad.edit.messages``: known types, fields
+  of the right type and in range, a device pixel ratio of 0 refused) before matplotlib sees it; a refused
+  message, or one whose handling fails anyway, is reported on the page and changes nothing; the figure is
+  put back in a state it can draw and the session's edits are untouched, so they can still be saved.
+  Nothing is printed on the terminal.
 """
 
 from __future__ import annotations
 
 import asyncio
 import errno
+import hmac
 import json
+import math
+import secrets
 import threading
 from io import BytesIO
 from pathlib import Path
 
+from camcad.edit.messages import MAX_MESSAGE_BYTES, BadMessage, parse_message
 from camcad.errors import CamcadError
 
 ADDRESS = "127.0.0.1"
+#: image formats the page may download
+DOWNLOAD_FORMATS = ("png", "svg", "pdf")
 
 _PAGE = """<!DOCTYPE html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
-<link rel="stylesheet" href="/_static/css/page.css" type="text/css">
-<link rel="stylesheet" href="/_static/css/boilerplate.css" type="text/css">
-<link rel="stylesheet" href="/_static/css/fbm.css" type="text/css">
-<link rel="stylesheet" href="/_static/css/mpl.css" type="text/css">
-<script src="/_static/js/mpl_tornado.js"></script>
-<script src="/mpl.js"></script>
+<link rel="icon" href="favicon.ico">
+<link rel="stylesheet" href="_static/css/page.css" type="text/css">
+<link rel="stylesheet" href="_static/css/boilerplate.css" type="text/css">
+<link rel="stylesheet" href="_static/css/fbm.css" type="text/css">
+<link rel="stylesheet" href="_static/css/mpl.css" type="text/css">
+<script src="_static/js/mpl_tornado.js"></script>
+<script src="mpl.js"></script>
 <title>{title}</title>
 <style>
  body {{ font-family: sans-serif; margin: 8px 12px; background: #fafafa; }}
@@ -57,7 +77,8 @@ _PAGE = """<!DOCTYPE html>
  }}
  ready(function () {{
    var websocket_type = mpl.get_websocket_type();
-   var uri = (window.location.protocol === "https:" ? "wss://" : "ws://") + window.location.host + "/ws";
+   var uri = (window.location.protocol === "https:" ? "wss://" : "ws://") + window.location.host +
+             window.location.pathname.replace(/[^/]*$/, "") + "ws";
    var websocket = new websocket_type(uri);
    var fig = new mpl.figure(1, websocket, mpl_ondownload, document.getElementById("figure"));
    fig.handle_camcad = function (fig, msg) {{
@@ -109,7 +130,7 @@ class EditorServer:
             NavigationToolbar2WebAgg,
         )
 
-        from camcad.edit.view import EditorView, new_figure
+        from camcad.edit.view import FIGSIZE, EditorView, new_figure
 
         class _Manager(FigureManagerWebAgg):
             _toolbar2_class = NavigationToolbar2WebAgg  # type: ignore[assignment]  # matplotlib types it as None
@@ -125,9 +146,15 @@ class EditorServer:
                               "pick another port") from None
         self.port = int(self.sockets[0].getsockname()[1])
         self.address = ADDRESS
-        self.url = f"http://{ADDRESS}:{self.port}/"
+        #: the secret part of the URL: every request must carry it
+        self.token = secrets.token_urlsafe(24)
+        self.url = f"http://{ADDRESS}:{self.port}/{self.token}/"
+        #: messages refused, and messages whose handling failed and were recovered from (for the page and tests)
+        self.refused = 0
+        self.recovered = 0
         self.title = title or f"camcad edit — {session.where}"
         self.figure = new_figure()
+        self._figsize = FIGSIZE
         self.canvas = FigureCanvasWebAggCore(self.figure)
         self.manager = _Manager(self.canvas, 1)
         self.manager.set_window_title(self.title)
@@ -162,24 +189,43 @@ class EditorServer:
             def prepare(self):
                 if self.request.host not in allowed:
                     raise tornado.web.HTTPError(403, "this editor answers on %s only", server.url)
+                given = self.path_args[0] if self.path_args else ""
+                if not server.token_ok(given):
+                    raise tornado.web.HTTPError(403, "the URL lacks this editor's token")
+
+            def write_error(self, status_code, **kwargs):   # a short page, never a traceback
+                self.set_header("Content-Type", "text/plain; charset=utf-8")
+                self.finish(f"{status_code}: this editor answers only at the URL camcad edit printed\n")
+
+        class Forbidden(_Guard, tornado.web.RequestHandler):
+            def prepare(self):
+                raise tornado.web.HTTPError(403)
+
+            def get(self, *_args):
+                raise tornado.web.HTTPError(403)
 
         class Page(_Guard, tornado.web.RequestHandler):
-            def get(self):
+            def get(self, _token):
                 self.set_header("Content-Type", "text/html; charset=utf-8")
+                self.set_header("Cache-Control", "no-store")
+                self.set_header("Referrer-Policy", "no-referrer")
                 self.write(_PAGE.format(title=_html(server.title)))
 
         class MplJs(_Guard, tornado.web.RequestHandler):
-            def get(self):
+            def get(self, _token):
                 self.set_header("Content-Type", "application/javascript")
                 self.write(FigureManagerWebAgg.get_javascript())
 
         class Static(_Guard, tornado.web.StaticFileHandler):
-            pass
+            def get(self, _token, path, include_body=True):
+                return super().get(path, include_body)
 
         class Download(_Guard, tornado.web.RequestHandler):
-            def get(self, fmt):
+            def get(self, _token, fmt):
                 import mimetypes
 
+                if fmt not in DOWNLOAD_FORMATS:
+                    raise tornado.web.HTTPError(404)
                 buffer = BytesIO()
                 server.figure.savefig(buffer, format=fmt)
                 self.set_header("Content-Type", mimetypes.types_map.get("." + fmt, "binary"))
@@ -188,21 +234,18 @@ class EditorServer:
         class Socket(_Guard, tornado.websocket.WebSocketHandler):
             supports_binary = True
 
-            def open(self):
+            def open(self, _token):
                 server.manager.add_web_socket(self)
                 if hasattr(self, "set_nodelay"):
                     self.set_nodelay(True)
                 server.view._notify_live()
 
             def on_close(self):
-                server.manager.remove_web_socket(self)
+                if self in server.manager.web_sockets:
+                    server.manager.remove_web_socket(self)
 
             def on_message(self, message):
-                content = json.loads(message)
-                if content["type"] == "supports_binary":
-                    self.supports_binary = content["value"]
-                else:
-                    server.manager.handle_json(content)
+                server.handle_message(self, message)
 
             def send_json(self, content):
                 self._write(json.dumps(content))
@@ -224,20 +267,77 @@ class EditorServer:
                 future.add_done_callback(lambda done: done.exception())
 
         class Icon(_Guard, tornado.web.RequestHandler):
-            def get(self):
+            def get(self, _token):
                 self.set_header("Content-Type", "image/png")
                 self.write(Path(mpl.get_data_path(), "images", "matplotlib.png").read_bytes())
 
         static = FigureManagerWebAgg.get_static_file_path()
+        token = r"/([A-Za-z0-9_-]{1,64})"
         return tornado.web.Application([
-            (r"/favicon.ico", Icon),
-            (r"/", Page),
-            (r"/mpl.js", MplJs),
-            (r"/_static/(.*)", Static, {"path": static}),
-            (r"/_images/(.*)", Static, {"path": str(Path(mpl.get_data_path(), "images"))}),
-            (r"/download\.([a-z0-9.]+)", Download),
-            (r"/ws", Socket),
-        ], log_function=_quiet)
+            (token + r"/favicon\.ico", Icon),
+            (token + r"/", Page),
+            (token + r"/mpl\.js", MplJs),
+            (token + r"/_static/(.*)", Static, {"path": static}),
+            (token + r"/_images/(.*)", Static, {"path": str(Path(mpl.get_data_path(), "images"))}),
+            (token + r"/(?:\d+/)?download\.([a-z0-9.]+)", Download),
+            (token + r"/ws", Socket),
+            (r"/.*", Forbidden),
+        ], log_function=_quiet, websocket_max_message_size=MAX_MESSAGE_BYTES)
+
+    def token_ok(self, given: str) -> bool:
+        """True when ``given`` is this server's token (compared in constant time)."""
+        return hmac.compare_digest(str(given).encode("utf-8", "replace"), self.token.encode("ascii"))
+
+    # --- messages from the page -------------------------------------------------------------------
+
+    def handle_message(self, socket, message) -> None:
+        """Check a message (``camcad.edit.messages``) and hand it to matplotlib; a refused message, or one whose
+        handling fails, is reported on the page and leaves the session as it was (``recover``)."""
+        canvas = self.canvas
+        ratio = float(getattr(canvas, "device_pixel_ratio", 1.0) or 1.0)
+        width, height = self.figure.get_size_inches() * self.figure.dpi / ratio
+        try:
+            content = parse_message(message, ratio, (float(width), float(height)))
+        except BadMessage as err:
+            self.refused += 1
+            self._tell(f"message refused: {err.message()}")
+            return
+        if content["type"] == "supports_binary":
+            socket.supports_binary = content["value"]
+            return
+        try:
+            self.manager.handle_json(content)
+        except Exception as err:  # noqa: BLE001 - whatever went wrong, the editor goes on and says so
+            self.recover(f"{content['type']} message failed ({type(err).__name__}: {' '.join(str(err).split())[:80]})")
+
+    def recover(self, what: str) -> None:
+        """Put the figure back in a state it can draw (ratio 1 and the editor's size when they are not sane),
+        end a half-done drag without an edit, redraw, and say so on the page; the session's edits are kept."""
+        self.recovered += 1
+        canvas, figure = self.canvas, self.figure
+        try:
+            ratio = float(getattr(canvas, "device_pixel_ratio", 1.0))
+            if not (math.isfinite(ratio) and ratio > 0):
+                canvas._set_device_pixel_ratio(1.0)
+            width, height = figure.get_size_inches()
+            if not (math.isfinite(width * height) and width > 0 and height > 0 and figure.dpi > 0):
+                figure.set_dpi(100)
+                figure.set_size_inches(*self._figsize, forward=False)
+            if self.view._drag is not None:
+                self.view._drag = None
+                self.session.cancel_gesture()
+            canvas._force_full = True
+            self.view.refresh()
+        except Exception:  # noqa: BLE001 - the message below still reaches the page
+            pass
+        self._tell(f"{what}; the editor recovered, your edits are kept")
+
+    def _tell(self, text: str) -> None:
+        self.view._set_message(text, error=True)
+        try:
+            self.view._notify_live()
+        except Exception:  # noqa: BLE001 - a page that is gone
+            pass
 
     # --- running --------------------------------------------------------------------------------
 

@@ -159,6 +159,7 @@ class ContactCommand:
 def contact_command(command: ContactCommand):
     """Run ``camcad contact``: compute (camcad.scene.contact.run_contact), write the plots and contact.json into
     the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
+    from camcad.io.output_folder import distinct_names
     from camcad.report.command import finish, open_folder, write_figures
     from camcad.scene.analysis import require_scene
     from camcad.scene.contact import run_contact
@@ -168,5 +169,6 @@ def contact_command(command: ContactCommand):
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:
         report = run_contact(command.request)
+        distinct_names([item.name for item in report.result], "mechanisms", str(path))   # one plot each
         written = write_figures(out, contact_figures(report) if command.plots else [], "contact.json")
         return finish(report, out, written, "contact.json", contact_lines)
