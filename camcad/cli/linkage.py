@@ -771,12 +771,12 @@ def _table_members(path: Path, a: float, b: float) -> list:
     """Members from a table: x (deg) then one column per member (deg), a not-a-knot cubic spline each."""
     from scipy.interpolate import CubicSpline
 
+    from camcad.io.input_file import decode_text, read_input
     from camcad.linkage.family import Member
 
-    if not path.is_file():
-        raise CamcadError("file not found", str(path), "check the path")
+    text, _ = decode_text(read_input(path, "a table of x and member columns (.csv/.txt)"))
     rows = []
-    for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), start=1):
+    for number, line in enumerate(text.splitlines(), start=1):
         content = line.split("#", 1)[0].strip()
         if not content:
             continue

@@ -23,6 +23,9 @@ from camcad.errors import CamcadError
 from camcad.io.input_file import decode_text, read_input
 
 TABLE_SUFFIXES = (".csv", ".txt", ".tsv", ".dat", ".tab")
+#: the most lines a law table may have (a drawn law has hundreds of rows, a law sampled every 0.001 deg 360,001;
+#: checked before any line is parsed: 500,000 rows take about 4 s to read)
+MAX_TABLE_LINES = 500_000
 
 
 @dataclass(frozen=True)
@@ -69,6 +72,10 @@ def read_table(path: str | Path) -> Table:
     if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
+    lines = text.count("\n") + 1
+    if lines > MAX_TABLE_LINES:
+        raise CamcadError(f"the table has {lines:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
+                          "give the law with fewer rows (a drawn law needs hundreds)")
     rows: list[tuple[int, str]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         content = line.split("#", 1)[0].strip()
