@@ -477,18 +477,22 @@ class OutputFolder:
         for name in names:
             parts = (name,) if isinstance(name, str) else tuple(name)
             path = self.folder.joinpath(*(safe_name(part) for part in parts))
-            self.check(path)
+            self._confine(path)
             paths.append(path)
         items = [Item(path, roles[i] if roles is not None else "") for i, path in enumerate(paths)]
         check_outputs(items, self.inputs, self.where)
         return paths
 
-    def check(self, path: Path) -> Path:
-        """``path`` if it lies inside the folder and is not an input; else a CamcadError."""
+    def _confine(self, path: Path) -> Path:
         resolved = _resolved(path)
         if resolved != self._root and self._root not in resolved.parents:
             raise CamcadError(f"the output {path.name} would be written outside the output folder "
                               f"(to {resolved})", str(path), "remove the symlink in the output folder")
+        return resolved
+
+    def check(self, path: Path) -> Path:
+        """``path`` if it lies inside the folder and is not an input; else a CamcadError."""
+        resolved = self._confine(path)
         identity = _identity(path)
         for given, real, inode in self._inputs:
             if resolved == real or (identity is not None and identity == inode):

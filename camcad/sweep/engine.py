@@ -31,8 +31,11 @@ from camcad.sweep.store import INSTALL_FIX
 
 #: chunks in flight per worker
 IN_FLIGHT_PER_WORKER = 3
-#: seconds to wait for a Dask scheduler (and for its first worker)
+#: seconds to wait for a Dask scheduler (and for its first worker); a cluster left without workers this long
+#: stops the sweep
 CONNECT_TIMEOUT_S = 10.0
+#: how often the cluster's workers are counted while a sweep runs (s)
+WORKER_POLL_S = 1.0
 
 
 def local_cores() -> int:
@@ -145,6 +148,7 @@ class DaskCluster(Engine):
             raise CamcadError("running on a Dask cluster needs dask.distributed, which is not installed",
                               "--scheduler", INSTALL_FIX) from None
         self.address = address
+        self.timeout_s = float(timeout_s)
         where = "--scheduler"
         import logging
 
@@ -208,6 +212,7 @@ class DaskCluster(Engine):
         if not first:
             return
         finished = as_completed(first, with_results=True, raise_errors=False, loop=self.client.loop)
+        stop_watch = self._watch_workers(finished)
         try:
             for future, result in finished:
                 status = future.status
@@ -219,9 +224,38 @@ class DaskCluster(Engine):
                 if item is not None:
                     finished.add(submit(item))
         finally:
+            stop_watch.set()
             for future in list(finished.futures):
                 future.cancel()
             shared.release()
+
+    def _watch_workers(self, finished):
+        """A thread that cancels the chunks in flight when the cluster has had no worker for ``timeout_s``
+        (their futures then come back cancelled, and ``_lost`` says so): a cluster whose workers all left
+        would otherwise keep the sweep waiting for ever. Returns the event that stops the thread."""
+        import threading
+        import time
+
+        stop = threading.Event()
+
+        def watch() -> None:
+            empty_since = None
+            while not stop.wait(WORKER_POLL_S):
+                try:
+                    count = len(self.client.nthreads())
+                except Exception:  # noqa: BLE001 - the scheduler is gone: the futures come back cancelled
+                    return
+                if count:
+                    empty_since = None
+                    continue
+                empty_since = empty_since if empty_since is not None else time.monotonic()
+                if time.monotonic() - empty_since > self.timeout_s:
+                    for future in list(finished.futures):
+                        future.cancel()
+                    return
+
+        threading.Thread(target=watch, name="camcad-dask-workers", daemon=True).start()
+        return stop
 
     def _lost(self, error, status: str) -> None:
         """A chunk that did not come back: the cluster lost its workers or its scheduler (exit 2 with what to do),
