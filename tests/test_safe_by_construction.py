@@ -466,7 +466,8 @@ def test_f16_stray_temporary_files_are_removed_by_the_next_run(place):
     work = place / "work"
     out = work / "out"
     (out / "sub").mkdir(parents=True)
-    strays = [out / ".profile.dxf.a1b2c3d4.tmp", out / ".report.json.zz_9y8x7.tmp", out / "sub" / ".law.csv.qwertyui.tmp"]
+    strays = [out / ".profile.dxf.a1b2c3d4.tmp", out / ".report.json.zz_9y8x7.tmp",
+              out / "sub" / ".law.csv.qwertyui.tmp"]
     for stray in strays:
         stray.write_text("half a file")
     (out / INCOMPLETE_MARK).write_text("a run was killed")

@@ -67,7 +67,7 @@ def test_a_cluster_that_loses_every_worker_stops_the_sweep_with_what_to_do(tmp_p
         while time.monotonic() < deadline and len(list(results.glob("chunk-*.parquet"))) < 2:
             time.sleep(0.2)
         lost.scale(0)                                    # every worker leaves
-        out, err = run.communicate(timeout=180)
+        _out, err = run.communicate(timeout=180)
         lines = err.decode().strip().splitlines()
         assert run.returncode == 2, err
         assert len(lines) == 1 and "lost the workers" in lines[0] and "--resume" in lines[0], lines
