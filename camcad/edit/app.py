@@ -23,7 +23,7 @@ from camcad.edit.session import (
     loaded_from_law,
     sampled_law,
 )
-from camcad.io.output_folder import check_outputs, confined_path
+from camcad.io.output_folder import check_outputs, confined_path, is_folder
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.source import LoadedLaw
 
@@ -82,7 +82,7 @@ def run_editor(session: EditSession, *, script: Path | None = None, output: Path
         (path, role): never replaced.
     """
     session.inputs = [*session.inputs, *((Path(p), "an input") if not isinstance(p, tuple) else p for p in inputs)]
-    if output is not None and Path(output).is_dir():
+    if output is not None and is_folder(output):
         output = Path(output) / default_output(session).name
     if script is not None:
         ops = load_script(script)

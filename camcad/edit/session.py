@@ -76,7 +76,7 @@ X_GAP_DEG = 1e-6
 PHASE_PICK_DEG = 1.0
 #: the largest edit script read (bytes) and the most operations it may hold (a hand-made script has tens)
 MAX_SCRIPT_BYTES = 10 * 1024 * 1024
-MAX_OPERATIONS = 10_000
+MAX_OPERATIONS = 2_000
 
 NUMBER, TEXT, PAIR, END = "number", "text", "pair", "end"
 

@@ -533,6 +533,8 @@ class _BlockCache:
         self.zero = zero
         self.content: dict[str, tuple[list[Piece], list, Counter]] = {}
         self.sizes: dict[str, tuple[int, int]] = {}
+        self.subtree_counts: dict[str, Counter] = {}
+        self.matrices: dict[int, list[np.ndarray]] = {}
 
     def _content(self, name: str):
         """(pieces, [(child block name, INSERT entity, cells, child layer, handle)], entity counts) of a block;
@@ -609,6 +611,9 @@ class _BlockCache:
         while stack:
             name, m, layer = stack.pop()
             pieces, children, block_counts = self._content(name)
+            if self.sizes.get(name.upper(), (1, 0))[0] == 0:   # no curve below: count its entities, place nothing
+                counts.update(self._subtree_counts(name))
+                continue
             counts.update(block_counts)
             scale = _scale(m)
             for piece in pieces:
@@ -628,9 +633,27 @@ class _BlockCache:
                 stack.extend((child, local @ m, inherited) for local in self._placed(entity, child_handle))
         return out
 
+    def _subtree_counts(self, name: str) -> Counter:
+        """The entity counts of one reference of block ``name``, its nested references' included (counted, not
+        placed; the budget has bounded them)."""
+        key = name.upper()
+        if key not in self.subtree_counts:
+            _, children, block_counts = self._content(name)
+            total = Counter(block_counts)
+            for child, _entity, cells, _, _ in children:
+                for kind, count in self._subtree_counts(child).items():
+                    total[kind] += cells * count
+            self.subtree_counts[key] = total
+        return self.subtree_counts[key]
+
     def _placed(self, insert, handle: str) -> list[np.ndarray]:
-        """The matrices of a reference (``_matrices``), refused with the entity named when one is not finite."""
+        """The matrices of a reference (``_matrices``, computed once per entity), refused with the entity named
+        when one is not finite."""
+        key = id(insert)
+        if key in self.matrices:
+            return self.matrices[key]
         matrices = _matrices(insert)
+        self.matrices[key] = matrices
         for m in matrices:
             if not np.isfinite(m).all() or np.abs(m).max() > MAX_COORDINATE:
                 raise CamcadError(f"INSERT {handle} (block {str(insert.dxf.get('name', ''))[:40]}) has a "
@@ -653,11 +676,33 @@ def _count_text(count: int) -> str:
 
 def _matrices(insert) -> list[np.ndarray]:
     """The 4×4 row-vector matrices placing a block reference (one per cell of a MINSERT; the caller checks the
-    cell count against the budget before calling this)."""
+    cell count against the budget before calling this).
+
+    A MINSERT's cells differ only by their translation, linear in the row and the column: ezdxf places the
+    cells (0, 0), (0, 1) and (1, 0) of a 2 × 2 copy, and every other cell is (0, 0) moved by whole steps.
+    """
+    def matrix(single) -> np.ndarray:
+        return np.array([list(single.matrix44().get_row(k)) for k in range(4)], dtype=float)
+
     try:
-        singles = list(insert.multi_insert()) if _repeat(insert) > 1 else [insert]
         with np.errstate(all="ignore"):
-            return [np.array([list(s.matrix44().get_row(k)) for k in range(4)], dtype=float) for s in singles]
+            if _repeat(insert) <= 1:
+                return [matrix(insert)]
+            rows = max(1, int(insert.dxf.get("row_count", 1)))
+            cols = max(1, int(insert.dxf.get("column_count", 1)))
+            probe = insert.copy()
+            probe.dxf.row_count, probe.dxf.column_count = min(rows, 2), min(cols, 2)
+            cells = [matrix(single) for single in probe.multi_insert()]
+            base = cells[0]
+            step_col = cells[1][3] - base[3] if cols > 1 else np.zeros(4)
+            step_row = cells[min(cols, 2)][3] - base[3] if rows > 1 else np.zeros(4)
+            out = []
+            for r in range(rows):
+                for c in range(cols):
+                    m = base.copy()
+                    m[3] = base[3] + c * step_col + r * step_row
+                    out.append(m)
+            return out
     except Exception:  # noqa: BLE001 - a reference that cannot be placed draws nothing
         return []
 

@@ -48,6 +48,8 @@ from camcad.io.atomic import write_text_atomic
 
 #: the longest name safe_name returns
 MAX_NAME = 100
+#: the longest name (one part of a path) a file system holds, bytes
+NAME_MAX = 255
 #: how long a run waits for another run writing into the same folder (s)
 LOCK_TIMEOUT_S = 120.0
 #: the file that marks a folder whose run has not finished (removed when it does)
@@ -117,6 +119,27 @@ def _identity(path: Path) -> tuple[int, int] | None:
     except (OSError, ValueError):
         return None
     return stat.st_dev, stat.st_ino
+
+
+def is_folder(path: str | Path) -> bool:
+    """True when ``path`` is an existing folder; False for anything else, a name no file system can hold (a NUL
+    byte, a part longer than ``NAME_MAX``) included."""
+    try:
+        return Path(path).is_dir()
+    except (OSError, ValueError):
+        return False
+
+
+def _check_name(path: Path, what: str, where: str) -> None:
+    """A CamcadError for a name no file system holds: a NUL byte, or a part longer than ``NAME_MAX`` bytes."""
+    text = str(path)
+    if "\x00" in text:
+        raise CamcadError(f"the {what} {_quoted(text)} holds a NUL byte", where, "give another name")
+    for part in Path(text).parts:
+        size = len(os.fsencode(part)) if "\x00" not in part else 0
+        if size > NAME_MAX:
+            raise CamcadError(f"a name in the {what} is {size} bytes long ({_quoted(part, 30)}), more than a file "
+                              f"system holds ({NAME_MAX})", where, "give a shorter name")
 
 
 def _resolved(path: Path) -> Path:
@@ -196,15 +219,14 @@ def check_outputs(outputs: Iterable, inputs: Iterable = (), where: str = "-o") -
     folders: dict[Path, Item] = {}
     identities: dict[tuple[int, int], Item] = {}
     for out in outs:
-        if "\x00" in str(out.path):
-            raise CamcadError(f"the output name {_quoted(out.path)} holds a NUL byte", where, "give another name")
+        _check_name(out.path, "output", where)
         real = _resolved(out.path)
         identity = _identity(out.path)
         for given, resolved, inode in ins:
             if real == resolved or (identity is not None and identity == inode):
                 raise CamcadError(f"the output {out.text()} would replace the input {given.text()}", where,
                                   "give another output name or folder (camcad never overwrites its input)")
-        if out.path.is_dir():
+        if is_folder(out.path):
             raise CamcadError(f"the output {out.text()} is an existing folder, not a file name", where,
                               "give a file name")
         other = files.get(real) or (identities.get(identity) if identity is not None else None)
@@ -256,6 +278,7 @@ def confined_path(text: str, folder: Path, where: str, what: str = "path") -> Pa
     parts = [part for part in parts if part != "."]
     if not parts or any(part == "" for part in parts):
         raise CamcadError(f"the {what} {_quoted(raw)} has an empty part", where, fix)
+    _check_name(Path(*parts), what, where)
     path = Path(folder).joinpath(*parts)
     root = _resolved(Path(folder))
     real = _resolved(path)
@@ -322,8 +345,7 @@ class OutputFolder:
     def __init__(self, folder: str | Path, inputs: Iterable = (), where: str = "-o", mark: bool = True) -> None:
         self.where = where
         folder = Path(folder)
-        if "\x00" in str(folder):
-            raise CamcadError("the output folder's name holds a NUL byte", where, "give another folder with -o")
+        _check_name(folder, "output folder", where)
         if folder.exists() and not folder.is_dir():
             raise CamcadError("the output folder is an existing file", str(folder),
                               "give a folder with -o (it is created if missing)")
