@@ -592,3 +592,15 @@ def test_minsert_cells_by_their_linear_rule_equal_ezdxf_s_own_cells():
                 assert len(mine) == len(theirs) == 20
                 for a, b in zip(mine, theirs):
                     assert a.ravel().tolist() == pytest.approx([v for row in b for v in row], abs=1e-10)
+
+
+def test_f16_a_stray_temporary_file_beside_a_single_output_is_removed_when_old(place):
+    work = place / "work"
+    (work / "out").mkdir()
+    old, fresh = work / "out" / ".fixed.dxf.k1ll3d99.tmp", work / "out" / ".fixed.dxf.wr1t1ng0.tmp"
+    for stray in (old, fresh):
+        stray.write_text("half a file")
+    os.utime(old, (time.time() - 3600, time.time() - 3600))    # left by a run killed an hour ago
+    run = bounded(["fix", "law.dxf", "-o", "out/fixed.dxf", "--no-plots"], work, place, work / "out")
+    assert run.code == 0, run.err
+    assert not old.exists() and fresh.exists()                  # a young one may be another writer's

@@ -44,7 +44,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from camcad.errors import CamcadError
-from camcad.io.atomic import write_text_atomic
+from camcad.io.atomic import TEMP_FILE, write_text_atomic
 
 #: the longest name safe_name returns
 MAX_NAME = 100
@@ -54,10 +54,6 @@ NAME_MAX = 255
 LOCK_TIMEOUT_S = 120.0
 #: the file that marks a folder whose run has not finished (removed when it does)
 INCOMPLETE_MARK = "CAMCAD-INCOMPLETE.txt"
-#: an atomic write's temporary file (``camcad.io.atomic``: mkstemp's prefix ".NAME." and 8 random characters)
-TEMP_FILE = re.compile(r"^\..+\.[A-Za-z0-9_]{8}\.tmp$")
-#: a temporary file beside a single output is stray (its writer died) when older than this (s)
-STRAY_AGE_S = 600.0
 _RESERVED = {"CON", "PRN", "AUX", "NUL", *(f"COM{i}" for i in range(1, 10)), *(f"LPT{i}" for i in range(1, 10))}
 #: the lock descriptors this process holds (a forked worker closes its copies: release_inherited_locks)
 _HELD_LOCKS: set[int] = set()
@@ -286,32 +282,6 @@ def confined_path(text: str, folder: Path, where: str, what: str = "path") -> Pa
         raise CamcadError(f"the {what} {_quoted(raw)} leads outside the output folder (to {real}) through a symlink",
                           where, fix)
     return path
-
-
-def remove_stray_temps(path: Path, min_age_s: float = STRAY_AGE_S) -> int:
-    """Remove the temporary files an interrupted atomic write of ``path`` left beside it (older than
-    ``min_age_s``: a younger one may belong to a run still writing). Returns how many were removed."""
-    path = Path(path)
-    removed = 0
-    try:
-        candidates = list(path.parent.glob(f".{glob_escape(path.name)}.*.tmp"))
-    except OSError:
-        return 0
-    now = time.time()
-    for candidate in candidates:
-        try:
-            if TEMP_FILE.match(candidate.name) and candidate.is_file() and not candidate.is_symlink() \
-                    and now - candidate.stat().st_mtime >= min_age_s:
-                candidate.unlink()
-                removed += 1
-        except OSError:
-            continue
-    return removed
-
-
-def glob_escape(name: str) -> str:
-    """``name`` with the glob metacharacters escaped."""
-    return re.sub(r"([*?\[])", r"[\1]", name)
 
 
 # ---------------------------------------------------------------------------------------------
