@@ -318,7 +318,7 @@ class EditorServer:
         try:
             ratio = float(getattr(canvas, "device_pixel_ratio", 1.0))
             if not (math.isfinite(ratio) and ratio > 0):
-                canvas._set_device_pixel_ratio(1.0)
+                canvas._handle_set_device_pixel_ratio(1.0)
             width, height = figure.get_size_inches()
             if not (math.isfinite(width * height) and width > 0 and height > 0 and figure.dpi > 0):
                 figure.set_dpi(100)

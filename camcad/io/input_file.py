@@ -215,7 +215,7 @@ def check_nesting(data, where: str, limit: int = MAX_NESTING) -> None:
     while stack:
         node, depth = stack.pop()
         if isinstance(node, dict):
-            children = node.values()
+            children = list(node.values())
         elif isinstance(node, list):
             children = node
         else:

@@ -302,7 +302,8 @@ def r12_code(code: int) -> bool:
 def r12_header(keep: HeaderKeep) -> tuple[HeaderKeep, list[str]]:
     """The header variables of ``keep`` an R12 file can hold (every value's group code known to R12:
     ``r12_code``), and the names of the others."""
-    names, dropped = [], []
+    names: list[str] = []
+    dropped: list[str] = []
     for name in keep.names:
         code = getattr(keep.values.get(name), "code", 0)
         (names if isinstance(code, int) and r12_code(code) else dropped).append(name)

@@ -72,9 +72,9 @@ def read_table(path: str | Path) -> Table:
     if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
-    lines = text.count("\n") + 1
-    if lines > MAX_TABLE_LINES:
-        raise CamcadError(f"the table has {lines:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
+    line_count = text.count("\n") + 1
+    if line_count > MAX_TABLE_LINES:
+        raise CamcadError(f"the table has {line_count:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
                           "give the law with fewer rows (a drawn law needs hundreds)")
     rows: list[tuple[int, str]] = []
     for number, line in enumerate(text.splitlines(), start=1):

@@ -28,6 +28,7 @@ from camcad.profile.geometry import CamGeometry, rotate
 from camcad.profile.sampling import (
     MAX_NODES,
     ArcPath,
+    CurveFn,
     Polyline,
     SplineData,
     biarc_fit,
@@ -377,10 +378,10 @@ def _star_shaped(points: np.ndarray) -> bool:
     return bool(abs(abs(math.fsum(turn)) - 2.0 * math.pi) < 1e-9)
 
 
-def _written_curves(geometry: CamGeometry, settings: ProfileSettings) -> list[tuple[str, object]]:
+def _written_curves(geometry: CamGeometry, settings: ProfileSettings) -> list[tuple[str, CurveFn]]:
     """(name, curve) of every curve profile.dxf holds as points (``synthesize``'s calls of ``_curve_result``)."""
     follower = geometry.follower
-    curves: list[tuple[str, object]] = [("profile", geometry.profile)]
+    curves: list[tuple[str, CurveFn]] = [("profile", geometry.profile)]
     if not settings.checks_only:
         curves.append(("pitch", geometry.pitch))
     if follower.groove:

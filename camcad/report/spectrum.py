@@ -246,8 +246,8 @@ def write_spectrum(report, out, *, r12: bool = False, plots: bool = True, json_n
 
     result = report.result
     data = ["spectrum.csv"] + (["filtered.dxf", "filtered.csv"] if result.outcome is not None else [])
-    figures = ["spectrum.png", "truncation.png"] + (["filtered.png"] if result.outcome is not None else [])
-    out.plan(data + (figures if plots else []) + ([json_name] if json_name else []))
+    plot_names = ["spectrum.png", "truncation.png"] + (["filtered.png"] if result.outcome is not None else [])
+    out.plan(data + (plot_names if plots else []) + ([json_name] if json_name else []))
     unit = result.unit
     outputs = []
     gains = (result.resonance.gains if result.resonance is not None and result.outcome is not None

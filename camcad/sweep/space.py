@@ -237,33 +237,33 @@ class RangeValues(Sequence):
     """
 
     def __init__(self, start: float, step: float, count: int, integer: bool = False) -> None:
-        self.start, self.step, self.count, self.integer = float(start), float(step), int(count), bool(integer)
+        self.start, self.step, self.length, self.integer = float(start), float(step), int(count), bool(integer)
 
     def __len__(self) -> int:
-        return self.count
+        return self.length
 
     def __getitem__(self, index):
         if isinstance(index, slice):
-            return tuple(self[i] for i in range(*index.indices(self.count)))
+            return tuple(self[i] for i in range(*index.indices(self.length)))
         i = int(index)
         if i < 0:
-            i += self.count
-        if not 0 <= i < self.count:
+            i += self.length
+        if not 0 <= i < self.length:
             raise IndexError(index)
         value = _round(self.start + i * self.step)
         return int(value) if self.integer else value
 
     def __eq__(self, other) -> bool:
         if isinstance(other, RangeValues):
-            return (self.start, self.step, self.count, self.integer) == (other.start, other.step, other.count,
+            return (self.start, self.step, self.length, self.integer) == (other.start, other.step, other.length,
                                                                         other.integer)
-        return isinstance(other, (tuple, list)) and len(other) == self.count and tuple(self) == tuple(other)
+        return isinstance(other, (tuple, list)) and len(other) == self.length and tuple(self) == tuple(other)
 
     def __hash__(self) -> int:
-        return hash((self.start, self.step, self.count, self.integer))
+        return hash((self.start, self.step, self.length, self.integer))
 
     def __repr__(self) -> str:
-        return f"RangeValues({self.start!r}, {self.step!r}, {self.count!r})"
+        return f"RangeValues({self.start!r}, {self.step!r}, {self.length!r})"
 
 
 @dataclass(frozen=True)
@@ -346,7 +346,7 @@ def parse_spec(key: Key, text: str, where: str = "--vary") -> Spec:
         if key.kind == "int" and any(v != int(v) for v in (start, step)):
             raise CamcadError(f"{key.path} is a whole number: the range gives fractions", where,
                               "give whole-number ends and step")
-        values = RangeValues(start, step, count, integer=key.kind == "int")
+        values: Sequence = RangeValues(start, step, count, integer=key.kind == "int")
         for index in _checked_indices(count):
             _check_value(key, values[index], where)
         return Spec(key, text, values=values)
