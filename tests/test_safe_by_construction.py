@@ -505,7 +505,8 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc to find the pool's workers")
-def test_f8_after_kill_9_of_the_sweep_its_workers_die_and_resume_completes_it(place):
+@pytest.mark.parametrize("victim", ["the run", "a worker"])
+def test_f8_after_kill_9_of_any_process_of_a_sweep_resume_completes_it(place, victim):
     pytest.importorskip("pyarrow")
     work = place / "work"
     vary = ["--vary", "follower.base_radius=30:60:0.25", "--workers", "2", "--chunk", "2", "--no-plots",
@@ -519,13 +520,18 @@ def test_f8_after_kill_9_of_the_sweep_its_workers_die_and_resume_completes_it(pl
         time.sleep(0.2)
     workers = _children(main.pid)
     assert len(workers) >= 2 and main.poll() is None
-    main.send_signal(signal.SIGKILL)
-    main.wait()
+    if victim == "a worker":   # the run stops with one line saying to resume; the other workers end with it
+        os.kill(workers[0], signal.SIGKILL)
+        main.wait(timeout=120)
+        assert main.returncode == 2
+    else:
+        main.send_signal(signal.SIGKILL)
+        main.wait()
     deadline = time.monotonic() + 10
     while time.monotonic() < deadline and any(_alive(w) for w in workers):
         time.sleep(0.1)
     assert not any(_alive(w) for w in workers)               # no orphan holds the folder or the CPU
-    assert (work / "out" / INCOMPLETE_MARK).exists()
+    assert (work / "out" / INCOMPLETE_MARK).exists()           # the folder says it is not complete
     done = list(results.glob("chunk-*.parquet"))
     resumed = bounded(["sweep", *vary, "--resume", "--json"], work, place, work / "out")
     assert resumed.code == 0, resumed.err
