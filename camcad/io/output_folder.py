@@ -24,8 +24,12 @@ Rules (README "Safety"):
 - **One run at a time.** While a run writes, it holds an exclusive lock (``fcntl.flock``) on the
   folder itself (no lock file is left behind); a second run into the same folder waits for it (up to
   ``LOCK_TIMEOUT_S``) so the two runs' files never interleave. Each file is written atomically
-  (``camcad.io.atomic``). Worker processes close their copy of the lock (``release_inherited_locks``),
-  so the lock dies with the run that took it.
+  (``camcad.io.atomic``).
+- **Workers die with their run.** A pool's worker (a sweep's chunks, a scene's plots) is forked from the run;
+  ``init_worker`` (a pool's initializer) closes the worker's copy of the folder's lock, so the lock is held
+  by the run alone, and makes the worker end with the run: on Linux the kernel kills it when its parent
+  dies (``prctl(PR_SET_PDEATHSIG, SIGKILL)``), elsewhere a thread checks its parent once a second. After
+  ``kill -9`` of a run no orphan keeps the folder (``--resume``) or the CPU.
 - **Interrupted runs.** From the first path it hands out until the run ends normally, the folder holds
   ``INCOMPLETE_MARK`` (a short text saying which run is writing); a run killed on the way leaves it there,
   so a folder of mixed old and new files says so. The next run into the folder (holding the lock, so no
@@ -37,7 +41,9 @@ from __future__ import annotations
 
 import os
 import re
+import signal
 import sys
+import threading
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -501,6 +507,44 @@ def release_inherited_locks() -> None:
         with _suppress_os_error():
             os.close(handle)
         _HELD_LOCKS.discard(handle)
+
+
+#: prctl option: the signal this process gets when its parent dies (linux/prctl.h)
+PR_SET_PDEATHSIG = 1
+#: how often a worker without prctl checks that its parent is alive (s)
+PARENT_POLL_S = 1.0
+
+
+def die_with_parent(parent: int) -> str:
+    """Arrange for this process to end when process ``parent`` (its parent) ends; returns how ("prctl" or
+    "watchdog"). A process whose parent is already gone ends at once."""
+    how = "watchdog"
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
+                how = "prctl"
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:   # the parent died before the line above took effect
+        os._exit(1)
+    if how == "watchdog":
+        def watch() -> None:
+            while True:
+                time.sleep(PARENT_POLL_S)
+                if os.getppid() != parent:
+                    os._exit(1)
+
+        threading.Thread(target=watch, name="camcad-parent-watch", daemon=True).start()
+    return how
+
+
+def init_worker(parent: int) -> None:
+    """A pool worker's initializer: release the run's folder locks and die with the run (module docstring)."""
+    release_inherited_locks()
+    die_with_parent(parent)
 
 
 class _suppress_os_error:

@@ -21,8 +21,7 @@ import numpy as np
 
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
-from camcad.io.output_folder import OutputFolder, distinct_names, safe_name
-from camcad.io.worker import init_worker
+from camcad.io.output_folder import OutputFolder, distinct_names, init_worker, safe_name
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 

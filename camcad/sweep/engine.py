@@ -7,9 +7,9 @@ start, stop)`` call — and yields each chunk's result as it completes; the call
 - ``InProcess``: one worker, this process (``--workers 1``).
 - ``LocalPool``: a ``concurrent.futures.ProcessPoolExecutor`` of N processes (default: every core this process
   may use). The processes start before any progress display (a fork never copies a running thread). They die
-  with the run and hold no copy of the folder's lock (``camcad.io.worker``), so after ``kill -9`` of the run
-  ``--resume`` finds the folder free; a worker that dies (killed, out of memory) stops the run with one line
-  saying to resume (the chunks written are kept).
+  with the run and hold no copy of the folder's lock (``camcad.io.output_folder.init_worker``), so after
+  ``kill -9`` of the run ``--resume`` finds the folder free; a worker that dies (killed, out of memory) stops
+  the run with one line saying to resume (the chunks written are kept).
 - ``DaskCluster``: a ``dask.distributed`` scheduler (``tcp://HOST:PORT``, or a scheduler file). The task —
   the scene's tables and its law files' bytes — is scattered to the workers once; no shared file system is
   assumed. The workers must have camcad installed (the same version: checked before any work is sent). A
@@ -25,7 +25,7 @@ import os
 from collections.abc import Iterator
 
 from camcad.errors import CamcadError
-from camcad.io.worker import init_worker
+from camcad.io.output_folder import init_worker
 from camcad.sweep.evaluate import ChunkResult, SweepTask, evaluate_chunk, worker_version
 from camcad.sweep.store import INSTALL_FIX
 
