@@ -509,7 +509,7 @@ def _alive(pid: int) -> bool:
 def test_f8_after_kill_9_of_any_process_of_a_sweep_resume_completes_it(place, victim):
     pytest.importorskip("pyarrow")
     work = place / "work"
-    vary = ["--vary", "follower.base_radius=30:60:0.25", "--workers", "2", "--chunk", "2", "--no-plots",
+    vary = ["--vary", "follower.base_radius=30:70:0.1", "--workers", "2", "--chunk", "2", "--no-plots",
             "--no-best", "-o", "out"]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     main = subprocess.Popen([sys.executable, "-m", "camcad", "sweep", *vary], cwd=work, env=env,
@@ -539,7 +539,7 @@ def test_f8_after_kill_9_of_any_process_of_a_sweep_resume_completes_it(place, vi
     assert not (work / "out" / INCOMPLETE_MARK).exists()
     from camcad.sweep.store import read_results
 
-    assert read_results(work / "out").column("design").to_pylist() == list(range(121))
+    assert read_results(work / "out").column("design").to_pylist() == list(range(401))
 
 
 def test_f13_report_json_is_the_same_bytes_whatever_the_engine_and_chunking(place):

@@ -57,7 +57,8 @@ def test_a_cluster_that_loses_every_worker_stops_the_sweep_with_what_to_do(tmp_p
 
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                   dashboard_address=None, worker_dashboard_address=None) as lost:
-        args = [sys.executable, "-m", "camcad", "sweep", "--vary", "follower.base_radius=30:60:0.25", "--chunk", "2",
+        # 401 designs (about 20 s on two workers), so that the workers are gone long before the last chunk
+        args = [sys.executable, "-m", "camcad", "sweep", "--vary", "follower.base_radius=30:70:0.1", "--chunk", "2",
                 "--scheduler", lost.scheduler_address, "--connect-timeout", "3", "--no-plots", "--no-best",
                 "-o", tmp_path / "out", "--json"]
         env = {**os.environ, "PYTHONPATH": str(ROOT)}
@@ -78,4 +79,4 @@ def test_a_cluster_that_loses_every_worker_stops_the_sweep_with_what_to_do(tmp_p
         resumed = subprocess.run([str(a) for a in args[:-1]] + ["--resume", "--json"], env=env, capture_output=True,
                                  timeout=300)
         assert resumed.returncode == 0, resumed.stderr
-    assert read_results(tmp_path / "out").column("design").to_pylist() == list(range(121))
+    assert read_results(tmp_path / "out").column("design").to_pylist() == list(range(401))
