@@ -1,8 +1,13 @@
 """The long fuzz campaign: every camcad command on mutated laws and scenes, each case in a forked child.
 
 A case is one command line — ``check``, ``fix``, ``profile LAW``, ``profile SCENE``, ``spectrum``,
-``dynamics``, ``impact``, ``contact`` or ``cyclogram`` — with options drawn from sensible and extreme
-values, on inputs that are either intact samples or mutated:
+``dynamics``, ``impact``, ``contact`` or ``cyclogram``, and the surfaces of issue 34: ``edit --script``
+(generated edit scripts: every operation, fields of every type and at extremes, hostile save paths, thousands
+of operations, deep nesting), ``minsert`` (``check``/``fix``/``profile`` on drawings with MINSERTs and nested
+block references of every size, scale and count), ``fgen`` (``linkage fgen --function`` on generated
+expressions: every function and operator, Unicode digits and letters, deep nesting) and ``sweep`` (generated
+``--vary`` specs: ranges, lists and distributions at extremes, unknown keys, junk objectives) — with options
+drawn from sensible and extreme values, on inputs that are either intact samples or mutated:
 - drawings and tables: byte mutations (``fuzz_dxf.mutate``: flips, truncation, shuffled group codes,
   garbage numbers, dropped or repeated lines, huge counts, a hundred thousand vertices);
 - scenes: structure-aware mutations of the parsed TOML — numbers at extremes (0, −0, 1e-300, 1e300,
@@ -58,6 +63,10 @@ WALL_LIMIT_S = 600                 # a backstop for a case that waits instead of
 MEMORY_HEADROOM = 2 << 30          # bytes of address space a case may add to what the parent holds
 COMMANDS = ("check", "fix", "profile-law", "profile-scene", "spectrum", "dynamics", "impact", "contact",
             "cyclogram")
+#: the surfaces issue 34 added; ``run`` draws from ``COMMANDS`` unless told (so a case number of the earlier
+#: campaigns is the same case), the command line from all of them
+NEW_SURFACES = ("edit-script", "minsert", "fgen", "sweep")
+ALL_COMMANDS = COMMANDS + NEW_SURFACES
 #: small real drawings (fast to read) that join the samples as law inputs
 REAL_LAWS = ("libredwg__sample_2018.dxf", "libredwg__sample_r14.dxf", "ezdxf__duplicate_handles.dxf",
              "libredwg__2000_entities-2d.dxf", "libredwg__r11_entities-2d.dxf", "ezdxf__POLI-ALL210_12.DXF",
@@ -346,6 +355,8 @@ def make_case(seed: int, number: int, laws: list[Path], scenes: list[Path],
     """Case ``number`` of the campaign ``seed``: the same case every time, whatever ran before it."""
     rng = random.Random(f"{seed}:{number}")
     command = rng.choice(commands)
+    if command in NEW_SURFACES:
+        return NEW_SURFACE_CASES[command](rng, number, laws)
     files: dict[str, bytes] = {}
     mutation = "intact"
     uses_scene = command in ("profile-scene", "contact", "cyclogram") or \
@@ -412,6 +423,226 @@ def make_case(seed: int, number: int, laws: list[Path], scenes: list[Path],
     if rng.random() < 0.85:
         argv.append("--json")
     return Case(number, command, argv, files, mutation)
+
+
+# ---------------------------------------------------------------------------------------------
+# The surfaces of issue 34: edit scripts, MINSERTs, linkage expressions, sweep specs
+# ---------------------------------------------------------------------------------------------
+
+HOSTILE_PATHS = ("../../escape.dxf", "../escape.csv", CANARY + "/abs.dxf", "~/x.dxf", "law.dxf", "script.json",
+                 "link.dxf", "sub/../../x.dxf", "a\x00b.dxf", "", ".", "..", "out", "x" * 300 + ".dxf", "a\nb.csv",
+                 "C:\\x.dxf", "sub/ok.csv", "ok.json", "ok.txt", "ok.png", "ok", "out/../../../x.dxf")
+EDIT_VALUES = (0, 1, -1, 75, 90.5, 180, 359.99, 360, 400, -5, 1e-300, 1e300, float("nan"), float("inf"), True, None,
+               "75", [1, 2], {"x": 1}, 2 ** 63, "left", "right", "min-change", "phase", "nope", [60, 180],
+               [180, 60], [0, 1e300], [float("nan"), 1])
+
+
+def _edit_op(rng: random.Random, clean: bool = False) -> dict:
+    from camcad.edit.session import MODES, OPERATIONS
+
+    name = rng.choice(sorted(OPERATIONS) + ["move", "correct", "save", "bogus"])
+    op: dict = {"op": name}
+    for key, (kind, required) in OPERATIONS.get(name, {}).items():
+        if not required and rng.random() < 0.5:
+            continue
+        if clean or rng.random() < 0.75:       # a sensible value of its kind
+            value = {"number": rng.choice([0, 10, 45, 75, 100, 120, 180, 250, 300, 359]) + rng.random(),
+                     "text": rng.choice(list(MODES) + ["exact", "iterate"]) if key != "path" else
+                     rng.choice(["ok.dxf", "ok.csv", "sub/ok.csv", "ok.json"]),
+                     "pair": sorted(rng.sample(range(0, 361, 15), 2)), "end": rng.choice(["left", "right"])}[kind]
+        else:
+            value = rng.choice(EDIT_VALUES) if key != "path" else rng.choice(HOSTILE_PATHS)
+        op[key] = value
+    if not clean and rng.random() < 0.1:
+        op[rng.choice(["extra", "op2", "x"])] = rng.choice(EDIT_VALUES)
+    return op
+
+
+def edit_script_case(rng: random.Random, number: int, laws: list[Path]) -> Case:
+    """``camcad edit LAW --script script.json`` with a generated script (issue 34 F1, F11, F12)."""
+    law_path = rng.choice([p for p in laws if p.parent == SAMPLES / "dxf"] + [SAMPLES / "law_table.csv"])
+    law = "law" + law_path.suffix.lower()
+    roll = rng.random()
+    if roll < 0.05:
+        text = "[" * rng.choice([33, 1000, 100000]) + "]" * rng.choice([0, 33, 1000])
+        how = "deep"
+    elif roll < 0.08:
+        text = json.dumps([{"op": "detect_phases"}] * rng.choice([2_000, 2_001, 50_000]))
+        how = "long"
+    elif roll < 0.12:
+        text = rng.choice(["{}", "null", '"x"', "[1, 2]", "[{}]", "not json", "", "\ufeff[]", '[{"op": 1}]'])
+        how = "malformed"
+    else:
+        clean = rng.random() < 0.6
+        ops = [_edit_op(rng, clean) for _ in range(rng.randint(1, 8))]
+        if rng.random() < 0.5:
+            ops.append({"op": "save", "path": rng.choice(HOSTILE_PATHS)})
+        text = json.dumps(ops, allow_nan=True)
+        how = "ops"
+    files = {law: law_path.read_bytes(), "script.json": text.encode("utf-8")}
+    argv = ["edit", law, "--script", "script.json"]
+    if rng.random() < 0.3:   # -o is the user's own choice of place: odd names, but inside the case folder (and
+        # no NUL byte, which no command line can hold: the script's save paths carry it instead)
+        inside = tuple(p for p in HOSTILE_PATHS if ".." not in p and CANARY not in p and not p.startswith("C:")
+                       and "\x00" not in p)
+        argv += ["-o", rng.choice(inside + ("out/final.dxf", "out", "out/final.csv"))]
+    argv += _options(rng, {"--tol": [1e-5, 1e-3], "--lift": [10, 25], "--cycle": [360, 180]}, (0, 2))
+    if rng.random() < 0.85:
+        argv.append("--json")
+    return Case(number, "edit-script", argv, files, f"{law_path.name} script:{how}")
+
+
+def minsert_drawing(rng: random.Random) -> tuple[bytes, str]:
+    """A drawing with the law and block references of random sizes: MINSERT cells, nesting, scales."""
+    import io
+
+    import ezdxf
+
+    doc = ezdxf.new("R2000")
+    msp = doc.modelspace()
+    rows = [(0, 0), (60, 0), (90, 1), (120, 0), (150, -1), (180, 0), (240, 0), (270, -1), (300, 0), (330, 1),
+            (360, 0)]
+    if rng.random() < 0.8:
+        msp.add_lwpolyline(rows, dxfattribs={"layer": "ACCEL"})
+    depth = rng.choice([1, 1, 2, 3, 17])
+    for level in range(depth):
+        block = doc.blocks.new(f"B{level}")
+        if level == 0:
+            for _ in range(rng.choice([0, 1, 3])):
+                block.add_line((0, 0), (rng.choice([1, 10, 1000]), 1))
+            if rng.random() < 0.3:
+                block.add_lwpolyline(rows)
+        else:
+            ref = block.add_blockref(f"B{level - 1}", (0, 0))
+            if rng.random() < 0.5:
+                ref.grid(size=(rng.choice([1, 2, 10, 100]), rng.choice([1, 2, 10, 100])), spacing=(1, 1))
+    cells = rng.choice([1, 2, 50, 100, 3000, 32767, -5, 0])
+    top = msp.add_blockref(f"B{depth - 1}", (rng.choice([0, 1e99, 1e300]) if rng.random() < 0.1 else 0, 0))
+    if cells != 1:
+        top.grid(size=(max(cells, 1), max(rng.choice([cells, 1, 7]), 1)), spacing=(rng.choice([1, 0, 1e300]), 1))
+        if cells <= 0:
+            top.dxf.row_count = cells
+    if rng.random() < 0.2:
+        top.dxf.xscale = rng.choice([1e-300, 1e99, 1e308, -1e308, 0.0])
+    if rng.random() < 0.05:
+        doc.blocks.get("B0").add_blockref(f"B{depth - 1}", (0, 0))      # a block that inserts itself
+    stream = io.StringIO()
+    doc.write(stream)     # not camcad's writer: its extents would expand the MINSERT here, in the parent
+    # the same bytes for the same case: ezdxf stamps the time and random GUIDs
+    text = re.sub(r"(\$(?:TDU?CREATE|TDU?UPDATE|TDINDWG|VERSIONGUID|FINGERPRINTGUID)\n\s*\d+\n)[^\n]*",
+                  r"\g<1>0", stream.getvalue())
+    text = re.sub(r"\d{4}-\d\d-\d\dT[\d:.]+\+00:00", "2000-01-01T00:00:00+00:00", text)   # ezdxf's own stamp
+    return text.encode("utf-8"), f"depth {depth} cells {cells}"
+
+
+def minsert_case(rng: random.Random, number: int, laws: list[Path]) -> Case:  # noqa: ARG001
+    """``check``/``fix``/``profile`` on a drawing of block references (issue 34 F2, F6)."""
+    data, how = minsert_drawing(rng)
+    if rng.random() < 0.3:
+        data, bytes_how = _bytes_mutation(data, rng)
+        how += f" bytes:{bytes_how}"
+    verb = rng.choice(["check", "fix", "profile"])
+    argv = [verb, "law.dxf"] + _options(rng, LAW_OPTIONS, (0, 1))
+    if verb == "fix":
+        argv += ["-o", "out/fixed.dxf", "--no-plots"]
+    elif verb == "profile":
+        argv += ["--lift", "10", "--rb", "50", "--rr", "10", "-o", "out", "--no-plots"]
+    if rng.random() < 0.85:
+        argv.append("--json")
+    return Case(number, "minsert", argv, {"law.dxf": data}, f"minsert {how}")
+
+
+FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "log", "ln", "log10",
+             "log2", "sqrt", "abs")
+ODD_TEXT = ("²", "١", "２", "π", "ｘ", "x²", "√x", "1e", "1e999", ".", "..", "1..2", "e", "pi", "__import__", "os",
+            "x.real", "'x'", "[x]", "x,x", "()", "(", ")", "**", "^", "--x", "+-x", "x//2", "x%2", "1_000", "0x1F",
+            "nan", "inf", "1e-320", "\x00", " ", "")
+
+
+def _expression(rng: random.Random, depth: int = 0) -> str:
+    roll = rng.random()
+    if depth > rng.choice([2, 3, 4, 6]) or roll < 0.25:
+        return rng.choice(["x", "x", "pi", "e", "1", "2.5", "0", "1e-3", "100", "1e300"])
+    if roll < 0.5:
+        return f"{rng.choice(FUNCTIONS)}({_expression(rng, depth + 1)})"
+    if roll < 0.6:
+        return f"-{_expression(rng, depth + 1)}"
+    if roll < 0.7:
+        return f"({_expression(rng, depth + 1)})"
+    op = rng.choice(["+", "-", "*", "/", "^", "**"])
+    return f"{_expression(rng, depth + 1)}{op}{_expression(rng, depth + 1)}"
+
+
+def fgen_case(rng: random.Random, number: int, laws: list[Path]) -> Case:  # noqa: ARG001
+    """``linkage fgen --function EXPR`` on a generated expression (issue 34 F12)."""
+    roll = rng.random()
+    if roll < 0.6:
+        text = _expression(rng)
+        how = "grammar"
+    elif roll < 0.8:
+        text = _expression(rng)
+        at = rng.randrange(len(text) + 1)
+        text = text[:at] + rng.choice(ODD_TEXT) + text[at:]
+        how = "odd"
+    elif roll < 0.9:
+        n = rng.choice([39, 41, 200, 5000])
+        text = "(" * n + "x" + ")" * n
+        how = "deep"
+    else:
+        text = rng.choice(["x" + "+x" * rng.choice([100, 199, 1000]), "log(x)", "x^x^x^x^x", "1/(x-x)",
+                           "sqrt(-x)", "exp(exp(exp(x)))", "log10(x)", "x*0"])
+        how = "edge"
+    low = rng.choice([0.5, 1, 1, 2, 0, -1, 10, 1e-300, 1e300])
+    high = low + rng.choice([1, 1, 0.5, 2, 0, -1, 1e-12, 1e300])
+    argv = ["linkage", "fgen", "--function", text, "--x", f"{low:g}:{high:g}",
+            "--input-range", _value(rng, [60, 90, 120, 45]), "--output-range", _value(rng, [60, 90, 45])]
+    argv += _options(rng, {"--method": ["q", "precision", "lsq", "minimax"], "--nodes": [3, 5, 7],
+                           "--spacing": ["chebyshev", "uniform"], "--mu-min": [30, 40],
+                           "--frame": [100, 1]}, (0, 2))
+    argv += ["-o", "out", "--no-plots"] + (["--json"] if rng.random() < 0.85 else [])
+    return Case(number, "fgen", argv, {}, f"fgen {how}")
+
+
+SWEEP_KEYS = ("follower.base_radius", "follower.roller_radius", "follower.offset", "law.standard", "law.lift",
+              "law.phases.rise", "law.phases.return", "machine.rpm", "contact.width", "law.file", "law.phases",
+              "follower.auto_base_radius", "nope", "follower", "mechanisms.x.follower.base_radius", "", "=",
+              "follower.base_radius.x")
+SWEEP_SPECS = ("30:80:10", "30:40:5", "40,50", "cycloidal,harmonic", "cycloidal,nope", "60,90", "1:1e8:1",
+               "30:80:0", "80:30:1", "nan:1:1", "1:2:1e-300", "0:1e308:1e300", "1e-300:2e-300:1e-310",
+               "normal(50,1)", "normal(50,0)", "uniform(40,60)", "uniform(1,1)", "normal(nan,1)",
+               "uniform(0,1e308)", "1,1", ",,", "x" * 500, "", "true,false", "30:80:1e-5", "-5:5:1", "0:0:1",
+               "1e300,1e301", "300,400")
+
+
+SENSIBLE_SWEEPS = {"follower.base_radius": ["30:60:10", "40,50", "normal(50,2)"], "follower.roller_radius": ["5:15:5"],
+                   "law.standard": ["cycloidal,harmonic,poly345"], "law.lift": ["10:30:10"],
+                   "law.phases.rise": ["60,90,120", "90:130:20"], "machine.rpm": ["200,300"]}
+
+
+def sweep_case(rng: random.Random, number: int, laws: list[Path]) -> Case:  # noqa: ARG001
+    """``camcad sweep`` on the default scene with generated ``--vary`` specs (issue 34 F3); at most 1 chunk of 2
+    designs is computed after design 0 (``--stop-after-chunks``), so a valid sweep stays a short case."""
+    argv = ["sweep"]
+    for _ in range(rng.choice([1, 1, 2, 3])):
+        key, spec = rng.choice(sorted(SENSIBLE_SWEEPS.items()))
+        spec = rng.choice(spec)
+        if rng.random() < 0.4:
+            key = rng.choice(SWEEP_KEYS)
+        if rng.random() < 0.4:
+            spec = rng.choice(SWEEP_SPECS)
+        argv += ["--vary", f"{key}={spec}" if rng.random() < 0.95 else key]
+    argv += _options(rng, {"--samples": [2, 3, 0, -1, 10 ** 7], "--seed": [0, 1, -1, 2 ** 70],
+                           "--objective": ["min:follower.base_radius", "max:min_margin_ratio", "min:nope", "junk",
+                                           "max:pressure angle, rise.margin"],
+                           "--plot": ["follower.base_radius,law.phases.rise", "x", "a,b,c"]}, (0, 2))
+    argv += ["--workers", "1", "--chunk", "2", "--stop-after-chunks", "1", "--no-plots", "--no-best", "-o", "out"]
+    if rng.random() < 0.85:
+        argv.append("--json")
+    return Case(number, "sweep", argv, {}, "sweep specs")
+
+
+NEW_SURFACE_CASES = {"edit-script": edit_script_case, "minsert": minsert_case, "fgen": fgen_case,
+                     "sweep": sweep_case}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -556,6 +787,9 @@ def classify(case: Case, code: int | None, signalled: int | None, stdout: str, s
     if signalled is not None or code is None:
         return "FINDING", f"killed by signal {signalled}"
     lines = stderr.strip().splitlines()
+    if code == 130 and "--stop-after-chunks" in case.argv and len(lines) == 1 and \
+            lines[0].startswith("camcad: error: stopped after"):
+        return "ok", "exit 130 (stopped after a chunk, as asked)"
     if code in (0, 1):
         if "--json" in case.argv:
             try:
@@ -783,14 +1017,14 @@ def main() -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--replay", type=int, default=None, help="run this one case and show it")
     parser.add_argument("--keep", type=Path, default=None, help="copy the folders of findings here")
-    parser.add_argument("--commands", default=",".join(COMMANDS), help="comma-separated subset of the commands")
+    parser.add_argument("--commands", default=",".join(ALL_COMMANDS), help="comma-separated subset of the commands")
     parser.add_argument("--errors", action="store_true", help="also list the most frequent error lines")
     parser.add_argument("--log", type=Path, default=None, help="append each finding to this file (JSON lines)")
     args = parser.parse_args()
     if args.replay is not None:
         args.cases, args.start, args.workers = 1, args.replay, 1
     began = time.perf_counter()
-    commands = tuple(c for c in args.commands.split(",") if c in COMMANDS) or COMMANDS
+    commands = tuple(c for c in args.commands.split(",") if c in ALL_COMMANDS) or ALL_COMMANDS
     outcomes = run(args.cases, args.seed, args.workers, args.start, progress=args.replay is None, keep=args.keep,
                    commands=commands, log=args.log)
     print(summary(outcomes, args.seed, time.perf_counter() - began))

@@ -354,7 +354,7 @@ def test_save_never_overwrites_the_input_even_through_a_link(tmp_path):
     link = tmp_path / "link.dxf"
     link.symlink_to(source)
     for target in (source, link, tmp_path / "." / "law.dxf"):
-        with pytest.raises(CamcadError, match="overwrite the input"):
+        with pytest.raises(CamcadError, match="would replace the input"):
             s.save(target)
     with pytest.raises(CamcadError, match=r"cannot save as \.png"):
         s.save(tmp_path / "x.png")
@@ -414,7 +414,7 @@ def test_load_script_errors(tmp_path):
     bad.write_text("[{\"op\": \"undo\"},")
     with pytest.raises(CamcadError, match="not valid JSON"):
         load_script(bad)
-    with pytest.raises(CamcadError, match="script not found"):
+    with pytest.raises(CamcadError, match="file not found"):
         load_script(tmp_path / "missing.json")
 
 

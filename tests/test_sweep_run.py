@@ -201,7 +201,9 @@ def test_outputs_best_scene_and_report(tmp_path, cli):
                  "--workers", "1", "-o", tmp_path, "--json")
     assert result.code == 0, result.err
     report = result.json()
-    assert json.loads((tmp_path / "report.json").read_text()) == report
+    run = json.loads((tmp_path / "throughput.json").read_text())
+    assert {**json.loads((tmp_path / "report.json").read_text()), **run} == report
+    assert set(run) == {"chunks", "chunk_designs", "throughput"}
     counts = report["counts"]
     assert counts["designs"] == 9 and counts["feasible"] + counts["infeasible"] == 9
     assert counts["failed_by"] == {"pressure angle, rise": counts["infeasible"]}

@@ -23,6 +23,7 @@ from camcad.balance.checking import BalanceReport, check, check_by_trapezoid, ch
 from camcad.balance.conditions import DEFAULT_MAX_STRETCH, DEFAULT_STEP_DEG, DEFAULT_TOL, valid_tol
 from camcad.balance.correction import Correction, correct
 from camcad.io.law_record import LawRecord
+from camcad.io.output_folder import check_outputs
 from camcad.verdict import note_line
 
 # ---------------------------------------------------------------------------------------------
@@ -228,10 +229,21 @@ def default_output(loaded) -> Path:
     return path.with_name(path.stem + ".fixed" + (path.suffix if loaded.curve is None else ".dxf"))
 
 
+def plot_path(output: str | Path) -> Path:
+    """Where ``camcad fix`` draws the plot of the corrected law written to ``output``: beside it, ``.png``."""
+    return Path(output).with_suffix(".png")
+
+
+def check_plot_output(plot: str | Path | None, law_path: str | Path) -> None:
+    """The guard of ``camcad check --plot``: the plot may not replace the law (one line naming both)."""
+    if plot is not None:
+        check_outputs([(Path(plot), "--plot")], [(Path(law_path), "the law")], "--plot")
+
+
 def fix_law(loaded, mode: str = "min-change", *, output: str | Path | None = None, tol: float = DEFAULT_TOL,
             method: str = "exact", step_deg: float = DEFAULT_STEP_DEG,
             segment_deg: tuple[float, float] | None = None, moves=(), max_stretch: float = DEFAULT_MAX_STRETCH,
-            free_lift: bool = False, force: bool = False) -> FixReport:
+            free_lift: bool = False, force: bool = False, plot: bool = False) -> FixReport:
     """Check and correct a law read from a file, and write the corrected copy (``camcad fix``).
 
     Parameters
@@ -258,17 +270,22 @@ def fix_law(loaded, mode: str = "min-change", *, output: str | Path | None = Non
         Let the rise change (by default each rise keeps its drawn displacement).
     force : bool
         Write a copy even when the law is already balanced.
+    plot : bool
+        The caller draws the plot at ``plot_path(output)``: it is checked with the output, before anything
+        is written (neither may replace the law, nor each other).
 
     Returns
     -------
     FixReport
     """
-    from camcad.io.law_write import write_corrected
-    from camcad.io.output_folder import refuse_input
+    from camcad.io.law_write import write_corrected  # ezdxf: only when a copy is written
 
     valid_tol(tol)   # before anything is written
     out = Path(output) if output is not None else default_output(loaded)
-    refuse_input(out, [loaded.path], "-o")
+    outputs = [(out, "-o" if output is not None else "the corrected law")]
+    if plot:
+        outputs.append((plot_path(out), "the plot of the corrected law"))
+    check_outputs(outputs, [(Path(loaded.path), "the law")], "-o")
     law_moves = [(float(theta), float(value) * loaded.y_scale) for theta, value in moves]
     result = correct(loaded.law, mode, tol=tol, method=method, step_deg=step_deg, segment_deg=segment_deg,
                      moves=law_moves, max_stretch=max_stretch, where=str(loaded.path), keep_lift=not free_lift)

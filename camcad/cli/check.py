@@ -59,9 +59,10 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
     and with --trapezoid the source's resample-and-trapezoid check beside it."""
-    from camcad.balance.fixing import check_law
+    from camcad.balance.fixing import check_law, check_plot_output
     from camcad.law.motion_table import follower_from_options
 
+    check_plot_output(plot, law_file)   # before anything is read or written
     table_follower = follower_from_options(follower, rr, offset, pivot, arm, cw)
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin,
                                    follower=table_follower, smoothing=smoothing, accel_smoothing=accel_smoothing)
@@ -102,17 +103,17 @@ def fix(law_file: LawArg,
         as_json: JsonOpt = False) -> None:
     """Correct an unbalanced law with the least change (keeping the drawn rise) and write a corrected copy of
     the drawing; a law already balanced is left alone (exit 0, nothing written)."""
-    from camcad.balance.fixing import fix_law
+    from camcad.balance.fixing import fix_law, plot_path
 
     loaded = load_law_from_options(law_file, layer, handle, cycle, lift, phases, x_deg, y0, x0, origin)
     segment_deg = parse_pair(segment, "--segment", "60:180") if segment else None
     moves = [parse_pair(text, "--move", "75:12.5") for text in (move or [])]
     report = fix_law(loaded, mode, output=output, tol=tol, method=method, step_deg=step, segment_deg=segment_deg,
-                     moves=moves, max_stretch=max_stretch, free_lift=free_lift, force=force)
+                     moves=moves, max_stretch=max_stretch, free_lift=free_lift, force=force, plot=not no_plots)
     if report.output is not None and not no_plots:
         from camcad.report.balance import plot_balance
 
         c = report.correction
-        report.plot = str(plot_balance(loaded.law, c.before, report.output.with_suffix(".png"), corrected=c.law,
+        report.plot = str(plot_balance(loaded.law, c.before, plot_path(report.output), corrected=c.law,
                                        after=c.after, title=f"{law_file.name}, fix --mode {mode}"))
     _show(report, as_json)

@@ -59,7 +59,8 @@ def edit(law_file: SourceArg = None,
                            (source.loaded.path if source.loaded is not None else None),
                            tol=tol, notes=source.notes, step_deg=step)
     outcome = run_editor(session, script=script, output=output, web=web, port=port, open_browser=not no_browser,
-                         announce=lambda text: typer.echo(text, err=as_json))
+                         announce=lambda text: typer.echo(text, err=as_json),
+                         inputs=source.scene.input_files() if source.scene is not None else ())
     payload = outcome.payload
     if as_json:
         print_json(payload)

@@ -485,15 +485,16 @@ def analyse(
 
 
 def _refuse_inputs(command, folder: Path) -> None:
-    """Outputs never replace an input (the scene, its law or table files)."""
+    """Outputs never replace an input (the scene, its law or table files): every file these commands may write
+    is checked by the shared guard (resolved path, device and inode) before any is written."""
+    from camcad.io.output_folder import check_outputs
+
     if command.scene is None:
         return
-    inputs = {p.resolve() for p in command.scene.input_files()}
-    for name in ("analysis.json", "analysis.csv", "analysis.dxf", "working.csv", "settings.csv", "adjust.json",
-                 "adjust.csv", "adjust.dxf", "tune.json", "tune.csv", "tune.dxf"):
-        if (folder / name).resolve() in inputs:
-            raise CamcadError(f"the output {name} would overwrite an input", str(folder / name),
-                              "choose another folder with -o")
+    names = [f"{stem}.{suffix}" for stem in ("analysis", "adjust", "tune") for suffix in ("json", "csv", "dxf", "png")]
+    names += ["working.csv", "settings.csv", "working.png", "settings.png", "diagram.png"]
+    inputs = [(path, "an input of the scene") for path in command.scene.input_files()]
+    check_outputs([folder / name for name in names], inputs)
 
 
 def _functions(options: dict) -> dict:
@@ -771,12 +772,12 @@ def _table_members(path: Path, a: float, b: float) -> list:
     """Members from a table: x (deg) then one column per member (deg), a not-a-knot cubic spline each."""
     from scipy.interpolate import CubicSpline
 
+    from camcad.io.input_file import decode_text, read_input
     from camcad.linkage.family import Member
 
-    if not path.is_file():
-        raise CamcadError("file not found", str(path), "check the path")
+    text, _ = decode_text(read_input(path, "a table of x and member columns (.csv/.txt)"))
     rows = []
-    for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), start=1):
+    for number, line in enumerate(text.splitlines(), start=1):
         content = line.split("#", 1)[0].strip()
         if not content:
             continue

@@ -64,7 +64,6 @@ def sweep(
     local pool or a Dask cluster; Parquet results, feasible region, Pareto front, best design. Exit 0 if a
     feasible design was found, 1 if none."""
     from camcad.errors import CamcadError
-    from camcad.io.jsonout import write_json
     from camcad.io.output_folder import OutputFolder, safe_name
     from camcad.sweep import analysis, store
     from camcad.sweep.engine import make_engine
@@ -87,8 +86,7 @@ def sweep(
     stem = Path(name).stem if scene is not None else "default"
     folder = output if output is not None else Path("camcad-out") / f"{safe_name(stem)}-sweep"
     with OutputFolder(folder, inputs) as out:
-        for name_out in OUTPUT_NAMES:  # an output that would replace an input is refused before any work
-            out.path(name_out)
+        out.plan(OUTPUT_FILES, folders=OUTPUT_FOLDERS)  # a clash with an input is refused before any work
         if resume and chunk is None:
             found = store.read_manifest(out.folder)
             if found is not None:
@@ -116,13 +114,10 @@ def sweep(
         found = sweep_outputs(out.folder, plan, tables, base_dir, objectives, plot_axes, plots=not no_plots,
                               run_best=not no_best, out=out)
         report = {"scene": str(scene) if scene is not None else name, "vary": list(plan.task.vary),
-                  "samples": plan.task.samples, "seed": plan.task.seed, "designs": plan.designs,
-                  "chunks": plan.chunks, "chunk_designs": plan.chunk_designs, **found,
-                  "throughput": stats.as_dict(),
+                  "samples": plan.task.samples, "seed": plan.task.seed, "designs": plan.designs, **found,
                   "results": str(out.path(store.RESULTS)), "manifest": str(out.path(store.MANIFEST))}
-        report_path = out.path("report.json")
-        report["outputs"] = [*report["outputs"], str(report_path)]
-        write_json(report_path, report)
+        report = _write_reports(out, report, {"chunks": plan.chunks, "chunk_designs": plan.chunk_designs,
+                                              "throughput": stats.as_dict()})
     if as_json:
         print_json(report)
     else:
@@ -136,8 +131,21 @@ def sweep(
     raise typer.Exit(0 if counts["feasible"] else 1)
 
 
-#: every name the sweep writes into its folder
-OUTPUT_NAMES = ("sweep.json", "results", "report.json", "best.toml", "best", "region.png", "pareto.png", "pareto.csv")
+#: every file the sweep writes into its folder, and the folders it fills
+OUTPUT_FILES = ("sweep.json", "report.json", "throughput.json", "best.toml", "region.png", "pareto.png", "pareto.csv")
+OUTPUT_FOLDERS = ("results", "best")
+
+
+def _write_reports(out, report: dict, run: dict) -> dict:
+    """report.json (what the sweep found: the same bytes for the same sweep) and throughput.json (how this run
+    went: chunking, engine, timings); returns both merged, the --json payload."""
+    from camcad.io.jsonout import write_json
+
+    run_path, report_path = out.path("throughput.json"), out.path("report.json")
+    report["outputs"] = [*report["outputs"], str(run_path), str(report_path)]
+    write_json(run_path, run)
+    write_json(report_path, report)
+    return {**report, **run}
 
 
 def _space(plan):

@@ -24,6 +24,7 @@ from camcad.edit.session import (
     loaded_from_law,
     sampled_law,
 )
+from camcad.io.output_folder import check_outputs, confined_path, is_folder
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.segments import SegmentLaw
 from camcad.law.source import LoadedLaw
@@ -65,29 +66,43 @@ def make_session(law, *, name: str, input_path: Path | None, tol: float = DEFAUL
 
 
 def run_editor(session: EditSession, *, script: Path | None = None, output: Path | None = None, web: bool = False,
-               port: int = 0, open_browser: bool = True, announce: Callable[[str], None] = print) -> EditOutcome:
+               port: int = 0, open_browser: bool = True, announce: Callable[[str], None] = print,
+               inputs=()) -> EditOutcome:
     """Replay ``script`` headless, or open the editor (desktop window or browser) until it is closed.
 
     Parameters
     ----------
     session : the law to edit.
-    script : an edit script (JSON list of operations); replayed without a window. Its relative save
-        paths are relative to the script's folder.
+    script : an edit script (JSON list of operations); replayed without a window. Its save paths are
+        relative to the output folder (``output_folder(session, output)``) and confined to it; every
+        output of the run (each save and ``output``) is checked against every input (the law, the script,
+        ``inputs``) and against the others before the first operation runs.
     output : with a script, the final law is also saved here (default ``<input>.edited.dxf`` when the
-        script saves nothing); in the window, where ``s`` saves.
+        script saves nothing); an existing folder: the final law is saved in it under its default name.
+        In the window, where ``s`` saves.
     web : serve the editor in a browser even when there is a display.
     port : the browser editor's port (0: a free one); the server binds 127.0.0.1 only.
     open_browser : open the URL in the system's browser.
     announce : where the URL and notes are printed.
+    inputs : further files the session was read from (a scene and its law files), as paths or
+        (path, role): never replaced.
     """
+    session.inputs = [*session.inputs, *((Path(p), "an input") if not isinstance(p, tuple) else p for p in inputs)]
+    if output is not None and is_folder(output):
+        output = Path(output) / default_output(session).name
     if script is not None:
         ops = load_script(script)
-        session.base_dir = Path(script).resolve().parent
+        session.base_dir = output_folder(session, output)
+        final = output if output is not None else (
+            None if any(op["op"] == "save" for op in ops) else default_output(session))
+        saves = [(confined_path(op["path"], session.base_dir, f"{script}, operation {i} (save)", "save path"),
+                  f"operation {i} (save)") for i, op in enumerate(ops) if op["op"] == "save"]
+        final_item = [(final, "-o" if output is not None else "the edited law")] if final is not None else []
+        check_outputs(saves + final_item, [*session.inputs, (Path(script), "the script")], str(script))
+        session.inputs.append((Path(script), "the script"))
         session.replay(ops, where=str(script))
-        if output is not None:
-            session.save(output, record=False)
-        elif not any(op["op"] == "save" for op in ops):
-            session.save(default_output(session), record=False)
+        if final is not None:
+            session.save(final, record=False)
     elif web or not has_display():
         if not web:
             announce("camcad edit: no display here, so the editor runs in a browser")
@@ -99,6 +114,13 @@ def run_editor(session: EditSession, *, script: Path | None = None, output: Path
             announce(f"camcad edit: no desktop window ({why}); the editor runs in a browser")
             _serve(session, output, port, open_browser, announce)
     return summary(session)
+
+
+def output_folder(session: EditSession, output: Path | None) -> Path:
+    """The folder an edit script's saves go into: ``output``'s folder, else the folder of the default output
+    (the input's folder, or the current one for a law without a file)."""
+    target = Path(output) if output is not None else default_output(session)
+    return target.parent
 
 
 def summary(session: EditSession) -> EditOutcome:
@@ -155,4 +177,4 @@ def _serve(session: EditSession, output: Path | None, port: int, open_browser: b
     server.run()
 
 
-__all__ = ["EditOutcome", "has_display", "make_session", "run_editor", "summary"]
+__all__ = ["EditOutcome", "has_display", "make_session", "output_folder", "run_editor", "summary"]

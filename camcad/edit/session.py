@@ -33,8 +33,9 @@ Operations (each a JSON object with ``"op"`` and its fields; ``OPERATIONS`` list
   holds the vertices outside it. Optional ``method``, ``step_deg``, ``max_stretch`` as in ``fix``.
 - ``undo``, ``redo`` (an undo with nothing to undo is an error in a script, a message in the window),
   ``save`` (``path``: ``.dxf`` a corrected copy of the drawing exactly as ``fix`` writes it, a table
-  suffix such as ``.csv`` a table, ``.json`` the edit script; relative paths are relative to the
-  script's folder; the input is never overwritten).
+  suffix such as ``.csv`` a table, ``.json`` the edit script; the path is relative to the output folder
+  (``-o``'s folder, else the input's) and confined to it: absolute paths, ``~`` and ``..`` are refused;
+  no save may replace an input — the law, the script, a scene's files — or another output of the run).
 
 Undo works per gesture: a drag is one step (``begin_gesture``/``end_gesture``), however many
 mouse events it took. Every state is an immutable law, so undo restores the exact arrays.
@@ -45,7 +46,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -58,8 +58,10 @@ from camcad.balance import MODES, BalanceReport, Correction, check, correct, dif
 from camcad.balance.conditions import DEFAULT_TOL, valid_tol
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_text_atomic
+from camcad.io.input_file import check_json_nesting, decode_text, read_input
 from camcad.io.law_record import LawRecord
 from camcad.io.law_write import write_corrected
+from camcad.io.output_folder import check_outputs, confined_path
 from camcad.io.table_read import TABLE_SUFFIXES
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import detect_phases, zero_threshold
@@ -73,6 +75,9 @@ MIN_PHASE_DEG = 0.01
 X_GAP_DEG = 1e-6
 #: ``move_phase`` finds the boundary within this distance of ``from_deg`` (deg)
 PHASE_PICK_DEG = 1.0
+#: the largest edit script read (bytes) and the most operations it may hold (a hand-made script has tens)
+MAX_SCRIPT_BYTES = 10 * 1024 * 1024
+MAX_OPERATIONS = 2_000
 
 NUMBER, TEXT, PAIR, END = "number", "text", "pair", "end"
 
@@ -174,23 +179,25 @@ def _kind_text(kind: str) -> str:
 
 
 def validate_script(ops: Any, where: str) -> list[dict]:
-    """A whole script: a JSON list of operations, each checked by ``normalize_operation``."""
+    """A whole script: a JSON list of at most ``MAX_OPERATIONS`` operations, each checked by
+    ``normalize_operation``."""
     if not isinstance(ops, list):
         raise CamcadError(f"the script is a JSON {type(ops).__name__}, not a list of operations", where,
                           'write [{"op": "move", "x_deg": 75, "y": 1.2}, {"op": "save", "path": "out.dxf"}]')
+    if len(ops) > MAX_OPERATIONS:
+        raise CamcadError(f"the script holds {len(ops)} operations, more than camcad replays ({MAX_OPERATIONS})",
+                          where, "split it into several scripts")
     return [normalize_operation(op, i, where) for i, op in enumerate(ops)]
 
 
 def load_script(path: str | Path) -> list[dict]:
-    """Read and check an edit script (a JSON list of operations)."""
+    """Read and check an edit script (a JSON list of operations): a regular file of at most
+    ``MAX_SCRIPT_BYTES``, nested at most ``input_file.MAX_NESTING`` deep, at most ``MAX_OPERATIONS`` long."""
     path = Path(path)
     where = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CamcadError("script not found", where, "check the path of --script") from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise CamcadError(f"cannot read the script ({err})", where, "give a UTF-8 JSON file") from None
+    raw = read_input(path, "an edit script (a JSON list of operations)", MAX_SCRIPT_BYTES)
+    text, _encoding = decode_text(raw)
+    check_json_nesting(text, where)
     try:
         ops = json.loads(text)
     except json.JSONDecodeError as err:
@@ -379,7 +386,10 @@ class EditSession:
         self._gesture_op: dict | None = None
         self.preview: Preview | None = None
         self.outputs: list[Path] = []
+        #: the folder an operation's relative save path is resolved against (and confined to)
         self.base_dir = Path.cwd()
+        #: the files the session read, as (path, role): no save may replace one
+        self.inputs: list[tuple[Path, str]] = [(self.input_path, "the law")] if self.input_path is not None else []
 
     # --- construction ------------------------------------------------------------------------
 
@@ -512,7 +522,7 @@ class EditSession:
         elif name == "redo":
             self.redo(at)
         elif name == "save":
-            self.save(self._resolve(op["path"]), at=at, record=False)
+            self.save(self._resolve(op["path"], at), at=at, record=False)
         else:
             base = self._gesture if self._gesture is not None else self._state
             new = self._edit(base, op, at)
@@ -538,9 +548,9 @@ class EditSession:
         ``-o`` or add a ``save`` when replaying)."""
         return [dict(op) for op in self._log if op["op"] != "save"]
 
-    def _resolve(self, path: str) -> Path:
-        p = Path(path).expanduser()
-        return p if p.is_absolute() else self.base_dir / p
+    def _resolve(self, path: str, where: str = "") -> Path:
+        """An operation's save path inside ``base_dir`` (``output_folder.confined_path``)."""
+        return confined_path(path, self.base_dir, where or self.where, "save path")
 
     def _commit(self, new: EditState) -> None:
         if new is self._state:
@@ -880,9 +890,7 @@ class EditSession:
         if suffix not in (".dxf", ".json") + TABLE_SUFFIXES:
             raise CamcadError(f"cannot save as {suffix or 'a file without a suffix'}", str(path),
                               f"use .dxf (the drawing), .csv (a table) or .json (the edit script); {at}")
-        if self._same_as_input(path):
-            raise CamcadError("the output would overwrite the input", f"{path}; {at}",
-                              "give another name (the input is never overwritten)")
+        check_outputs([(path, "save")], self.inputs, at)
         if suffix == ".json":
             written = write_text_atomic(path, json.dumps(self.export_script(), indent=1) + "\n")
         else:
@@ -893,17 +901,6 @@ class EditSession:
         if record:
             self._log.append({"op": "save", "path": str(path)})
         return Path(written)
-
-    def _same_as_input(self, path: Path) -> bool:
-        source = self.input_path
-        if source is None:
-            return False
-        try:
-            if path.resolve() == source.resolve():
-                return True
-            return path.exists() and source.exists() and os.path.samefile(path, source)
-        except OSError:
-            return False
 
     # --- tables for the view -------------------------------------------------------------------
 

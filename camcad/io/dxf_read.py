@@ -38,6 +38,8 @@ CURVE_TYPES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "LINE", "ARC", "ELLIPSE")
 MAX_BLOCK_DEPTH = 16
 #: block references expand to at most this many curve pieces in all
 MAX_BLOCK_ENTITIES = 10_000
+#: block references (each cell of a MINSERT, each nested reference) are placed at most this many times in all
+MAX_BLOCK_PLACEMENTS = 100_000
 #: default flattening tolerance of splines and arcs, as a fraction of the entity's size
 DEFAULT_FLATTEN_FRACTION = 1e-5
 #: coordinates beyond this magnitude are damage, not drawing (and overflow any distance computation)
@@ -494,7 +496,10 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None, layout
     ------
     CamcadError
         Block references nested deeper than :data:`MAX_BLOCK_DEPTH`, a block that inserts itself,
-        or references expanding to more than :data:`MAX_BLOCK_ENTITIES` curve pieces in all.
+        references expanding to more than :data:`MAX_BLOCK_ENTITIES` curve pieces or placed more than
+        :data:`MAX_BLOCK_PLACEMENTS` times in all (MINSERT cells counted as rows × columns), all counted
+        before any reference is expanded; a reference whose transformation is not finite or places a
+        vertex out of range.
     """
     counts: Counter = Counter()
     notes: list[str] = []
@@ -502,20 +507,14 @@ def collect_pieces(drawing: Drawing, *, flatten_tol: float | None = None, layout
     hidden = _hidden_layers(drawing.doc)
     zero = [0]
     blocks = _BlockCache(drawing, flatten_tol, notes, zero)
-    expanded = 0
     space = drawing.doc.layouts.get(layout) if layout else drawing.doc.modelspace()
     with ezdxf_messages() as messages:
+        blocks.check_budget(space)   # every reference counted before any is expanded
         for index, entity in enumerate(space):
             kind = entity.dxftype()
             handle = str(entity.dxf.get("handle", "") or "?")
             if kind == "INSERT":
                 counts[kind] += 1
-                expanded += blocks.expansion(entity, handle)
-                if expanded > MAX_BLOCK_ENTITIES:
-                    raise CamcadError(f"block references expand to more than {MAX_BLOCK_ENTITIES} curves "
-                                      f"(INSERT {handle} of block {str(entity.dxf.get('name', ''))[:40]})",
-                                      str(drawing.path), "explode the blocks in your CAD program, or copy the law "
-                                      "out of them")
                 for piece in blocks.place(entity, handle, index, counts):
                     pieces.append(replace(piece, hidden=piece.layer.upper() in hidden))
                 continue
@@ -614,7 +613,12 @@ def _entity_piece(entity, kind: str, handle: str, flatten_tol: float | None, not
 
 
 class _BlockCache:
-    """Block definitions as pieces in block coordinates (each computed once), placed by matrices."""
+    """Block definitions as pieces in block coordinates (each computed once), placed by matrices.
+
+    What a reference expands to is counted first (``check_budget``): curve pieces and placements
+    (a MINSERT's rows × columns from its header, a nested reference's count times its block's), so a
+    32767 × 32767 MINSERT is refused in microseconds instead of being expanded cell by cell.
+    """
 
     def __init__(self, drawing: Drawing, flatten_tol: float | None, notes: list[str], zero: list[int]) -> None:
         self.doc = drawing.doc
@@ -623,10 +627,13 @@ class _BlockCache:
         self.notes = notes
         self.zero = zero
         self.content: dict[str, tuple[list[Piece], list, Counter]] = {}
-        self.sizes: dict[str, int] = {}
+        self.sizes: dict[str, tuple[int, int]] = {}
+        self.subtree_counts: dict[str, Counter] = {}
+        self.matrices: dict[int, list[np.ndarray]] = {}
 
     def _content(self, name: str):
-        """(pieces, [(child block name, [local 4×4 matrices], child layer, handle)], entity counts) of a block."""
+        """(pieces, [(child block name, INSERT entity, cells, child layer, handle)], entity counts) of a block;
+        the children's matrices are not computed here (``place`` does, after the budget is checked)."""
         key = name.upper()
         if key not in self.content:
             block = self.doc.blocks.get(name)
@@ -637,7 +644,7 @@ class _BlockCache:
                 kind = entity.dxftype()
                 counts[kind] += 1
                 if kind == "INSERT":
-                    children.append((str(entity.dxf.get("name", "")), _matrices(entity),
+                    children.append((str(entity.dxf.get("name", "")), entity, _repeat(entity),
                                      str(entity.dxf.get("layer", "0")), str(entity.dxf.get("handle", "") or "?")))
                     continue
                 piece = _entity_piece(entity, kind, name, self.flatten_tol, self.notes, self.zero)
@@ -646,11 +653,31 @@ class _BlockCache:
             self.content[key] = (pieces, children, counts)
         return self.content[key]
 
-    def expansion(self, insert, handle: str) -> int:
-        """How many curve pieces a model-space reference expands to, checking depth and cycles."""
-        return len(_matrices(insert)) * self._size(str(insert.dxf.get("name", "")), handle, 1, ())
+    def check_budget(self, entities) -> None:
+        """Count what every reference among ``entities`` (the model space) expands to; refuse past the budgets."""
+        pieces = placements = 0
+        for entity in entities:
+            if entity.dxftype() != "INSERT":
+                continue
+            handle = str(entity.dxf.get("handle", "") or "?")
+            name = str(entity.dxf.get("name", ""))
+            cells = _repeat(entity)
+            inner_pieces, inner_placements = self._size(name, handle, 1, ())
+            pieces += cells * inner_pieces
+            placements += cells * (1 + inner_placements)
+            what = f"INSERT {handle} of block {name[:40]}" + (f", a MINSERT of {_cells_text(entity)}" if cells > 1
+                                                               else "")
+            if pieces > MAX_BLOCK_ENTITIES:
+                raise CamcadError(f"block references expand to more than {MAX_BLOCK_ENTITIES} curves (at least "
+                                  f"{_count_text(pieces)}: {what})", self.where,
+                                  "explode the blocks in your CAD program, or copy the law out of them")
+            if placements > MAX_BLOCK_PLACEMENTS:
+                raise CamcadError(f"block references are placed more than {MAX_BLOCK_PLACEMENTS} times (at least "
+                                  f"{_count_text(placements)}: {what})", self.where,
+                                  "explode the blocks in your CAD program, or copy the law out of them")
 
-    def _size(self, name: str, handle: str, depth: int, chain: tuple[str, ...]) -> int:
+    def _size(self, name: str, handle: str, depth: int, chain: tuple[str, ...]) -> tuple[int, int]:
+        """(curve pieces, nested placements) of one reference of block ``name``; counting stops past the budgets."""
         key = name.upper()
         if key in chain:
             raise CamcadError(f"block {name[:40]} inserts itself (INSERT {handle})", self.where,
@@ -661,41 +688,116 @@ class _BlockCache:
                               "explode the nested blocks in your CAD program, or copy the law out of them")
         if key not in self.sizes:
             pieces, children, _ = self._content(name)
-            total = len(pieces)
-            for child, matrices, _, _ in children:
-                total += len(matrices) * self._size(child, handle, depth + 1, chain + (key,))
-                if total > MAX_BLOCK_ENTITIES:
+            total, placed = len(pieces), 0
+            for child, _entity, cells, _, _ in children:
+                inner, inner_placed = self._size(child, handle, depth + 1, chain + (key,))
+                total += cells * inner
+                placed += cells * (1 + inner_placed)
+                if total > MAX_BLOCK_ENTITIES or placed > MAX_BLOCK_PLACEMENTS:
                     break
-            self.sizes[key] = total
+            self.sizes[key] = (total, placed)
         return self.sizes[key]
 
     def place(self, insert, handle: str, index: int, counts: Counter):
         """The pieces of a model-space reference in WCS (handle and index of the INSERT)."""
         out: list[Piece] = []
         layer = str(insert.dxf.get("layer", "0"))
-        stack = [(str(insert.dxf.get("name", "")), m, layer) for m in _matrices(insert)]
+        stack = [(str(insert.dxf.get("name", "")), m, layer) for m in self._placed(insert, handle)]
         while stack:
             name, m, layer = stack.pop()
             pieces, children, block_counts = self._content(name)
+            if self.sizes.get(name.upper(), (1, 0))[0] == 0:   # no curve below: count its entities, place nothing
+                counts.update(self._subtree_counts(name))
+                continue
             counts.update(block_counts)
             scale = _scale(m)
             for piece in pieces:
-                out.append(replace(piece, points=_transform(piece.points, m), handle=handle, index=index,
+                try:
+                    points = _transform(piece.points, m)
+                    breakpoints = None if piece.breakpoints is None else _transform(piece.breakpoints, m)
+                except ValueError as err:
+                    raise CamcadError(f"INSERT {handle} (block {name[:40]}) places {piece.kind} at an out-of-range "
+                                      f"coordinate ({_short(err, 80).split(';')[0]})", self.where,
+                                      "fix the reference's insertion point, scale or rotation in your CAD "
+                                      "program") from None
+                out.append(replace(piece, points=points, handle=handle, index=index,
                                    exact=False, in_block=True, flatten_tol=piece.flatten_tol * scale,
-                                   layer=layer if piece.layer == "0" else piece.layer,
-                                   breakpoints=None if piece.breakpoints is None else
-                                   _transform(piece.breakpoints, m)))
-            for child, matrices, child_layer, _ in children:
+                                   layer=layer if piece.layer == "0" else piece.layer, breakpoints=breakpoints))
+            for child, entity, _, child_layer, child_handle in children:
                 inherited = layer if child_layer == "0" else child_layer
-                stack.extend((child, local @ m, inherited) for local in matrices)
+                stack.extend((child, local @ m, inherited) for local in self._placed(entity, child_handle))
         return out
+
+    def _subtree_counts(self, name: str) -> Counter:
+        """The entity counts of one reference of block ``name``, its nested references' included (counted, not
+        placed; the budget has bounded them)."""
+        key = name.upper()
+        if key not in self.subtree_counts:
+            _, children, block_counts = self._content(name)
+            total = Counter(block_counts)
+            for child, _entity, cells, _, _ in children:
+                for kind, count in self._subtree_counts(child).items():
+                    total[kind] += cells * count
+            self.subtree_counts[key] = total
+        return self.subtree_counts[key]
+
+    def _placed(self, insert, handle: str) -> list[np.ndarray]:
+        """The matrices of a reference (``_matrices``, computed once per entity), refused with the entity named
+        when one is not finite."""
+        key = id(insert)
+        if key in self.matrices:
+            return self.matrices[key]
+        matrices = _matrices(insert)
+        self.matrices[key] = matrices
+        for m in matrices:
+            if not np.isfinite(m).all() or np.abs(m).max() > MAX_COORDINATE:
+                raise CamcadError(f"INSERT {handle} (block {str(insert.dxf.get('name', ''))[:40]}) has a "
+                                  "transformation that is not finite or out of range (its scale, rotation or "
+                                  "insertion point)", self.where,
+                                  "fix the reference in your CAD program, or explode it") from None
+        return matrices
+
+
+def _cells_text(insert) -> str:
+    try:
+        return f"{int(insert.dxf.get('row_count', 1))} rows x {int(insert.dxf.get('column_count', 1))} columns"
+    except Exception:  # noqa: BLE001
+        return "several cells"
+
+
+def _count_text(count: int) -> str:
+    return f"{count:,}" if count < 10**15 else f"{float(count):.3g}"
 
 
 def _matrices(insert) -> list[np.ndarray]:
-    """The 4×4 row-vector matrices placing a block reference (one per cell of a MINSERT)."""
+    """The 4×4 row-vector matrices placing a block reference (one per cell of a MINSERT; the caller checks the
+    cell count against the budget before calling this).
+
+    A MINSERT's cells differ only by their translation, linear in the row and the column: ezdxf places the
+    cells (0, 0), (0, 1) and (1, 0) of a 2 × 2 copy, and every other cell is (0, 0) moved by whole steps.
+    """
+    def matrix(single) -> np.ndarray:
+        return np.array([list(single.matrix44().get_row(k)) for k in range(4)], dtype=float)
+
     try:
-        singles = list(insert.multi_insert()) if _repeat(insert) > 1 else [insert]
-        return [np.array([list(s.matrix44().get_row(k)) for k in range(4)], dtype=float) for s in singles]
+        with np.errstate(all="ignore"):
+            if _repeat(insert) <= 1:
+                return [matrix(insert)]
+            rows = max(1, int(insert.dxf.get("row_count", 1)))
+            cols = max(1, int(insert.dxf.get("column_count", 1)))
+            probe = insert.copy()
+            probe.dxf.row_count, probe.dxf.column_count = min(rows, 2), min(cols, 2)
+            cells = [matrix(single) for single in probe.multi_insert()]
+            base = cells[0]
+            step_col = cells[1][3] - base[3] if cols > 1 else np.zeros(4)
+            step_row = cells[min(cols, 2)][3] - base[3] if rows > 1 else np.zeros(4)
+            out = []
+            for r in range(rows):
+                for c in range(cols):
+                    m = base.copy()
+                    m[3] = base[3] + c * step_col + r * step_row
+                    out.append(m)
+            return out
     except Exception:  # noqa: BLE001 - a reference that cannot be placed draws nothing
         return []
 

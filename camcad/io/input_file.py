@@ -18,6 +18,9 @@ from camcad.errors import CamcadError
 
 #: the largest input file camcad reads (bytes): 200 MB, far beyond any drawn law
 MAX_INPUT_BYTES = 200 * 1024 * 1024
+#: the deepest nesting of lists and tables camcad reads in a JSON or TOML file (a scene is 4 deep, an edit
+#: script 3); checked before the parser recurses
+MAX_NESTING = 32
 
 _BOM_UTF8 = b"\xef\xbb\xbf"
 _BOM_UTF16 = (b"\xff\xfe", b"\xfe\xff")
@@ -157,4 +160,71 @@ def is_regular_file(path: str | Path) -> bool:
         return False
 
 
-__all__ = ["MAX_INPUT_BYTES", "decode_text", "is_regular_file", "read_input", "utf16_without_bom"]
+def check_json_nesting(text: str, where: str, limit: int = MAX_NESTING) -> None:
+    """A CamcadError when the JSON ``text`` nests lists and objects deeper than ``limit`` (scanned before it is
+    parsed: Python's parser recurses once per level).
+
+    Examples
+    --------
+    >>> check_json_nesting('[{"op": "move", "x": [1, 2]}]', "s.json")
+    >>> check_json_nesting("[" * 100 + "]" * 100, "s.json")
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: s.json: lists and objects nest 33 deep at character 33, ...
+    """
+    depth = 0
+    in_string = False
+    escaped = False
+    for index, ch in enumerate(text):
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch in "[{":
+            depth += 1
+            if depth > limit:
+                raise CamcadError(f"lists and objects nest {depth} deep at character {index + 1}, deeper than "
+                                  f"camcad reads ({limit})", where, "flatten the file")
+        elif ch in "]}":
+            depth -= 1
+
+
+def check_nesting(data, where: str, limit: int = MAX_NESTING) -> None:
+    """A CamcadError when the parsed ``data`` (dicts and lists) nests deeper than ``limit``; walked without
+    recursion, so a TOML file of dotted keys a thousand deep is refused, not a crash.
+
+    Examples
+    --------
+    >>> check_nesting({"a": {"b": [1, 2]}}, "s.toml")
+    >>> deep = {}
+    >>> node = deep
+    >>> for _ in range(40):
+    ...     node["k"] = {}
+    ...     node = node["k"]
+    >>> check_nesting(deep, "s.toml")
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: s.toml: tables and arrays nest 33 deep, deeper than camcad reads (32); flatten the file
+    """
+    stack = [(data, 0)]
+    while stack:
+        node, depth = stack.pop()
+        if isinstance(node, dict):
+            children = list(node.values())
+        elif isinstance(node, list):
+            children = node
+        else:
+            continue
+        if depth + 1 > limit:
+            raise CamcadError(f"tables and arrays nest {depth + 1} deep, deeper than camcad reads ({limit})", where,
+                              "flatten the file")
+        stack.extend((child, depth + 1) for child in children if isinstance(child, (dict, list)))
+
+
+__all__ = ["MAX_INPUT_BYTES", "MAX_NESTING", "check_json_nesting", "check_nesting", "decode_text", "is_regular_file",
+           "read_input", "utf16_without_bom"]

@@ -26,6 +26,7 @@ from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
 from camcad.io.dxf_read import curve_space
 from camcad.io.dxf_write import (
+    HeaderKeep,
     header_snapshot,
     lwpolyline_from_array,
     new_document,
@@ -298,6 +299,12 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     doc = source.doc
     keep = header_snapshot(doc, None if source.binary else raw)
     notes = _fidelity_notes(raw, source, doc, bool(keep.names))
+    if doc.dxfversion <= "AC1009":   # an R12 copy holds what R12 can hold, and says what it could not
+        keep, dropped = r12_header(keep)
+        if dropped:
+            notes.append(f"{len(dropped)} header variable{'s' if len(dropped) > 1 else ''} of DXF R2000 or later "
+                         f"that an R12 file cannot hold (group codes R12 does not know) not carried: "
+                         f"{', '.join(dropped[:8])}{' ...' if len(dropped) > 8 else ''}")
     block = _original_block(doc)
     curve = loaded.curve
     entities, unique = _curve_entities(doc, curve)
@@ -452,6 +459,30 @@ def rise_of(law) -> float:
 
 
 # --- fidelity ----------------------------------------------------------------------------------------
+
+def r12_code(code: int) -> bool:
+    """True when DXF R12 knows the group code ``code`` (0–99 values, 210–239 extrusion, 999 comments,
+    1000–1071 extended data); R13 and later added 100–209, 240–998 (the 290 booleans, the 370 lineweights,
+    the 390 handles, …).
+
+    Examples
+    --------
+    >>> [r12_code(c) for c in (1, 10, 70, 210, 290, 370, 390, 1040)]
+    [True, True, True, True, False, False, False, True]
+    """
+    return 0 <= code < 100 or 210 <= code < 240 or code == 999 or 1000 <= code <= 1071
+
+
+def r12_header(keep: HeaderKeep) -> tuple[HeaderKeep, list[str]]:
+    """The header variables of ``keep`` an R12 file can hold (every value's group code known to R12:
+    ``r12_code``), and the names of the others."""
+    names: list[str] = []
+    dropped: list[str] = []
+    for name in keep.names:
+        code = getattr(keep.values.get(name), "code", 0)
+        (names if isinstance(code, int) and r12_code(code) else dropped).append(name)
+    return HeaderKeep(tuple(names), {name: keep.values[name] for name in names}), dropped
+
 
 def _crlf(raw: bytes) -> bool:
     first = raw.find(b"\n")

@@ -58,6 +58,9 @@ _SWING_BARE = re.compile(r"^(psi|ψ|swing)$")
 _RADIUS = re.compile(r"^(r|r_mm|radius(_mm)?|rho(_mm)?|radius_vector(_mm)?)$")
 #: further columns that camcad's own law tables hold beside their law column
 _DERIVED = re.compile(r"^(v|v_.*|j|j_.*|s|s_.*|vel.*|jerk.*)$")
+#: the most lines a law table may have (a drawn law has hundreds of rows, a law sampled every 0.001 deg 360,001;
+#: checked before any line is parsed: 500,000 rows take about 4 s to read)
+MAX_TABLE_LINES = 500_000
 
 
 @dataclass(frozen=True)
@@ -125,6 +128,10 @@ def read_table(path: str | Path) -> Table:
     if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
+    line_count = text.count("\n") + 1
+    if line_count > MAX_TABLE_LINES:
+        raise CamcadError(f"the table has {line_count:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
+                          "give the law with fewer rows (a drawn law needs hundreds)")
     rows: list[tuple[int, str]] = []
     record = None
     for number, line in enumerate(text.splitlines(), start=1):

@@ -42,6 +42,10 @@ def _error(text: str, pos: int, what: str, fix: str) -> CamcadError:
     return CamcadError(f"{what} at position {pos} of {text!r}", WHERE, fix)
 
 
+#: the digits of a number: ASCII only ("²" or "١" are not numbers here, and reach the parser as bad characters)
+_DIGITS = frozenset("0123456789")
+
+
 def _tokens(text: str) -> list[_Token]:
     out = []
     i = 0
@@ -51,24 +55,24 @@ def _tokens(text: str) -> list[_Token]:
             i += 1
             continue
         start = i
-        if ch.isdigit() or (ch == "." and i + 1 < len(text) and text[i + 1].isdigit()):
-            while i < len(text) and (text[i].isdigit() or text[i] == "."):
+        if ch in _DIGITS or (ch == "." and i + 1 < len(text) and text[i + 1] in _DIGITS):
+            while i < len(text) and (text[i] in _DIGITS or text[i] == "."):
                 i += 1
             if i < len(text) and text[i] in "eE":
                 j = i + 1
                 if j < len(text) and text[j] in "+-":
                     j += 1
-                if j < len(text) and text[j].isdigit():
+                if j < len(text) and text[j] in _DIGITS:
                     i = j
-                    while i < len(text) and text[i].isdigit():
+                    while i < len(text) and text[i] in _DIGITS:
                         i += 1
             literal = text[start:i]
             if literal.count(".") > 1:
                 raise _error(text, start + 1, f"malformed number {literal!r}", "write numbers like 2, 0.5 or 1e-3")
             out.append(_Token("num", literal, start + 1))
             continue
-        if ch.isalpha() or ch == "_":
-            while i < len(text) and (text[i].isalnum() or text[i] == "_"):
+        if ch.isascii() and (ch.isalpha() or ch == "_"):
+            while i < len(text) and text[i].isascii() and (text[i].isalnum() or text[i] == "_"):
                 i += 1
             out.append(_Token("name", text[start:i], start + 1))
             continue

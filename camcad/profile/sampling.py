@@ -68,25 +68,59 @@ def _density(curve: CurveFn, theta: np.ndarray, tol: float) -> np.ndarray:
     return np.where(np.isfinite(density), density, 0.0)
 
 
-def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
-                  pilot: int = 2048) -> np.ndarray:
-    """Nodes that equidistribute the predicted chord count, breakpoints included."""
+def _chord_budget(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints, pilot: int):
+    """(pilot grids, cumulative predicted chords on each) between breakpoints, from a pilot of ``pilot`` points."""
     edges = _pieces(lo, hi, breakpoints)
     widths = np.diff(edges)
     counts = np.maximum(8, np.ceil(pilot * widths / (hi - lo))).astype(int)
     pilot_theta = [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
     flat = np.concatenate(pilot_theta)
     density = _density(curve, flat, PLACEMENT_MARGIN * tol)
-    nodes = [np.array([lo])]
+    cumulatives = []
     start = 0
     for grid in pilot_theta:
         dens = density[start:start + len(grid)]
         start += len(grid)
-        cumulative = np.concatenate(([0.0], np.cumsum(np.diff(grid) * (dens[:-1] + dens[1:]) / 2.0)))
+        cumulatives.append(np.concatenate(([0.0], np.cumsum(np.diff(grid) * (dens[:-1] + dens[1:]) / 2.0))))
+    return pilot_theta, cumulatives
+
+
+def predicted_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(), pilot: int = 2048) -> float:
+    """How many points ``chord_nodes`` will place on [lo, hi] for the chord tolerance ``tol`` (mm): the chord
+    count integrated on a pilot grid (module docstring), computed before any point is placed.
+
+    Examples
+    --------
+    A circle of radius R = 100 mm, tolerance 0.01 mm: a chord of sagitta h = 0.8·tol (the placement margin)
+    spans √(8·R·h) of arc, so the circle takes 2πR / √(8·R·h) = 248.4 chords, 249 of them, and 250 points:
+
+    >>> import numpy as np
+    >>> from camcad.profile.geometry import CurveGeometry
+    >>> def circle(t):
+    ...     t = np.asarray(t, dtype=float)
+    ...     return CurveGeometry(t, np.column_stack((100 * np.cos(t), 100 * np.sin(t))),
+    ...                          np.column_stack((-np.sin(t), np.cos(t))), np.full(t.shape, 100.0),
+    ...                          np.full(t.shape, 100.0))
+    >>> predicted_nodes(circle, 0.0, 2 * np.pi, 0.01)
+    250.0
+    """
+    _, cumulatives = _chord_budget(curve, lo, hi, tol, breakpoints, pilot)
+    total = float(sum(max(1.0, np.ceil(c[-1])) if np.isfinite(c[-1]) else np.inf for c in cumulatives))
+    return total + 1.0
+
+
+def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
+                  pilot: int = 2048) -> np.ndarray:
+    """Nodes that equidistribute the predicted chord count, breakpoints included; refused before any node is
+    placed when the whole curve would need more than :data:`MAX_NODES`."""
+    pilot_theta, cumulatives = _chord_budget(curve, lo, hi, tol, breakpoints, pilot)
+    total = sum(max(1, int(np.ceil(c[-1]))) if np.isfinite(c[-1]) else MAX_NODES + 1 for c in cumulatives)
+    if total > MAX_NODES:
+        raise CamcadError(f"the chord tolerance {tol:g} mm needs about {total:,} points on one curve, more than "
+                          f"camcad writes ({MAX_NODES:,})", "profile", "use a coarser --tol-mm")
+    nodes = [np.array([lo])]
+    for grid, cumulative in zip(pilot_theta, cumulatives):
         chords = max(1, int(np.ceil(cumulative[-1])))
-        if chords > MAX_NODES:
-            raise CamcadError(f"the chord tolerance {tol:g} mm needs more than {MAX_NODES} points", "profile",
-                              "use a coarser --tol-mm")
         if cumulative[-1] > 0.0:
             targets = np.linspace(0.0, cumulative[-1], chords + 1)[1:]
             nodes.append(np.interp(targets, cumulative, grid))

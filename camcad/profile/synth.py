@@ -25,7 +25,17 @@ from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import Follower
 from camcad.profile.geometry import CamGeometry, rotate
-from camcad.profile.sampling import ArcPath, Polyline, SplineData, biarc_fit, chord_nodes, interpolating_spline
+from camcad.profile.sampling import (
+    MAX_NODES,
+    ArcPath,
+    CurveFn,
+    Polyline,
+    SplineData,
+    biarc_fit,
+    chord_nodes,
+    interpolating_spline,
+    predicted_nodes,
+)
 
 
 @dataclass(frozen=True)
@@ -380,6 +390,42 @@ def libreoffice_arcs_note(arcs: ArcPath) -> str:
             "for LibreOffice write the profile without --arcs (chords within the tolerance) or use cam.step")
 
 
+def _written_curves(geometry: CamGeometry, settings: ProfileSettings) -> list[tuple[str, CurveFn]]:
+    """(name, curve) of every curve profile.dxf holds as points (``synthesize``'s calls of ``_curve_result``)."""
+    follower = geometry.follower
+    curves: list[tuple[str, CurveFn]] = [("profile", geometry.profile)]
+    if not settings.checks_only:
+        curves.append(("pitch", geometry.pitch))
+    if follower.groove:
+        curves.append(("outer flank", geometry.outer_flank))
+    if follower.has_pair:
+        curves.append(("counter-cam", geometry.counter_profile))
+        if not settings.checks_only:
+            curves.append(("counter-cam pitch", lambda t: geometry.pitch(t, second=True)))
+    return curves
+
+
+def _check_point_budget(geometry: CamGeometry, settings: ProfileSettings) -> None:
+    """Refuse, before any point is placed, a cam whose written curves would hold more than ``MAX_NODES`` points
+    together (every curve of profile.dxf, every lobe, and the spline's control points when asked for): the
+    count is predicted from the chord tolerance on a pilot grid (``sampling.predicted_nodes``)."""
+    cycle = float(geometry.law.cycle)
+    breaks = geometry.breakpoints()
+    breaks = breaks[breaks <= cycle]
+    per_curve = {}
+    for name, curve in _written_curves(geometry, settings):
+        with np.errstate(all="ignore"):
+            count = geometry.lobes * predicted_nodes(curve, 0.0, cycle, settings.tol_mm, breaks)
+        per_curve[name] = count * (2 if settings.spline and name in ("profile", "outer flank", "counter-cam") else 1)
+    total = sum(per_curve.values())
+    if not total <= MAX_NODES:
+        parts = ", ".join(f"{name} {count:.3g}" for name, count in per_curve.items())
+        raise CamcadError(f"the written curves would hold about {total:.3g} points ({parts}), more than camcad "
+                          f"writes ({MAX_NODES:,})", "profile",
+                          f"use a coarser --tol-mm (now {settings.tol_mm:g} mm) or a smaller cam (base radius "
+                          f"{geometry.follower.base_radius:g} mm)")
+
+
 def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSettings,
                   analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str],
                   written: bool = True) -> CurveResult:
@@ -565,6 +611,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     notes: list[str] = []
     analysis = analysis_grid(geometry, settings.analysis_step_deg)
     rr = follower.roller_radius
+    _check_point_budget(geometry, settings)   # every written curve, all lobes, before any point is placed
 
     profile = _curve_result("profile", geometry.profile, geometry, settings, analysis,
                             settings.arcs, settings.spline, notes)

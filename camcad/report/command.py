@@ -45,6 +45,17 @@ def open_folder(output: Path | None, name: str, inputs) -> OutputFolder:
     return OutputFolder(output if output is not None else default_folder(name), inputs)
 
 
+def write_figures(out: OutputFolder, figures, json_name: str, others=()) -> list[Path]:
+    """Save ``figures`` ((name or name parts, Figure) pairs) into ``out``, after checking them, ``others``
+    (names written later) and ``json_name`` as one set (``OutputFolder.plan``): nothing is written when one
+    of them would replace an input or another output."""
+    from camcad.report.figure import save_figure
+
+    parts = [(name,) if isinstance(name, str) else tuple(name) for name, _ in figures]
+    out.plan([*parts, *((name,) for name in others), (json_name,)])
+    return [save_figure(fig, out.path(*name)) for name, (_, fig) in zip(parts, figures)]
+
+
 def finish(report, out: OutputFolder, written: list[Path], json_name: str,
            lines: Callable[[CommandRun], list] | None) -> CommandRun:
     """Write ``<json_name>`` (the report with its outputs) into ``out`` and return the CommandRun."""

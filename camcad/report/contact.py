@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.figure import COLOURS, new_figure
 
 if TYPE_CHECKING:
     from camcad.scene.commands.contact import ContactRequest
@@ -159,7 +159,8 @@ class ContactCommand:
 def contact_command(command: ContactCommand):
     """Run ``camcad contact``: compute (camcad.scene.commands.contact.run_contact), write the plots and
     contact.json into the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
-    from camcad.report.command import finish, open_folder
+    from camcad.io.output_folder import distinct_names
+    from camcad.report.command import finish, open_folder, write_figures
     from camcad.scene.commands.contact import run_contact
     from camcad.scene.commands.source import require_scene
     from camcad.scene.file import read_scene
@@ -168,6 +169,6 @@ def contact_command(command: ContactCommand):
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:
         report = run_contact(command.request)
-        written = ([save_figure(fig, out.path(*parts)) for parts, fig in contact_figures(report)]
-                   if command.plots else [])
+        distinct_names([item.name for item in report.result], "mechanisms", str(path))   # one plot each
+        written = write_figures(out, contact_figures(report) if command.plots else [], "contact.json")
         return finish(report, out, written, "contact.json", contact_lines)

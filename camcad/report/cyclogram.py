@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camcad.report.figure import new_figure, save_figure
+from camcad.report.figure import new_figure
 
 if TYPE_CHECKING:
     from camcad.cyclogram.network import Network
@@ -303,7 +303,7 @@ class CyclogramCommand:
 def cyclogram_command(command: CyclogramCommand):
     """Run ``camcad cyclogram``: compute (camcad.scene.commands.cyclogram.run_cyclogram), write the Gantt chart, the
     network and cyclogram.json. Returns a CommandRun (exit code 1 when the network is infeasible)."""
-    from camcad.report.command import finish, open_folder
+    from camcad.report.command import finish, open_folder, write_figures
     from camcad.scene.commands.cyclogram import run_cyclogram
     from camcad.scene.commands.source import require_scene
     from camcad.scene.file import read_scene
@@ -312,6 +312,5 @@ def cyclogram_command(command: CyclogramCommand):
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:
         report = run_cyclogram(command.request)
-        written = ([save_figure(fig, out.path(name)) for name, fig in cyclogram_figures(report)]
-                   if command.plots else [])
+        written = write_figures(out, cyclogram_figures(report) if command.plots else [], "cyclogram.json")
         return finish(report, out, written, "cyclogram.json", cyclogram_lines)

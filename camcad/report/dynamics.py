@@ -488,6 +488,7 @@ def dynamics_command(command: DynamicsCommand, progress=None):
     """Run ``camcad dynamics``: resolve the law, compute (camcad.scene.commands.dynamics.run_dynamics_report), write the
     plots and dynamics.json (the inputs are never replaced). Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
+    from camcad.report.command import write_figures as write_planned
     from camcad.scene.commands.dynamics import run_dynamics_report
     from camcad.scene.commands.source import resolve_source
 
@@ -498,7 +499,7 @@ def dynamics_command(command: DynamicsCommand, progress=None):
     inputs = list(src.inputs) + ([request.compare] if request.compare is not None else [])
     with open_folder(command.output, src.name, inputs) as out:
         report = run_dynamics_report(request, src, progress)
-        written = write_figures(dynamics_figures(report), out) if command.plots else []
+        written = write_planned(out, dynamics_figures(report) if command.plots else [], "dynamics.json")
         return finish(report, out, written, "dynamics.json", dynamics_lines)
 
 
@@ -506,6 +507,7 @@ def impact_command(command: DynamicsCommand, progress=None):
     """Run ``camcad impact``: resolve the law, compute (camcad.scene.commands.impact.run_impact_report), write the plots
     and impact.json. Returns a CommandRun."""
     from camcad.report.command import finish, open_folder
+    from camcad.report.command import write_figures as write_planned
     from camcad.scene.commands.impact import run_impact_report
     from camcad.scene.commands.source import resolve_source
 
@@ -514,5 +516,5 @@ def impact_command(command: DynamicsCommand, progress=None):
         ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))
     with open_folder(command.output, src.name, src.inputs) as out:
         report = run_impact_report(request, src, progress)
-        written = write_figures(impact_figures(report), out) if command.plots else []
+        written = write_planned(out, impact_figures(report) if command.plots else [], "impact.json")
         return finish(report, out, written, "impact.json", impact_lines)

@@ -21,10 +21,10 @@ import numpy as np
 
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
-from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.io.output_folder import OutputFolder, distinct_names, init_worker, safe_name
 from camcad.profile.servo import ServoExport
 from camcad.report.part_files import scene_part_files, write_part_files
-from camcad.report.servo import write_servo
+from camcad.report.servo import servo_files, write_servo
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -46,11 +46,21 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
     say = progress or (lambda _text: None)
     folder = options.output if options.output is not None else default_folder(result.scene.name)
     outputs: list[Path] = []
-    parts = scene_part_files(result, options.export)   # refused here, before anything is written
-    with OutputFolder(folder, result.scene.input_files()) as out:
-        for name in result.runs:   # a part file that would replace an input is refused before anything is written
-            for file in parts[name].files:
-                out.path(*((name,) if result.group else ()), file)
+    if result.group:   # each mechanism's own subfolder: "lift 1" and "lift_1" would share one
+        distinct_names(result.runs, "mechanisms", str(result.scene.path))
+    parts = scene_part_files(result, options.export)   # a part that cannot be made is refused before any write
+    servos: dict[str, ServoExport | None] = {name: options.servo if options.servo is not None else (
+        ServoExport().validated() if parts[name].servo else None) for name in result.runs}
+    cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
+    with OutputFolder(folder, [(p, "an input of the scene") for p in result.scene.input_files()]) as out:
+        # every file of the run, checked as a set before any is written (the plots are drawn in other processes)
+        planned = [(name, (name,) if result.group else (), file) for name, run in result.runs.items()
+                   for file in _data_files(run) + (MECHANISM_PLOT_FILES if options.plots else ())
+                   + tuple(parts[name].files) + servo_files(servos[name])]
+        planned += [(CYCLOGRAM_JOB, (), file) for file in (CYCLOGRAM_PLOT_FILES if cyclogram_plots else ())]
+        planned.append(("", (), "report.json"))
+        out.plan([(*sub, file) for _, sub, file in planned],
+                 [f"{file} of {name}" if name else file for name, _, file in planned])
         written: dict[str, list[Path]] = {}
         jobs = []
         for name, run in result.runs.items():
@@ -62,20 +72,14 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             if parts[name].report:
                 target["export"] = parts[name].report
             # ---- --export servo, or servo in the [export] kinds (camcad.report.servo)
-            servo = options.servo if options.servo is not None else (
-                ServoExport().validated() if parts[name].servo else None)
+            servo = servos[name]
             if servo is not None:
-                servo_files, target["servo"] = write_servo(run, out, sub, servo, result.scene.speeds_rpm)
-                written[name].extend(servo_files)
+                files, target["servo"] = write_servo(run, out, sub, servo, result.scene.speeds_rpm)
+                written[name].extend(files)
             # ----
             if options.plots:
-                for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
-                    out.path(*sub, file)
                 jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
-        cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
         if cyclogram_plots:
-            for file in CYCLOGRAM_PLOT_FILES:
-                out.path(file)
             jobs.append((CYCLOGRAM_JOB, result.scene, out.folder, (), result.report["cyclogram"]))
         drawn: list[Path] = []
         if jobs:
@@ -145,6 +149,11 @@ def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOpt
     ['law.csv', 'profile.dxf', 'report.json']
     """
     return write_scene(analyse_scene(source, options, progress), options, progress)
+
+
+def _data_files(run: MechanismRun) -> tuple[str, ...]:
+    """The data files ``_write_data`` writes for a mechanism."""
+    return ("profile.dxf", "law.csv") if run.profile is not None else ("law.csv",)
 
 
 def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions,
@@ -239,7 +248,8 @@ def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
     # MechanismRun.memo holds the pipeline's solved limits: not needed to draw, and not worth pickling
     light = [(name, run if name == CYCLOGRAM_JOB else _without_memo(run), folder, plots, report)
              for name, run, folder, plots, report in jobs]
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork")) as pool:
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                             initializer=init_worker, initargs=(os.getpid(),)) as pool:
         return list(pool.map(_plot_job, light))
 
 

@@ -140,6 +140,14 @@ def twincat_motion_function(table, name: str) -> str:
             + ",\n".join(rows) + "\n    ];\nEND_VAR\n")
 
 
+def servo_files(export) -> tuple[str, ...]:
+    """The files ``write_servo`` writes for the servo export ``export`` (None: none)."""
+    if export is None:
+        return ()
+    own = {"codesys": ("servo_codesys.txt",), "twincat": ("servo_twincat.st",)}.get(export.fmt, ())
+    return ("servo_table.csv", *own)
+
+
 def write_servo(run, out, sub: tuple[str, ...], export: ServoExport, speeds) -> tuple[list[Path], dict]:
     """servo_table.csv (and the format's own file) of one mechanism of the scene pipeline (``run``: a
     MechanismRun) into the OutputFolder ``out`` (subfolder ``sub``); returns (paths, the report's ``servo``

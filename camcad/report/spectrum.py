@@ -238,12 +238,16 @@ def plot_truncation(rms_errors: np.ndarray, *, max_errors: dict | None = None, t
 # Files and text
 # --------------------------------------------------------------------------------------------
 
-def write_spectrum(report, out, *, r12: bool = False, plots: bool = True) -> list[Path]:
+def write_spectrum(report, out, *, r12: bool = False, plots: bool = True, json_name: str | None = None) -> list[Path]:
     """Write a spectrum run's files into ``out`` (an OutputFolder): spectrum.csv; with a filter or lead-in
-    filtered.dxf and filtered.csv (the written law); the plots. Returns the paths."""
+    filtered.dxf and filtered.csv (the written law); the plots. Every name (and ``json_name``, written later
+    by the caller) is checked as one set before the first file is written. Returns the paths."""
     from camcad.io.atomic import write_text_atomic
 
     result = report.result
+    data = ["spectrum.csv"] + (["filtered.dxf", "filtered.csv"] if result.outcome is not None else [])
+    plot_names = ["spectrum.png", "truncation.png"] + (["filtered.png"] if result.outcome is not None else [])
+    out.plan(data + (plot_names if plots else []) + ([json_name] if json_name else []))
     unit = result.unit
     outputs = []
     gains = (result.resonance.gains if result.resonance is not None and result.outcome is not None
@@ -362,5 +366,5 @@ def spectrum_command(command: SpectrumCommand):
     src = resolve_source(command.request.law, command="spectrum")
     with open_folder(command.output, src.name, src.inputs) as out:
         report = run_spectrum(command.request, src)
-        written = write_spectrum(report, out, r12=command.r12, plots=command.plots)
+        written = write_spectrum(report, out, r12=command.r12, plots=command.plots, json_name="spectrum.json")
         return finish(report, out, written, "spectrum.json", spectrum_lines)

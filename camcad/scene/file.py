@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from camcad.errors import CamcadError, excerpt, nearest_name
+from camcad.io.input_file import check_nesting, read_input
 from camcad.scene.fields import parse_speeds
 
 MECHANISM_SECTIONS = ("law", "follower", "linkage", "filter", "dynamics", "stops", "contact", "load", "export",
@@ -81,21 +82,31 @@ MAX_SCENE_BYTES = 1 << 20
 
 
 def read_toml(path: Path) -> dict:
-    """The TOML document; a missing file, bad encoding or a syntax error is a one-line CamcadError."""
+    """The TOML document; a missing file, not a regular file (a FIFO, a device), a file over
+    ``MAX_SCENE_BYTES``, bad encoding, a syntax error or tables and arrays nested deeper than
+    ``input_file.MAX_NESTING`` is a one-line CamcadError."""
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise CamcadError("no such scene file", str(path), "check the path")
-    size = path.stat().st_size
+    try:
+        size = path.stat().st_size
+    except OSError:
+        size = 0
     if size > MAX_SCENE_BYTES:
         raise CamcadError(f"a scene file of {size / 1e6:.1f} MB is too large (at most {MAX_SCENE_BYTES >> 20} MB)",
                           str(path), "put long tables in a law file (.csv) and name it with [law] file = \"...\"")
+    raw = read_input(path, "a scene file (TOML)", MAX_SCENE_BYTES)
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(raw.decode("utf-8"))
     except tomllib.TOMLDecodeError as err:
         raise CamcadError(f"not valid TOML ({' '.join(str(err).split())})", str(path),
                           "fix the syntax at that line") from None
     except UnicodeDecodeError:
         raise CamcadError("not a UTF-8 text file", str(path), "save the scene as UTF-8 text") from None
+    except RecursionError:   # arrays or inline tables nested hundreds deep
+        raise CamcadError("tables and arrays nest deeper than camcad reads", str(path), "flatten the file") from None
+    check_nesting(data, str(path))
+    return data
 
 
 def read_scene(path: str | Path) -> Scene:

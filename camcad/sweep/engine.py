@@ -6,10 +6,14 @@ start, stop)`` call — and yields each chunk's result as it completes; the call
 
 - ``InProcess``: one worker, this process (``--workers 1``).
 - ``LocalPool``: a ``concurrent.futures.ProcessPoolExecutor`` of N processes (default: every core this process
-  may use). The processes start before any progress display (a fork never copies a running thread).
+  may use). The processes start before any progress display (a fork never copies a running thread). They die
+  with the run and hold no copy of the folder's lock (``camcad.io.output_folder.init_worker``), so after
+  ``kill -9`` of the run ``--resume`` finds the folder free; a worker that dies (killed, out of memory) stops
+  the run with one line saying to resume (the chunks written are kept).
 - ``DaskCluster``: a ``dask.distributed`` scheduler (``tcp://HOST:PORT``, or a scheduler file). The task —
   the scene's tables and its law files' bytes — is scattered to the workers once; no shared file system is
-  assumed. The workers must have camcad installed (the same version: checked before any work is sent).
+  assumed. The workers must have camcad installed (the same version: checked before any work is sent). A
+  cluster that loses every worker, or its scheduler, stops the run with one line saying what to do.
 
 At most ``window`` chunks are in flight at once (a few per worker), so a sweep of 10⁵ chunks neither floods
 the scheduler nor keeps 10⁵ futures in memory.
@@ -21,13 +25,17 @@ import os
 from collections.abc import Iterator
 
 from camcad.errors import CamcadError
+from camcad.io.output_folder import init_worker
 from camcad.sweep.evaluate import ChunkResult, SweepTask, evaluate_chunk, worker_version
 from camcad.sweep.store import INSTALL_FIX
 
 #: chunks in flight per worker
 IN_FLIGHT_PER_WORKER = 3
-#: seconds to wait for a Dask scheduler (and for its first worker)
+#: seconds to wait for a Dask scheduler (and for its first worker); a cluster left without workers this long
+#: stops the sweep
 CONNECT_TIMEOUT_S = 10.0
+#: how often the cluster's workers are counted while a sweep runs (s)
+WORKER_POLL_S = 1.0
 
 
 def local_cores() -> int:
@@ -81,13 +89,14 @@ class LocalPool(Engine):
         if workers < 1:
             raise CamcadError(f"--workers must be at least 1, got {workers}", "--workers", "give --workers N, N >= 1")
         self.workers = workers
-        self.pool = ProcessPoolExecutor(max_workers=workers)
+        self.pool = ProcessPoolExecutor(max_workers=workers, initializer=init_worker, initargs=(os.getpid(),))
         # start the processes now, before the caller shows a progress bar (its thread is not forked)
         for future in [self.pool.submit(worker_version) for _ in range(workers)]:
             future.result()
 
     def run(self, task, chunks):
         from concurrent.futures import FIRST_COMPLETED, wait
+        from concurrent.futures.process import BrokenProcessPool
 
         pending = iter(chunks)
         running = set()
@@ -102,14 +111,20 @@ class LocalPool(Engine):
                 if not running:
                     return
                 done, running = wait(running, return_when=FIRST_COMPLETED)
-                for future in sorted(done, key=lambda f: f.result().chunk):
+                for future in sorted(done, key=lambda f: (f.exception() is not None, _chunk_of(f))):
                     yield future.result()
+        except BrokenProcessPool:
+            self.broken = True
+            raise CamcadError("a worker process of the local pool died (killed, or out of memory)", "camcad sweep",
+                              "the chunks written are kept: rerun the same command with --resume") from None
         finally:
             for future in running:
                 future.cancel()
 
+    broken = False
+
     def close(self) -> None:
-        self.pool.shutdown(wait=True, cancel_futures=True)
+        self.pool.shutdown(wait=not self.broken, cancel_futures=True)
 
 
 class DaskCluster(Engine):
@@ -133,7 +148,12 @@ class DaskCluster(Engine):
             raise CamcadError("running on a Dask cluster needs dask.distributed, which is not installed",
                               "--scheduler", INSTALL_FIX) from None
         self.address = address
+        self.timeout_s = float(timeout_s)
         where = "--scheduler"
+        import logging
+
+        # the client logs its reconnection attempts on stderr; what went wrong is said in one line instead
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
         is_file = os.path.isfile(address)
         if not is_file and "://" not in address:
             raise CamcadError(f"{address[:60]!r} is neither tcp://HOST:PORT nor a scheduler file", where,
@@ -191,24 +211,88 @@ class DaskCluster(Engine):
         first = [submit(item) for item in _take(pending, window)]
         if not first:
             return
-        finished = as_completed(first, with_results=True, loop=self.client.loop)
+        finished = as_completed(first, with_results=True, raise_errors=False, loop=self.client.loop)
+        stop_watch = self._watch_workers(finished)
         try:
             for future, result in finished:
+                status = future.status
                 future.release()
+                if status != "finished" or isinstance(result, BaseException):
+                    self._lost(result, status)
                 yield result
                 item = next(pending, None)
                 if item is not None:
                     finished.add(submit(item))
         finally:
+            stop_watch.set()
             for future in list(finished.futures):
                 future.cancel()
             shared.release()
+
+    def _watch_workers(self, finished):
+        """A thread that cancels the chunks in flight when the cluster has had no worker for ``timeout_s``
+        (their futures then come back cancelled, and ``_lost`` says so): a cluster whose workers all left
+        would otherwise keep the sweep waiting for ever. Returns the event that stops the thread."""
+        import threading
+        import time
+
+        stop = threading.Event()
+
+        def watch() -> None:
+            empty_since = None
+            while not stop.wait(WORKER_POLL_S):
+                try:
+                    count = len(self.client.nthreads())
+                except Exception:  # noqa: BLE001 - the scheduler is gone: the futures come back cancelled
+                    return
+                if count:
+                    empty_since = None
+                    continue
+                empty_since = empty_since if empty_since is not None else time.monotonic()
+                if time.monotonic() - empty_since > self.timeout_s:
+                    for future in list(finished.futures):
+                        future.cancel()
+                    return
+
+        threading.Thread(target=watch, name="camcad-dask-workers", daemon=True).start()
+        return stop
+
+    def _lost(self, error, status: str) -> None:
+        """A chunk that did not come back: the cluster lost its workers or its scheduler (exit 2 with what to do),
+        or the chunk's own code failed on a worker (re-raised: an internal error)."""
+        kind = type(error).__name__ if isinstance(error, BaseException) else status
+        if isinstance(error, BaseException) and not _cluster_loss(error):
+            raise error
+        try:
+            alive = len(self.client.nthreads())
+        except Exception:  # noqa: BLE001 - the scheduler itself is gone
+            alive = -1
+        where = "its scheduler is gone" if alive < 0 else f"{alive} workers are left"
+        raise CamcadError(f"the Dask cluster at {self.address[:80]} lost the workers computing a chunk ({kind}; "
+                          f"{where})", "--scheduler",
+                          "start workers (dask worker ADDRESS) or the scheduler again, then rerun the same command "
+                          "with --resume: the chunks written are kept")
 
     def close(self) -> None:
         import contextlib
 
         with contextlib.suppress(Exception):  # closing a client whose scheduler went away
             self.client.close()
+
+
+def _cluster_loss(error: BaseException) -> bool:
+    """True when a Dask future's error says the cluster lost the task (a killed worker, a cancelled future, a
+    closed connection), not that the task's own code failed."""
+    import asyncio
+    import concurrent.futures
+
+    names = {"KilledWorker", "FutureCancelledError", "CancelledError", "CommClosedError", "FutureLostError"}
+    return type(error).__name__ in names or isinstance(
+        error, (asyncio.CancelledError, concurrent.futures.CancelledError, ConnectionError, TimeoutError))
+
+
+def _chunk_of(future) -> int:
+    return future.result().chunk if future.exception() is None else -1
 
 
 def _take(items, count: int) -> list:

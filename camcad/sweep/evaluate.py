@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from camcad.errors import CamcadError
+from camcad.io.input_file import read_input
 from camcad.verdict import Check
 
 STATUS_OK, STATUS_BAD, STATUS_BUG = "ok", "bad input", "internal error"
@@ -87,11 +88,7 @@ def make_task(tables: dict, name: str, base_dir: Path | None, vary: list[str], s
         if not isinstance(given, str):
             continue
         path = Path(given) if base_dir is None else base_dir / given
-        try:
-            content = path.read_bytes()
-        except OSError as err:
-            raise CamcadError(f"cannot read the law file ({err.strerror})", str(path),
-                              "check the [law] file path, relative to the scene") from None
+        content = read_input(path, "the law file ([law] file, relative to the scene)")
         from camcad.io.output_folder import safe_name
 
         name_in_task = f"law{number}_{safe_name(Path(given).name)}"

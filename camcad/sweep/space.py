@@ -29,6 +29,7 @@ from __future__ import annotations
 import copy
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -38,8 +39,12 @@ from camcad.errors import CamcadError, nearest_name
 
 #: significant digits of a range's values (A + i·STEP without the round-off of the binary step)
 RANGE_DIGITS = 12
-#: the most designs one sweep may hold
-MAX_DESIGNS = 10**12
+#: the most designs one sweep may hold (checked from the SPECs' counts before any value is made: a range's
+#: values are computed when a design asks for them, never stored)
+MAX_DESIGNS = 1_000_000
+#: the values of a range checked by the scene's parser before the sweep runs (all of them up to this many;
+#: past it, both ends and evenly spaced ones: the checks are ranges and types, so the ends decide)
+CHECKED_VALUES = 1000
 #: section name → (module, name of its field list) of the scene's parsers
 SECTION_FIELDS = {
     "law": ("camcad.scene.sections.law", "law_fields"),
@@ -220,13 +225,54 @@ def _table_at(tables: dict, path: tuple[str, ...]) -> dict:
 # specs
 # --------------------------------------------------------------------------------------------
 
+class RangeValues(Sequence):
+    """The values A + i·STEP (i = 0 … count − 1) of a range, each rounded to ``RANGE_DIGITS`` significant digits,
+    computed when asked for: a range of 10⁸ values takes no memory.
+
+    Examples
+    --------
+    >>> values = RangeValues(30.0, 0.1, 11)
+    >>> len(values), values[1], values[-1], values[-3:]
+    (11, 30.1, 31.0, (30.8, 30.9, 31.0))
+    """
+
+    def __init__(self, start: float, step: float, count: int, integer: bool = False) -> None:
+        self.start, self.step, self.length, self.integer = float(start), float(step), int(count), bool(integer)
+
+    def __len__(self) -> int:
+        return self.length
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            return tuple(self[i] for i in range(*index.indices(self.length)))
+        i = int(index)
+        if i < 0:
+            i += self.length
+        if not 0 <= i < self.length:
+            raise IndexError(index)
+        value = _round(self.start + i * self.step)
+        return int(value) if self.integer else value
+
+    def __eq__(self, other) -> bool:
+        if isinstance(other, RangeValues):
+            return (self.start, self.step, self.length, self.integer) == (other.start, other.step, other.length,
+                                                                        other.integer)
+        return isinstance(other, (tuple, list)) and len(other) == self.length and tuple(self) == tuple(other)
+
+    def __hash__(self) -> int:
+        return hash((self.start, self.step, self.length, self.integer))
+
+    def __repr__(self) -> str:
+        return f"RangeValues({self.start!r}, {self.step!r}, {self.length!r})"
+
+
 @dataclass(frozen=True)
 class Spec:
     """The values of one varied key: a grid (``values``) or a distribution (``dist``, ``params``)."""
 
     key: Key
     text: str
-    values: tuple = ()
+    values: Sequence = ()
     dist: str | None = None
     params: tuple[float, ...] = ()
 
@@ -292,15 +338,18 @@ def parse_spec(key: Key, text: str, where: str = "--vary") -> Spec:
             raise CamcadError(f"range step must be positive, got {step:g}", where, "write A:B:STEP with STEP > 0")
         if stop < start:
             raise CamcadError(f"range {start:g}:{stop:g} runs backwards", where, "write the smaller end first")
-        count = math.floor((stop - start) / step + 1e-9) + 1
-        if count > MAX_DESIGNS:
-            raise CamcadError(f"range gives {count:.3g} values", where, "use a larger step")
-        values = tuple(_round(start + i * step) for i in range(count))
-        if key.kind == "int":
-            if any(v != int(v) for v in values):
-                raise CamcadError(f"{key.path} is a whole number: the range gives fractions", where,
-                                  "give whole-number ends and step")
-            values = tuple(int(v) for v in values)
+        span = (stop - start) / step + 1e-9
+        if not span < MAX_DESIGNS:
+            raise CamcadError(f"range gives {span + 1:.3g} values, more designs than a sweep runs ({MAX_DESIGNS:,})",
+                              where, "use a larger step, or split the sweep")
+        count = math.floor(span) + 1
+        if key.kind == "int" and any(v != int(v) for v in (start, step)):
+            raise CamcadError(f"{key.path} is a whole number: the range gives fractions", where,
+                              "give whole-number ends and step")
+        values: Sequence = RangeValues(start, step, count, integer=key.kind == "int")
+        for index in _checked_indices(count):
+            _check_value(key, values[index], where)
+        return Spec(key, text, values=values)
     else:
         items = [item.strip() for item in text.split(",")]
         if any(not item for item in items):
@@ -311,6 +360,13 @@ def parse_spec(key: Key, text: str, where: str = "--vary") -> Spec:
     for value in values:
         _check_value(key, value, where)
     return Spec(key, text, values=values)
+
+
+def _checked_indices(count: int) -> list[int]:
+    """Which values of a range of ``count`` the scene's parser checks (``CHECKED_VALUES``)."""
+    if count <= CHECKED_VALUES:
+        return list(range(count))
+    return sorted(set(np.linspace(0, count - 1, CHECKED_VALUES).round().astype(int).tolist()))
 
 
 def _kind_text(key: Key) -> str:
@@ -472,9 +528,11 @@ def build_space(tables: dict, vary: list[str], samples: int | None = None, seed:
                           "vary a key with normal(mu,sigma) or uniform(a,b), or drop --samples")
     if samples is not None and samples < 1:
         raise CamcadError(f"--samples must be at least 1, got {samples}", "--samples", "give --samples N with N >= 1")
+    size = math.prod(len(s.values) for s in specs if not s.random) * (samples or 1)
+    if size > MAX_DESIGNS:
+        raise CamcadError(f"the sweep holds {size:.3g} designs, more than a sweep runs ({MAX_DESIGNS:,})", "--vary",
+                          "use coarser ranges or fewer draws, or split the sweep")
     space = DesignSpace(tuple(specs), samples or 1, int(seed))
-    if space.size > MAX_DESIGNS:
-        raise CamcadError(f"the sweep holds {space.size:.3g} designs", "--vary", "use coarser ranges")
     return space
 
 

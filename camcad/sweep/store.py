@@ -23,6 +23,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from camcad.errors import CamcadError
+from camcad.io.input_file import check_json_nesting, read_input
 
 #: manifest format version
 MANIFEST_VERSION = 1
@@ -184,8 +185,10 @@ def read_manifest(folder: Path) -> dict | None:
     if not path.exists():
         return None
     try:
-        found = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        text = read_input(path, "the sweep's manifest (sweep.json)", 1 << 20).decode("utf-8")
+        check_json_nesting(text, str(path))
+        found = json.loads(text)
+    except (CamcadError, OSError, ValueError):
         raise CamcadError("the sweep's manifest is unreadable", str(path),
                           "remove the folder's sweep.json and results/, or write into another folder with -o") from None
     if not isinstance(found, dict) or found.get("camcad_sweep") != MANIFEST_VERSION:

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from camcad.errors import CamcadError
+from camcad.io.input_file import is_regular_file
 from camcad.law.source import load_law
 from camcad.law.standard import SHAPES
 from camcad.scene.analysis_report import PhaseAngles
@@ -170,15 +171,18 @@ def looks_like_scene(path: Path) -> bool:
     path = Path(path)
     if path.suffix.lower() == ".toml":
         return True
+    if not is_regular_file(path):   # a FIFO or a device is never read here (it would block or never end)
+        return False
     try:
-        head = path.read_bytes()[:1 << 20]
+        with open(path, "rb") as stream:
+            head = stream.read(1 << 20)
     except OSError:
         return False
     if b"\0" in head[:4096]:
         return False
     try:
         data = tomllib.loads(head.decode("utf-8"))
-    except (UnicodeDecodeError, ValueError):
+    except (UnicodeDecodeError, ValueError, RecursionError):
         return False
     return any(key in data for key in _SCENE_KEYS)
 
@@ -189,11 +193,15 @@ def _kind_of_law_file(path: Path) -> str:
         return "a DXF drawing"
     if suffix in (".csv", ".txt", ".tsv", ".dat"):
         return "a table of the acceleration law"
+    if not is_regular_file(path):
+        return "not a regular file (a FIFO, a device or a socket)"
     try:
-        head = path.read_bytes()[:64].lstrip()
+        with open(path, "rb") as stream:
+            start = stream.read(256)
     except OSError:
         return "not a scene"
-    if head.startswith(b"0") and b"SECTION" in path.read_bytes()[:256]:
+    head = start[:64].lstrip()
+    if head.startswith(b"0") and b"SECTION" in start:
         return "a DXF drawing"
     return "not a scene (TOML)"
 
