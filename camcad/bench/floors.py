@@ -262,14 +262,32 @@ def _weights(x: np.ndarray, end: float, quantity: str) -> np.ndarray:
     return w
 
 
-def min_change_floor(x: np.ndarray, a: np.ndarray, motions, dwells, rises) -> dict:
+def phase_areas(x: np.ndarray, a: np.ndarray, bounds) -> np.ndarray:
+    """(∫ max(a, 0), ∫ min(a, 0)) over each (start, end) of ``bounds`` whose ends are knots of x, shape
+    (phases, 2); each segment is split where a crosses zero."""
+    length = np.diff(x)
+    a0, a1 = a[:-1], a[1:]
+    crossing = a0 * a1 < 0
+    cut = np.where(crossing, length * a0 / np.where(crossing, a0 - a1, 1.0), length)
+    left = np.where(crossing, cut * a0 / 2.0, length * (a0 + a1) / 2.0)
+    right = np.where(crossing, (length - cut) * a1 / 2.0, 0.0)
+    out = np.empty((len(bounds), 2))
+    for row, (start, end) in enumerate(bounds):
+        i, j = np.searchsorted(x, [start, end])
+        pieces = np.concatenate((left[i:j], right[i:j]))
+        out[row] = pieces[pieces > 0].sum(), pieces[pieces < 0].sum()
+    return out
+
+
+def min_change_floor(x: np.ndarray, a: np.ndarray, motions, dwells, rises, phases=()) -> dict:
     """The least-∫δa² change of the drawn law (x rad, a mm/rad²) that brings v back to 0 at the end of each
     motion (``motions``: end angles, rad), s(cycle) to 0, and keeps s over each rise (``rises``: (start,
     end), rad); vertices on the axis (|a| ≤ 1e-6 max|a|) or inside a dwell (``dwells``: (start, end)) stay,
     the two vertices of a jump move together.
 
     Returns a dict: ``a`` (the corrected ordinates), ``residuals`` (the conditions after, mm/rad and mm),
-    ``rms_change`` (mm/rad², the RMS of δa over the cycle, exact for the polylines).
+    ``rms_change`` (mm/rad², the RMS of δa over the cycle, exact for the polylines), and ``areas_before``,
+    ``areas_after`` of each of ``phases`` ((start, end), rad; see ``phase_areas``).
     """
     from scipy.linalg import solve_banded
 
@@ -311,7 +329,9 @@ def min_change_floor(x: np.ndarray, a: np.ndarray, motions, dwells, rises) -> di
     # RMS of δa over the cycle: ∫ of the square of the linear δ on each segment
     d0, d1 = delta[:-1], delta[1:]
     rms = math.sqrt(float(np.sum(length * (d0 * d0 + d0 * d1 + d1 * d1) / 3.0)) / cycle)
-    return {"a": fixed, "residuals": C @ fixed - goal, "rms_change": rms}
+    return {"a": fixed, "residuals": C @ fixed - goal, "rms_change": rms,
+            "residuals_before": C @ a - goal, "areas_before": phase_areas(x, a, phases),
+            "areas_after": phase_areas(x, fixed, phases)}
 
 
 # =============================================================================================

@@ -144,8 +144,13 @@ def balance_rows(rounds: int, quick: bool) -> list[dict]:
     back = next((p.start, p.end) for p in law.phases if p.kind == "return")
     lift = float(law.kinematics(np.array([rise[1]])).s[0] - law.kinematics(np.array([rise[0]])).s[0])
 
+    def fresh() -> PiecewiseLinearLaw:      # a new law object each call: nothing cached on it
+        return PiecewiseLinearLaw(x, a, law.cycle, law.phases)
+
+    bounds = [(p.start, p.end) for p in law.phases]
+
     def floor():
-        return floors.min_change_floor(x, a, motions, dwells, [rise])
+        return floors.min_change_floor(x, a, motions, dwells, [rise], bounds)
 
     # the paper's knobs: the last lobe of each motion (its decelerating half), the whole return, the rise
     knobs = [((rise[0] + rise[1]) / 2, rise[1]), ((back[0] + back[1]) / 2, back[1]), back, rise]
@@ -154,14 +159,16 @@ def balance_rows(rounds: int, quick: bool) -> list[dict]:
         def peer(step=step):
             return peers.paper_loop(x, a, motions, rise, knobs, step_deg=step)
 
-        times = cpu_interleaved({"camcad": lambda: balance.correct(law, "min-change"), "floor": floor,
+        times = cpu_interleaved({"camcad": lambda: balance.correct(fresh(), "min-change"), "floor": floor,
                                  "peer": peer}, rounds)
         fixed, floored, looped = balance.correct(law, "min-change"), floor(), peer()
         errors = {"camcad": references.simpson_closure(x, fixed.law.a, motions, lift),
                   "floor": references.simpson_closure(x, floored["a"], motions, lift),
                   "peer": references.simpson_closure(x, looped["a"], motions, lift)}
+        areas = np.array([[r["area_positive"], r["area_negative"]] for r in fixed.after.phases])
         same = max(float(np.max(np.abs(floored["a"] - fixed.law.a)) / np.max(np.abs(a))),
-                   abs(floored["rms_change"] - fixed.rms_change) / fixed.rms_change)
+                   abs(floored["rms_change"] - fixed.rms_change) / fixed.rms_change,
+                   float(np.max(np.abs(floored["areas_after"] - areas))) / float(np.max(np.abs(areas))))
         out.append(row("min-change balancing", f"10,000-vertex drawn law; peer's step {step:g} deg", times, errors,
                        "closure / lift", "second method",
                        "Simpson's rule per drawn segment (exact for its quadratic and cubic integrands), math.fsum",
