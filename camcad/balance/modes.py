@@ -38,6 +38,8 @@ from camcad.numerics import solve_tridiagonal
 
 #: a condition is met by a solve when its residual is below this fraction of the rise
 SOLVE_TOLERANCE = 1e-8
+#: a vertex change at or below this fraction of max |a| is round-off, not a change (``correct`` counts it so too)
+ROUND_OFF_CHANGE = 1e-12
 
 
 def _free_vertices(law: PiecewiseLinearLaw, hold: np.ndarray) -> np.ndarray:
@@ -329,6 +331,9 @@ def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterat
                           "use --mode min-change")
     if method == "exact":
         delta = least_change(law, conds, basis, use_mass, mode, where)
+        # a change at round-off level (the solver's last bits where the exact change is 0) is no change:
+        # the vertex is written as drawn
+        delta[np.abs(delta) <= ROUND_OFF_CHANGE * float(np.max(np.abs(law.a), initial=0.0))] = 0.0
         return law.with_ordinates(law.a + delta), 1
     return _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where)
 

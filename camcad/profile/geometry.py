@@ -264,7 +264,10 @@ class CamGeometry:
         return self.law.kinematics(np.asarray(theta, dtype=float))
 
     def track(self, theta: np.ndarray, second: bool = False) -> Track:
-        kin = self.kinematics(theta)
+        return self.track_of(self.kinematics(theta), second)
+
+    def track_of(self, kin: Kinematics, second: bool = False) -> Track:
+        """The track of the law sampled as ``kin`` (one kinematics evaluation serves several curves)."""
         f = self.follower
         if f.kind == "oscillating":
             turn = math.radians(cast(float, f.pair_angle_deg)) if second else 0.0

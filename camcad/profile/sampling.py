@@ -58,25 +58,22 @@ def _pieces(lo: float, hi: float, breakpoints) -> np.ndarray:
 
 
 def _density(curve: CurveFn, theta: np.ndarray, tol: float) -> np.ndarray:
-    """Chords per radian of θ for a sagitta of ``tol``: |X'| / √(8 |ρ| tol)."""
-    geo = curve(theta)
-    rho = np.abs(geo.rho)
-    # a cusp (ρ → 0) would ask for infinitely many chords; a chord of length tol is enough there
-    rho = np.maximum(rho, tol / 8.0)
-    with np.errstate(invalid="ignore"):
-        density = geo.speed / np.sqrt(8.0 * rho * tol)
-    return np.where(np.isfinite(density), density, 0.0)
+    """Chords per radian of θ for a sagitta of ``tol``: |X'| / √(8 |ρ| tol) (a cusp, ρ → 0, would ask for
+    infinitely many chords; a chord of length tol is enough there)."""
+    return _density_of(curve(theta), tol)
 
 
-def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
-                  pilot: int = 2048) -> np.ndarray:
-    """Nodes that equidistribute the predicted chord count, breakpoints included."""
+def _pilot(lo: float, hi: float, breakpoints, pilot: int) -> list[np.ndarray]:
+    """The pilot grid of each piece between breakpoints (at least 8 intervals per piece)."""
     edges = _pieces(lo, hi, breakpoints)
     widths = np.diff(edges)
     counts = np.maximum(8, np.ceil(pilot * widths / (hi - lo))).astype(int)
-    pilot_theta = [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
-    flat = np.concatenate(pilot_theta)
-    density = _density(curve, flat, PLACEMENT_MARGIN * tol)
+    return [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
+
+
+def _nodes_from_density(pilot_theta: list[np.ndarray], density: np.ndarray, lo: float, hi: float,
+                        tol: float) -> np.ndarray:
+    """Nodes that equidistribute the predicted chord count (``density`` on the concatenated pilot grid)."""
     nodes = [np.array([lo])]
     start = 0
     for grid in pilot_theta:
@@ -95,6 +92,21 @@ def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=
     out = np.concatenate(nodes)
     out[-1] = hi
     return unique(out)
+
+
+def _density_of(geo: CurveGeometry, tol: float) -> np.ndarray:
+    rho = np.maximum(np.abs(geo.rho), tol / 8.0)
+    with np.errstate(invalid="ignore"):
+        density = geo.speed / np.sqrt(8.0 * rho * tol)
+    return np.where(np.isfinite(density), density, 0.0)
+
+
+def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
+                  pilot: int = 2048) -> np.ndarray:
+    """Nodes that equidistribute the predicted chord count, breakpoints included."""
+    pilot_theta = _pilot(lo, hi, breakpoints, pilot)
+    density = _density(curve, np.concatenate(pilot_theta), PLACEMENT_MARGIN * tol)
+    return _nodes_from_density(pilot_theta, density, lo, hi, tol)
 
 
 def _peak(samples: np.ndarray) -> np.ndarray:
@@ -164,6 +176,51 @@ def chord_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=()
             break
         nodes = np.sort(np.concatenate((nodes, (nodes[:-1][bad] + nodes[1:][bad]) / 2.0)))
     raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes)} points "
+                      "(the profile has a cusp or a loop)", "profile", "use a coarser --tol-mm or fix the undercut")
+
+
+def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpoints=(), samples: int = 7,
+                      max_rounds: int = 60) -> dict[str, Polyline]:
+    """``chord_nodes`` of several curves of one θ (e.g. a cam's profile and pitch curve) at once: every
+    stage evaluates all of them with one call ``evaluate(theta) -> {name: CurveGeometry}``; each curve gets
+    exactly the nodes ``chord_nodes`` would give it."""
+    if not tol > 0.0:
+        raise CamcadError(f"chord tolerance must be positive, got {tol:g} mm", "--tol-mm", "give e.g. 0.001")
+    names = list(names)
+    pilot_theta = _pilot(lo, hi, breakpoints, 2048)
+    pilot_geo = evaluate(np.concatenate(pilot_theta))
+    nodes = {n: _nodes_from_density(pilot_theta, _density_of(pilot_geo[n], PLACEMENT_MARGIN * tol), lo, hi, tol)
+             for n in names}
+    done: dict[str, Polyline] = {}
+    for _ in range(max_rounds):
+        pending = [n for n in names if n not in done]
+        if not pending:
+            return done
+        parts, spans, start = [], {}, 0
+        for n in pending:
+            inner = _interior_theta(nodes[n][:-1], nodes[n][1:], samples).ravel()
+            parts += [nodes[n], inner]
+            spans[n] = (start, start + len(nodes[n]), start + len(nodes[n]) + len(inner))
+            start = spans[n][2]
+        geo = evaluate(np.concatenate(parts))
+        for n in pending:
+            first, middle, last = spans[n]
+            points = geo[n].points[first:middle]
+            exact = geo[n].points[middle:last].reshape(len(nodes[n]) - 1, samples, 2)
+            deviation = _peak(point_segment_distance(exact, points[:-1, None, :], points[1:, None, :]))
+            bad = deviation > ACCEPT * tol
+            if not bad.any():
+                done[n] = Polyline(nodes[n], points, float(deviation.max(initial=0.0)))
+                continue
+            if len(nodes[n]) + bad.sum() > MAX_NODES:
+                raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes[n])} points "
+                                  "(the profile has a cusp or a loop)", "profile",
+                                  "use a coarser --tol-mm or fix the undercut")
+            nodes[n] = np.sort(np.concatenate((nodes[n], (nodes[n][:-1][bad] + nodes[n][1:][bad]) / 2.0)))
+    if len(done) == len(names):
+        return done
+    worst = next(n for n in names if n not in done)
+    raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes[worst])} points "
                       "(the profile has a cusp or a loop)", "profile", "use a coarser --tol-mm or fix the undercut")
 
 
