@@ -180,10 +180,15 @@ def chord_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=()
 
 
 def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpoints=(), samples: int = 7,
-                      max_rounds: int = 60) -> dict[str, Polyline]:
+                      max_rounds: int = 60, points=None) -> dict[str, Polyline]:
     """``chord_nodes`` of several curves of one θ (e.g. a cam's profile and pitch curve) at once: every
-    stage evaluates all of them with one call ``evaluate(theta) -> {name: CurveGeometry}``; each curve gets
+    stage evaluates all of them with one call ``evaluate(theta) -> {name: CurveGeometry}`` (``points(theta)
+    -> {name: (N, 2) points}``, when given, for the stages that need the points alone); each curve gets
     exactly the nodes ``chord_nodes`` would give it."""
+    if points is None:
+        def points(theta: np.ndarray) -> dict[str, np.ndarray]:
+            return {n: g.points for n, g in evaluate(theta).items()}
+
     if not tol > 0.0:
         raise CamcadError(f"chord tolerance must be positive, got {tol:g} mm", "--tol-mm", "give e.g. 0.001")
     names = list(names)
@@ -202,15 +207,15 @@ def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpo
             parts += [nodes[n], inner]
             spans[n] = (start, start + len(nodes[n]), start + len(nodes[n]) + len(inner))
             start = spans[n][2]
-        geo = evaluate(np.concatenate(parts))
+        geo = points(np.concatenate(parts))
         for n in pending:
             first, middle, last = spans[n]
-            points = geo[n].points[first:middle]
-            exact = geo[n].points[middle:last].reshape(len(nodes[n]) - 1, samples, 2)
-            deviation = _peak(point_segment_distance(exact, points[:-1, None, :], points[1:, None, :]))
+            ends = geo[n][first:middle]
+            exact = geo[n][middle:last].reshape(len(nodes[n]) - 1, samples, 2)
+            deviation = _peak(point_segment_distance(exact, ends[:-1, None, :], ends[1:, None, :]))
             bad = deviation > ACCEPT * tol
             if not bad.any():
-                done[n] = Polyline(nodes[n], points, float(deviation.max(initial=0.0)))
+                done[n] = Polyline(nodes[n], ends, float(deviation.max(initial=0.0)))
                 continue
             if len(nodes[n]) + bad.sum() > MAX_NODES:
                 raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes[n])} points "

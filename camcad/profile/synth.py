@@ -31,6 +31,7 @@ from camcad.profile.geometry import (
     flat_face_profile,
     parallel_curve,
     pitch_geometry,
+    pitch_points,
     rotate,
 )
 from camcad.profile.sampling import (
@@ -424,6 +425,26 @@ def _sampler(geometry: CamGeometry):
             curves["counter-cam pitch"] = second
         return _Sample(kin, pitch, second, curves)
 
+    def points(theta) -> dict[str, np.ndarray]:
+        """The points alone of every curve at θ (as ``sample(theta).curves[name].points``)."""
+        theta = np.asarray(theta, dtype=float)
+        kin = geometry.kinematics(theta)
+        centre, normal = pitch_points(theta, geometry.track_of(kin), sigma)
+        found = {"pitch": centre}
+        if follower.kind == "flat":
+            found["profile"] = flat_face_profile(theta, kin, follower.base_radius, sigma).points
+        else:
+            found["profile"] = centre - rr * normal
+        if follower.groove:
+            found["outer flank"] = centre - (-rr) * normal
+        if follower.has_pair:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                other, other_normal = pitch_points(theta, geometry.track_of(kin, second=True), sigma)
+                found["counter-cam"] = other - rr * other_normal
+            found["counter-cam pitch"] = other
+        return found
+
+    sample.points = points  # type: ignore[attr-defined]
     return sample
 
 
@@ -674,7 +695,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     cycle = float(geometry.law.cycle)
     breaks = geometry.breakpoints()
     chords = chord_nodes_joint(lambda t: sample(t).curves, written, 0.0, cycle, settings.tol_mm,
-                               breaks[breaks <= cycle])
+                               breaks[breaks <= cycle], points=sample.points)
     ends = _ends(sample, geometry)
     functions = {"profile": geometry.profile, "pitch": geometry.pitch, "outer flank": geometry.outer_flank,
                  "counter-cam": geometry.counter_profile,
