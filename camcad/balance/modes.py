@@ -127,8 +127,11 @@ class NodeBasis:
         """C B: each column the sum of the rows' entries at its vertices, shape (m, k)."""
         if self.k == 0:
             return np.zeros((rows.shape[0], 0))
+        picked = rows[:, self.idx]
+        if self.k == len(self.idx):        # no jump among them: one vertex per column
+            return picked
         starts = np.flatnonzero(np.concatenate(([True], self.col[1:] != self.col[:-1])))
-        return np.add.reduceat(rows[:, self.idx], starts, axis=1)
+        return np.add.reduceat(picked, starts, axis=1)
 
     def gram(self, x: np.ndarray, use_mass: bool) -> tuple[np.ndarray, np.ndarray]:
         """(diagonal, off-diagonal G[c, c+1]) of G = BᵀMB (``use_mass``) or BᵀB."""
@@ -139,7 +142,7 @@ class NodeBasis:
         off = np.zeros(max(self.k - 1, 0))
         # vertices i, i + 1 both movable and in consecutive columns couple through M[i, i+1]
         linked = (self.idx[1:] == self.idx[:-1] + 1) & (self.col[1:] == self.col[:-1] + 1)
-        np.add.at(off, self.col[:-1][linked], m_off[self.idx[:-1][linked]])
+        off[self.col[:-1][linked]] += m_off[self.idx[:-1][linked]]   # each column links to the next at most once
         # a jump's two vertices share a column: M between them is 0 (a zero-length segment)
         return diag, off
 
