@@ -329,9 +329,26 @@ def min_change_floor(x: np.ndarray, a: np.ndarray, motions, dwells, rises, phase
     # RMS of δa over the cycle: ∫ of the square of the linear δ on each segment
     d0, d1 = delta[:-1], delta[1:]
     rms = math.sqrt(float(np.sum(length * (d0 * d0 + d0 * d1 + d1 * d1) / 3.0)) / cycle)
-    return {"a": fixed, "residuals": C @ fixed - goal, "rms_change": rms,
+    # each phase's end velocity and displacement, before and after
+    ends = np.array([t for pair in phases for t in pair])
+    return {"a": fixed, "residuals": C @ fixed - goal, "rms_change": rms, "max_change": float(np.max(np.abs(delta))),
             "residuals_before": C @ a - goal, "areas_before": phase_areas(x, a, phases),
-            "areas_after": phase_areas(x, fixed, phases)}
+            "areas_after": phase_areas(x, fixed, phases), "phase_motion_before": motion_at(x, a, ends),
+            "phase_motion_after": motion_at(x, fixed, ends)}
+
+
+def motion_at(x: np.ndarray, a: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """(v, s) at each θ of the polyline a from rest at x[0], shape (2, len(θ)): one cumulative integration at
+    the knots, then the cut segment (v = v_k + a_k τ + Δa τ²/(2L), s = s_k + v_k τ + a_k τ²/2 + Δa τ³/(6L))."""
+    length = np.diff(x)
+    a0, a1 = a[:-1], a[1:]
+    v = np.concatenate(([0.0], np.cumsum(length * (a0 + a1) / 2.0)))
+    s = np.concatenate(([0.0], np.cumsum(length * v[:-1] + length**2 * (2.0 * a0 + a1) / 6.0)))
+    k = np.clip(np.searchsorted(x, theta, side="right") - 1, 0, len(x) - 2)
+    tau, seg = theta - x[k], length[k]
+    slope = np.divide(a[k + 1] - a[k], seg, out=np.zeros_like(seg), where=seg > 0)
+    return np.stack((v[k] + a[k] * tau + slope * tau**2 / 2.0,
+                     s[k] + v[k] * tau + a[k] * tau**2 / 2.0 + slope * tau**3 / 6.0))
 
 
 # =============================================================================================

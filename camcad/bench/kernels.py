@@ -60,7 +60,7 @@ def _relative(a, b) -> float:
 # =============================================================================================
 
 
-def _camcad_law(segments, lift: float):
+def camcad_law(segments, lift: float):
     shapes = [s for _, _, s in segments if s]
     return compose([(k, w) for k, w, _ in segments], lift, shapes[0], shapes[-1])
 
@@ -69,7 +69,7 @@ def profile_rows(rounds: int, quick: bool, install: bool) -> list[dict]:
     out = []
     for name, segments, lift, rb, rr in (("default cam", DEFAULT_CAM, 25.0, 50.0, 10.0),
                                          ("the peer's cam", PEER_CAM, 20.0, 40.0, 10.0)):
-        law = _camcad_law(segments, lift)
+        law = camcad_law(segments, lift)
         follower = Follower("roller", rb, rr)
         settings = ProfileSettings(design=False, plots=False)
         tol = settings.tol_mm
@@ -166,9 +166,14 @@ def balance_rows(rounds: int, quick: bool) -> list[dict]:
                   "floor": references.simpson_closure(x, floored["a"], motions, lift),
                   "peer": references.simpson_closure(x, looped["a"], motions, lift)}
         areas = np.array([[r["area_positive"], r["area_negative"]] for r in fixed.after.phases])
+        v_end = np.array([r["v_end"] for r in fixed.after.phases])
+        moved = np.array([r["displacement"] for r in fixed.after.phases])
+        v, s = floored["phase_motion_after"][0].reshape(-1, 2)[:, 1], floored["phase_motion_after"][1].reshape(-1, 2)
         same = max(float(np.max(np.abs(floored["a"] - fixed.law.a)) / np.max(np.abs(a))),
                    abs(floored["rms_change"] - fixed.rms_change) / fixed.rms_change,
-                   float(np.max(np.abs(floored["areas_after"] - areas))) / float(np.max(np.abs(areas))))
+                   float(np.max(np.abs(floored["areas_after"] - areas))) / float(np.max(np.abs(areas))),
+                   float(np.max(np.abs(v - v_end))) / lift,   # v in mm/rad against the lift (mm)
+                   float(np.max(np.abs((s[:, 1] - s[:, 0]) - moved))) / lift)
         out.append(row("min-change balancing", f"10,000-vertex drawn law; peer's step {step:g} deg", times, errors,
                        "closure / lift", "second method",
                        "Simpson's rule per drawn segment (exact for its quadratic and cubic integrands), math.fsum",
