@@ -405,14 +405,16 @@ def _node_change(law: PiecewiseLinearLaw, basis: NodeBasis, rows: np.ndarray, re
     p = np.zeros(basis.k)
     if not live.any():
         return p
+    keep: slice | np.ndarray
     if live.all():
         keep, off_live, diag_live = slice(None), off, diag
     else:
-        keep = np.flatnonzero(live)
+        alive = np.flatnonzero(live)
+        keep = alive
         # a dead column (both its segments of zero length) has no coupling: the live ones stay tridiagonal
-        adjacent = keep[1:] == keep[:-1] + 1
-        off_live = np.where(adjacent, off[keep[:-1]] if len(keep) > 1 else off[:0], 0.0)
-        diag_live = diag[keep]
+        adjacent = alive[1:] == alive[:-1] + 1
+        off_live = np.where(adjacent, off[alive[:-1]] if len(alive) > 1 else off[:0], 0.0)
+        diag_live = diag[alive]
 
     def solve(right: np.ndarray) -> np.ndarray:
         found = solve_tridiagonal(off_live, diag_live, off_live, right)

@@ -17,7 +17,10 @@ from __future__ import annotations
 
 import math
 import tempfile
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
@@ -29,7 +32,7 @@ from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.phases import detect_phases
 from camcad.law.standard import compose
 from camcad.profile.followers import Follower
-from camcad.profile.synth import ProfileSettings, synthesize
+from camcad.profile.synth import Extremum, ProfileSettings, synthesize
 
 DEFAULT_CAM = (("rise", 120.0, "cycloidal"), ("dwell", 60.0, None), ("return", 120.0, "poly345"),
                ("dwell", 60.0, None))
@@ -74,9 +77,8 @@ def profile_rows(rounds: int, quick: bool, install: bool) -> list[dict]:
         settings = ProfileSettings(design=False, plots=False)
         tol = settings.tol_mm
         floor_segments = [(k, w, s) for k, w, s in segments]
-        times = cpu_interleaved({"camcad": lambda law=law, f=follower, p=settings: synthesize(law, f, p),
-                                 "floor": lambda s=floor_segments, h=lift, b=rb, r=rr, tol=tol: floors.profile_floor(
-                                     s, h, b, r, tol)}, rounds)
+        times = cpu_interleaved({"camcad": partial(synthesize, law, follower, settings),
+                                 "floor": partial(floors.profile_floor, floor_segments, lift, rb, rr, tol)}, rounds)
         result = synthesize(law, follower, settings)
         floor = floors.profile_floor(floor_segments, lift, rb, rr, settings.tol_mm)
         exact = references.RollerCam(segments, lift, rb, rr)
@@ -84,10 +86,11 @@ def profile_rows(rounds: int, quick: bool, install: bool) -> list[dict]:
         errors = {"camcad": references.polyline_deviation(result.profile.polyline.points, exact.profile),
                   "floor": references.polyline_deviation(floor["profile"], exact.profile)}
         figures_camcad = [result.pressure_angle.maximum.value, result.pressure_angle.minimum.value,
-                          result.rho_pitch_min.value]
+                          cast(Extremum, result.rho_pitch_min).value]
         figures_floor = [floor["phi_max"], floor["phi_min"], floor["rho_pitch_min"]]
         figures_ref = [ref["max"], ref["min"], ref["rho_pitch_min"]]
-        extra = {"points": {"camcad": len(result.profile.polyline.points), "floor": len(floor["profile"])},
+        counts: dict[str, int] = {"camcad": len(result.profile.polyline.points), "floor": len(floor["profile"])}
+        extra: dict[str, Any] = {"points": counts,
                  "figure_errors": {"camcad": _relative(figures_camcad, figures_ref),
                                    "floor": _relative(figures_floor, figures_ref)}}
         peer_name = "mechanism 1.1.10 + normal offset"
@@ -105,7 +108,7 @@ def profile_rows(rounds: int, quick: bool, install: bool) -> list[dict]:
                 equal = [r for r in runs if r[1] <= errors["camcad"]] or [min(runs, key=lambda r: r[1])]
                 chosen = max(equal, key=lambda r: r[2])
                 times["peer"], errors["peer"] = chosen[0], chosen[1]
-                extra["peer_step_rad"], extra["points"]["peer"] = chosen[2], chosen[3]
+                extra["peer_step_rad"], counts["peer"] = chosen[2], chosen[3]
                 extra["peer_runs"] = [{"step_rad": r[2], "cpu_s": r[0], "error": r[1], "points": r[3]} for r in runs]
             except peers.PeerUnavailable as err:
                 status = f"peer unavailable: {err}"
@@ -304,8 +307,9 @@ def table_rows(rounds: int, quick: bool) -> list[dict]:
                 peer="the csv module and float()", floor_figures=same, status="ok")]
 
 
-KERNELS = {"profile": profile_rows, "balance": balance_rows, "dynamics": dynamics_rows, "fourier": fourier_rows,
-           "table": table_rows}
+KERNELS: dict[str, Callable[..., list[dict]]] = {
+    "profile": profile_rows, "balance": balance_rows, "dynamics": dynamics_rows, "fourier": fourier_rows,
+    "table": table_rows}
 
 
 def run(quick: bool = False, install_peers: bool | None = None, only=None) -> list[dict]:

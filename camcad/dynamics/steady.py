@@ -450,7 +450,9 @@ def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str 
         float(np.max(np.abs(law.kinematics(law.cycle * np.arange(samples) / samples).a)))
     keep = {float(k) for k in keep}
     ratio, error, rigid, elastic = (np.empty(len(speeds)) for _ in range(4))
-    responses, unbounded, notes = {}, {}, {}
+    responses: dict = {}
+    unbounded: dict = {}
+    notes: dict = {}
     if method == "frequency" and external_at is None:
         _broadcast_sweep(cast(LawSpectrum, spectrum), follower, speeds, keep, progress,
                          (ratio, error, rigid, elastic), responses, unbounded, notes)

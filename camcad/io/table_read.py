@@ -127,9 +127,10 @@ def read_table(path: str | Path) -> Table:
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
     fast = _read_plain(text, where)
     if fast is not None:
-        theta_arr, accel_arr, line_arr, delimiter, header, kind, column, header_notes, record = fast
-        return _table(theta_arr, accel_arr, line_arr, delimiter, False, header, kind, column, header_notes,
-                      record, encoding)
+        theta_arr, accel_arr, line_arr, found_delimiter, found_header, found_kind, found_column, found_notes, \
+            found_record = fast
+        return _table(theta_arr, accel_arr, line_arr, found_delimiter, False, found_header, found_kind, found_column,
+                      found_notes, found_record, encoding)
     rows: list[tuple[int, str]] = []
     record = None
     for number, line in enumerate(text.splitlines(), start=1):
@@ -242,7 +243,8 @@ def _read_plain(text: str, where: str):
         return None                               # decimal commas
     first = _split(samples[0], delimiter)
     header: tuple[str, ...] = ()
-    kind, column, notes = "acceleration", 1, []
+    kind, column = "acceleration", 1
+    notes: list[str] = []
     first_row = number
     if any(_number(f) is None for f in first[:2]):
         header = tuple(first)

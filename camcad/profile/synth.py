@@ -701,15 +701,15 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
                  "counter-cam": geometry.counter_profile,
                  "counter-cam pitch": lambda t: geometry.pitch(t, second=True)}
     results: dict[str, CurveResult] = {}
-    for curve in names:
-        gap, _ = _gap_and_kink(ends.curves[curve], geometry)
-        if curve not in written:   # only its figures: the radii of curvature and the closure
+    for label in names:
+        gap, _ = _gap_and_kink(ends.curves[label], geometry)
+        if label not in written:   # only its figures: the radii of curvature and the closure
             empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
-            results[curve] = CurveResult(curve, empty, None, None, extrema[f"{curve}:convex"],
-                                         extrema[f"{curve}:concave"], None, gap, gap <= settings.tol_mm)
+            results[label] = CurveResult(label, empty, None, None, extrema[f"{label}:convex"],
+                                         extrema[f"{label}:concave"], None, gap, gap <= settings.tol_mm)
             continue
-        drawn = curve in ("profile", "outer flank", "counter-cam")
-        results[curve] = _written_curve(curve, chords[curve], functions[curve], geometry, settings, gap, extrema,
+        drawn = label in ("profile", "outer flank", "counter-cam")
+        results[label] = _written_curve(label, chords[label], functions[label], geometry, settings, gap, extrema,
                                         drawn and settings.arcs, drawn and settings.spline, notes)
     profile, pitch = results["profile"], results["pitch"]
     outer = results.get("outer flank")
