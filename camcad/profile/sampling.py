@@ -60,10 +60,10 @@ def _pieces(lo: float, hi: float, breakpoints) -> np.ndarray:
 def _density(curve: CurveFn, theta: np.ndarray, tol: float) -> np.ndarray:
     """Chords per radian of θ for a sagitta of ``tol``: |X'| / √(8 |ρ| tol) (a cusp, ρ → 0, would ask for
     infinitely many chords; a chord of length tol is enough there)."""
-    return _density_of(curve(theta), tol)
+    return density_of(curve(theta), tol)
 
 
-def _pilot(lo: float, hi: float, breakpoints, pilot: int) -> list[np.ndarray]:
+def pilot_grid(lo: float, hi: float, breakpoints, pilot: int) -> list[np.ndarray]:
     """The pilot grid of each piece between breakpoints (at least 8 intervals per piece)."""
     edges = _pieces(lo, hi, breakpoints)
     widths = np.diff(edges)
@@ -71,7 +71,7 @@ def _pilot(lo: float, hi: float, breakpoints, pilot: int) -> list[np.ndarray]:
     return [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
 
 
-def _nodes_from_density(pilot_theta: list[np.ndarray], density: np.ndarray, lo: float, hi: float,
+def nodes_from_density(pilot_theta: list[np.ndarray], density: np.ndarray, lo: float, hi: float,
                         tol: float) -> np.ndarray:
     """Nodes that equidistribute the predicted chord count (``density`` on the concatenated pilot grid)."""
     nodes = [np.array([lo])]
@@ -94,7 +94,7 @@ def _nodes_from_density(pilot_theta: list[np.ndarray], density: np.ndarray, lo: 
     return unique(out)
 
 
-def _density_of(geo: CurveGeometry, tol: float) -> np.ndarray:
+def density_of(geo: CurveGeometry, tol: float) -> np.ndarray:
     rho = np.maximum(np.abs(geo.rho), tol / 8.0)
     with np.errstate(invalid="ignore"):
         density = geo.speed / np.sqrt(8.0 * rho * tol)
@@ -104,12 +104,12 @@ def _density_of(geo: CurveGeometry, tol: float) -> np.ndarray:
 def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
                   pilot: int = 2048) -> np.ndarray:
     """Nodes that equidistribute the predicted chord count, breakpoints included."""
-    pilot_theta = _pilot(lo, hi, breakpoints, pilot)
+    pilot_theta = pilot_grid(lo, hi, breakpoints, pilot)
     density = _density(curve, np.concatenate(pilot_theta), PLACEMENT_MARGIN * tol)
-    return _nodes_from_density(pilot_theta, density, lo, hi, tol)
+    return nodes_from_density(pilot_theta, density, lo, hi, tol)
 
 
-def _peak(samples: np.ndarray) -> np.ndarray:
+def peak_of_samples(samples: np.ndarray) -> np.ndarray:
     """Largest value along axis 1 of samples taken at equal steps, refined by a parabola
     through the largest sample and its two neighbours (the ends are zero by construction)."""
     n, _m = samples.shape
@@ -124,7 +124,7 @@ def _peak(samples: np.ndarray) -> np.ndarray:
     return np.maximum(y1, np.minimum(vertex, 2.0 * y1 + 1e-300))
 
 
-def _interior_theta(a: np.ndarray, b: np.ndarray, samples: int) -> np.ndarray:
+def interior_theta(a: np.ndarray, b: np.ndarray, samples: int) -> np.ndarray:
     frac = np.arange(1, samples + 1) / (samples + 1)
     return a[:, None] + (b - a)[:, None] * frac[None, :]
 
@@ -144,10 +144,10 @@ def chord_deviation(curve: CurveFn, nodes: np.ndarray, node_points: np.ndarray, 
                     ) -> np.ndarray:
     """Largest distance between the exact curve and each chord (one value per interval), mm."""
     a, b = nodes[:-1], nodes[1:]
-    theta = _interior_theta(a, b, samples)
+    theta = interior_theta(a, b, samples)
     exact = curve(theta.ravel()).points.reshape(len(a), samples, 2)
     dist = point_segment_distance(exact, node_points[:-1, None, :], node_points[1:, None, :])
-    return _peak(dist)
+    return peak_of_samples(dist)
 
 
 @dataclass(frozen=True)
@@ -192,9 +192,9 @@ def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpo
     if not tol > 0.0:
         raise CamcadError(f"chord tolerance must be positive, got {tol:g} mm", "--tol-mm", "give e.g. 0.001")
     names = list(names)
-    pilot_theta = _pilot(lo, hi, breakpoints, 2048)
+    pilot_theta = pilot_grid(lo, hi, breakpoints, 2048)
     pilot_geo = evaluate(np.concatenate(pilot_theta))
-    nodes = {n: _nodes_from_density(pilot_theta, _density_of(pilot_geo[n], PLACEMENT_MARGIN * tol), lo, hi, tol)
+    nodes = {n: nodes_from_density(pilot_theta, density_of(pilot_geo[n], PLACEMENT_MARGIN * tol), lo, hi, tol)
              for n in names}
     done: dict[str, Polyline] = {}
     for _ in range(max_rounds):
@@ -203,7 +203,7 @@ def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpo
             return done
         parts, spans, start = [], {}, 0
         for n in pending:
-            inner = _interior_theta(nodes[n][:-1], nodes[n][1:], samples).ravel()
+            inner = interior_theta(nodes[n][:-1], nodes[n][1:], samples).ravel()
             parts += [nodes[n], inner]
             spans[n] = (start, start + len(nodes[n]), start + len(nodes[n]) + len(inner))
             start = spans[n][2]
@@ -212,7 +212,7 @@ def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpo
             first, middle, last = spans[n]
             ends = geo[n][first:middle]
             exact = geo[n][middle:last].reshape(len(nodes[n]) - 1, samples, 2)
-            deviation = _peak(point_segment_distance(exact, ends[:-1, None, :], ends[1:, None, :]))
+            deviation = peak_of_samples(point_segment_distance(exact, ends[:-1, None, :], ends[1:, None, :]))
             bad = deviation > ACCEPT * tol
             if not bad.any():
                 done[n] = Polyline(nodes[n], ends, float(deviation.max(initial=0.0)))
@@ -313,11 +313,11 @@ def point_arc_distance(points: np.ndarray, start: np.ndarray, end: np.ndarray, b
 def biarc_deviation(curve: CurveFn, nodes: np.ndarray, points: np.ndarray, joints: np.ndarray,
                     b1: np.ndarray, b2: np.ndarray, samples: int = 9) -> np.ndarray:
     """Largest distance from the exact curve to each biarc (one value per interval), mm."""
-    theta = _interior_theta(nodes[:-1], nodes[1:], samples)
+    theta = interior_theta(nodes[:-1], nodes[1:], samples)
     exact = curve(theta.ravel()).points.reshape(len(nodes) - 1, samples, 2)
     first = point_arc_distance(exact, points[:-1], joints, b1)
     second = point_arc_distance(exact, joints, points[1:], b2)
-    return _peak(np.minimum(first, second))
+    return peak_of_samples(np.minimum(first, second))
 
 
 def _biarc_pass(curve: CurveFn, nodes: np.ndarray, samples: int):

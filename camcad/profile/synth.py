@@ -522,7 +522,7 @@ def _ends(sample, geometry: CamGeometry) -> _Sample:
     return sample(np.array([0.0, float(geometry.law.cycle)]))
 
 
-def _gap_and_kink(ends: CurveGeometry, geometry: CamGeometry) -> tuple[float, float]:
+def gap_and_kink(ends: CurveGeometry, geometry: CamGeometry) -> tuple[float, float]:
     """Gap (mm) between the end of one lobe and the start of the next, in the fixed frame, and the angle (rad)
     between their tangents; ``ends`` is the curve at θ = 0 and at the cycle's end."""
     cycle = float(geometry.law.cycle)
@@ -535,7 +535,7 @@ def _gap_and_kink(ends: CurveGeometry, geometry: CamGeometry) -> tuple[float, fl
     return gap, kink
 
 
-def _written_curve(name: str, one: Polyline, curve, geometry: CamGeometry, settings: ProfileSettings,
+def written_curve(name: str, one: Polyline, curve, geometry: CamGeometry, settings: ProfileSettings,
                    gap: float, extrema: dict, want_arcs: bool, want_spline: bool, notes: list[str]) -> CurveResult:
     """A written curve from its chord nodes on one lobe (``one``): all lobes, arcs and spline when asked."""
     cycle = float(geometry.law.cycle)
@@ -546,10 +546,10 @@ def _written_curve(name: str, one: Polyline, curve, geometry: CamGeometry, setti
     if closed:
         theta_all, points_all = theta_all[:-1], points_all[:-1]
     polyline = Polyline(theta_all, points_all, one.max_deviation)
-    breaks = geometry.breakpoints()
-    breaks = breaks[breaks <= cycle]
     arcs = None
     if want_arcs:
+        breaks = geometry.breakpoints()
+        breaks = breaks[breaks <= cycle]
         try:
             path = biarc_fit(curve, 0.0, cycle, settings.tol_mm, breaks, samples=17)
             vertices = _replicate(path.vertices, lobes, cycle, sigma)
@@ -683,7 +683,6 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     follower = geometry.follower
     notes: list[str] = []
     analysis = analysis_grid(geometry, settings.analysis_step_deg)
-    rr = follower.roller_radius
     sample = _sampler(geometry)
     first = sample(analysis)
     if follower.has_pair:
@@ -702,15 +701,32 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
                  "counter-cam pitch": lambda t: geometry.pitch(t, second=True)}
     results: dict[str, CurveResult] = {}
     for label in names:
-        gap, _ = _gap_and_kink(ends.curves[label], geometry)
+        gap, _ = gap_and_kink(ends.curves[label], geometry)
         if label not in written:   # only its figures: the radii of curvature and the closure
             empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
             results[label] = CurveResult(label, empty, None, None, extrema[f"{label}:convex"],
                                          extrema[f"{label}:concave"], None, gap, gap <= settings.tol_mm)
             continue
         drawn = label in ("profile", "outer flank", "counter-cam")
-        results[label] = _written_curve(label, chords[label], functions[label], geometry, settings, gap, extrema,
+        results[label] = written_curve(label, chords[label], functions[label], geometry, settings, gap, extrema,
                                         drawn and settings.arcs, drawn and settings.spline, notes)
+    face = None
+    if follower.kind == "flat":
+        v = first.kin.v * follower.sigma
+        face = (float(v.min() - follower.offset), float(v.max() - follower.offset))
+    _, kink = gap_and_kink(ends.curves["profile"], geometry)
+    return assemble_result(name or settings.name, law, follower, settings, geometry, results, extrema, kink,
+                           law_table(geometry, settings.csv_step_deg, sample), face, notes)
+
+
+def assemble_result(name: str, law: MotionLaw, follower: Follower, settings: ProfileSettings, geometry: CamGeometry,
+                    results: dict, extrema: dict, kink: float, table: LawTable, face, notes: list[str]
+                    ) -> ProfileResult:
+    """A ProfileResult from its curves (``results``: name → CurveResult), the refined extrema, the closure's kink
+    (rad) and the law table: the pressure-angle checks, the undercut's reasons, the curvature limit, the notes and
+    (with ``settings.design``) the smallest base radius. ``synthesize`` and its batch over followers
+    (``camcad.profile.batch``) both end here."""
+    rr = follower.roller_radius
     profile, pitch = results["profile"], results["pitch"]
     outer = results.get("outer flank")
     counter, counter_pitch = results.get("counter-cam"), results.get("counter-cam pitch")
@@ -752,7 +768,6 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
                 pitch.rho_concave_min.value - rr < follower.rho_min:
             curvature_passed = False
 
-    _, kink = _gap_and_kink(ends.curves["profile"], geometry)
     if not profile.closed:
         notes.append(f"the profile does not close (gap {profile.closure_gap:.6g} mm): the law's displacement "
                      "does not come back; balance it with camcad fix")
@@ -762,14 +777,10 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
             design = min_base_radius(law, follower)
         except CamcadError as err:
             notes.append(f"design: {err.what}")
-    face = None
-    if follower.kind == "flat":
-        v = first.kin.v * follower.sigma
-        face = (float(v.min() - follower.offset), float(v.max() - follower.offset))
     return ProfileResult(
-        name=name or settings.name, law=law, follower=follower, settings=settings, geometry=geometry,
+        name=name, law=law, follower=follower, settings=settings, geometry=geometry,
         profile=profile, pitch=pitch, outer=outer, counter=counter, counter_pitch=counter_pitch,
-        table=law_table(geometry, settings.csv_step_deg, sample), pressure_angle=pressure,
+        table=table, pressure_angle=pressure,
         counter_pressure_angle=counter_pressure, rho_pitch_min=pitch.rho_convex_min,
         rho_pitch_concave_min=pitch.rho_concave_min, undercut=bool(reasons),
         undercut_reasons=tuple(reasons), curvature_passed=curvature_passed, closure_kink=kink,
