@@ -78,21 +78,28 @@ class _Batch:
         self.limit_out = np.array([lim[0] for lim in limits])[:, None]
         self.limit_back = np.array([lim[1] for lim in limits])[:, None]
 
-    def pitch(self, theta: np.ndarray, rows: np.ndarray | None = None, points_only: bool = False) -> dict:
+    def pitch(self, theta: np.ndarray, rows: np.ndarray | None = None, points_only: bool = False,
+              curvature_only: bool = False) -> dict:
         """The pitch geometry of ``pitch_geometry`` for a translating track: the same operations in the same
         order. θ is 1-D (the same angles for every follower: the law is evaluated once and broadcast) or of
         shape (rows, m) with ``rows`` the follower of each row (all followers when None). ``points_only``:
-        the points and normals alone (``pitch_points``)."""
+        the points and normals alone (``pitch_points``); ``curvature_only``: and the speed and radius of
+        curvature, without the pressure angle."""
         theta = np.asarray(theta, dtype=float)
-        kin = self.law.kinematics(theta.ravel())
         pick = slice(None) if rows is None else rows
         e, height, rr = self.offset[pick], self.height[pick], self.roller[pick]
-        if theta.ndim == 1:
-            s, v, a, j = kin.s, kin.v, kin.a, kin.j
-            shape = (len(e), len(theta))
+        shape = (len(e), len(theta)) if theta.ndim == 1 else theta.shape
+        motion = getattr(self.law, "motion", None)
+        if points_only and motion is not None:     # positions and normals need s and v only
+            s, v = motion(theta.ravel())
+            a = j = None
         else:
-            shape = theta.shape
-            s, v, a, j = (x.reshape(shape) for x in (kin.s, kin.v, kin.a, kin.j))
+            kin = self.law.kinematics(theta.ravel())
+            s, v, a, j = kin.s, kin.v, kin.a, kin.j
+        if theta.ndim != 1:
+            s, v = s.reshape(shape), v.reshape(shape)
+            if a is not None and j is not None:
+                a, j = a.reshape(shape), j.reshape(shape)
         sigma = self.sigma
         qx = np.broadcast_to(e, shape)
         qy = np.broadcast_to(height + s - 0.0, shape)
@@ -111,6 +118,9 @@ class _Batch:
         bend = t1x * t2y - t1y * t2x
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = np.where(bend != 0.0, -sigma * speed**3 / bend, np.inf)
+        if curvature_only:
+            found.update(rho=rho)
+            return found
         up = np.where(height - 0.0 >= 0.0, 1.0, -1.0) * np.ones(shape)
         wx = np.zeros(shape)
         phi = sigma * np.arctan2(wx * ny - up * nx, wx * nx + up * ny)
@@ -151,7 +161,7 @@ class _Batch:
 
 
 def synthesize_many(law: MotionLaw, followers: list[Follower], settings: ProfileSettings,
-                    name: str | None = None) -> list[ProfileResult]:
+                    name: str | None = None) -> list[ProfileResult | None]:
     """``synthesize(law, f, settings)`` for every follower f, as one batch (module docstring).
 
     Parameters
@@ -167,8 +177,9 @@ def synthesize_many(law: MotionLaw, followers: list[Follower], settings: Profile
 
     Returns
     -------
-    list of ProfileResult
-        One per follower, as ``synthesize`` gives it.
+    list of ProfileResult or None
+        One per follower, as ``synthesize`` gives it; None for a follower whose profile no chords within the
+        tolerance follow (a cusp or a loop: ``synthesize`` refuses it and says why).
 
     Raises
     ------
@@ -188,7 +199,7 @@ BLOCK = 256
 
 
 def _block(law: MotionLaw, followers: list[Follower], settings: ProfileSettings, name: str | None
-           ) -> list[ProfileResult]:
+           ) -> list[ProfileResult | None]:
     geometries = [CamGeometry(law, f) for f in followers]
     batch = _Batch(geometries)
     count = len(geometries)
@@ -223,8 +234,11 @@ def _block(law: MotionLaw, followers: list[Follower], settings: ProfileSettings,
     polylines = _chords(batch, 0.0, cycle, settings.tol_mm, breaks[breaks <= cycle])
     ends = _ends(batch, cycle)
     table = _tables(batch, settings.csv_step_deg)
-    results = []
+    results: list[ProfileResult | None] = []
     for i, geometry in enumerate(geometries):
+        if polylines[i] is None:
+            results.append(None)
+            continue
         notes: list[str] = []
         end = ends[i]
         gap, kink = gap_and_kink(end["profile"], geometry)
@@ -248,45 +262,48 @@ def _profile_geometry(batch: _Batch, p: dict, points: bool = True):
     return batch.profile_points(p) if points else None, p["speed"] * np.abs(stretch), rho - rr
 
 
-def _chords(batch: _Batch, lo: float, hi: float, tol: float, breakpoints: np.ndarray, samples: int = 7
-            ) -> list[Polyline]:
-    """``chord_nodes`` of every follower's profile (``chord_nodes_joint``'s steps, the followers together)."""
+def _chords(batch: _Batch, lo: float, hi: float, tol: float, breakpoints: np.ndarray, samples: int = 7,
+            max_rounds: int = 60) -> list[Polyline | None]:
+    """``chord_nodes`` of every follower's profile (``chord_nodes_joint``'s steps, the followers together);
+    None for a follower whose chords do not meet the tolerance (where ``chord_nodes_joint`` raises)."""
     count = len(batch.geometries)
     pilot = pilot_grid(lo, hi, breakpoints, 2048)
     grid = np.concatenate(pilot)
-    p = batch.pitch(grid)
+    p = batch.pitch(grid, curvature_only=True)
     _, speed, rho = _profile_geometry(batch, p, points=False)
     nodes = []
     for i in range(count):
         geo = CurveGeometry(grid, np.empty((0, 2)), np.empty((0, 2)), speed[i], rho[i])
         nodes.append(nodes_from_density(pilot, _density(geo, PLACEMENT_MARGIN * tol), lo, hi, tol))
-    done: dict[int, Polyline] = {}
-    for _ in range(60):
+    # (nodes_from_density raises CamcadError, as chord_nodes_joint does, when the tolerance needs too many points)
+    done: dict[int, Polyline | None] = {}
+    for _ in range(max_rounds):
         pending = [i for i in range(count) if i not in done]
         if not pending:
             break
-        width = max(len(nodes[i]) + samples * (len(nodes[i]) - 1) for i in pending)
-        theta = np.full((len(pending), width), lo)        # each follower's nodes, then its interior points
-        for row, i in enumerate(pending):
+        parts, owner, spans, start = [], [], [], 0
+        for i in pending:                                  # each follower's nodes, then its interior points
             inner = interior_theta(nodes[i][:-1], nodes[i][1:], samples).ravel()
-            theta[row, :len(nodes[i])] = nodes[i]
-            theta[row, len(nodes[i]):len(nodes[i]) + len(inner)] = inner
-        points = batch.profile_points(batch.pitch(theta, np.array(pending), points_only=True))
+            parts += [nodes[i], inner]
+            size = len(nodes[i]) + len(inner)
+            owner.append(np.full(size, i))
+            spans.append(start)
+            start += size
+        theta = np.concatenate(parts)[:, None]
+        points = batch.profile_points(batch.pitch(theta, np.concatenate(owner), points_only=True))[:, 0]
         for row, i in enumerate(pending):
             n = len(nodes[i])
-            ends = points[row, :n]
-            exact = points[row, n:n + samples * (n - 1)].reshape(n - 1, samples, 2)
+            ends = points[spans[row]:spans[row] + n]
+            exact = points[spans[row] + n:spans[row] + n + samples * (n - 1)].reshape(n - 1, samples, 2)
             deviation = peak_of_samples(point_segment_distance(exact, ends[:-1, None, :], ends[1:, None, :]))
             bad = deviation > ACCEPT * tol
             if not bad.any():
                 done[i] = Polyline(nodes[i], ends, float(deviation.max(initial=0.0)))
             elif n + bad.sum() > MAX_NODES:
-                raise ValueError("the chord tolerance needs too many points")
+                done[i] = None
             else:
                 nodes[i] = np.sort(np.concatenate((nodes[i], (nodes[i][:-1][bad] + nodes[i][1:][bad]) / 2.0)))
-    if len(done) < count:
-        raise ValueError("the chords did not meet the tolerance (a cusp or a loop)")
-    return [done[i] for i in range(count)]
+    return [done.get(i) for i in range(count)]
 
 
 def _density(geo: CurveGeometry, tol: float) -> np.ndarray:

@@ -77,13 +77,15 @@ def evaluate_batch(prep, designs: list[int], evaluate_design, with_files, row_of
         return [template] + [evaluate_design(prep, d) for d in designs[1:]]
     rows: dict[int, dict] = {}
     for design, result in zip(batched, results):
+        if result is None:       # chords that do not meet the tolerance: its own run says why
+            continue
         report = profile_report(result, phases)
         row: dict[str, Any] = {"design": int(design)}
         if prep.space.samples > 1:
             row["sample"] = int(design) % prep.space.samples
         row.update(followers[design][0])
         rows[design] = row_of(row, {"checks": report["checks"]}, bool(report["passed"]))
-    if _comparable(rows[designs[0]]) != _comparable(template):
+    if designs[0] not in rows or _comparable(rows[designs[0]]) != _comparable(template):
         return [template] + [evaluate_design(prep, d) for d in designs[1:]]   # the batch must agree with it
     rows[designs[0]] = template
     return [rows[d] if d in rows else evaluate_design(prep, d) for d in designs]
