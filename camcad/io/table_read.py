@@ -125,7 +125,7 @@ def read_table(path: str | Path) -> Table:
     if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
-    fast = _read_plain(text, where)
+    fast = read_plain_table(text, where)
     if fast is not None:
         theta_arr, accel_arr, line_arr, found_delimiter, found_header, found_kind, found_column, found_notes, \
             found_record = fast
@@ -210,7 +210,7 @@ def _table(theta_arr: np.ndarray, accel_arr: np.ndarray, line_arr: np.ndarray, d
 _PLAIN_HEAD_LINES = 200
 
 
-def _read_plain(text: str, where: str):
+def read_plain_table(text: str, where: str):
     """The fast path of ``read_table``: a plain table (no quotes, no comment or blank line after its first row,
     decimal points, the same number of numeric fields in every row, finite values) parsed by
     ``numpy.loadtxt``. None for anything else, which the careful reader then reads (and explains)."""
