@@ -68,9 +68,27 @@ SOURCE_REFERENCES: dict[str, list[tuple[str, tuple[str, str]]]] = {
 
 @dataclass(frozen=True)
 class BenchRequest:
-    """What ``run_bench`` runs: ``quick`` (fewer settings and repeats, under a minute for the packaged
-    benchmarks), ``only`` (benchmark names, "all" for every one; None: the packaged ones), the output folder
-    and whether to draw the plot."""
+    """What ``run_bench`` runs (``camcad bench``'s options).
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer settings and repeats (the packaged benchmarks in under a minute).
+    only : tuple of str, optional
+        Benchmark names: ``kernels``, ``sweeps``, ``startup`` (installed with camcad), a source checkout's
+        ``benchmarks/`` names, or "all"; None: the packaged ones.
+    output : Path, optional
+        Folder for bench.md, bench.json and bench.png (default ./camcad-out/bench/).
+    plots : bool
+        Draw bench.png.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> request = camcad.BenchRequest(quick=True, only=("kernels",))
+    >>> request.quick, request.only, request.plots
+    (True, ('kernels',), True)
+    """
 
     quick: bool = False
     only: tuple[str, ...] | None = None
@@ -186,6 +204,16 @@ def run_bench(request: BenchRequest, status: Callable[[str], None] | None = None
     ------
     CamcadError
         An unknown benchmark name, or a source benchmark asked for without a source checkout.
+
+    Examples
+    --------
+    A name that is no benchmark is refused before anything runs:
+
+    >>> import camcad
+    >>> camcad.run_bench(camcad.BenchRequest(only=("nonsense",)))
+    Traceback (most recent call last):
+    ...
+    camcad.errors.CamcadError: --only: no benchmark named 'nonsense'; choose from kernels, sweeps, startup, ...
     """
     source = find_benchmarks()
     if request.only is None:
