@@ -27,7 +27,7 @@ from typing import Protocol
 
 import numpy as np
 
-from camcad.arrays import unique
+from camcad.arrays import present
 from camcad.law.coefficients import PeakCoefficients
 from camcad.law.law import Kinematics, Phase, wrap, wrap_angle
 from camcad.law.vdi import catalogue_rest_shape
@@ -314,7 +314,7 @@ class CompositeLaw:
         # each θ belongs to one segment, [start, end) (the last one closed at the cycle's end); a
         # zero-width segment holds no θ
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in unique(index):
+        for k in present(index, len(self.segments)):
             seg = self.segments[k]
             inside = index == k
             level = self._levels[k]
@@ -338,7 +338,7 @@ class CompositeLaw:
         s = np.zeros_like(t)
         v = np.zeros_like(t)
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in unique(index):
+        for k in present(index, len(self.segments)):
             seg = self.segments[k]
             inside = index == k
             level = self._levels[k]
@@ -361,7 +361,7 @@ class CompositeLaw:
         t = wrap(theta, self.cycle)
         out = np.zeros_like(t)
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in unique(index):
+        for k in present(index, len(self.segments)):
             seg = self.segments[k]
             if seg.kind == "dwell":
                 continue
