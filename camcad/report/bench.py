@@ -358,7 +358,8 @@ def plot_speed_error(rows: list[dict], path: Path) -> Path:
             for who in ("camcad", "floor", "peer"):
                 t, e = r.get(f"{who}_s"), r.get(f"{who}_error")
                 if isinstance(t, (int, float)) and isinstance(e, (int, float)) and t > 0 and e > 0:
-                    points.append((f"{r['kernel']} ({r['setting'].split(',')[0]})", who, t, e))
+                    setting = r["setting"].split(";")[0] if ";" in r["setting"] else r["setting"].split(",")[0]
+                    points.append((f"{r['kernel']} ({setting})", who, t, e))
         elif not str(r.get("error_unit", "")).startswith("CPU time"):
             t, e = r.get("time_s"), r.get("error")
             if isinstance(t, (int, float)) and isinstance(e, (int, float)) and t > 0 and e > 0 and math.isfinite(e):
