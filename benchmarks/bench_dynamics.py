@@ -121,9 +121,9 @@ def run(quick: bool = False) -> list[dict]:
     for method, rtol in settings:
         seconds, accels = _timed(lambda method=method, rtol=rtol: _time_sweep(law, follower, speeds, method, rtol),
                                  max_repeats=3)
-        rows.append({"kernel": "sdof sweep", "method": f"time {method}", "setting": f"rtol={rtol:g}",
-                     "time_s": seconds, "error": _error(accels, reference), "error_unit": ERROR_UNIT,
-                     "reference": REFERENCE})
+        rows.append({"kernel": "sdof sweep", "method": f"camcad time path {method} (per speed)",
+                     "setting": f"rtol={rtol:g}", "time_s": seconds, "error": _error(accels, reference),
+                     "error_unit": ERROR_UNIT, "reference": REFERENCE})
     return rows
 
 
@@ -132,7 +132,7 @@ def speedups(rows: list[dict]) -> list[tuple[str, str, float, float]]:
     frequency = [r for r in rows if r["method"] == "frequency"]
     out = []
     for row in rows:
-        if row["method"] != "time RK45":
+        if row["method"] != "camcad time path RK45 (per speed)":
             continue
         matching = [f for f in frequency if f["error"] <= row["error"]]
         if matching:

@@ -17,7 +17,8 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 carries); designed from scratch:
 ``solve_segments`` (``SegmentSpec``, ``parse_segments``) and the VDI 2143 catalogue (``catalogue_table``,
 ``rest_shape``). Balance: ``check``,
-``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize``, ``profile_report``,
+``correct``, ``write_corrected``. Profile: ``Follower``, ``ProfileSettings``, ``synthesize`` (``synthesize_many``: many
+followers on one law at once), ``profile_report``,
 ``min_base_radius``, ``write_outputs``. The part: ``ExportSettings``, ``part_files``, ``cutter_paths``,
 ``contour_program``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``, ``tachogram_phases``,
 ``synthesise_tachogram``.
@@ -29,7 +30,8 @@ Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft to
 ``energy_fluctuation`` (flywheel), ``run_drive``/``DriveRequest`` (``camcad drive``), ``servo_table``,
 ``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
 groups: ``Group``, ``make_machine``, ``optimise_machine``.
-Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Speed against error:
+``run_bench``/``BenchRequest`` (``camcad bench``). Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``.
 
@@ -76,12 +78,14 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
     from camcad.law.vdi import catalogue_table, rest_shape
+    from camcad.profile.batch import synthesize_many
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
     from camcad.profile.servo import servo_table
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.profile.toolpath import contour_program, cutter_paths
+    from camcad.report.bench import BenchRequest, run_bench
     from camcad.report.part_files import part_files
     from camcad.report.profile import (
         plot_curvature,
@@ -115,7 +119,8 @@ _EXPORTS: dict[str, str] = {
     "write_corrected": "camcad.io.law_write",
     "Follower": "camcad.profile.followers", "ProfileSettings": "camcad.profile.synth",
     "ProfileResult": "camcad.profile.synth", "synthesize": "camcad.profile.synth",
-    "profile_report": "camcad.profile.summary",
+    "profile_report": "camcad.profile.summary", "synthesize_many": "camcad.profile.batch",
+    "BenchRequest": "camcad.report.bench", "run_bench": "camcad.report.bench",
     "PipelineOptions": "camcad.scene.pipeline", "min_base_radius": "camcad.profile.design",
     "write_outputs": "camcad.report.profile_files",
     "ExportSettings": "camcad.scene.sections.export", "part_files": "camcad.report.part_files",
@@ -149,6 +154,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 __all__ = [
     "BalanceReport",
+    "BenchRequest",
     "CamDrive",
     "CamcadError",
     "ContactParams",
@@ -212,6 +218,7 @@ __all__ = [
     "residual_vibration",
     "resonant_harmonics",
     "rest_shape",
+    "run_bench",
     "run_drive",
     "run_scene",
     "servo_table",
@@ -220,6 +227,7 @@ __all__ = [
     "steady_state",
     "synthesise_tachogram",
     "synthesize",
+    "synthesize_many",
     "tachogram_phases",
     "write_corrected",
     "write_outputs",

@@ -52,3 +52,15 @@ def union(first, second) -> np.ndarray:
     [0.0, 0.25, 0.5, 1.0]
     """
     return unique(np.concatenate((np.ravel(first), np.ravel(second))))
+
+
+def present(index, count: int) -> np.ndarray:
+    """The distinct values of ``index`` (non-negative integers below ``count``), sorted: ``unique`` of an index
+    array in one counting pass instead of a sort (a law's segment of each of a million angles).
+
+    Examples
+    --------
+    >>> present(np.array([2, 0, 2, 2]), 4).tolist()
+    [0, 2]
+    """
+    return np.flatnonzero(np.bincount(np.asarray(index).ravel(), minlength=count))

@@ -54,9 +54,18 @@ def zoom_max(values, grid: np.ndarray, rows: int, first: np.ndarray | None = Non
     grid = np.asarray(grid, dtype=float)
     sampled = np.asarray(values(grid) if first is None else first, dtype=float).reshape(rows, -1)
     sampled = np.where(np.isfinite(sampled), sampled, -np.inf)
-    every = np.arange(rows)
     best = np.argmax(sampled, axis=1)
-    peak = sampled[every, best]
+    return zoom_from(values, grid, best, sampled[np.arange(rows), best])
+
+
+def zoom_from(values, grid: np.ndarray, best: np.ndarray, peak: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``zoom_max`` from the best sample of each row already found: ``best`` its index in ``grid`` and ``peak``
+    its value (−inf for a row without a finite value); the same refinement, row by row."""
+    grid = np.asarray(grid, dtype=float)
+    best = np.asarray(best)
+    peak = np.asarray(peak, dtype=float)
+    rows = len(best)
+    every = np.arange(rows)
     at = grid[best]
     lo = grid[np.maximum(best - 1, 0)]
     hi = grid[np.minimum(best + 1, len(grid) - 1)]

@@ -24,6 +24,8 @@ LAYERS = {
     "scene": 4,
     # a sweep runs scenes (many at once, checks only) and the report layer draws and writes its outputs
     "sweep": 4.5,
+    # camcad bench's measurements: every kernel against its floor and peers (report writes their tables)
+    "bench": 4.7,
     "report": 5,
     "edit": 6,
     "cli": 7, "__main__": 7,

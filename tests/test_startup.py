@@ -20,7 +20,7 @@ try:
     main(sys.argv[1:])
 except SystemExit:
     pass
-SUB = ('scipy.', 'camcad.', 'numpy.ma', 'numpy.polynomial')
+SUB = ('scipy.', 'camcad.', 'numpy.ma', 'numpy.polynomial', 'rich.')
 print("\\nMODULES" + json.dumps(sorted({name.split('.')[0] for name in sys.modules} |
                                       {name for name in sys.modules if name.startswith(SUB)})))
 """
@@ -67,3 +67,29 @@ def test_the_command_list_in_help_is_each_command_s_own_first_line():
         first = " ".join((command.help or "").split("\n\n")[0].split())
         # the one-line summary opens as the command's own help does (same first words)
         assert first.split()[:2] == line.split()[:2], (name, first, line)
+
+
+def _law_drawing(folder: Path) -> Path:
+    from camcad.bench.startup import write_law
+
+    return write_law(folder / "law.dxf")
+
+
+def test_check_fix_and_spectrum_import_no_scipy(tmp_path):
+    # issue 35: pieces joined by sorting (no scipy.spatial), the min-change solve by cyclic reduction (no
+    # scipy.sparse), the Hurwitz zeta by Euler-Maclaurin (no scipy.special), rich.progress only with a bar
+    law = _law_drawing(tmp_path)
+    for args in (["check", str(law)], ["fix", str(law), "-o", str(tmp_path / "fixed.dxf"), "--no-plots"],
+                 ["spectrum", str(law), "--no-plots", "-o", str(tmp_path / "spectrum")],
+                 ["profile", "--no-plots", "-o", str(tmp_path / "profile")]):
+        modules = imported(*args, cwd=tmp_path)
+        assert "numpy" in modules, args
+        for unneeded in ("scipy", "matplotlib", "rich.progress", "shapely"):
+            assert unneeded not in modules, (args, unneeded)
+
+
+def test_a_dynamics_run_of_one_speed_shows_no_bar_and_imports_no_rich_progress(tmp_path):
+    law = _law_drawing(tmp_path)
+    modules = imported("dynamics", str(law), "--rpm", "300", "--fn", "40", "--zeta", "0.05", "--lift", "25",
+                       "--no-plots", "-o", str(tmp_path / "dyn"), cwd=tmp_path)
+    assert "rich.progress" not in modules

@@ -14,12 +14,13 @@ from camcad.balance.conditions import (
     Condition,
     conditions,
     functional_rows,
+    functional_values,
     targets,
     valid_step,
     valid_tol,
 )
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
-from camcad.law.phases import phase_integrals
+from camcad.law.phases import phases_integrals
 
 # ---------------------------------------------------------------------------------------------
 # Check
@@ -126,11 +127,13 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
     closure = {"rise": 0.0, "return": 0.0}
     moved = {"rise": 0.0, "return": 0.0}
     phase_rows = []
-    for phase in law.phases:
-        positive, negative = phase_integrals(x, a, phase.start, phase.end)
-        kin = law.kinematics(np.array([phase.start, phase.end]))
+    integrals = phases_integrals(x, a, [(phase.start, phase.end) for phase in law.phases])
+    ends = law.kinematics(np.array([t for phase in law.phases for t in (phase.start, phase.end)]))
+    for index, phase in enumerate(law.phases):
+        positive, negative = integrals[index]
+        s_start, s_end, v_end = ends.s[2 * index], ends.s[2 * index + 1], ends.v[2 * index + 1]
         row = {**phase.as_deg(), "area_positive": positive, "area_negative": negative,
-               "v_end": float(kin.v[1]), "displacement": float(kin.s[1] - kin.s[0])}
+               "v_end": float(v_end), "displacement": float(s_end - s_start)}
         phase_rows.append(row)
         if phase.kind == "rise":
             areas["rise_accel"] += positive
@@ -141,7 +144,7 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
         if phase.states_end:
             row["v_stated"] = float(phase.v_end)
             if phase.s_end is not None:
-                row["s_end"] = float(kin.s[1])
+                row["s_end"] = float(s_end)
                 row["s_stated"] = float(phase.s_end)
         if phase.kind in closure:
             moved[phase.kind] += row["displacement"]
@@ -150,7 +153,7 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
             if abs(off) >= abs(closure[phase.kind]):
                 closure[phase.kind] = off
     conds = conditions(law)
-    residuals = functional_rows(x, conds) @ a - targets(conds)
+    residuals = functional_values(x, a, conds) - targets(conds)
     scale = _scale(law)
     limit = tol * scale
     return BalanceReport(areas=areas, velocity_closure=closure,

@@ -216,19 +216,59 @@ def functional_rows(x: np.ndarray, conds: tuple[Condition, ...]) -> np.ndarray:
     return rows
 
 
+def functional_values(x: np.ndarray, a: np.ndarray, conds: tuple[Condition, ...]) -> np.ndarray:
+    """C a (``functional_rows(x, conds) @ a``) without forming C: the same shape-function weights, each
+    condition summed over the segments before its angle."""
+    x = np.asarray(x, dtype=float)
+    a = np.asarray(a, dtype=float)
+    out = np.empty(len(conds))
+    for i, cond in enumerate(conds):
+        if cond.quantity not in QUANTITIES:
+            raise ValueError(f"unknown quantity {cond.quantity!r}")
+        if cond.quantity == "rise":
+            out[i] = _value(x, a, "s", cond.theta) - _value(x, a, "s", cond.start)
+        else:
+            out[i] = _value(x, a, cond.quantity, cond.theta)
+    return out
+
+
+def _value(x: np.ndarray, a: np.ndarray, quantity: str, tc: float) -> float:
+    full = int(np.searchsorted(x[1:], tc, side="right"))
+    length = x[1:full + 1] - x[:full]
+    a0, a1 = a[:full], a[1:full + 1]
+    if quantity == "v":
+        total = float(np.dot(length, a0 + a1)) / 2.0
+    else:
+        d = tc - x[:full]
+        total = float(np.dot(length * (d / 2.0 - length / 6.0), a0) + np.dot(length * (d / 2.0 - length / 3.0), a1))
+    n = len(x)
+    k = int(np.searchsorted(x, tc, side="right")) - 1
+    if 0 <= k < n - 1 and x[k] < tc < x[k + 1]:
+        seg = x[k + 1] - x[k]
+        part = tc - x[k]
+        t = part / seg
+        if quantity == "v":
+            w_start, w_end = part / 2.0, part / 2.0
+        else:
+            w_start, w_end = part * (part / 2.0 - part / 6.0), part * (part / 2.0 - part / 3.0)
+        total += (w_start + w_end * (1.0 - t)) * a[k] + w_end * t * a[k + 1]
+    return total
+
+
 def _row(x: np.ndarray, quantity: str, tc: float) -> np.ndarray:
     n = len(x)
     row = np.zeros(n)
-    lengths = np.diff(x)
-    full = np.flatnonzero(x[1:] <= tc)  # segments entirely before tc
-    length = lengths[full]
+    # the segments entirely before tc are the first ``full`` ones (x is non-decreasing)
+    full = int(np.searchsorted(x[1:], tc, side="right"))
+    length = x[1:full + 1] - x[:full]
     if quantity == "v":
-        np.add.at(row, full, length / 2.0)
-        np.add.at(row, full + 1, length / 2.0)
+        half = length / 2.0
+        row[:full] += half
+        row[1:full + 1] += half
     else:
-        d = tc - x[full]
-        np.add.at(row, full, length * (d / 2.0 - length / 6.0))
-        np.add.at(row, full + 1, length * (d / 2.0 - length / 3.0))
+        d = tc - x[:full]
+        row[:full] += length * (d / 2.0 - length / 6.0)
+        row[1:full + 1] += length * (d / 2.0 - length / 3.0)
     k = int(np.searchsorted(x, tc, side="right")) - 1
     if 0 <= k < n - 1 and x[k] < tc < x[k + 1]:
         seg = x[k + 1] - x[k]
@@ -241,6 +281,16 @@ def _row(x: np.ndarray, quantity: str, tc: float) -> np.ndarray:
         row[k] += w_start + w_end * (1.0 - t)
         row[k + 1] += w_end * t
     return row
+
+
+def mass_diagonals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(diagonal, off-diagonal) of the polyline's mass matrix ``mass_matrix(x)``: M_kk = (L_{k−1} + L_k)/3,
+    M_k,k+1 = L_k/6 (L_k the segment lengths, rad); numpy only."""
+    length = np.diff(x)
+    diag = np.zeros(len(x))
+    diag[:-1] += length / 3.0
+    diag[1:] += length / 3.0
+    return diag, length / 6.0
 
 
 def mass_matrix(x: np.ndarray):
@@ -259,10 +309,5 @@ def mass_matrix(x: np.ndarray):
     """
     from scipy import sparse
 
-    length = np.diff(x)
-    n = len(x)
-    diag = np.zeros(n)
-    diag[:-1] += length / 3.0
-    diag[1:] += length / 3.0
-    off = length / 6.0
+    diag, off = mass_diagonals(x)
     return sparse.diags([off, diag, off], [-1, 0, 1], format="csc")

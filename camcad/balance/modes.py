@@ -14,6 +14,8 @@ the change (the function norm ∫δa² dθ, or the sum of squared vertex changes
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from camcad.arrays import unique
@@ -23,6 +25,7 @@ from camcad.balance.conditions import (
     conditions,
     functional_rows,
     lift_conditions,
+    mass_diagonals,
     mass_matrix,
     targets,
     valid_step,
@@ -31,9 +34,12 @@ from camcad.balance.iterate import _iterate
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear, uniform_grid
 from camcad.law.phases import zero_threshold
+from camcad.numerics import solve_tridiagonal
 
 #: a condition is met by a solve when its residual is below this fraction of the rise
 SOLVE_TOLERANCE = 1e-8
+#: a vertex change at or below this fraction of max |a| is round-off, not a change (``correct`` counts it so too)
+ROUND_OFF_CHANGE = 1e-12
 
 
 def _free_vertices(law: PiecewiseLinearLaw, hold: np.ndarray) -> np.ndarray:
@@ -94,15 +100,61 @@ def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
 
 # --- bases ----------------------------------------------------------------------------------------
 
-def _node_columns(x: np.ndarray, movable: np.ndarray):
-    """One column per jump node among the ``movable`` vertices (coefficient 1 on each of them)."""
-    from scipy import sparse
+@dataclass(frozen=True)
+class NodeBasis:
+    """One column per jump node of the movable vertices (a vertex's change is its node's unknown):
+    δ = B p puts p[col[i]] on vertex idx[i]. Its Gram matrices are tridiagonal (numpy, no sparse matrix).
 
+    idx: the movable vertices (increasing); col: each one's column (non-decreasing, 0 … k − 1);
+    n: vertices in all; k: columns.
+    """
+
+    idx: np.ndarray
+    col: np.ndarray
+    n: int
+    k: int
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.n, self.k)
+
+    def __matmul__(self, p) -> np.ndarray:
+        out = np.zeros(self.n)
+        out[self.idx] = np.asarray(p, dtype=float).ravel()[self.col]
+        return out
+
+    def restrict(self, rows: np.ndarray) -> np.ndarray:
+        """C B: each column the sum of the rows' entries at its vertices, shape (m, k)."""
+        if self.k == 0:
+            return np.zeros((rows.shape[0], 0))
+        picked = rows[:, self.idx]
+        if self.k == len(self.idx):        # no jump among them: one vertex per column
+            return picked
+        starts = np.flatnonzero(np.concatenate(([True], self.col[1:] != self.col[:-1])))
+        return np.add.reduceat(picked, starts, axis=1)
+
+    def gram(self, x: np.ndarray, use_mass: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(diagonal, off-diagonal G[c, c+1]) of G = BᵀMB (``use_mass``) or BᵀB."""
+        if not use_mass:
+            return np.bincount(self.col, minlength=self.k).astype(float), np.zeros(max(self.k - 1, 0))
+        m_diag, m_off = mass_diagonals(x)
+        diag = np.bincount(self.col, weights=m_diag[self.idx], minlength=self.k)
+        off = np.zeros(max(self.k - 1, 0))
+        # vertices i, i + 1 both movable and in consecutive columns couple through M[i, i+1]
+        linked = (self.idx[1:] == self.idx[:-1] + 1) & (self.col[1:] == self.col[:-1] + 1)
+        off[self.col[:-1][linked]] += m_off[self.idx[:-1][linked]]   # each column links to the next at most once
+        # a jump's two vertices share a column: M between them is 0 (a zero-length segment)
+        return diag, off
+
+
+def _node_columns(x: np.ndarray, movable: np.ndarray) -> tuple[NodeBasis, np.ndarray]:
+    """One column per jump node among the ``movable`` vertices (coefficient 1 on each of them)."""
     idx = np.flatnonzero(movable)
     nodes = jump_nodes(x)[idx]
-    _, col = np.unique(nodes, return_inverse=True)
-    k = int(col.max()) + 1 if len(col) else 0
-    return sparse.csc_matrix((np.ones(len(idx)), (idx, col)), shape=(len(x), k)), idx
+    col = np.concatenate(([0], np.cumsum(nodes[1:] != nodes[:-1]))).astype(int) if len(idx) else \
+        np.zeros(0, dtype=int)
+    k = int(col[-1]) + 1 if len(col) else 0
+    return NodeBasis(idx, col, len(x), k), idx
 
 
 def _extrema_columns(law: PiecewiseLinearLaw, free: np.ndarray):
@@ -282,6 +334,9 @@ def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterat
                           "use --mode min-change")
     if method == "exact":
         delta = least_change(law, conds, basis, use_mass, mode, where)
+        # a change at round-off level (the solver's last bits where the exact change is 0) is no change:
+        # the vertex is written as drawn
+        delta[np.abs(delta) <= ROUND_OFF_CHANGE * float(np.max(np.abs(law.a), initial=0.0))] = 0.0
         return law.with_ordinates(law.a + delta), 1
     return _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where)
 
@@ -301,7 +356,9 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
     ----------
     law : PiecewiseLinearLaw
     conds : tuple of Condition
-    basis : scipy.sparse matrix (n_vertices, k)
+    basis : NodeBasis or scipy.sparse matrix (n_vertices, k)
+        The allowed changes; node columns (min-change, keypoints, segment) are solved as a tridiagonal
+        system by cyclic reduction, any other basis by a sparse LU.
     use_mass : bool
         Measure the change as a function (True) or vertex by vertex (False).
     mode, where : str
@@ -312,39 +369,87 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
     ndarray
         δ, one value per vertex (mm/rad²).
     """
-    from scipy.sparse.linalg import splu
-
     rows = functional_rows(law.x, conds)
     goal = targets(conds)
     residual = goal - rows @ law.a
+    if isinstance(basis, NodeBasis):
+        p = _node_change(law, basis, rows, residual, use_mass)
+    else:
+        p = _sparse_change(law, basis, rows, residual, use_mass)
+    delta = np.asarray(basis @ p).ravel()
+    remaining = rows @ (law.a + delta) - goal
+    limit = SOLVE_TOLERANCE * _scale(law)
+    if not np.all(np.isfinite(delta)) or np.any(np.abs(remaining) > limit):
+        A = basis.restrict(rows) if isinstance(basis, NodeBasis) else np.asarray((basis.T @ rows.T).T)
+        _explain_unreachable(A, residual, conds, mode, where, limit, law, basis)
+    return delta
+
+
+def _schur(A_live: np.ndarray, residual: np.ndarray, solve) -> np.ndarray:
+    """p (live columns) = G⁻¹Aᵀy with (A G⁻¹ Aᵀ) y = r; ``solve(R)`` gives G⁻¹R. The rows of A are scaled
+    to a largest entry of 1 first, and the small Schur system is solved in the least-squares sense."""
+    norms = np.abs(A_live).max(axis=1)
+    scale_rows = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 0.0)
+    A_eq = A_live * scale_rows[:, None]
+    g_inv_at = solve(np.ascontiguousarray(A_eq.T))
+    y = np.linalg.lstsq(A_eq @ g_inv_at, residual * scale_rows, rcond=1e-12)[0]
+    return g_inv_at @ y
+
+
+def _node_change(law: PiecewiseLinearLaw, basis: NodeBasis, rows: np.ndarray, residual: np.ndarray,
+                 use_mass: bool) -> np.ndarray:
+    """The least change on node columns: G is tridiagonal, solved by cyclic reduction (numpy)."""
+    A = basis.restrict(rows)
+    diag, off = basis.gram(law.x, use_mass)
+    live = diag > 1e-13 * diag.max() if len(diag) and diag.max() > 0 else np.zeros(len(diag), dtype=bool)
+    p = np.zeros(basis.k)
+    if not live.any():
+        return p
+    keep: slice | np.ndarray
+    if live.all():
+        keep, off_live, diag_live = slice(None), off, diag
+    else:
+        alive = np.flatnonzero(live)
+        keep = alive
+        # a dead column (both its segments of zero length) has no coupling: the live ones stay tridiagonal
+        adjacent = alive[1:] == alive[:-1] + 1
+        off_live = np.where(adjacent, off[alive[:-1]] if len(alive) > 1 else off[:0], 0.0)
+        diag_live = diag[alive]
+
+    def solve(right: np.ndarray) -> np.ndarray:
+        found = solve_tridiagonal(off_live, diag_live, off_live, right)
+        if not np.all(np.isfinite(found)):   # numerically singular: the least change along a tiny ridge
+            ridge = 1e-12 * float(diag_live.mean())
+            found = solve_tridiagonal(off_live, diag_live + ridge, off_live, right)
+        return found
+
+    p[keep] = _schur(A[:, keep], residual, solve)
+    return p
+
+
+def _sparse_change(law: PiecewiseLinearLaw, basis, rows: np.ndarray, residual: np.ndarray,
+                   use_mass: bool) -> np.ndarray:
+    """The least change on a general basis (a scipy sparse matrix): G = BᵀMB or BᵀB by a sparse LU."""
+    from scipy import sparse
+    from scipy.sparse.linalg import splu
+
     A = np.asarray((basis.T @ rows.T).T)  # C B, m × k
     gram = (basis.T @ mass_matrix(law.x) @ basis).tocsc() if use_mass else (basis.T @ basis).tocsc()
     diag = gram.diagonal()
     live = diag > 1e-13 * diag.max() if len(diag) and diag.max() > 0 else np.zeros(len(diag), dtype=bool)
     p = np.zeros(basis.shape[1])
     if live.any():
-        A_live = A[:, live]
-        norms = np.abs(A_live).max(axis=1)
-        scale_rows = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 0.0)
-        A_eq = A_live * scale_rows[:, None]
         g_live = gram[live][:, live].tocsc()
-        try:
-            g_inv_at = splu(g_live).solve(np.ascontiguousarray(A_eq.T))
-        except RuntimeError:  # numerically singular: the least change along a tiny ridge
-            from scipy import sparse
 
-            ridge = 1e-12 * float(g_live.diagonal().mean())
-            g_inv_at = splu((g_live + ridge * sparse.identity(g_live.shape[0], format="csc")).tocsc()) \
-                .solve(np.ascontiguousarray(A_eq.T))
-        schur = A_eq @ g_inv_at
-        y = np.linalg.lstsq(schur, residual * scale_rows, rcond=1e-12)[0]
-        p[live] = g_inv_at @ y
-    delta = np.asarray(basis @ p).ravel()
-    remaining = rows @ (law.a + delta) - goal
-    limit = SOLVE_TOLERANCE * _scale(law)
-    if not np.all(np.isfinite(delta)) or np.any(np.abs(remaining) > limit):
-        _explain_unreachable(A, residual, conds, mode, where, limit, law, basis)
-    return delta
+        def solve(right: np.ndarray) -> np.ndarray:
+            try:
+                return splu(g_live).solve(right)
+            except RuntimeError:  # numerically singular: the least change along a tiny ridge
+                ridge = 1e-12 * float(g_live.diagonal().mean())
+                return splu((g_live + ridge * sparse.identity(g_live.shape[0], format="csc")).tocsc()).solve(right)
+
+        p[live] = _schur(A[:, live], residual, solve)
+    return p
 
 
 def _explain_unreachable(A, residual, conds, mode, where, limit, law, basis):

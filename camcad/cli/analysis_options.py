@@ -32,25 +32,21 @@ def progress(enabled: bool, label: str):
     (None, no-op) when disabled (e.g. with --json)."""
     if not enabled:
         return None, lambda: None
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeRemainingColumn,
-    )
-
-    from camcad.cli.common import console
-
-    bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                   console=console(stderr=True), transient=True)
-    task = bar.add_task(label, total=None)
-    started: list[bool] = []
+    shown: list = []        # the bar, made at the first report of more than one step (rich.progress only then)
 
     def callback(done: int, total: int) -> None:
-        if not started and total > 1:
+        if not shown:
+            if total <= 1:
+                return
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+            from camcad.cli.common import console
+
+            bar = Progress(TextColumn(label), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                           console=console(stderr=True), transient=True)
+            shown.append((bar, bar.add_task(label, total=None)))
             bar.start()
-            started.append(True)
+        bar, task = shown[0]
         bar.update(task, completed=done, total=total)
 
-    return callback, lambda: bar.stop() if started else None
+    return callback, lambda: shown[0][0].stop() if shown else None

@@ -8,7 +8,7 @@ from typing import cast
 
 import numpy as np
 
-from camcad.fourier.exact import Piece, _pieces_check, _pieces_coefficients, _polyline_analysis, composite_pieces
+from camcad.fourier.exact import Piece, _pieces_coefficients, _polyline_analysis, checked_pieces
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 
@@ -25,8 +25,7 @@ def exact_available(law) -> bool:
     if isinstance(law, CorrectedLaw):
         return exact_available(law.base)
     if isinstance(law, CompositeLaw):
-        pieces = composite_pieces(law)
-        return pieces is not None and _pieces_check(law, pieces)
+        return checked_pieces(law) is not None
     return False
 
 
@@ -140,9 +139,9 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
         return Spectrum(cycle, r["mean"], r["coefficients"], r["accel_mean"], r["accel_coefficients"],
                         r["tail"], r["mean_square"], r["error"], r["accel_error"], "exact")
     if isinstance(law, CompositeLaw):
-        pieces = cast(list[Piece], composite_pieces(law))  # exact_available: every shape is known
+        pieces = cast(list[Piece], checked_pieces(law))  # exact_available: every shape is known
         mean, c, tail, error = _pieces_coefficients(pieces, cycle, harmonics, 0, tail_to)
-        accel_mean, ca, _, accel_error = _pieces_coefficients(pieces, cycle, harmonics, 2, harmonics)
+        accel_mean, ca, _, accel_error = _pieces_coefficients(pieces, cycle, harmonics, 2, harmonics, with_tail=False)
         raw_square = math.fsum(p.integral_of_square() for p in pieces) / cycle
         return Spectrum(cycle, mean, c, accel_mean, ca, tail, raw_square - mean**2, error, accel_error, "exact")
     raise ValueError(f"no exact analysis for {type(law).__name__}")

@@ -4,6 +4,7 @@ laws (piecewise-linear acceleration), by integration by parts over the pieces (s
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import cast
@@ -11,6 +12,7 @@ from typing import cast
 import numpy as np
 
 from camcad.law.law import PiecewiseLinearLaw
+from camcad.numerics import hurwitz_zeta
 
 EPS = float(np.finfo(float).eps)
 #: below this |z| the monomial moments E_m(z) are integrated by Gauss–Legendre, above by recurrence
@@ -26,10 +28,14 @@ _BLOCK = 1 << 21
 # Exact analysis: piecewise elementary functions (composite standard laws)
 # =============================================================================================
 
+@functools.lru_cache(maxsize=64)
 def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes and weights of n-point Gauss–Legendre on [0, 1]."""
+    """Nodes and weights of n-point Gauss–Legendre on [0, 1] (computed once per n; read-only)."""
     nodes, weights = np.polynomial.legendre.leggauss(n)
-    return (nodes + 1.0) / 2.0, weights / 2.0
+    nodes, weights = (nodes + 1.0) / 2.0, weights / 2.0
+    nodes.flags.writeable = False
+    weights.flags.writeable = False
+    return nodes, weights
 
 
 def monomial_moments(z: np.ndarray, degree: int) -> np.ndarray:
@@ -83,19 +89,33 @@ class Piece:
             out = out + np.real(np.exp(1j * np.multiply.outer(t, piece.rates)) @ piece.amps)
         return out
 
+    def derivatives(self, t: float, first: int, count: int) -> np.ndarray:
+        """f^(m)(t) for m = first … first + count − 1, at one t (all orders at once)."""
+        t = float(t)
+        poly = [float(c) for c in self.poly]
+        values = [math.fsum(c * math.perm(n, m) * t ** (n - m) for n, c in enumerate(poly) if n >= m and c != 0.0)
+                  for m in range(first, first + count)]          # d^m t^n = n!/(n − m)! t^(n − m)
+        out = np.array(values)
+        if len(self.amps):
+            orders = np.arange(first, first + count)
+            waves = self.amps * np.exp(1j * self.rates * t)
+            out += np.real((1j * self.rates[None, :]) ** orders[:, None] @ waves)
+        return out
+
     def transform(self, w: np.ndarray) -> np.ndarray:
         """∫ over the piece of f(θ) e^{−iwθ} dθ for each w (complex)."""
         w = np.asarray(w, dtype=float)
         length = self.length
         total = np.zeros(len(w), dtype=complex)
-        poly = np.trim_zeros(self.poly, "b")
-        if len(poly):
+        used = np.flatnonzero(self.poly)
+        if len(used):
+            poly = np.asarray(self.poly[:used[-1] + 1], dtype=float)
             moments = monomial_moments(w * length, len(poly) - 1)
             scale = poly * length ** np.arange(1, len(poly) + 1)
             total += scale @ moments
-        for amp, rate in zip(self.amps, self.rates):
-            half = (rate - w) * length / 2.0
-            total += amp * length * np.exp(1j * half) * np.sinc(half / np.pi)
+        if len(self.amps):
+            half = (self.rates[:, None] - w[None, :]) * (length / 2.0)
+            total += (self.amps * length) @ (np.exp(1j * half) * np.sinc(half / np.pi))
         return total * np.exp(-1j * w * self.start)
 
     def integral_of_square(self) -> float:
@@ -140,7 +160,22 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
 
 
 def composite_pieces(law) -> list[Piece] | None:
-    """The displacement of a ``standard.CompositeLaw`` as elementary pieces, or None if a shape is unknown."""
+    """The displacement of a ``standard.CompositeLaw`` as elementary pieces, or None if a shape is unknown
+    (made once per law: a law is immutable and hashable; an unhashable one is decomposed each time)."""
+    try:
+        found = _cached_pieces(law)
+    except TypeError:
+        return _pieces_or_none(law)
+    return None if found is None else list(found)
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_pieces(law) -> tuple[Piece, ...] | None:
+    found = _pieces_or_none(law)
+    return None if found is None else tuple(found)
+
+
+def _pieces_or_none(law) -> list[Piece] | None:
     try:
         return _composite_pieces(law)
     except (AttributeError, TypeError, ValueError):  # a composite law of another make: sample it instead
@@ -173,14 +208,34 @@ def _composite_pieces(law) -> list[Piece] | None:
     return pieces
 
 
+def checked_pieces(law) -> list[Piece] | None:
+    """The law's elementary pieces (``composite_pieces``) when they reproduce its s and a, else None; decided
+    once per (hashable) law."""
+    try:
+        found = _checked(law)
+    except TypeError:
+        pieces = _pieces_or_none(law)
+        return pieces if pieces is not None and _pieces_check(law, pieces) else None
+    return None if found is None else list(found)
+
+
+@functools.lru_cache(maxsize=32)
+def _checked(law) -> tuple[Piece, ...] | None:
+    pieces = composite_pieces(law)
+    return tuple(pieces) if pieces is not None and _pieces_check(law, pieces) else None
+
+
 def _pieces_check(law, pieces: list[Piece]) -> bool:
-    """True when the pieces reproduce the law's s and a (guards against a changed law class)."""
-    for piece in pieces:
-        t = piece.length * np.array([0.1, 0.5, 0.9])
-        kin = law.kinematics(piece.start + t)
-        scale = 1.0 + np.max(np.abs(kin.s)) + np.max(np.abs(kin.a))
-        if np.max(np.abs(piece.values(t, 0) - kin.s)) > 1e-9 * scale or \
-                np.max(np.abs(piece.values(t, 2) - kin.a)) > 1e-9 * scale:
+    """True when the pieces reproduce the law's s and a (guards against a changed law class); one
+    evaluation of the law at three points of every piece."""
+    fractions = np.array([0.1, 0.5, 0.9])
+    kin = law.kinematics(np.concatenate([p.start + p.length * fractions for p in pieces]))
+    for index, piece in enumerate(pieces):
+        t = piece.length * fractions
+        s, a = kin.s[3 * index:3 * index + 3], kin.a[3 * index:3 * index + 3]
+        scale = 1.0 + np.max(np.abs(s)) + np.max(np.abs(a))
+        if np.max(np.abs(piece.values(t, 0) - s)) > 1e-9 * scale or \
+                np.max(np.abs(piece.values(t, 2) - a)) > 1e-9 * scale:
             return False
     return True
 
@@ -188,21 +243,23 @@ def _pieces_check(law, pieces: list[Piece]) -> bool:
 def _piece_jumps(pieces: list[Piece], orders: int, shift: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """Knot positions and jumps Δf^{(m)} (right − left), m = 0..orders−1, of the (shift)-th derivative."""
     positions = np.array([p.start for p in pieces])
-    deltas = np.zeros((orders, len(pieces)))
-    for index, piece in enumerate(pieces):
-        before = pieces[index - 1]
-        for m in range(orders):
-            deltas[m, index] = piece.values(0.0, m + shift) - before.values(before.length, m + shift)
-    return positions, deltas
+    starts = np.array([p.derivatives(0.0, shift, orders) for p in pieces]).T
+    ends = np.array([p.derivatives(p.length, shift, orders) for p in pieces]).T
+    return positions, starts - np.roll(ends, 1, axis=1)
 
 
-def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int):
-    w = np.arange(1, max(harmonics, tail_to) + 1) * (2.0 * np.pi / cycle)
+def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int,
+                         with_tail: bool = True):
+    """(mean, c_k for k = 1..harmonics, Σ_{k>N} A_k²/2 (NaN unless ``with_tail``), round-off bound) of the
+    ``order``-th derivative of the pieces."""
+    w = np.arange(0, max(harmonics, tail_to) + 1) * (2.0 * np.pi / cycle)     # k = 0 gives the mean
     derived = [p.derivative(order) for p in pieces]
-    coefficients = cast(np.ndarray, sum(p.transform(w) for p in derived) / cycle)
-    mean = float(np.real(sum(p.transform(np.zeros(1))[0] for p in derived))) / cycle
-    positions, deltas = _piece_jumps(pieces, _TAIL_ORDERS, shift=order)
-    tail = _remainder(coefficients, harmonics, positions, deltas, cycle)
+    transformed = cast(np.ndarray, sum(p.transform(w) for p in derived) / cycle)
+    mean, coefficients = float(np.real(transformed[0])), transformed[1:]
+    tail = math.nan
+    if with_tail:
+        positions, deltas = _piece_jumps(pieces, _TAIL_ORDERS, shift=order)
+        tail = _remainder(coefficients, harmonics, positions, deltas, cycle)
     error = 2.0 * 64.0 * EPS * sum(p.scale() for p in derived) / cycle
     return mean, coefficients[:harmonics], tail, error
 
@@ -342,8 +399,6 @@ def tail_mean_square(positions: np.ndarray, deltas: np.ndarray, cycle: float, ha
     The cross terms between knots and orders average out over k (they oscillate in k), so this is
     the asymptotic mean of the remainder; jumps at coincident knots are merged first.
     """
-    from scipy.special import zeta
-
     if len(positions) == 0:
         return 0.0
     order = np.argsort(positions, kind="stable")
@@ -358,7 +413,7 @@ def tail_mean_square(positions: np.ndarray, deltas: np.ndarray, cycle: float, ha
     for m in range(merged.shape[0]):
         power = float(np.sum(merged[m] ** 2))
         if power > 0:
-            total += power * float(zeta(2 * m + 2, harmonics + 1)) / omega ** (2 * m + 2)
+            total += power * hurwitz_zeta(2 * m + 2, harmonics + 1) / omega ** (2 * m + 2)
     return 2.0 * total / cycle**2
 
 

@@ -170,23 +170,24 @@ def cluster_points(points: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarr
     >>> ids.tolist(), xy.tolist()
     ([0, 1, 0, 0], [[0.0, 0.0], [1.0, 0.0]])
     """
-    from scipy.spatial import cKDTree
-
     if len(points) == 0:
         return np.zeros(0, dtype=int), np.zeros((0, 2))
     unique, inverse = np.unique(points, axis=0, return_inverse=True)
     inverse = np.asarray(inverse).reshape(-1)
     label = np.arange(len(unique))
     if len(unique) > 1 and tol > 0:
-        tree = cKDTree(unique)
-        distance, _ = tree.query(unique, k=2)
-        close = np.flatnonzero(distance[:, 1] <= tol)
+        first, second, _ = near_pairs(unique, tol)
+        close = np.unique(first)
         if len(close):
+            order = np.argsort(first, kind="stable")
+            first, second = first[order], second[order]
+            starts = np.searchsorted(first, close)
+            stops = np.searchsorted(first, close, side="right")
             assigned = np.zeros(len(unique), dtype=bool)
-            for i in close:  # np.unique sorted them by x, then y
+            for i, lo, hi in zip(close.tolist(), starts.tolist(), stops.tolist()):  # in x, then y order
                 if assigned[i]:
                     continue
-                near = [j for j in tree.query_ball_point(unique[i], tol) if not assigned[j]]
+                near = [j for j in [i, *second[lo:hi].tolist()] if not assigned[j]]
                 label[near] = i
                 assigned[near] = True
     roots, compact = np.unique(label, return_inverse=True)
@@ -358,8 +359,6 @@ def snap_dangling_ends(node_of: np.ndarray, node_xy: np.ndarray, count: int,
     >>> new.tolist(), [(s.node, s.pieces) for s in snaps]
     ([0, 1, 1, 3], [(1, (0, 1))])
     """
-    from scipy.spatial import cKDTree
-
     degree = np.bincount(node_of, minlength=len(node_xy))
     piece_of_end = np.concatenate((np.arange(count), np.arange(count)))
     same = node_of[:count] == node_of[count:]
@@ -369,11 +368,17 @@ def snap_dangling_ends(node_of: np.ndarray, node_xy: np.ndarray, count: int,
         return node_of, ()
     owner = np.empty(len(node_xy), dtype=int)
     owner[node_of] = piece_of_end
-    tree = cKDTree(node_xy[loose])
-    distance, nearest = tree.query(node_xy[loose], k=2)
-    partner = nearest[:, 1]
-    mutual = np.flatnonzero((partner[partner] == np.arange(len(loose))) & (distance[:, 1] <= snap_tol)
-                            & (np.arange(len(loose)) < partner))
+    # each loose end's nearest other loose end within snap_tol (no partner: −1); only a pair of mutual nearest
+    # ends within snap_tol is joined, so the nearest beyond snap_tol never matters
+    first, second, gap = near_pairs(node_xy[loose], snap_tol)
+    partner = np.full(len(loose), -1)
+    distance = np.full(len(loose), np.inf)
+    order = np.lexsort((second, gap, first))          # by end, then by distance (then index, for ties)
+    head = np.flatnonzero(np.concatenate(([True], first[order][1:] != first[order][:-1]))) if len(order) else order
+    partner[first[order][head]] = second[order][head]
+    distance[first[order][head]] = gap[order][head]
+    index = np.arange(len(loose))
+    mutual = np.flatnonzero((partner >= 0) & (partner[np.maximum(partner, 0)] == index) & (index < partner))
     new = node_of.copy()
     snaps = []
     for k in mutual:
@@ -381,8 +386,59 @@ def snap_dangling_ends(node_of: np.ndarray, node_xy: np.ndarray, count: int,
         if owner[a] == owner[b]:
             continue   # the two ends of one piece: a nearly closed piece is not closed by a snap
         new[new == b] = a
-        snaps.append(Snap(a, (int(owner[a]), int(owner[b])), float(distance[k, 1])))
+        snaps.append(Snap(a, (int(owner[a]), int(owner[b])), float(distance[k])))
     return new, tuple(snaps)
+
+
+def near_pairs(points: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every ordered pair (i, j), i ≠ j, of ``points`` (n, 2) at most ``radius`` apart, and their distance.
+
+    The points are binned in square cells of side ``radius`` (or larger, at most 2²⁰ cells a side) and
+    sorted by cell; a pair within ``radius``
+    lies in the same or a neighbouring cell, so each point is compared with the points of 9 cells only
+    (O(n log n) for points that are not crowded into a few cells; numpy only, no k-d tree).
+
+    Examples
+    --------
+    >>> i, j, d = near_pairs(np.array([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0]]), 1.0)
+    >>> sorted(zip(i.tolist(), j.tolist())), d.tolist()
+    ([(0, 1), (1, 0)], [0.5, 0.5])
+    """
+    points = np.asarray(points, dtype=float)
+    n = len(points)
+    empty = np.zeros(0, dtype=int)
+    if n < 2 or not radius > 0:
+        return empty, empty, np.zeros(0)
+    low = points.min(axis=0)
+    extent = float(np.max(points.max(axis=0) - low))
+    size = max(radius, extent / 2**20)            # cells no smaller than the radius, at most 2²⁰ a side
+    cells = np.floor((points - low) / size)
+    cx, cy = cells[:, 0].astype(np.int64), cells[:, 1].astype(np.int64)
+    width = int(cy.max()) + 3
+    key = (cx + 1) * width + (cy + 1)
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    found_i, found_j = [], []
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            target = (cx + 1 + dx) * width + (cy + 1 + dy)
+            lo = np.searchsorted(sorted_key, target, side="left")
+            count = np.searchsorted(sorted_key, target, side="right") - lo
+            total = int(count.sum())
+            if total == 0:
+                continue
+            rows = np.repeat(np.arange(n), count)
+            offset = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
+            cols = order[np.repeat(lo, count) + offset]
+            other = rows != cols
+            found_i.append(rows[other])
+            found_j.append(cols[other])
+    if not found_i:
+        return empty, empty, np.zeros(0)
+    i, j = np.concatenate(found_i), np.concatenate(found_j)
+    gap = np.hypot(points[i, 0] - points[j, 0], points[i, 1] - points[j, 1])
+    keep = gap <= radius
+    return i[keep], j[keep], gap[keep]
 
 
 def _extent(points: np.ndarray) -> float:

@@ -132,6 +132,12 @@ def read_table(path: str | Path) -> Table:
     if line_count > MAX_TABLE_LINES:
         raise CamcadError(f"the table has {line_count:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
                           "give the law with fewer rows (a drawn law needs hundreds)")
+    fast = read_plain_table(text, where)
+    if fast is not None:
+        theta_arr, accel_arr, line_arr, found_delimiter, found_header, found_kind, found_column, found_notes, \
+            found_record = fast
+        return _table(theta_arr, accel_arr, line_arr, found_delimiter, False, found_header, found_kind, found_column,
+                      found_notes, found_record, encoding)
     rows: list[tuple[int, str]] = []
     record = None
     for number, line in enumerate(text.splitlines(), start=1):
@@ -185,9 +191,14 @@ def read_table(path: str | Path) -> Table:
         lines.append(number)
     if not theta:
         raise CamcadError("the table has a header but no rows", where, "add rows 'angle_deg, value'")
-    theta_arr = np.array(theta, dtype=float)
-    accel_arr = np.array(accel, dtype=float)
-    line_arr = np.array(lines, dtype=int)
+    return _table(np.array(theta, dtype=float), np.array(accel, dtype=float), np.array(lines, dtype=int), delimiter,
+                  decimal_comma, header, kind, column, header_notes, record, encoding)
+
+
+def _table(theta_arr: np.ndarray, accel_arr: np.ndarray, line_arr: np.ndarray, delimiter: str, decimal_comma: bool,
+           header: tuple[str, ...], kind: str, column: int, header_notes: list[str], record: LawRecord | None,
+           encoding: str) -> Table:
+    """The Table of rows as read: notes on the encoding and the decimal commas, rows sorted by angle."""
     notes: list[str] = list(header_notes)
     if encoding not in ("utf-8", "latin-1"):
         notes.append(f"the table is {encoding.upper()} text" if encoding != "utf-8-sig"
@@ -200,6 +211,72 @@ def read_table(path: str | Path) -> Table:
         notes.append("rows were not in angle order; sorted by angle (rows of equal angle keep their order)")
     return Table(theta_arr, accel_arr, delimiter, decimal_comma, line_arr, tuple(notes), kind, header, column,
                  record)
+
+
+#: the first lines a plain table may spend on comments and blank lines before its first row
+_PLAIN_HEAD_LINES = 200
+
+
+def read_plain_table(text: str, where: str):
+    """The fast path of ``read_table``: a plain table (no quotes, no comment or blank line after its first row,
+    decimal points, the same number of numeric fields in every row, finite values) parsed by
+    ``numpy.loadtxt``. None for anything else, which the careful reader then reads (and explains)."""
+    import io
+
+    if '"' in text:
+        return None
+    record, number, pos = None, 0, 0
+    while True:                                   # leading comment and blank lines, then the first row
+        end = text.find("\n", pos)
+        line = text[pos:] if end < 0 else text[pos:end]
+        number += 1
+        content, _, comment = line.partition("#")
+        if content.strip():
+            break
+        if comment:
+            try:
+                record = record_of_comment(comment) or record
+            except ValueError:
+                return None                       # the careful reader says what is wrong with it
+        if end < 0 or number > _PLAIN_HEAD_LINES:
+            return None
+        pos = end + 1
+    if "#" in text[pos:]:
+        return None
+    samples = text[pos:pos + 16384].split("\n")[:50]
+    samples = [s.strip() for s in (samples[:-1] if len(samples) > 1 else samples) if s.strip()]
+    delimiter = _delimiter(samples)
+    if delimiter in (";", "\t") and "," in text[pos:]:
+        return None                               # decimal commas
+    first = _split(samples[0], delimiter)
+    header: tuple[str, ...] = ()
+    kind, column = "acceleration", 1
+    notes: list[str] = []
+    first_row = number
+    if any(_number(f) is None for f in first[:2]):
+        header = tuple(first)
+        kind, column, notes = header_kind(header, where, number)
+        end = text.find("\n", pos)
+        if end < 0:
+            return None
+        pos, first_row = end + 1, number + 1
+    body = text[pos:]
+    expected = body.count("\n") + (0 if body.endswith("\n") or not body else 1)
+    if expected == 0:
+        return None
+    try:
+        values = np.loadtxt(io.StringIO(body), delimiter=None if delimiter == " " else delimiter, ndmin=2,
+                            dtype=float, comments=None)
+    except ValueError:
+        return None
+    columns = values.shape[1]
+    if len(values) != expected or columns < 2 or column >= columns or (header and len(header) != columns):
+        return None                               # blank lines, ragged or ambiguous rows: read carefully
+    theta, law = values[:, 0], values[:, column]
+    if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(law))):
+        return None
+    lines = np.arange(first_row, first_row + len(values))
+    return theta.copy(), law.copy(), lines, delimiter, header, kind, column, notes, record
 
 
 def _name(text: str) -> str:

@@ -94,6 +94,8 @@ def wrap_angle(theta: float, cycle: float) -> float:
 def wrap(theta, cycle: float) -> np.ndarray:
     """θ reduced to [0, cycle]; the cycle end itself is kept (not folded to 0) so s(cycle) is reachable."""
     theta = np.asarray(theta, dtype=float)
+    if theta.size and theta.min() >= 0.0 and theta.max() <= cycle:
+        return theta + 0.0      # already in [0, cycle] (np.mod would return it unchanged; + 0.0 makes −0.0 +0.0)
     wrapped = np.mod(theta, cycle)
     # keep exact multiples > 0 at the end of the cycle: s(T) of an unbalanced law differs from s(0)
     at_end = (wrapped == 0.0) & (theta > 0.0)

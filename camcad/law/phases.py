@@ -542,6 +542,39 @@ def phase_integrals(x: np.ndarray, a: np.ndarray, start: float, end: float) -> t
     return float(pieces[pieces > 0].sum()), float(pieces[pieces < 0].sum())
 
 
+def phases_integrals(x: np.ndarray, a: np.ndarray, bounds) -> list[tuple[float, float]]:
+    """``phase_integrals`` of every (start, end) in ``bounds`` in one pass over the polyline: the phase ends
+    are inserted as knots (right value at a start, left value at an end, as ``restrict`` takes them), every
+    segment is split at its zero crossing, and each phase sums its own run of pieces."""
+    bounds = [(float(lo), float(hi)) for lo, hi in bounds]
+    if len(x) < 2 or not bounds or any(lo < x[0] or hi > x[-1] or hi < lo for lo, hi in bounds):
+        return [phase_integrals(x, a, lo, hi) for lo, hi in bounds]
+    from camcad.law.law import sample_piecewise_linear
+
+    ends = np.array(sorted({v for pair in bounds for v in pair}))
+    found = np.minimum(np.searchsorted(x, ends), len(x) - 1)
+    fresh = ends[x[found] != ends]            # inside a segment: one knot, the polyline's value there
+    if len(fresh):
+        at = np.searchsorted(x, fresh)
+        values = sample_piecewise_linear(x, a, fresh)
+        x, a = np.insert(x, at, fresh), np.insert(a, at, values)
+    length = np.diff(x)
+    a0, a1 = a[:-1], a[1:]
+    crossing = a0 * a1 < 0
+    cut = np.divide(length * a0, a0 - a1, out=np.zeros_like(length), where=crossing)
+    first = np.where(crossing, cut * a0 / 2.0, length * (a0 + a1) / 2.0)
+    second = np.where(crossing, (length - cut) * a1 / 2.0, 0.0)
+    out = []
+    for lo, hi in bounds:
+        # the segments between the last knot at lo and the first knot at hi (a jump's zero-length
+        # segment at either end adds nothing)
+        i = int(np.searchsorted(x, lo, side="left"))
+        j = int(np.searchsorted(x, hi, side="left"))
+        pieces = np.concatenate((first[i:j], second[i:j]))
+        out.append((float(pieces[pieces > 0].sum()), float(pieces[pieces < 0].sum())))
+    return out
+
+
 def restrict(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
     """The polyline cut to [start, end], with interpolated end points (right value at a start jump)."""
     from camcad.law.law import sample_piecewise_linear

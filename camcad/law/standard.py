@@ -27,7 +27,7 @@ from typing import Protocol
 
 import numpy as np
 
-from camcad.arrays import unique
+from camcad.arrays import present
 from camcad.law.coefficients import PeakCoefficients
 from camcad.law.law import Kinematics, Phase, wrap, wrap_angle
 from camcad.law.vdi import catalogue_rest_shape
@@ -314,7 +314,7 @@ class CompositeLaw:
         # each θ belongs to one segment, [start, end) (the last one closed at the cycle's end); a
         # zero-width segment holds no θ
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in unique(index):
+        for k in present(index, len(self.segments)):
             seg = self.segments[k]
             inside = index == k
             level = self._levels[k]
@@ -330,6 +330,28 @@ class CompositeLaw:
             j[inside] = h * seg.shape.evaluate(u, 3) / beta**3
         return Kinematics(theta=theta, s=s, v=v, a=a, j=j)
 
+    def motion(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """(s, v) at θ (rad): ``kinematics``' s and v (the same arithmetic) without a and j, for callers that need
+        positions and tangents only (placing chords)."""
+        theta = np.asarray(theta, dtype=float)
+        t = wrap(theta, self.cycle)
+        s = np.zeros_like(t)
+        v = np.zeros_like(t)
+        index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        for k in present(index, len(self.segments)):
+            seg = self.segments[k]
+            inside = index == k
+            level = self._levels[k]
+            if seg.kind == "dwell":
+                s[inside] = level
+                continue
+            beta = seg.end - seg.start
+            u = np.clip((t[inside] - seg.start) / beta, 0.0, 1.0)
+            h = seg.lift if seg.kind == "rise" else -seg.lift
+            s[inside] = level + h * seg.shape.evaluate(u, 0)
+            v[inside] = h * seg.shape.evaluate(u, 1) / beta
+        return s, v
+
     def derivative(self, theta, order: int) -> np.ndarray:
         """d^k s/dθ^k (mm/rad^k) of order k ≥ 0 at θ (rad), each segment's shape differentiated exactly (a shape
         without that order raises ValueError); order 0 is s itself."""
@@ -339,7 +361,7 @@ class CompositeLaw:
         t = wrap(theta, self.cycle)
         out = np.zeros_like(t)
         index = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self.segments) - 1)
-        for k in unique(index):
+        for k in present(index, len(self.segments)):
             seg = self.segments[k]
             if seg.kind == "dwell":
                 continue

@@ -59,14 +59,25 @@ from camcad.profile.scaled_law import law_breakpoints, merge_close
 
 def rotate(points: np.ndarray, angle: np.ndarray) -> np.ndarray:
     """Rotate each row (x, y) of ``points`` by its ``angle`` (rad, counter-clockwise)."""
-    c, s = np.cos(angle), np.sin(angle)
+    return turn(points, np.cos(angle), np.sin(angle))
+
+
+def turn(points: np.ndarray, c: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """``rotate`` with the angle's cosine ``c`` and sine ``s`` given (one pair of them serves several curves)."""
     x, y = points[..., 0], points[..., 1]
-    return np.stack((c * x - s * y, s * x + c * y), axis=-1)
+    shape = x.shape if np.shape(c) == x.shape else np.broadcast_shapes(x.shape, np.shape(c))
+    out = np.empty(shape + (2,))
+    out[..., 0] = c * x - s * y
+    out[..., 1] = s * x + c * y
+    return out
 
 
 def perp(vectors: np.ndarray) -> np.ndarray:
     """J v: each (x, y) turned by +90° → (−y, x)."""
-    return np.stack((-vectors[..., 1], vectors[..., 0]), axis=-1)
+    out = np.empty_like(vectors, dtype=float)
+    out[..., 0] = -vectors[..., 1]
+    out[..., 1] = vectors[..., 0]
+    return out
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -175,10 +186,22 @@ def pitch_geometry(theta: np.ndarray, track: Track, sigma: float) -> PitchGeomet
     w = track.outward
     phi = sigma * np.arctan2(cross(w, normal_fixed), dot(w, normal_fixed))
     angle = -sigma * theta
+    c, s = np.cos(angle), np.sin(angle)
     return PitchGeometry(
-        theta=theta, points=rotate(q, angle), tangent=rotate(tangent_fixed, angle), speed=speed,
-        rho=rho, normal=rotate(normal_fixed, angle), pressure_angle=phi,
+        theta=theta, points=turn(q, c, s), tangent=turn(tangent_fixed, c, s), speed=speed,
+        rho=rho, normal=turn(normal_fixed, c, s), pressure_angle=phi,
         outward_speed=dot(dq, w), centre=q)
+
+
+def pitch_points(theta: np.ndarray, track: Track, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """(points, outward normals) of the pitch curve in the cam's frame: ``pitch_geometry``'s ``points`` and
+    ``normal`` alone (what placing and checking chords needs)."""
+    q, dq = track.q, track.dq
+    t1 = dq - sigma * perp(q)
+    normal_fixed = sigma * perp(t1 / np.hypot(t1[:, 0], t1[:, 1])[:, None])
+    angle = -sigma * theta
+    c, s = np.cos(angle), np.sin(angle)
+    return turn(q, c, s), turn(normal_fixed, c, s)
 
 
 def parallel_curve(pitch: PitchGeometry, distance: float) -> CurveGeometry:
@@ -264,7 +287,10 @@ class CamGeometry:
         return self.law.kinematics(np.asarray(theta, dtype=float))
 
     def track(self, theta: np.ndarray, second: bool = False) -> Track:
-        kin = self.kinematics(theta)
+        return self.track_of(self.kinematics(theta), second)
+
+    def track_of(self, kin: Kinematics, second: bool = False) -> Track:
+        """The track of the law sampled as ``kin`` (one kinematics evaluation serves several curves)."""
         f = self.follower
         if f.kind == "oscillating":
             turn = math.radians(cast(float, f.pair_angle_deg)) if second else 0.0

@@ -58,31 +58,56 @@ def _pieces(lo: float, hi: float, breakpoints) -> np.ndarray:
 
 
 def _density(curve: CurveFn, theta: np.ndarray, tol: float) -> np.ndarray:
-    """Chords per radian of θ for a sagitta of ``tol``: |X'| / √(8 |ρ| tol)."""
-    geo = curve(theta)
-    rho = np.abs(geo.rho)
-    # a cusp (ρ → 0) would ask for infinitely many chords; a chord of length tol is enough there
-    rho = np.maximum(rho, tol / 8.0)
-    with np.errstate(invalid="ignore"):
-        density = geo.speed / np.sqrt(8.0 * rho * tol)
-    return np.where(np.isfinite(density), density, 0.0)
+    """Chords per radian of θ for a sagitta of ``tol``: |X'| / √(8 |ρ| tol) (a cusp, ρ → 0, would ask for
+    infinitely many chords; a chord of length tol is enough there)."""
+    return density_of(curve(theta), tol)
 
 
-def _chord_budget(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints, pilot: int):
-    """(pilot grids, cumulative predicted chords on each) between breakpoints, from a pilot of ``pilot`` points."""
+def pilot_grid(lo: float, hi: float, breakpoints, pilot: int) -> list[np.ndarray]:
+    """The pilot grid of each piece between breakpoints (at least 8 intervals per piece)."""
     edges = _pieces(lo, hi, breakpoints)
     widths = np.diff(edges)
     counts = np.maximum(8, np.ceil(pilot * widths / (hi - lo))).astype(int)
-    pilot_theta = [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
-    flat = np.concatenate(pilot_theta)
-    density = _density(curve, flat, PLACEMENT_MARGIN * tol)
+    return [np.linspace(a, b, k + 1) for a, b, k in zip(edges[:-1], edges[1:], counts)]
+
+
+def chord_counts(pilot_theta: list[np.ndarray], density: np.ndarray) -> list[np.ndarray]:
+    """The cumulative predicted chord count along each piece's pilot grid (``density`` on the concatenated
+    pilot grid)."""
     cumulatives = []
     start = 0
     for grid in pilot_theta:
         dens = density[start:start + len(grid)]
         start += len(grid)
         cumulatives.append(np.concatenate(([0.0], np.cumsum(np.diff(grid) * (dens[:-1] + dens[1:]) / 2.0))))
-    return pilot_theta, cumulatives
+    return cumulatives
+
+
+def _total_nodes(cumulatives: list[np.ndarray]) -> float:
+    return float(sum(max(1.0, np.ceil(c[-1])) if np.isfinite(c[-1]) else np.inf for c in cumulatives)) + 1.0
+
+
+def nodes_from_density(pilot_theta: list[np.ndarray], density: np.ndarray, lo: float, hi: float,
+                       tol: float) -> np.ndarray:
+    """Nodes that equidistribute the predicted chord count (``density`` on the concatenated pilot grid);
+    refused before any node is placed when the whole curve would need more than :data:`MAX_NODES`."""
+    cumulatives = chord_counts(pilot_theta, density)
+    total = _total_nodes(cumulatives)
+    if total > MAX_NODES:
+        shown = f"{total:,.0f}" if np.isfinite(total) else "infinitely many"
+        raise CamcadError(f"the chord tolerance {tol:g} mm needs about {shown} points on one curve, more than "
+                          f"camcad writes ({MAX_NODES:,})", "profile", "use a coarser --tol-mm")
+    nodes = [np.array([lo])]
+    for grid, cumulative in zip(pilot_theta, cumulatives):
+        chords = max(1, int(np.ceil(cumulative[-1])))
+        if cumulative[-1] > 0.0:
+            targets = np.linspace(0.0, cumulative[-1], chords + 1)[1:]
+            nodes.append(np.interp(targets, cumulative, grid))
+        else:
+            nodes.append(np.linspace(grid[0], grid[-1], chords + 1)[1:])
+    out = np.concatenate(nodes)
+    out[-1] = hi
+    return unique(out)
 
 
 def predicted_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(), pilot: int = 2048) -> float:
@@ -104,34 +129,27 @@ def predicted_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoint
     >>> predicted_nodes(circle, 0.0, 2 * np.pi, 0.01)
     250.0
     """
-    _, cumulatives = _chord_budget(curve, lo, hi, tol, breakpoints, pilot)
-    total = float(sum(max(1.0, np.ceil(c[-1])) if np.isfinite(c[-1]) else np.inf for c in cumulatives))
-    return total + 1.0
+    pilot_theta = pilot_grid(lo, hi, breakpoints, pilot)
+    density = _density(curve, np.concatenate(pilot_theta), PLACEMENT_MARGIN * tol)
+    return _total_nodes(chord_counts(pilot_theta, density))
+
+
+def density_of(geo: CurveGeometry, tol: float) -> np.ndarray:
+    rho = np.maximum(np.abs(geo.rho), tol / 8.0)
+    with np.errstate(invalid="ignore"):
+        density = geo.speed / np.sqrt(8.0 * rho * tol)
+    return np.where(np.isfinite(density), density, 0.0)
 
 
 def initial_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=(),
                   pilot: int = 2048) -> np.ndarray:
-    """Nodes that equidistribute the predicted chord count, breakpoints included; refused before any node is
-    placed when the whole curve would need more than :data:`MAX_NODES`."""
-    pilot_theta, cumulatives = _chord_budget(curve, lo, hi, tol, breakpoints, pilot)
-    total = sum(max(1, int(np.ceil(c[-1]))) if np.isfinite(c[-1]) else MAX_NODES + 1 for c in cumulatives)
-    if total > MAX_NODES:
-        raise CamcadError(f"the chord tolerance {tol:g} mm needs about {total:,} points on one curve, more than "
-                          f"camcad writes ({MAX_NODES:,})", "profile", "use a coarser --tol-mm")
-    nodes = [np.array([lo])]
-    for grid, cumulative in zip(pilot_theta, cumulatives):
-        chords = max(1, int(np.ceil(cumulative[-1])))
-        if cumulative[-1] > 0.0:
-            targets = np.linspace(0.0, cumulative[-1], chords + 1)[1:]
-            nodes.append(np.interp(targets, cumulative, grid))
-        else:
-            nodes.append(np.linspace(grid[0], grid[-1], chords + 1)[1:])
-    out = np.concatenate(nodes)
-    out[-1] = hi
-    return unique(out)
+    """Nodes that equidistribute the predicted chord count, breakpoints included."""
+    pilot_theta = pilot_grid(lo, hi, breakpoints, pilot)
+    density = _density(curve, np.concatenate(pilot_theta), PLACEMENT_MARGIN * tol)
+    return nodes_from_density(pilot_theta, density, lo, hi, tol)
 
 
-def _peak(samples: np.ndarray) -> np.ndarray:
+def peak_of_samples(samples: np.ndarray) -> np.ndarray:
     """Largest value along axis 1 of samples taken at equal steps, refined by a parabola
     through the largest sample and its two neighbours (the ends are zero by construction)."""
     n, _m = samples.shape
@@ -146,7 +164,7 @@ def _peak(samples: np.ndarray) -> np.ndarray:
     return np.maximum(y1, np.minimum(vertex, 2.0 * y1 + 1e-300))
 
 
-def _interior_theta(a: np.ndarray, b: np.ndarray, samples: int) -> np.ndarray:
+def interior_theta(a: np.ndarray, b: np.ndarray, samples: int) -> np.ndarray:
     frac = np.arange(1, samples + 1) / (samples + 1)
     return a[:, None] + (b - a)[:, None] * frac[None, :]
 
@@ -166,10 +184,10 @@ def chord_deviation(curve: CurveFn, nodes: np.ndarray, node_points: np.ndarray, 
                     ) -> np.ndarray:
     """Largest distance between the exact curve and each chord (one value per interval), mm."""
     a, b = nodes[:-1], nodes[1:]
-    theta = _interior_theta(a, b, samples)
+    theta = interior_theta(a, b, samples)
     exact = curve(theta.ravel()).points.reshape(len(a), samples, 2)
     dist = point_segment_distance(exact, node_points[:-1, None, :], node_points[1:, None, :])
-    return _peak(dist)
+    return peak_of_samples(dist)
 
 
 @dataclass(frozen=True)
@@ -198,6 +216,56 @@ def chord_nodes(curve: CurveFn, lo: float, hi: float, tol: float, breakpoints=()
             break
         nodes = np.sort(np.concatenate((nodes, (nodes[:-1][bad] + nodes[1:][bad]) / 2.0)))
     raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes)} points "
+                      "(the profile has a cusp or a loop)", "profile", "use a coarser --tol-mm or fix the undercut")
+
+
+def chord_nodes_joint(evaluate, names, lo: float, hi: float, tol: float, breakpoints=(), samples: int = 7,
+                      max_rounds: int = 60, points=None) -> dict[str, Polyline]:
+    """``chord_nodes`` of several curves of one θ (e.g. a cam's profile and pitch curve) at once: every
+    stage evaluates all of them with one call ``evaluate(theta) -> {name: CurveGeometry}`` (``points(theta)
+    -> {name: (N, 2) points}``, when given, for the stages that need the points alone); each curve gets
+    exactly the nodes ``chord_nodes`` would give it."""
+    if points is None:
+        def points(theta: np.ndarray) -> dict[str, np.ndarray]:
+            return {n: g.points for n, g in evaluate(theta).items()}
+
+    if not tol > 0.0:
+        raise CamcadError(f"chord tolerance must be positive, got {tol:g} mm", "--tol-mm", "give e.g. 0.001")
+    names = list(names)
+    pilot_theta = pilot_grid(lo, hi, breakpoints, 2048)
+    pilot_geo = evaluate(np.concatenate(pilot_theta))
+    nodes = {n: nodes_from_density(pilot_theta, density_of(pilot_geo[n], PLACEMENT_MARGIN * tol), lo, hi, tol)
+             for n in names}
+    done: dict[str, Polyline] = {}
+    for _ in range(max_rounds):
+        pending = [n for n in names if n not in done]
+        if not pending:
+            return done
+        parts, spans, start = [], {}, 0
+        for n in pending:
+            inner = interior_theta(nodes[n][:-1], nodes[n][1:], samples).ravel()
+            parts += [nodes[n], inner]
+            spans[n] = (start, start + len(nodes[n]), start + len(nodes[n]) + len(inner))
+            start = spans[n][2]
+        geo = points(np.concatenate(parts))
+        for n in pending:
+            first, middle, last = spans[n]
+            ends = geo[n][first:middle]
+            exact = geo[n][middle:last].reshape(len(nodes[n]) - 1, samples, 2)
+            deviation = peak_of_samples(point_segment_distance(exact, ends[:-1, None, :], ends[1:, None, :]))
+            bad = deviation > ACCEPT * tol
+            if not bad.any():
+                done[n] = Polyline(nodes[n], ends, float(deviation.max(initial=0.0)))
+                continue
+            if len(nodes[n]) + bad.sum() > MAX_NODES:
+                raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes[n])} points "
+                                  "(the profile has a cusp or a loop)", "profile",
+                                  "use a coarser --tol-mm or fix the undercut")
+            nodes[n] = np.sort(np.concatenate((nodes[n], (nodes[n][:-1][bad] + nodes[n][1:][bad]) / 2.0)))
+    if len(done) == len(names):
+        return done
+    worst = next(n for n in names if n not in done)
+    raise CamcadError(f"could not meet the chord tolerance {tol:g} mm with {len(nodes[worst])} points "
                       "(the profile has a cusp or a loop)", "profile", "use a coarser --tol-mm or fix the undercut")
 
 
@@ -285,11 +353,11 @@ def point_arc_distance(points: np.ndarray, start: np.ndarray, end: np.ndarray, b
 def biarc_deviation(curve: CurveFn, nodes: np.ndarray, points: np.ndarray, joints: np.ndarray,
                     b1: np.ndarray, b2: np.ndarray, samples: int = 9) -> np.ndarray:
     """Largest distance from the exact curve to each biarc (one value per interval), mm."""
-    theta = _interior_theta(nodes[:-1], nodes[1:], samples)
+    theta = interior_theta(nodes[:-1], nodes[1:], samples)
     exact = curve(theta.ravel()).points.reshape(len(nodes) - 1, samples, 2)
     first = point_arc_distance(exact, points[:-1], joints, b1)
     second = point_arc_distance(exact, joints, points[1:], b2)
-    return _peak(np.minimum(first, second))
+    return peak_of_samples(np.minimum(first, second))
 
 
 def _biarc_pass(curve: CurveFn, nodes: np.ndarray, samples: int):

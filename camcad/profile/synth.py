@@ -19,12 +19,21 @@ import numpy as np
 
 from camcad.arrays import union
 from camcad.errors import CamcadError
-from camcad.extrema import zoom_min
-from camcad.law.law import MotionLaw
+from camcad.extrema import zoom_max, zoom_min
+from camcad.law.law import Kinematics, MotionLaw
 from camcad.profile import defaults
 from camcad.profile.design import BaseRadiusDesign, min_base_radius
 from camcad.profile.followers import Follower
-from camcad.profile.geometry import CamGeometry, rotate
+from camcad.profile.geometry import (
+    CamGeometry,
+    CurveGeometry,
+    PitchGeometry,
+    flat_face_profile,
+    parallel_curve,
+    pitch_geometry,
+    pitch_points,
+    rotate,
+)
 from camcad.profile.sampling import (
     MAX_NODES,
     ArcPath,
@@ -32,7 +41,7 @@ from camcad.profile.sampling import (
     Polyline,
     SplineData,
     biarc_fit,
-    chord_nodes,
+    chord_nodes_joint,
     interpolating_spline,
     predicted_nodes,
 )
@@ -296,20 +305,6 @@ def _concave(rho: np.ndarray) -> np.ndarray:
 # curves
 # --------------------------------------------------------------------------------------------
 
-def _closure_gap(curve, geometry: CamGeometry) -> tuple[float, float]:
-    """Gap (mm) between the end of one lobe and the start of the next, in the fixed frame, and
-    the angle (rad) between their tangents (a kink where the velocity does not close)."""
-    cycle = float(geometry.law.cycle)
-    ends = curve(np.array([0.0, cycle]))
-    back = geometry.sigma * cycle  # undo the cam's turn so both points are in the fixed frame
-    end_point = rotate(ends.points[1:], np.array([back]))[0]
-    end_tangent = rotate(ends.tangent[1:], np.array([back]))[0]
-    gap = float(np.hypot(*(end_point - ends.points[0])))
-    kink = float(abs(math.atan2(end_tangent[0] * ends.tangent[0][1] - end_tangent[1] * ends.tangent[0][0],
-                                float(np.dot(end_tangent, ends.tangent[0])))))
-    return gap, kink
-
-
 def _replicate(points: np.ndarray, lobes: int, cycle: float, sigma: float) -> np.ndarray:
     """Copies of one lobe's points turned by −σ·k·cycle for k = 0 … lobes − 1, joined."""
     parts = [points[:-1] if lobes > 1 else points]
@@ -319,15 +314,18 @@ def _replicate(points: np.ndarray, lobes: int, cycle: float, sigma: float) -> np
     return np.concatenate(parts)
 
 
-def _check_pair_clearance(geometry: CamGeometry, analysis: np.ndarray) -> None:
+def _check_pair_clearance(geometry: CamGeometry, analysis: np.ndarray, first=None) -> None:
     """Refuse a conjugate pair whose second roller covers the cam centre somewhere in the cycle.
 
     A roller of radius Rr whose centre comes within Rr of the cam's axis would have to pass
     through the shaft: no counter-cam exists (its offset curve is undefined there).
     """
     follower = geometry.follower
-    with np.errstate(invalid="ignore", divide="ignore"):  # the normal is undefined where it crosses
-        centre = geometry.pitch(analysis, second=True).centre
+    if first is not None:
+        centre = first.second.centre
+    else:
+        with np.errstate(invalid="ignore", divide="ignore"):  # the normal is undefined where it crosses
+            centre = geometry.pitch(analysis, second=True).centre
     radius = np.hypot(centre[:, 0], centre[:, 1])
     clearance = radius - follower.roller_radius
     worst = int(np.nanargmin(np.where(np.isfinite(clearance), clearance, -np.inf)))
@@ -391,7 +389,7 @@ def libreoffice_arcs_note(arcs: ArcPath) -> str:
 
 
 def _written_curves(geometry: CamGeometry, settings: ProfileSettings) -> list[tuple[str, CurveFn]]:
-    """(name, curve) of every curve profile.dxf holds as points (``synthesize``'s calls of ``_curve_result``)."""
+    """(name, curve) of every curve profile.dxf holds as points (as ``synthesize`` writes them)."""
     follower = geometry.follower
     curves: list[tuple[str, CurveFn]] = [("profile", geometry.profile)]
     if not settings.checks_only:
@@ -426,23 +424,162 @@ def _check_point_budget(geometry: CamGeometry, settings: ProfileSettings) -> Non
                           f"{geometry.follower.base_radius:g} mm)")
 
 
-def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSettings,
-                  analysis: np.ndarray, want_arcs: bool, want_spline: bool, notes: list[str],
-                  written: bool = True) -> CurveResult:
-    """One curve's polyline (when ``written``), other representations, extrema of curvature and closure."""
+# --------------------------------------------------------------------------------------------
+# every curve of the mechanism at once
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Sample:
+    """The law, the pitch curve(s) and every curve of the cam at the same θ (one kinematics evaluation)."""
+
+    kin: Kinematics
+    pitch: PitchGeometry
+    second: PitchGeometry | None
+    curves: dict[str, CurveGeometry]
+
+
+def _sampler(geometry: CamGeometry):
+    """θ → _Sample: the profile, the pitch curve, the outer flank of a groove, the counter-cam and its pitch
+    curve, from one evaluation of the law (as ``CamGeometry.profile``, ``pitch``, ``outer_flank`` and
+    ``counter_profile`` give them one at a time)."""
+    follower = geometry.follower
+    rr, sigma = follower.roller_radius, geometry.sigma
+
+    def sample(theta) -> _Sample:
+        theta = np.asarray(theta, dtype=float)
+        kin = geometry.kinematics(theta)
+        pitch = pitch_geometry(theta, geometry.track_of(kin), sigma)
+        second = None
+        curves: dict[str, CurveGeometry] = {"pitch": pitch}
+        if follower.kind == "flat":
+            curves["profile"] = flat_face_profile(theta, kin, follower.base_radius, sigma)
+        else:
+            curves["profile"] = parallel_curve(pitch, rr)
+        if follower.groove:
+            curves["outer flank"] = parallel_curve(pitch, -rr)
+        if follower.has_pair:
+            with np.errstate(invalid="ignore", divide="ignore"):  # undefined where the pair cannot exist
+                second = pitch_geometry(theta, geometry.track_of(kin, second=True), sigma)
+                curves["counter-cam"] = parallel_curve(second, rr)
+            curves["counter-cam pitch"] = second
+        return _Sample(kin, pitch, second, curves)
+
+    def points(theta) -> dict[str, np.ndarray]:
+        """The points alone of every curve at θ (as ``sample(theta).curves[name].points``)."""
+        theta = np.asarray(theta, dtype=float)
+        kin = geometry.kinematics(theta)
+        centre, normal = pitch_points(theta, geometry.track_of(kin), sigma)
+        found = {"pitch": centre}
+        if follower.kind == "flat":
+            found["profile"] = flat_face_profile(theta, kin, follower.base_radius, sigma).points
+        else:
+            found["profile"] = centre - rr * normal
+        if follower.groove:
+            found["outer flank"] = centre - (-rr) * normal
+        if follower.has_pair:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                other, other_normal = pitch_points(theta, geometry.track_of(kin, second=True), sigma)
+                found["counter-cam"] = other - rr * other_normal
+            found["counter-cam pitch"] = other
+        return found
+
+    sample.points = points  # type: ignore[attr-defined]
+    return sample
+
+
+def _objectives(geometry: CamGeometry, names: list[str]) -> list[tuple[str, bool, object]]:
+    """(key, is a minimum, f(sample) → values) of every extremum the checks need: the smallest convex and
+    concave radius of each curve, the pressure angle's extremes, its peaks on the rise and the return and the
+    worst margin to its limits (per roller), the flat face's lowest signed radius. A minimum is found as
+    the maximum of −f."""
+    follower = geometry.follower
+    found: list[tuple[str, bool, object]] = []
+    for name in names:
+        found.append((f"{name}:convex", True, lambda smp, n=name: -_convex(smp.curves[n].rho)))
+        found.append((f"{name}:concave", True, lambda smp, n=name: -_concave(smp.curves[n].rho)))
+    flat = follower.kind == "flat"
+    for second in ((False, True) if follower.has_pair else (False,)):
+        tag = "counter" if second else "main"
+
+        def pitch_of(smp: _Sample, second=second) -> PitchGeometry:
+            return cast(PitchGeometry, smp.second if second else smp.pitch)
+
+        def phi(smp: _Sample, pitch_of=pitch_of) -> np.ndarray:
+            return np.zeros_like(smp.kin.theta) if flat else pitch_of(smp).pressure_angle
+
+        found.append((f"{tag}:max", False, phi))
+        found.append((f"{tag}:min", True, lambda smp, phi=phi: -phi(smp)))
+        if flat:
+            continue
+
+        def moving(smp: _Sample, kind: str, pitch_of=pitch_of) -> np.ndarray:
+            p = pitch_of(smp)
+            going = p.outward_speed > geometry.dwell_speed if kind == "rise" else \
+                p.outward_speed < -geometry.dwell_speed
+            return np.where(going, np.abs(p.pressure_angle), -np.inf)
+
+        def margin(smp: _Sample, pitch_of=pitch_of) -> np.ndarray:
+            p = pitch_of(smp)
+            limit = geometry.pressure_angle_limit(p.outward_speed)
+            return np.where(np.isnan(limit), np.inf, limit - np.abs(p.pressure_angle))
+
+        found.append((f"{tag}:rise", False, lambda smp, moving=moving: moving(smp, "rise")))
+        found.append((f"{tag}:return", False, lambda smp, moving=moving: moving(smp, "return")))
+        found.append((f"{tag}:margin", True, lambda smp, margin=margin: -margin(smp)))
+    if flat:
+        found.append(("flat:lowest", True, lambda smp: -smp.curves["profile"].rho))
+    return found
+
+
+def _extrema(sample, analysis: np.ndarray, first: _Sample, objectives) -> dict[str, Extremum | None]:
+    """Every objective's extremum over the analysis grid, refined by zooming grids (``camcad.extrema``), all
+    objectives in one evaluation of the mechanism per level; None where an objective has no finite value.
+    Each row follows exactly the steps ``refine_min`` / ``refine_max`` take for it alone."""
+    values = np.array([np.broadcast_to(fn(first), analysis.shape) for _, _, fn in objectives], dtype=float)
+    active = [r for r in range(len(objectives)) if np.isfinite(values[r]).any()]
+    out: dict[str, Extremum | None] = {key: None for key, _, _ in objectives}
+    if not active:
+        return out
+    functions = [objectives[r][2] for r in active]
+
+    def evaluate(u: np.ndarray) -> np.ndarray:
+        u = np.asarray(u, dtype=float)
+        smp = sample(u.ravel())
+        result = np.empty(u.shape)
+        for row, fn in enumerate(functions):
+            result[row] = np.broadcast_to(fn(smp), (u.size,)).reshape(u.shape)[row]
+        return result
+
+    peak, at = zoom_max(evaluate, analysis, len(active), first=values[active])
+    for row, r in enumerate(active):
+        key, minimum, _ = objectives[r]
+        out[key] = Extremum(float(-peak[row]) if minimum else float(peak[row]), float(at[row]))
+    return out
+
+
+def _ends(sample, geometry: CamGeometry) -> _Sample:
+    return sample(np.array([0.0, float(geometry.law.cycle)]))
+
+
+def gap_and_kink(ends: CurveGeometry, geometry: CamGeometry) -> tuple[float, float]:
+    """Gap (mm) between the end of one lobe and the start of the next, in the fixed frame, and the angle (rad)
+    between their tangents; ``ends`` is the curve at θ = 0 and at the cycle's end."""
+    cycle = float(geometry.law.cycle)
+    back = geometry.sigma * cycle  # undo the cam's turn so both points are in the fixed frame
+    end_point = rotate(ends.points[1:], np.array([back]))[0]
+    end_tangent = rotate(ends.tangent[1:], np.array([back]))[0]
+    gap = float(np.hypot(*(end_point - ends.points[0])))
+    kink = float(abs(math.atan2(end_tangent[0] * ends.tangent[0][1] - end_tangent[1] * ends.tangent[0][0],
+                                float(np.dot(end_tangent, ends.tangent[0])))))
+    return gap, kink
+
+
+def written_curve(name: str, one: Polyline, curve, geometry: CamGeometry, settings: ProfileSettings,
+                   gap: float, extrema: dict, want_arcs: bool, want_spline: bool, notes: list[str]) -> CurveResult:
+    """A written curve from its chord nodes on one lobe (``one``): all lobes, arcs and spline when asked."""
     cycle = float(geometry.law.cycle)
     lobes, sigma = geometry.lobes, geometry.sigma
-    gap, _ = _closure_gap(curve, geometry)
     closed = gap <= settings.tol_mm
-    if not written:   # only its figures: the radii of curvature and the closure
-        rho = curve(analysis).rho
-        convex = refine_min(lambda t: _convex(curve(t).rho), analysis, _convex(rho))
-        concave = refine_min(lambda t: _concave(curve(t).rho), analysis, _concave(rho))
-        empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
-        return CurveResult(name, empty, None, None, convex, concave, None, gap, closed)
-    breaks = geometry.breakpoints()
-    breaks = breaks[breaks <= cycle]
-    one = chord_nodes(curve, 0.0, cycle, settings.tol_mm, breaks)
     theta_all = np.concatenate([one.theta[:-1] + k * cycle for k in range(lobes)] + [[2.0 * math.pi]])
     points_all = _replicate(one.points, lobes, cycle, sigma)
     if closed:
@@ -450,6 +587,8 @@ def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSett
     polyline = Polyline(theta_all, points_all, one.max_deviation)
     arcs = None
     if want_arcs:
+        breaks = geometry.breakpoints()
+        breaks = breaks[breaks <= cycle]
         try:
             path = biarc_fit(curve, 0.0, cycle, settings.tol_mm, breaks, samples=17)
             vertices = _replicate(path.vertices, lobes, cycle, sigma)
@@ -471,51 +610,24 @@ def _curve_result(name: str, curve, geometry: CamGeometry, settings: ProfileSett
                              "chord polyline (within the chord tolerance), not PROFILE_SPLINE")
         else:
             notes.append(f"{name}: no spline written, the curve does not close")
-    rho = curve(analysis).rho
-    convex = refine_min(lambda t: _convex(curve(t).rho), analysis, _convex(rho))
-    concave = refine_min(lambda t: _concave(curve(t).rho), analysis, _concave(rho))
     ring = points_all if closed else np.concatenate((points_all, points_all[:1]))
-    return CurveResult(name, polyline, arcs, spline, convex, concave, _is_simple(ring), gap, closed)
+    return CurveResult(name, polyline, arcs, spline, extrema[f"{name}:convex"], extrema[f"{name}:concave"],
+                       _is_simple(ring), gap, closed)
 
 
 # --------------------------------------------------------------------------------------------
 # pressure angle
 # --------------------------------------------------------------------------------------------
 
-def _pressure_check(geometry: CamGeometry, analysis: np.ndarray, second: bool) -> PressureAngleCheck:
-    def phi(t: np.ndarray) -> np.ndarray:
-        return geometry.pressure_angle(t, second)
-
-    def pitch(t):
-        return geometry.pitch(t, second)
-
-    values = phi(analysis)
-    # φ is finite on the whole grid, so both extremes exist
-    maximum = cast(Extremum, refine_max(phi, analysis, values))
-    minimum = cast(Extremum, refine_min(phi, analysis, values))
-    if geometry.follower.kind == "flat":
+def _pressure_from(extrema: dict, tag: str, follower: Follower) -> PressureAngleCheck:
+    """The pressure-angle check of one roller (``tag`` "main" or "counter") from the refined extrema."""
+    maximum = cast(Extremum, extrema[f"{tag}:max"])   # φ is finite on the whole grid: both extremes exist
+    minimum = cast(Extremum, extrema[f"{tag}:min"])
+    if follower.kind == "flat":
         return PressureAngleCheck(maximum, minimum, None, None, None, True)
-
-    def on(kind: str):
-        def masked(t: np.ndarray) -> np.ndarray:
-            p = pitch(t)
-            moving = p.outward_speed > geometry.dwell_speed if kind == "rise" else \
-                p.outward_speed < -geometry.dwell_speed
-            return np.where(moving, np.abs(p.pressure_angle), -np.inf)
-        return masked
-
-    rise_fn, return_fn = on("rise"), on("return")
-    rise = refine_max(rise_fn, analysis, rise_fn(analysis))
-    back = refine_max(return_fn, analysis, return_fn(analysis))
-
-    def margin(t: np.ndarray) -> np.ndarray:
-        p = pitch(t)
-        limit = geometry.pressure_angle_limit(p.outward_speed)
-        return np.where(np.isnan(limit), np.inf, limit - np.abs(p.pressure_angle))
-
-    worst = refine_min(margin, analysis, margin(analysis))
+    worst = extrema[f"{tag}:margin"]
     passed = worst is None or worst.value >= -1e-12
-    return PressureAngleCheck(maximum, minimum, rise, back, worst, passed)
+    return PressureAngleCheck(maximum, minimum, extrema[f"{tag}:rise"], extrema[f"{tag}:return"], worst, passed)
 
 
 # --------------------------------------------------------------------------------------------
@@ -528,17 +640,17 @@ def analysis_grid(geometry: CamGeometry, step_deg: float) -> np.ndarray:
     return union(np.linspace(0.0, 2.0 * math.pi, count + 1), geometry.breakpoints())
 
 
-def law_table(geometry: CamGeometry, step_deg: float) -> LawTable:
+def law_table(geometry: CamGeometry, step_deg: float, sample=None) -> LawTable:
+    """The law and the checks on a uniform grid of ``step_deg`` (``sample``: the mechanism's ``_sampler``)."""
     count = int(round(360.0 / step_deg))  # noqa: RUF046 - round() of a numpy float is a float on numpy < 2
     theta = np.linspace(0.0, 2.0 * math.pi, count + 1)
-    kin = geometry.kinematics(theta)
+    smp = (sample or _sampler(geometry))(theta)
+    kin, pitch = smp.kin, smp.pitch
     if geometry.follower.kind == "flat":
-        pitch = geometry.pitch(theta)
         phi = np.zeros_like(theta)
         limit = np.full_like(theta, np.nan)
-        rho_profile = geometry.profile(theta).rho
+        rho_profile = smp.curves["profile"].rho
     else:
-        pitch = geometry.pitch(theta)
         phi = pitch.pressure_angle
         limit = geometry.pressure_angle_limit(pitch.outward_speed)
         rho_profile = pitch.rho - geometry.follower.roller_radius
@@ -610,33 +722,62 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     follower = geometry.follower
     notes: list[str] = []
     analysis = analysis_grid(geometry, settings.analysis_step_deg)
-    rr = follower.roller_radius
     _check_point_budget(geometry, settings)   # every written curve, all lobes, before any point is placed
-
-    profile = _curve_result("profile", geometry.profile, geometry, settings, analysis,
-                            settings.arcs, settings.spline, notes)
-    pitch = _curve_result("pitch", geometry.pitch, geometry, settings, analysis, False, False, notes,
-                          written=not settings.checks_only)
-    outer = counter = counter_pitch = None
-    if follower.groove:
-        outer = _curve_result("outer flank", geometry.outer_flank, geometry, settings, analysis,
-                              settings.arcs, settings.spline, notes)
+    sample = _sampler(geometry)
+    first = sample(analysis)
     if follower.has_pair:
-        _check_pair_clearance(geometry, analysis)
-        counter = _curve_result("counter-cam", geometry.counter_profile, geometry, settings, analysis,
-                                settings.arcs, settings.spline, notes)
-        counter_pitch = _curve_result("counter-cam pitch", lambda t: geometry.pitch(t, second=True),
-                                      geometry, settings, analysis, False, False, notes,
-                                      written=not settings.checks_only)
+        _check_pair_clearance(geometry, analysis, first)
+    names = ["profile", "pitch"] + (["outer flank"] if follower.groove else []) + \
+        (["counter-cam", "counter-cam pitch"] if follower.has_pair else [])
+    written = [n for n in names if not (settings.checks_only and n in ("pitch", "counter-cam pitch"))]
+    extrema = _extrema(sample, analysis, first, _objectives(geometry, names))
+    cycle = float(geometry.law.cycle)
+    breaks = geometry.breakpoints()
+    chords = chord_nodes_joint(lambda t: sample(t).curves, written, 0.0, cycle, settings.tol_mm,
+                               breaks[breaks <= cycle], points=sample.points)
+    ends = _ends(sample, geometry)
+    functions = {"profile": geometry.profile, "pitch": geometry.pitch, "outer flank": geometry.outer_flank,
+                 "counter-cam": geometry.counter_profile,
+                 "counter-cam pitch": lambda t: geometry.pitch(t, second=True)}
+    results: dict[str, CurveResult] = {}
+    for label in names:
+        gap, _ = gap_and_kink(ends.curves[label], geometry)
+        if label not in written:   # only its figures: the radii of curvature and the closure
+            empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
+            results[label] = CurveResult(label, empty, None, None, extrema[f"{label}:convex"],
+                                         extrema[f"{label}:concave"], None, gap, gap <= settings.tol_mm)
+            continue
+        drawn = label in ("profile", "outer flank", "counter-cam")
+        results[label] = written_curve(label, chords[label], functions[label], geometry, settings, gap, extrema,
+                                        drawn and settings.arcs, drawn and settings.spline, notes)
+    face = None
+    if follower.kind == "flat":
+        v = first.kin.v * follower.sigma
+        face = (float(v.min() - follower.offset), float(v.max() - follower.offset))
+    _, kink = gap_and_kink(ends.curves["profile"], geometry)
+    return assemble_result(name or settings.name, law, follower, settings, geometry, results, extrema, kink,
+                           law_table(geometry, settings.csv_step_deg, sample), face, notes)
 
-    pressure = _pressure_check(geometry, analysis, second=False)
-    counter_pressure = _pressure_check(geometry, analysis, second=True) if follower.has_pair else None
+
+def assemble_result(name: str, law: MotionLaw, follower: Follower, settings: ProfileSettings, geometry: CamGeometry,
+                    results: dict, extrema: dict, kink: float, table: LawTable, face, notes: list[str]
+                    ) -> ProfileResult:
+    """A ProfileResult from its curves (``results``: name → CurveResult), the refined extrema, the closure's kink
+    (rad) and the law table: the pressure-angle checks, the undercut's reasons, the curvature limit, the notes and
+    (with ``settings.design``) the smallest base radius. ``synthesize`` and its batch over followers
+    (``camcad.profile.batch``) both end here."""
+    rr = follower.roller_radius
+    profile, pitch = results["profile"], results["pitch"]
+    outer = results.get("outer flank")
+    counter, counter_pitch = results.get("counter-cam"), results.get("counter-cam pitch")
+    pressure = _pressure_from(extrema, "main", follower)
+    counter_pressure = _pressure_from(extrema, "counter", follower) if follower.has_pair else None
 
     reasons: list[str] = []
     if follower.kind == "flat":
         # the signed radius Rb + s + a is smooth, so its own minimum is found even where it dips below
         # zero for less than a step of the analysis grid (the convex and concave minima cannot see that)
-        lowest = refine_min(lambda t: geometry.profile(t).rho, analysis, geometry.profile(analysis).rho)
+        lowest = extrema["flat:lowest"]
         if lowest is not None and lowest.value <= 0.0:
             reasons.append(f"flat-face radius Rb + s + a <= 0 at {math.degrees(lowest.at):.3f} deg")
     elif rr > 0.0 and pitch.rho_convex_min is not None and pitch.rho_convex_min.value <= rr:
@@ -667,7 +808,6 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
                 pitch.rho_concave_min.value - rr < follower.rho_min:
             curvature_passed = False
 
-    _, kink = _closure_gap(geometry.profile, geometry)
     if not profile.closed:
         notes.append(f"the profile does not close (gap {profile.closure_gap:.6g} mm): the law's displacement "
                      "does not come back; balance it with camcad fix")
@@ -677,14 +817,10 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
             design = min_base_radius(law, follower)
         except CamcadError as err:
             notes.append(f"design: {err.what}")
-    face = None
-    if follower.kind == "flat":
-        v = geometry.kinematics(analysis).v * follower.sigma
-        face = (float(v.min() - follower.offset), float(v.max() - follower.offset))
     return ProfileResult(
-        name=name or settings.name, law=law, follower=follower, settings=settings, geometry=geometry,
+        name=name, law=law, follower=follower, settings=settings, geometry=geometry,
         profile=profile, pitch=pitch, outer=outer, counter=counter, counter_pitch=counter_pitch,
-        table=law_table(geometry, settings.csv_step_deg), pressure_angle=pressure,
+        table=table, pressure_angle=pressure,
         counter_pressure_angle=counter_pressure, rho_pitch_min=pitch.rho_convex_min,
         rho_pitch_concave_min=pitch.rho_concave_min, undercut=bool(reasons),
         undercut_reasons=tuple(reasons), curvature_passed=curvature_passed, closure_kink=kink,

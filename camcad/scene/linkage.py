@@ -33,7 +33,6 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-from scipy.optimize import brentq
 
 from camcad.arrays import union
 from camcad.errors import CamcadError
@@ -308,6 +307,8 @@ def _swing_for(linkage, y_max: float, where: str, step_deg: float = 0.25, limit_
                               f"has turned {math.degrees(reach):.6g} deg of the {math.degrees(y_max):.6g} deg the law "
                               "asks for", where, "lengthen the input link, or shorten the output link")
         if pi[i] >= y_max:
+            from scipy.optimize import brentq  # here, not at the top: a scene without a linkage does not need it
+
             return float(brentq(lambda x: float(linkage.position(np.array([x]))[0][0]) - y_max, grid[i - 1],
                                 grid[i], xtol=1e-15))
     raise CamcadError(f"the linkage does not turn the working member {math.degrees(y_max):.6g} deg within a "

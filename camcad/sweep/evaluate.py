@@ -285,8 +285,14 @@ def evaluate_design(prep: Prepared, design: int) -> dict:
         return _failed(row, prep, STATUS_BAD, err.message())
     except Exception as err:  # noqa: BLE001 - a bug in one design must not stop a million others
         return _failed(row, prep, STATUS_BUG, f"{type(err).__name__}: {err}")
-    checks = design_checks(result.report)
-    row.update(status=STATUS_OK, error="", feasible=bool(result.passed) and all(c.passed for c in checks))
+    return row_of(row, result.report, bool(result.passed))
+
+
+def row_of(row: dict, report: dict, passed: bool) -> dict:
+    """``row`` (the design's id and values) completed from its report: status, feasibility, the governing
+    check, and every check's figures (module docstring)."""
+    checks = design_checks(report)
+    row.update(status=STATUS_OK, error="", feasible=passed and all(c.passed for c in checks))
     governing, ratio = _governing(checks)
     row["governing"] = governing
     row["min_margin_ratio"] = ratio
@@ -366,11 +372,18 @@ def evaluate_chunk(task: SweepTask, chunk: int, start: int, stop: int) -> ChunkR
     """
     import warnings
 
+    from camcad.sweep.batch import evaluate_batch, groups
+    from camcad.sweep.threads import pin_numerical_threads
+
     cpu, wall = time.process_time(), time.perf_counter()
+    pin_numerical_threads()     # one design per core: no BLAS threads spinning beside it
     prep = prepared(task)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # numerical warnings: each design's figures say what they are
-        rows = [evaluate_design(prep, design) for design in range(start, stop)]
+        # designs that share a law (only the follower's dimensions differ) are computed together
+        rows = [row for group in groups(prep, list(range(start, stop)))
+                for row in evaluate_batch(prep, group, evaluate_design, _with_files, row_of)]
+        rows.sort(key=lambda row: row["design"])
     return ChunkResult(chunk, start, stop, rows, time.process_time() - cpu, time.perf_counter() - wall,
                        f"{os.uname().nodename}:{os.getpid()}")
 
