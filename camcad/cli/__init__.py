@@ -36,7 +36,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "machine": ("camcad.cli.machine", "Optimise a machine of groups: least cycle or the longest limiting operation."),
     "drive": ("camcad.cli.drive", "Camshaft torque and power, flywheel and motor sizing."),
     "linkage": ("camcad.cli.linkage",
-                "Linkages after the cam (seed 002): atlas, function generators, analysis, adjustment."),
+                "Linkages after the cam (Sunkuev 1984): atlas, function generators, analysis, adjustment."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
     "sweep": ("camcad.cli.sweep", "Explore a design space: a scene's keys over ranges and draws, on a pool or Dask."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),
