@@ -25,8 +25,12 @@ from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
 from camcad.io.output_folder import OutputFolder, safe_name
 from camcad.profile.servo import ServoExport
+from camcad.report.animation import write_animation
+from camcad.report.design_report import write_design_report
 from camcad.report.part_files import scene_part_files, write_part_files
 from camcad.report.servo import write_servo
+from camcad.report.sweep import scene_toml
+from camcad.scene.animation import mechanism_frames
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -54,7 +58,9 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             for file in parts[name].files:
                 out.path(*((name,) if result.group else ()), file)
         written: dict[str, list[Path]] = {}
+        animations: dict[str, str] = {}
         jobs = []
+        pages = [out.path(f"report.{kind}") for kind in options.report]   # refused before anything is written
         for name, run in result.runs.items():
             sub = (name,) if result.group else ()
             say(f"{name}: writing")
@@ -69,6 +75,9 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             if servo is not None:
                 servo_files, target["servo"] = write_servo(run, out, sub, servo, result.scene.speeds_rpm)
                 written[name].extend(servo_files)
+            # ---- --animate (camcad.report.animation)
+            if options.animate:
+                written[name] += _write_animation(run, out, sub, options, target, animations)
             # ----
             if options.plots:
                 for file in MECHANISM_PLOT_FILES:   # the plots are drawn in other processes: checked here
@@ -91,9 +100,37 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
         outputs.extend(drawn)
         report_path = out.path("report.json")
         outputs.append(report_path)
-        result.report["outputs"] = [str(p) for p in outputs]
+        result.report["outputs"] = [str(p) for p in outputs + pages]
         write_json(report_path, result.report)
+        if pages:   # --report (camcad.report.design_report): from report.json as written
+            say("report")
+            scene = result.scene
+            scene_text = (scene.path.read_text(encoding="utf-8") if scene.from_file and scene.path.is_file() else
+                          scene_toml(scene.raw, "the scene camcad built from the command's options"))
+            write_design_report(report_path, pages[0], pdf_path=pages[1] if len(pages) > 1 else None,
+                                command=options.command, scene_text=scene_text, animations=animations)
     return result
+
+
+def _write_animation(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions,
+                     target: dict, animations: dict[str, str]) -> list[Path]:
+    """The mechanism's animation files (``options.animate``); its page is kept in ``animations`` for the report."""
+    if run.profile is None:
+        target.setdefault("skipped", {})["animation"] = "no profile to animate (no [follower])"
+        return []
+    for kind in options.animate:
+        out.path(*sub, f"animation.{kind}")
+    frames = mechanism_frames(run, options.animate_step_deg)
+    folder = out.path(*sub) if sub else out.folder
+    law = "; ".join(note.removeprefix("law: ") for note in (target.get("law") or {}).get("notes", [])[:1])
+    files = write_animation(frames, folder, options.animate, title=run.name,
+                            subtitle=run.profile.follower.describe() + (f"; {law}" if law else ""))
+    target["animation"] = {"files": [p.name for p in files], "frames": frames.count,
+                           "step_deg": 360.0 / frames.count}
+    html_file = folder / "animation.html"
+    if html_file in files:
+        animations[run.name] = html_file.read_text(encoding="utf-8")
+    return files
 
 
 def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
