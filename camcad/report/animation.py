@@ -22,6 +22,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic
+from camcad.report.figure import new_figure
 from camcad.scene.animation import MechanismFrames
 
 #: animation file kinds: what ``--animate-format`` accepts
@@ -32,6 +33,8 @@ CURVE_POINTS = 1500
 TURN_SECONDS = 6.0
 #: frames per second of a GIF or MP4 (one turn lasts frames / FPS seconds)
 FPS = 30
+#: resolution of a GIF's or MP4's frames (9.6 x 5.4 in: 768 x 432 px)
+MOVIE_DPI = 80
 COLOURS = {"cam": "#dbe6f1", "cam_edge": "#1f4e79", "pitch": "#7f7f7f", "follower": "#c27c0e",
            "contact": "#c00000", "linkage": "#2e7d32", "fixed": "#555555", "counter": "#2e7d32",
            "rise": "#d9f0d3", "return": "#fde0c5"}
@@ -306,11 +309,10 @@ def _write_movie(frames: MechanismFrames, path: Path, kind: str, title: str) -> 
     from matplotlib import animation as mpl_animation
     from matplotlib.patches import Circle, Polygon
 
-    from camcad.report.figure import new_figure
-
     cam = frames.cam
     fig, (ax, law_ax) = new_figure(9.6, 5.4, cols=2, layout=None, gridspec_kw={"width_ratios": [1.3, 1.0]})
-    fig.subplots_adjust(left=0.02, right=0.97, top=0.9, bottom=0.12, wspace=0.25)
+    fig.set_dpi(MOVIE_DPI)
+    fig.subplots_adjust(left=0.02, right=0.9, top=0.9, bottom=0.12, wspace=0.22)
     ax.set_aspect("equal")
     ax.axis("off")
     reach = [cam.centre + cam.roller_radius, cam.centre - cam.roller_radius]
@@ -382,14 +384,26 @@ def _write_movie(frames: MechanismFrames, path: Path, kind: str, title: str) -> 
         contact.set_data([kx], [ky])
         cursor.set_xdata([cam.theta_deg[k], cam.theta_deg[k]])
         heading.set_text(f"{title} — θ = {cam.theta_deg[k]:.1f}°, φ = {cam.pressure_angle_deg[k]:.2f}°")
-        return []
 
-    movie = mpl_animation.FuncAnimation(fig, show, frames=cam.count, blit=False, repeat=False)
-    if kind == "gif":
-        writer = mpl_animation.PillowWriter(fps=FPS)
-    else:
+    def gif(tmp: Path) -> None:
+        from PIL import Image
+
+        pictures = []
+        for k in range(cam.count):
+            show(k)
+            fig.canvas.draw()
+            pictures.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3]).quantize(colors=64))
+        pictures[0].save(tmp, format="GIF", save_all=True, append_images=pictures[1:], duration=round(1000 / FPS),
+                         loop=0)
+
+    def mp4(tmp: Path) -> None:
         writer = mpl_animation.FFMpegWriter(fps=FPS, extra_args=["-f", "mp4"])
-    return write_atomic(path, lambda tmp: movie.save(str(tmp), writer=writer, dpi=80))
+        with writer.saving(fig, str(tmp), fig.dpi):
+            for k in range(cam.count):
+                show(k)
+                writer.grab_frame()
+
+    return write_atomic(path, gif if kind == "gif" else mp4)
 
 
 _STYLE = """
