@@ -66,11 +66,12 @@ class CamFrames:
     contact : ndarray, shape (N, 2)
         Where the follower touches the cam, mm.
     normal : ndarray, shape (N, 2)
-        The common normal at the contact (unit, pointing away from the cam), fixed frame.
+        The common normal at the contact, pointing away from the cam, fixed frame (unit vectors:
+        dimensionless).
     roller_turn_deg : ndarray, shape (N,)
         The roller's absolute turn from frame 0 (deg, counter-clockwise positive); zeros without a roller.
     second_centre, second_contact : ndarray, shape (N, 2), or None
-        The second roller of a conjugate pair and its contact with the counter-cam.
+        The second roller of a conjugate pair and its contact with the counter-cam, mm.
     second_roller_turn_deg : ndarray, shape (N,) or None
         The second roller's turn (deg).
     pivot : (float, float) or None

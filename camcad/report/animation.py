@@ -205,7 +205,19 @@ def animation_html(frames: MechanismFrames, title: str = "", subtitle: str = "")
     Returns
     -------
     str
-        The page: one HTML document with its SVG, style and script inline; it loads nothing.
+        The page (no unit): one HTML document with its SVG, style and script inline; it loads nothing.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> from camcad.profile.animation import cam_frames
+    >>> from camcad.scene.animation import MechanismFrames
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
+    ...                            camcad.ProfileSettings(plots=False, design=False))
+    >>> page = animation_html(MechanismFrames("cam", cam_frames(result, 5.0)))
+    >>> 'data-frames="72"' in page, "http" in page
+    (True, False)
     """
     cam = frames.cam
     parts, reach, body = _follower_parts(frames)

@@ -262,7 +262,7 @@ def design_report_html(report: dict, folder: Path, *, command: str = "", scene_t
     Returns
     -------
     str
-        One HTML document with its style, images and animation inline.
+        One HTML document (no unit) with its style, images and animation inline.
 
     Examples
     --------

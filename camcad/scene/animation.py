@@ -49,9 +49,24 @@ class LinkageFrames:
 
 @dataclass(frozen=True)
 class MechanismFrames:
-    """One mechanism in motion: ``cam`` (``CamFrames``), its ``linkage`` (``LinkageFrames`` or None), the working
-    member's position ``working`` (ndarray, shape (N,), in ``working_unit``, from its position at θ = 0;
-    None without a [linkage]) and the law's unit ``law_unit`` ("mm" or "rad" of swing)."""
+    """One mechanism of a scene in motion (``mechanism_frames``).
+
+    Attributes
+    ----------
+    name : str
+        The mechanism's name.
+    cam : CamFrames
+        The cam and its follower at each frame (mm, deg).
+    linkage : LinkageFrames or None
+        The linkage after the follower at each frame (mm); None without a drawable [linkage].
+    working : ndarray, shape (N,), or None
+        The working member's position from its position at θ = 0, in ``working_unit`` (rad or mm); None
+        without a [linkage].
+    working_unit : str
+        "rad" or "mm" ("" without a [linkage]).
+    law_unit : str
+        The follower law's unit: "mm", or "rad" of swing.
+    """
 
     name: str
     cam: CamFrames
@@ -105,6 +120,27 @@ def mechanism_frames(run, step_deg: float = FRAME_STEP_DEG) -> MechanismFrames:
     MechanismFrames
         The cam and follower (mm, deg), the linkage's joints (mm) and the working member's position (rad or
         mm) at each frame.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... [follower]
+    ... type = "roller"
+    ... base_radius = 40.0
+    ... roller_radius = 10.0
+    ... ''')
+    >>> run = camcad.analyse_scene(folder / "cam.toml").runs["cam"]
+    >>> frames = mechanism_frames(run, step_deg=2.0)
+    >>> frames.count, frames.linkage is None, round(float(frames.cam.s[45]), 9)
+    (180, True, 20.0)
     """
     cam = cam_frames(run.profile, step_deg)
     unit = "rad" if cam.kind == "oscillating" else "mm"
