@@ -115,6 +115,13 @@ def _follower_parts(frames: MechanismFrames) -> tuple[dict, list[np.ndarray], st
     return {"guide": guide, "width": width}, reach, "".join(body)
 
 
+def _yoke_x(frames: MechanismFrames) -> float:
+    """x of the yoke that joins a translating pair's two rollers past the cam and the counter-cam, mm."""
+    cam = frames.cam
+    reach = max(float(np.max(np.hypot(*curve.T))) for curve in (cam.profile, cam.counter) if curve is not None)
+    return cam.offset + reach + cam.roller_radius + 0.12 * cam.base_radius
+
+
 def _roller(name: str, radius: float) -> str:
     spoke = 0.8 * radius
     return (f'<g id="{name}"><circle r="{radius:.3f}" class="roller"/>'
@@ -177,6 +184,7 @@ def animation_data(frames: MechanismFrames) -> dict:
             "kind": cam.kind, "pivot": list(cam.pivot) if cam.pivot is not None else None,
             "rr": cam.roller_radius, "law_unit": frames.law_unit}
     if cam.second_centre is not None:
+        data["yoke_x"] = round(_yoke_x(frames), 4)
         data.update({"c2x": _rounded(cam.second_centre[:, 0]), "c2y": _rounded(cam.second_centre[:, 1]),
                      "roll2": _rounded(cam.second_roller_turn_deg if cam.second_roller_turn_deg is not None
                                        else np.zeros(cam.count), 3)})
@@ -225,6 +233,8 @@ def animation_html(frames: MechanismFrames, title: str = "", subtitle: str = "")
         reach += list(frames.linkage.joints.values())
     if cam.second_centre is not None:
         reach += [cam.second_centre + cam.roller_radius, cam.second_centre - cam.roller_radius]
+        if cam.kind != "oscillating":
+            reach.append(np.array([[_yoke_x(frames) + 0.05 * cam.base_radius, float(cam.centre[0, 1])]]))
     x_min, y_min, x_max, y_max = _bounds(frames, reach)
     size = max(x_max - x_min, y_max - y_min)
     stroke = size / 400.0
@@ -247,8 +257,8 @@ def animation_html(frames: MechanismFrames, title: str = "", subtitle: str = "")
     moving = [f'<path d="{trace}" class="trace"/>']
     if cam.kind == "oscillating":
         moving.append('<line id="camcad-arm" class="arm"/>')
-    if cam.second_centre is not None:
-        moving.append('<line id="camcad-arm2" class="arm"/>')
+    if cam.second_centre is not None:       # the second arm, or the yoke that carries both rollers past the cam
+        moving.append('<polyline id="camcad-arm2" class="arm yoke"/>')
     moving.append(f'<g id="camcad-body">{body}</g>')
     if cam.roller_radius > 0.0:
         moving.append(_roller("camcad-roller", cam.roller_radius))
@@ -451,7 +461,8 @@ table.readout td.value { text-align: right; font-family: ui-monospace, monospace
 .roller { fill: #fbe7c6; stroke: #c27c0e; stroke-width: 2; }
 .spoke { stroke: #c27c0e; }
 .hub { fill: #c27c0e; }
-.arm { stroke: #c27c0e; stroke-width: 5; stroke-linecap: round; }
+.arm { stroke: #c27c0e; stroke-width: 5; stroke-linecap: round; fill: none; }
+.yoke { stroke-linejoin: round; }
 .link { stroke: #2e7d32; stroke-width: 4; stroke-linecap: round; }
 .joint { fill: white; stroke: #2e7d32; stroke-width: 1.5; }
 .fixed-joint { fill: #555; stroke: #555; }
@@ -527,8 +538,9 @@ _SCRIPT = r"""
     if (data.c2x) {
       var x2 = data.c2x[frame], y2 = data.c2y[frame];
       if (roller2) { place(roller2, x2, y2, data.roll2[frame]); }
-      var from = data.kind === "oscillating" ? data.pivot : [cx, cy];
-      line(el("camcad-arm2"), from[0], from[1], x2, y2);
+      var path = data.kind === "oscillating" ? [data.pivot, [x2, y2]]
+        : [[cx, cy], [data.yoke_x, cy], [data.yoke_x, y2], [x2, y2]];
+      set(el("camcad-arm2"), {points: path.map(function (p) { return p[0] + "," + p[1]; }).join(" ")});
     }
     if (data.joints) { linkage(frame); }
     var kx = data.kx[frame], ky = data.ky[frame], nx = data.nx[frame], ny = data.ny[frame];
