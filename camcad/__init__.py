@@ -33,7 +33,9 @@ groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Speed against error:
 ``run_bench``/``BenchRequest`` (``camcad bench``). Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
-``plot_hodograph``.
+``plot_hodograph``. Handing a design over: ``cam_frames`` (``CamFrames``) and ``mechanism_frames``
+(``MechanismFrames``), the mechanism frame by frame; ``animation_html`` (the animation page) and
+``design_report_html`` (the report page).
 
 Every name loads on first use, so ``import camcad`` costs almost nothing (the command line's start-up
 depends on it).
@@ -78,6 +80,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
     from camcad.law.vdi import catalogue_table, rest_shape
+    from camcad.profile.animation import CamFrames, cam_frames
     from camcad.profile.batch import synthesize_many
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
@@ -85,7 +88,9 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
     from camcad.profile.toolpath import contour_program, cutter_paths
+    from camcad.report.animation import animation_html
     from camcad.report.bench import BenchRequest, run_bench
+    from camcad.report.design_report import design_report_html
     from camcad.report.part_files import part_files
     from camcad.report.profile import (
         plot_curvature,
@@ -97,6 +102,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
+    from camcad.scene.animation import MechanismFrames, mechanism_frames
     from camcad.scene.commands.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
@@ -146,6 +152,9 @@ _EXPORTS: dict[str, str] = {
     "plot_summary": "camcad.report.profile", "plot_kinematics": "camcad.report.profile",
     "plot_pressure_angle": "camcad.report.profile", "plot_curvature": "camcad.report.profile",
     "plot_profile": "camcad.report.profile", "plot_hodograph": "camcad.report.profile",
+    "CamFrames": "camcad.profile.animation", "cam_frames": "camcad.profile.animation",
+    "MechanismFrames": "camcad.scene.animation", "mechanism_frames": "camcad.scene.animation",
+    "animation_html": "camcad.report.animation", "design_report_html": "camcad.report.design_report",
 }
 
 
@@ -156,6 +165,7 @@ __all__ = [
     "BalanceReport",
     "BenchRequest",
     "CamDrive",
+    "CamFrames",
     "CamcadError",
     "ContactParams",
     "Correction",
@@ -168,6 +178,7 @@ __all__ = [
     "LawRecord",
     "LeverBeam",
     "LoadedLaw",
+    "MechanismFrames",
     "Operation",
     "PipelineOptions",
     "ProfileFollower",
@@ -180,6 +191,8 @@ __all__ = [
     "__version__",
     "analyse",
     "analyse_scene",
+    "animation_html",
+    "cam_frames",
     "catalogue_table",
     "check",
     "compare_laws",
@@ -189,6 +202,7 @@ __all__ = [
     "contour_program",
     "correct",
     "cutter_paths",
+    "design_report_html",
     "energy_fluctuation",
     "filter_law",
     "harmonic_beats",
@@ -197,6 +211,7 @@ __all__ = [
     "load_law",
     "make_machine",
     "make_network",
+    "mechanism_frames",
     "min_base_radius",
     "motion_law",
     "optimise",

@@ -31,6 +31,24 @@ class Step:
     expected: list[str]
     code: int
 
+    def environment(self) -> dict[str, str]:
+        """The ``NAME=value`` assignments before the program (``QT_QPA_PLATFORM=offscreen librecad ...``)."""
+        return dict(word.split("=", 1) for word in _assignments(shlex.split(self.command)))
+
+    def words(self) -> list[str]:
+        """The program and its arguments, without the leading ``NAME=value`` assignments."""
+        words = shlex.split(self.command)
+        return words[len(_assignments(words)):]
+
+
+def _assignments(words: list[str]) -> list[str]:
+    out = []
+    for word in words:
+        if not re.fullmatch(r"[A-Z_][A-Z0-9_]*=\S*", word):
+            break
+        out.append(word)
+    return out
+
 
 def steps(readme: Path = ROOT / "README.md") -> list[Step]:
     """The commands of the worked example with what they print and their exit code (``# exit N``)."""
@@ -79,12 +97,13 @@ def run(folder: Path, camcad: str = "camcad",
     env = {**os.environ, "COLUMNS": "200", "QT_QPA_PLATFORM": "offscreen"}
     out = []
     for step in found:
-        words = shlex.split(step.command)
+        words = step.words()
         if words[0] in skip:
             continue
         if words[0] == "camcad":
             words[0] = camcad
-        done = subprocess.run(words, cwd=folder, capture_output=True, text=True, env=env, timeout=300)
+        done = subprocess.run(words, cwd=folder, capture_output=True, text=True, env={**env, **step.environment()},
+                              timeout=300)
         out.append((step, done))
     return out
 

@@ -30,7 +30,7 @@ numpydoc_docscrape = pytest.importorskip("numpydoc.docscrape")
 OWNED_ELSEWHERE: set[str] = set()
 #: classes that the library returns and users only read: their fields may be documented as Attributes,
 #: and they need no Examples section of their own (the function that returns them has one)
-RESULT_TYPES = {"BalanceReport", "Correction", "LoadedLaw", "ProfileResult"}
+RESULT_TYPES = {"BalanceReport", "Correction", "LoadedLaw", "ProfileResult", "CamFrames", "MechanismFrames"}
 
 #: a unit as the docstrings write it, or words saying there is none
 UNIT = re.compile(

@@ -16,7 +16,7 @@ from matplotlib.backend_bases import KeyEvent, MouseEvent
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from camcad.edit.session import EditSession, loaded_from_law
-from camcad.edit.view import SHORTCUTS, EditorView, new_figure
+from camcad.edit.view import MIN_FIGURE_PX, SHORTCUTS, EditorView, help_columns, new_figure
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.phases import detect_phases
 from camcad.law.source import load_law
@@ -253,21 +253,48 @@ def test_nothing_to_undo_is_a_message_not_an_error():
     assert view.message_error and "nothing to undo" in view.message
 
 
-def test_layout_readout_outside_the_plot_and_shortcuts_not_cut_off():
+@pytest.mark.parametrize("size_px", [None, MIN_FIGURE_PX, (1900, 1000), "resized", (1100, 550)])
+def test_layout_readout_outside_the_plot_and_shortcuts_not_cut_off(size_px):
+    from matplotlib.backend_bases import ResizeEvent
+
     s = EditSession(loaded_from_law(two_lobes(), "two lobes"))
     view = make_view(s, canvas=FigureCanvasAgg)
+    if size_px is not None:     # a window of that size (px at 100 dpi), or one shrunk after it opened
+        width, height = MIN_FIGURE_PX if size_px == "resized" else size_px
+        view.figure.set_size_inches(width / 100, height / 100)
+        ResizeEvent("resize_event", view.canvas)._process()     # as the window's canvas sends it
+        view.canvas.draw()
     renderer = view.canvas.get_renderer()
     fig_box = view.figure.bbox
     axes_boxes = [ax.get_window_extent(renderer) for ax in (view.ax_a, view.ax_v, view.ax_s, view.ax_p)]
-    for text in (view.readout, view.badge, view.table, view.msg_text):
-        box = text.get_window_extent(renderer)
+    texts = (view.readout, view.badge, view.table, view.msg_text, view.profile_text, view.title_text,
+             view.status_text)
+    text_boxes = [text.get_window_extent(renderer) for text in texts]
+    for text, box in zip(texts, text_boxes):
         assert not any(box.overlaps(ax_box) for ax_box in axes_boxes), text.get_text()[:40]
+        assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1, \
+            text.get_text()[:40]
+    for i, first in enumerate(text_boxes[:5]):
+        for second in text_boxes[i + 1:5]:
+            assert not first.overlaps(second)
+    for ax_box in axes_boxes:
+        assert fig_box.x0 <= ax_box.x0 < ax_box.x1 <= fig_box.x1 and fig_box.y0 <= ax_box.y0 < ax_box.y1 <= fig_box.y1
+    x0, y0, x1, y1 = view.help_block._rect                 # nothing reaches into the shortcut list
+    top_of_list = fig_box.height * y1
+    for box in text_boxes[:5] + axes_boxes:
+        assert box.y0 >= top_of_list
+    assert view.ax_a.get_window_extent(renderer).height >= 100
+    if size_px == (1100, 550):   # smaller than a 1366 x 768 screen: the list gives way to the plots, h shows it
+        assert not view.help_block.get_visible() and view.help_hint.get_visible()
+        return
+    assert view.table_rows >= 3 and view.ax_a.get_window_extent(renderer).height >= 150
+    assert view.help_block.get_visible() and not view.help_hint.get_visible()
     help_figure = view.help_block.last_figure           # the shortcut list, drawn once into an image
     help_renderer = help_figure.canvas.get_renderer()
     help_box = help_figure.bbox
     texts = help_figure.texts
     boxes = [t.get_window_extent(help_renderer) for t in texts]
-    assert len(boxes) == 7
+    assert len(boxes) == 2 * help_columns(view.figure.get_figwidth()) + 1
     for box in boxes:
         assert help_box.x0 <= box.x0 and box.x1 <= help_box.x1 and help_box.y0 <= box.y0 and box.y1 <= help_box.y1
     for i, first in enumerate(boxes):

@@ -30,11 +30,19 @@ worked = _worked_example()
 
 
 def test_the_worked_example_has_its_steps():
-    commands = [step.command.split()[:2] for step in worked.steps()]
+    commands = [step.words()[:2] for step in worked.steps()]
     assert commands == [["camcad", "check"], ["camcad", "fix"], ["camcad", "check"], ["camcad", "profile"],
                         ["librecad", "dxf2pdf"]]
     assert worked.steps()[0].code == 1
     assert all(step.expected for step in worked.steps())
+
+
+def test_a_step_may_set_the_environment_of_its_program():
+    # LibreCAD's printer needs a display unless Qt is told to draw offscreen: the README may say so on the line
+    step = worked.Step("QT_QPA_PLATFORM=offscreen librecad dxf2pdf -a p.dxf", [], 0)
+    assert step.words() == ["librecad", "dxf2pdf", "-a", "p.dxf"]
+    assert step.environment() == {"QT_QPA_PLATFORM": "offscreen"}
+    assert worked.Step("camcad check a=b.dxf", [], 0).words() == ["camcad", "check", "a=b.dxf"]
 
 
 def test_the_matcher_can_fail():

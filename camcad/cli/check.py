@@ -43,7 +43,7 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
           plot: Annotated[Path | None, typer.Option("--plot", help="Write a PNG of a, v, s with the areas.")] = None,
           trapezoid: Annotated[bool, typer.Option(
               "--trapezoid",
-              help="Also check by the source's method: resample with --step, trapezoidal rule.")] = False,
+              help="Also check as Dupliak & Kotsiyba 2018 do: resample with --step, trapezoidal rule.")] = False,
           step: Annotated[float, typer.Option("--step", help="Resampling step of --trapezoid (deg).")] = 0.1,
           follower: Annotated[str | None, typer.Option(
               "--follower", help="The follower of a radius-vector table (r_mm): roller, knife or oscillating.")] = None,
@@ -58,7 +58,7 @@ def check(law_file: LawArg, layer: LayerOpt = None, handle: HandleOpt = None, cy
               "--accel-smoothing", help="A motion table's a re-smoothed by a cubic spline: gcv or none.")] = "gcv",
           as_json: JsonOpt = False) -> None:
     """Check the area balance of an acceleration law (exit 0 balanced, 1 not, 2 bad input); exact integration,
-    and with --trapezoid the source's resample-and-trapezoid check beside it."""
+    and with --trapezoid the resample-and-trapezoid check of Dupliak & Kotsiyba 2018 beside it."""
     from camcad.balance.fixing import check_law, check_plot_output
     from camcad.law.motion_table import follower_from_options
 
@@ -81,7 +81,8 @@ def fix(law_file: LawArg,
         mode: Annotated[str, typer.Option("--mode", help="min-change | extrema | extrema-resample | keypoints | "
                                                          "segment | phase | phase-keypoints")] = "min-change",
         method: Annotated[str, typer.Option(
-            "--method", help="exact (linear solve) or iterate (the source's loop).")] = "exact",
+            "--method", help="exact (linear solve) or iterate (resample, integrate, move the key points and repeat, as "
+                              "Dupliak & Kotsiyba 2018 do).")] = "exact",
         step: Annotated[float, typer.Option(
             "--step", help="Resampling step of iterate and extrema-resample (deg).")] = 0.1,
         segment: Annotated[str | None, typer.Option(

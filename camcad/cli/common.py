@@ -47,6 +47,9 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
     except typer.Exit as stop:
         return int(stop.exit_code or 0)
     except typer.TyperException as err:  # usage errors from the argument parser
+        if _asks_for_help(err):   # a group given no command: its help, as written, as `camcad` alone prints it
+            print(err.format_message())
+            return EXIT_OK
         if debug:
             raise
         print(f"camcad: error: {_one_line(err.format_message())}; see camcad --help", file=sys.stderr)
@@ -62,6 +65,12 @@ def run_app(app: typer.Typer, argv: list[str]) -> int:
               "traceback", file=sys.stderr)
         return EXIT_INTERNAL
     return result if isinstance(result, int) else EXIT_OK
+
+
+def _asks_for_help(err: Exception) -> bool:
+    """A group run without a command (click's ``NoArgsIsHelpError``, e.g. ``camcad linkage``): the user asks what
+    it offers; its help is printed in full, never squashed into one error line."""
+    return type(err).__name__ == "NoArgsIsHelpError"
 
 
 def _one_line(text: str, limit: int = 280) -> str:

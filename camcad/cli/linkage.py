@@ -14,8 +14,8 @@ from camcad.cli import app
 from camcad.cli.common import JsonOpt, NoPlotsOpt, OutOpt, output_dir, print_json
 from camcad.errors import CamcadError
 
-linkage_app = typer.Typer(no_args_is_help=True, help="Linkages after the cam (seed 002): atlas of adjustable chains, "
-                                                    "function-generator synthesis (Q method).")
+linkage_app = typer.Typer(no_args_is_help=True, help="Linkages after the cam (Sunkuev 1984): atlas of adjustable "
+                                                    "chains, function-generator synthesis (Q method).")
 app.add_typer(linkage_app, name="linkage")
 
 
@@ -34,7 +34,7 @@ def _atlas_summary(payload: dict, seconds: float) -> None:
         lines.append(f"  published      {payload['published_count']} ({same} the count)")
     if "seed_count" in payload:
         same = "reproduced" if payload["seed_count"] == payload["count"] else "NOT reproduced"
-        lines.append(f"  seed Table 1   {payload['seed_count']} ({same})")
+        lines.append(f"  Sunkuev Table 1 {payload['seed_count']} ({same})")
     if payload.get("counts"):
         c = payload["counts"]
         lines.append(f"  weaker rules   no condition {c['unconditional']}, contracted chain simple "
@@ -55,7 +55,7 @@ def atlas(
     links: Annotated[int, typer.Option("--links", help="Number of links n (frame counted); with --adjustable, n'.")],
     dof: Annotated[int, typer.Option("--dof", help="Mobility W; with --adjustable, W' of the adjustable chain.")] = 1,
     adjustable: Annotated[int | None, typer.Option(
-        "--adjustable", help="m locked pairs: enumerate adjustable chains (seed Table 1).")] = None,
+        "--adjustable", help="m locked pairs: enumerate adjustable chains (Sunkuev 1984, Table 1).")] = None,
     output: OutOpt = None,
     no_plots: NoPlotsOpt = False,
     as_json: JsonOpt = False,
@@ -129,7 +129,7 @@ def fgen(
                                                          "signed).")] = None,
     output_range: Annotated[float | None, typer.Option("--output-range", help="Turn of the output link (deg, "
                                                           "signed).")] = None,
-    method: Annotated[str, typer.Option("--method", help="q (the seed's), precision, lsq, minimax, or all "
+    method: Annotated[str, typer.Option("--method", help="q (Sunkuev 1984's), precision, lsq, minimax, or all "
                                         "(compare the four).")] = "q",
     nodes: Annotated[int | None, typer.Option("--nodes", help="q: S nodes (odd, default 5); precision: 3; "
                                                  "lsq: N points (default 41).")] = None,
@@ -140,9 +140,10 @@ def fgen(
     phi0: Annotated[float | None, typer.Option("--phi0", help="precision: input offset (deg); default "
                                                   "scanned.")] = None,
     psi0: Annotated[float | None, typer.Option("--psi0", help="precision: output offset (deg).")] = None,
-    pick: Annotated[str, typer.Option("--pick", help="q, the seed's last step: centre of the Q rectangle, or "
+    pick: Annotated[str, typer.Option("--pick", help="q, the last step of Sunkuev 1984's method: centre of the Q "
+                                                     "rectangle, or "
                                       "search it for the least deviation.")] = "centre",
-    seed: Annotated[int, typer.Option("--seed", help="q: random shift of the scan grid.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", help="q: random-number seed that shifts the scan grid.")] = 0,
     max_error: Annotated[float | None, typer.Option("--max-error", help="Also check the largest error "
                                                        "(deg).")] = None,
     output: OutOpt = None,
@@ -524,7 +525,7 @@ def _in_radians(expr, argument_in_deg: bool = False):
 def adjust(
     scene: SceneOptArg = None,
     mechanism: MechOpt = None,
-    task: Annotated[int | None, typer.Option("--task", help="Regulation task of the seed's Table 3 (1-6) or, with "
+    task: Annotated[int | None, typer.Option("--task", help="Regulation task of Sunkuev 1984's Table 3 (1-6) or, with "
                                                             "--table 2, Table 2 (1-17, checked).")] = None,
     table: Annotated[int, typer.Option("--table", help="3: rocker input (the cam case, synthesis); 2: crank input "
                                                        "(the element's settings checked).")] = 3,
@@ -561,7 +562,7 @@ def adjust(
     no_plots: NoPlotsOpt = False,
     as_json: JsonOpt = False,
 ) -> None:
-    """Synthesise an adjustable mechanism for a regulation task (seed Table 3; Table 2 checked); exit 1 when
+    """Synthesise an adjustable mechanism for a regulation task (Sunkuev 1984, Table 3; Table 2 checked); exit 1 when
     the result fails a check."""
     from camcad.cli.common import parse_pair
     from camcad.linkage import adjust as adj_mod
@@ -574,7 +575,7 @@ def adjust(
     )
 
     if table not in (2, 3):
-        raise CamcadError(f"--table {table}: the seed's regulation tables are 2 and 3", "--table", "use 2 or 3")
+        raise CamcadError(f"--table {table}: Sunkuev 1984's regulation tables are 2 and 3", "--table", "use 2 or 3")
     if task is None:
         raise CamcadError("missing", "--task", "give the regulation task, e.g. --task 1")
     if not 2 <= count <= 201:
@@ -694,7 +695,7 @@ def family(
     no_plots: NoPlotsOpt = False,
     as_json: JsonOpt = False,
 ) -> None:
-    """One adjustable four-bar for a family of position functions (seed ch. 4: Q, then the circle through
+    """One adjustable four-bar for a family of position functions (Sunkuev 1984, ch. 4: Q, then the circle through
     the pivots); exit 1 when a member fails its checks."""
     from camcad.cli.common import parse_pair
     from camcad.linkage.family import Member, synthesize_family
@@ -838,7 +839,7 @@ def tune(
     as_json: JsonOpt = False,
 ) -> None:
     """Settings (x1 on the adjustable element, x2 the input link's clamp angle) for given extreme positions,
-    every root of F(x1) = 0 (seed ch. 6); exit 1 when none is found."""
+    every root of F(x1) = 0 (Sunkuev 1984, ch. 6); exit 1 when none is found."""
     from camcad.cli.common import parse_pair
     from camcad.linkage.tune import settings_table, solve_settings, tuned
     from camcad.report.linkage import (

@@ -49,6 +49,14 @@ from camcad.cli.part_options import (
     UnitsOpt,
     export_options,
 )
+from camcad.cli.report_options import (
+    AnimateFormatOpt,
+    AnimateOpt,
+    AnimateStepOpt,
+    ReportOpt,
+    ReportPdfOpt,
+    handover_options,
+)
 from camcad.errors import CamcadError
 from camcad.profile import defaults
 
@@ -116,6 +124,8 @@ def profile(
     bore: BoreOpt = None, keyway: KeywayOpt = None, plate: PlateOpt = None,
     servo_step: ServoStepOpt = 1.0, servo_format: ServoFormatOpt = "csv", servo_rpm: ServoRpmOpt = None,
     servo_normalise: ServoNormaliseOpt = False, polydyne: PolydyneOpt = None,
+    animate: AnimateOpt = False, animate_format: AnimateFormatOpt = None, animate_step: AnimateStepOpt = None,
+    report: ReportOpt = False, report_pdf: ReportPdfOpt = False,
     as_json: JsonOpt = False,
 ) -> None:
     """Synthesise a cam profile; write profile.dxf, law.csv, report.json and plots. Exit 1 if a check fails."""
@@ -129,7 +139,9 @@ def profile(
     options = PipelineOptions(output=output, tol_mm=tol_mm, arcs=arcs, spline=spline, r12=r12,
                               plots=_plot_names(plots, no_plots), export=part,
                               servo=servo_export(export, servo_step, servo_format, servo_normalise, servo_rpm),
-                              polydyne_rpm=polydyne)
+                              polydyne_rpm=polydyne,
+                              **handover_options(animate=animate, animate_format=animate_format,
+                                                 animate_step=animate_step, report=report, report_pdf=report_pdf))
     if target is not None and target.suffix.lower() == ".toml":
         given = [name for name, value in (("--rb", rb), ("--rr", rr), ("--lift", lift), ("--phases", phases),
                                           ("--layer", layer), ("--handle", handle), ("--rise-law", rise_law),

@@ -31,7 +31,8 @@ def sweep(
     vary: VaryOpt = None,  # type: ignore[assignment]
     samples: Annotated[int | None, typer.Option(
         "--samples", help="Draws of the distribution keys per grid point (Monte-Carlo).")] = None,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
+    seed: Annotated[int, typer.Option(
+        "--seed", help="Random-number seed of the draws (the same seed, the same draws).")] = 0,
     objective: Annotated[list[str] | None, typer.Option(
         "--objective", help="min:COLUMN or max:COLUMN, repeatable, in order of priority: a varied key, "
                             "min_margin_ratio, or a check's figure (\"pressure angle, rise.margin\"). Default: "

@@ -153,12 +153,40 @@ def _desktop(session: EditSession, output: Path | None) -> None:
         figure = plt.figure(figsize=FIGSIZE, dpi=100)
     except Exception as err:  # noqa: BLE001 - e.g. TclError: no display name
         raise _NoDesktop(f"{type(err).__name__}: {err}") from None
+    manager = cast("FigureManagerBase", figure.canvas.manager)  # a pyplot figure has a manager
+    window = getattr(manager, "window", None)
+    if window is not None:
+        _fit_screen(figure, manager, window)
     title = f"camcad edit — {session.where}"
-    cast("FigureManagerBase", figure.canvas.manager).set_window_title(title)  # a pyplot figure has a manager
+    manager.set_window_title(title)
     view = EditorView(session, figure, blit=True, output=output)
     figure._camcad_view = view  # type: ignore[attr-defined]  # keep the view alive as long as the window
     plt.show(block=True)
     plt.close(figure)
+
+
+def _fit_screen(figure, manager, window) -> None:
+    """Open the window at a size that fits the screen (``camcad.edit.view.window_size``: a 1366 x 768 laptop
+    too), and bring it back to that size whenever it would reach past the screen (Tk scales the figure by the
+    screen's pixel ratio once the window is shown). Smaller than the screen, the window is the user's to
+    resize; the view lays itself out again at every size."""
+    from camcad.edit.view import window_size
+
+    screen = (window.winfo_screenwidth(), window.winfo_screenheight())
+    width, height = window_size(screen)
+    toolbar = getattr(manager, "toolbar", None)
+
+    def fit(_event=None) -> None:
+        bar = toolbar.winfo_reqheight() if toolbar is not None else 0
+        if figure.bbox.width > screen[0] or figure.bbox.height + bar > screen[1]:
+            dpi = float(figure.dpi)               # screen px per inch, Tk's pixel ratio included
+            figure.set_size_inches(width / dpi, height / dpi, forward=True)
+        if toolbar is not None and toolbar.winfo_reqwidth() > width:
+            toolbar.configure(width=width)        # it asks for the width the figure was made with
+
+    fit()
+    figure.canvas.mpl_connect("resize_event", fit)
+    window.minsize(640, 400)
 
 
 def _serve(session: EditSession, output: Path | None, port: int, open_browser: bool,

@@ -75,6 +75,7 @@ SHORTCUTS = [
     ("w", "save a CSV table"),
     ("x", "save the edit script"),
     ("esc", "clear the range / the message"),
+    ("h", "show / hide this list"),
 ]
 
 
@@ -142,7 +143,7 @@ class EditorView:
     def _build(self) -> None:
         fig = self.figure
         fig.set_facecolor("white")
-        left, width = 0.055, 0.60
+        left, width = 0.055, 0.60            # placed for the figure's size by ``_layout``
         self.ax_a = fig.add_axes((left, 0.57, width, 0.365))
         self.ax_v = fig.add_axes((left, 0.39, width, 0.16), sharex=self.ax_a)
         self.ax_s = fig.add_axes((left, 0.21, width, 0.16), sharex=self.ax_a)
@@ -163,7 +164,7 @@ class EditorView:
         self.ax_p.set_aspect("equal", adjustable="box")
         self.ax_p.set_xticks([])
         self.ax_p.set_yticks([])
-        self.ax_p.set_title("pitch curve (knife-edge preview)", fontsize=8.5)
+        self.ax_p.set_title("pitch curve (knife-edge preview)", fontsize=8.5, loc="left")
 
         def line(ax, **kw):
             artist = Line2D([], [], animated=True, **kw)
@@ -206,10 +207,16 @@ class EditorView:
         self.table = fig.text(0.695, 0.465, "", fontsize=8.0, va="top", fontdict=mono)
         self.readout = fig.text(0.055, 0.148, "", fontsize=9.2, va="center", fontdict=mono)
         self.msg_text = fig.text(0.985, 0.148, "", fontsize=9.2, va="center", ha="right")
-        fig.add_artist(Line2D([0.04, 0.985], [0.133, 0.133], transform=fig.transFigure, color="0.8", lw=0.8))
+        self.rule = fig.add_artist(Line2D([0.04, 0.985], [0.133, 0.133], transform=fig.transFigure, color="0.8",
+                                          lw=0.8))
         # the shortcut list never changes: it is drawn once into an image (text is most of a full draw)
         self.help_block = _StaticBlock(fig, (0.03, 0.005, 0.995, 0.13), _draw_help)
         fig.add_artist(self.help_block)
+        self.help_hint = fig.text(0.03, 0.01, "h: the list of shortcuts", fontsize=HELP_FONT, va="bottom",
+                                  family="monospace", color="#1d4ed8", visible=False)
+        self.help_wanted = True       # h hides and shows the list; a window too short for it hides it
+        self.table_rows = 9
+        self._layout()
         self._dynamic = [self.range_patch, self.pos_fill, self.neg_fill, self.ghost_a, self.a_line, self.a_marks,
                          self.lobe_line, self.sel_mark, self.ghost_v, self.v_line, self.v_marks, self.ghost_s,
                          self.s_line, self.s_gap, self.p_line, self.p_gap, *self.drag_lines]
@@ -243,6 +250,74 @@ class EditorView:
 
     def _on_resize(self, _event) -> None:
         self._background = None
+        self._layout()
+        self._update_texts(self._shown_law()[0])
+
+    def _layout(self) -> None:
+        """Place the plots, the texts and the shortcut list for the figure's size (it follows the window).
+
+        Text keeps its size in points: the title line, the readout and the shortcut list take the heights
+        their lines need, the right-hand column (closure badge, pitch preview, tables) its width, and the
+        three plots share what is left. On a short window the pitch preview shrinks and the vertex table
+        lists fewer rows, so that everything stays inside the window down to 1366 x 768 px
+        (``MIN_FIGURE_PX``); a window too short even for that hides the shortcut list (h shows it)."""
+        fig = self.figure
+        w_pt, h_pt = 72.0 * fig.get_figwidth(), 72.0 * fig.get_figheight()
+        full = self._place(w_pt, h_pt, self.help_wanted)
+        if self.help_wanted and not full:
+            self._place(w_pt, h_pt, False)
+
+    def _place(self, w_pt: float, h_pt: float, with_help: bool) -> bool:
+        """Lay the figure out (``_layout``) with or without the shortcut list; False when it does not fit."""
+        fig = self.figure
+
+        def fx(pt: float) -> float:
+            return pt / w_pt
+
+        def fy(pt: float) -> float:
+            return pt / h_pt
+
+        columns = help_columns(fig.get_figwidth())
+        help_top = 4.0 + (help_height_pt(columns) if with_help else HELP_FONT * 1.4)
+        self.help_block.set_visible(with_help)
+        self.help_hint.set_visible(not with_help)
+        self.help_hint.set_position((0.03, fy(4.0)))
+        self.help_block.set_rect((0.03, fy(4.0), 0.995, fy(max(help_top, 5.0))))
+        self.rule.set_ydata([fy(help_top + 3.0)] * 2)
+        readout = help_top + 14.0
+        for text in (self.readout, self.msg_text):
+            text.set_y(fy(readout))
+        title = h_pt - 15.0
+        self.title_text.set_y(fy(title))
+        self.status_text.set_y(fy(title))
+        right = max(0.6, 1.0 - fx(RIGHT_COLUMN_PT))           # the right-hand column starts here
+        left = fx(46.0)
+        width = right - fx(36.0) - left
+        bottom = readout + 40.0                                # the x tick labels and the axis label
+        top = h_pt - 34.0
+        gap = 12.0
+        plots = max(top - bottom - 2.0 * gap, 60.0)
+        a_h, v_h = 0.53 * plots, 0.235 * plots
+        self.ax_s.set_position((left, fy(bottom), width, fy(v_h)))
+        self.ax_v.set_position((left, fy(bottom + v_h + gap), width, fy(v_h)))
+        self.ax_a.set_position((left, fy(top - a_h), width, fy(a_h)))
+        # the right-hand column, from the top: badge, pitch preview (profile text beside it), tables
+        badge_top = h_pt - 30.0
+        self.badge.set_position((right, fy(badge_top)))
+        badge_h = BADGE_LINES * 8.6 * 1.2 + 12.0
+        lines_pt = 8.0 * 1.2                                   # one line of the table
+        table_min = TABLE_FIXED_LINES * lines_pt               # the phases, no vertex row
+        floor = help_top + 5.0                                 # the table may reach down to the list's rule
+        room = badge_top - badge_h - floor - 26.0              # what the preview and the table share
+        preview = min(PREVIEW_PT, max(room - table_min - 3 * lines_pt, 60.0))
+        p_top = badge_top - badge_h - 14.0
+        self.ax_p.set_position((right, fy(p_top - preview), fx(preview), fy(preview)))
+        self.profile_text.set_position((right + fx(preview + 10.0), fy(p_top)))
+        table_top = p_top - preview - 10.0
+        self.table.set_position((right, fy(table_top)))
+        fits = int((table_top - floor) / lines_pt) - TABLE_FIXED_LINES
+        self.table_rows = int(min(9, max(0, fits)))
+        return a_h >= 100.0 and fits >= 3
 
     def _shown_law(self):
         """The law drawn in full (the preview when one is held) and the ghost (the current law then)."""
@@ -514,8 +589,10 @@ class EditorView:
                                  f"{'yes' if row.balanced else 'no'}")
             lines.append("press 1..7 to preview a mode")
             return lines
+        if self.table_rows == 0:           # a short window: the phases only
+            return lines
         lines.append("  vertex    θ (deg)     a (input y)")
-        for i, deg, y, note in self.session.vertex_rows(self.selected, 9, law):
+        for i, deg, y, note in self.session.vertex_rows(self.selected, self.table_rows, law):
             mark = ">" if i == self.selected else " "
             lines.append(f"{mark}{i:6d} {deg:10.4f} {y:14.6g}  {note}")
         return lines
@@ -843,6 +920,13 @@ class EditorView:
         if key in ("v", "l", "e"):
             self.mode = {"v": "vertex", "l": "lobe", "e": "extrema"}[key]
             self._set_message(f"drag mode: {self.readout_line(law).split('  ')[0][6:]}")
+        elif key == "h":
+            self.help_wanted = not self.help_wanted
+            self._layout()
+            self._background = None
+            self._set_message("the list of shortcuts " + ("shown" if self.help_block.get_visible() else
+                                                          "hidden: h shows it" if not self.help_wanted else
+                                                          "does not fit this window: make it taller"))
         elif key == "n":
             self.snap = not self.snap
             self._set_message(f"snapping {'on' if self.snap else 'off'}")
@@ -986,22 +1070,51 @@ class EditorView:
 # ---------------------------------------------------------------------------------------------
 
 HELP_FONT = 7.2
+#: width of the right-hand column (closure badge, pitch preview, tables), points
+RIGHT_COLUMN_PT = 330.0
+#: the pitch preview's side at most, points
+PREVIEW_PT = 144.0
+#: lines of the closure badge (a preview adds two)
+BADGE_LINES = 10
+#: lines of the table besides the vertex rows: its header, five phases, a blank line and the vertex header
+TABLE_FIXED_LINES = 8
+#: the smallest figure the layout is made for (px at 100 dpi): a 1366 x 768 screen less the toolbar and
+#: a window manager's title bar and panel
+MIN_FIGURE_PX = (1330, 620)
+#: the shortcut columns: keys, then their descriptions this far to the right (inches)
+HELP_KEYS_IN = 1.55
+
+
+def help_columns(width_in: float) -> int:
+    """Columns of the shortcut list on a figure ``width_in`` inches wide: a column is 3.9 in wide; four from
+    16 in (fewer lines, so more height for the plots), three from 12 in, else two."""
+    return 4 if width_in >= 16.0 else 3 if width_in >= 12.0 else 2
+
+
+def help_height_pt(columns: int) -> float:
+    """Height of the shortcut list in ``columns`` columns (points): its rows and the fix-modes line."""
+    rows = math.ceil(len(SHORTCUTS) / columns)
+    return (rows + 1.6) * HELP_FONT * 1.25 + 6.0
 
 
 def _draw_help(fig: Figure) -> None:
-    """The shortcut list in four columns and the fix modes, on ``fig`` (the help block's own figure)."""
-    columns = 3
+    """The shortcut list in columns (``help_columns``) and the fix modes, on ``fig`` (the help block's own
+    figure, as wide as the window)."""
+    width = fig.get_figwidth()        # inches; the columns share the width, the descriptions follow the keys
+    columns = help_columns(width / 0.965)
     per = math.ceil(len(SHORTCUTS) / columns)
-    width = fig.get_figwidth()   # inches; the columns are 4.8 in apart, the descriptions 1.7 in after the keys
+    spacing = (width - 0.2) / columns
+    top = 1.0 - 3.0 / 72.0 / fig.get_figheight()
     for c in range(columns):
         chunk = SHORTCUTS[c * per:(c + 1) * per]
-        x = (0.2 + c * 4.8) / width
-        fig.text(x, 0.96, "\n".join(k for k, _ in chunk), fontsize=HELP_FONT, va="top", family="monospace",
+        x = (0.2 + c * spacing) / width
+        fig.text(x, top, "\n".join(k for k, _ in chunk), fontsize=HELP_FONT, va="top", family="monospace",
                  color="#1d4ed8")
-        fig.text(x + 1.7 / width, 0.96, "\n".join(w for _, w in chunk), fontsize=HELP_FONT, va="top",
+        fig.text(x + HELP_KEYS_IN / width, top, "\n".join(w for _, w in chunk), fontsize=HELP_FONT, va="top",
                  family="monospace", color="0.2")
     modes = " · ".join(f"{k} {mode}" for k, mode in enumerate(MODES, start=1))
-    fig.text(0.2 / width, 0.09, f"fix modes: {modes}   (a range limits them; mode segment needs one)",
+    fig.text(0.2 / width, 0.5 * HELP_FONT * 1.25 / 72.0 / fig.get_figheight() + 0.02,
+             f"fix modes: {modes}   (a range limits them; mode segment needs one)",
              fontsize=HELP_FONT, va="center", family="monospace", color="0.2")
 
 
@@ -1018,6 +1131,10 @@ class _StaticBlock(Artist):
         self._build = build
         self._cache: tuple[tuple[int, int, float], np.ndarray] | None = None
         self.last_figure: Figure | None = None
+
+    def set_rect(self, rect: tuple[float, float, float, float]) -> None:
+        """Move the block to ``rect`` (figure fractions); it is drawn again at its new size when it changes."""
+        self._rect = rect
 
     def render(self, dpi: float) -> np.ndarray:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -1090,3 +1207,22 @@ def _clip(text: str, width: int) -> str:
 def new_figure() -> Figure:
     """A Figure of the editor's size (not attached to any canvas)."""
     return Figure(figsize=FIGSIZE, dpi=100)
+
+
+#: what a desktop takes around the figure, px: the toolbar, a window manager's title bar and its panel
+WINDOW_CHROME_PX = (16, 120)
+
+
+def window_size(screen_px: tuple[int, int]) -> tuple[int, int]:
+    """The figure's size (px at 100 dpi) for a window on a screen of ``screen_px``: the editor's own size
+    (``FIGSIZE``), or less so that the window, its toolbar and the desktop's title bar and panel fit the
+    screen (a 1366 x 768 laptop: 1350 x 648).
+
+    Examples
+    --------
+    >>> window_size((1366, 768)), window_size((2560, 1440))
+    ((1350, 648), (1500, 980))
+    """
+    width = min(round(FIGSIZE[0] * 100), screen_px[0] - WINDOW_CHROME_PX[0])
+    height = min(round(FIGSIZE[1] * 100), screen_px[1] - WINDOW_CHROME_PX[1])
+    return max(width, 640), max(height, 400)

@@ -35,6 +35,7 @@ from io import BytesIO
 from pathlib import Path
 from typing import Any
 
+from camcad.edit.view import FIGSIZE
 from camcad.errors import CamcadError
 from camcad.io.input_file import check_json_nesting
 
@@ -96,11 +97,35 @@ _PAGE = """<!DOCTYPE html>
      window.camcadLast = msg;
    }};
    window.camcadFigure = fig;
+   // fit the figure to the window (a 1366 x 768 laptop too): never larger than the editor's own size,
+   // smaller when the window is; the view lays itself out again at the new size (camcad.edit.view)
+   var design = {{width: @DESIGN_WIDTH@, height: @DESIGN_HEIGHT@}}, pending = null;
+   function fit() {{
+     var toolbar = fig.root.querySelector(".mpl-toolbar");
+     var above = fig.canvas_div.getBoundingClientRect().top + window.scrollY;   // the bar and the title
+     var spare = above + (toolbar ? toolbar.offsetHeight : 48) + 16;
+     var width = Math.max(640, Math.min(design.width, window.innerWidth - 28));
+     var height = Math.max(400, Math.min(design.height, window.innerHeight - spare));
+     var now = fig.canvas_div.getBoundingClientRect();
+     if (Math.abs(now.width - width) > 2 || Math.abs(now.height - height) > 2) {{
+       fig.canvas_div.style.width = width + "px";     // matplotlib's page then asks the server for that size
+       fig.canvas_div.style.height = height + "px";
+     }}
+     document.body.dataset.camcadFit = width + "x" + height;
+   }}
+   websocket.addEventListener("open", function () {{ window.setTimeout(fit, 50); }});
+   window.addEventListener("resize", function () {{
+     window.clearTimeout(pending);
+     pending = window.setTimeout(fit, 150);
+   }});
  }});
 </script>
 </body>
 </html>
 """
+#: the editor's own size (px at 100 dpi), the largest the page makes the figure
+_PAGE = _PAGE.replace("@DESIGN_WIDTH@", str(round(FIGSIZE[0] * 100))).replace("@DESIGN_HEIGHT@",
+                                                                             str(round(FIGSIZE[1] * 100)))
 
 
 # ---------------------------------------------------------------------------------------------

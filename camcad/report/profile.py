@@ -14,9 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
-from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.figure import COLOURS, TITLE_Y, fix_label_positions, new_figure, save_figure
 
 PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
+#: line spacing of the verdict's monospace lines (a multiple of the font size): 1.3 × 8 pt, the step between
+#: its text objects
+VERDICT_LINESPACING = 1.3
 FORBIDDEN = "#f4c7c3"
 
 
@@ -106,7 +109,7 @@ def draw_kinematics(axes, result, rows: tuple[str, ...] = ("s", "v", "a", "j"), 
         ax.axhline(0.0, color="black", lw=0.6)
         ax.set_ylabel(f"{symbol} ({units})")
         if titles:
-            ax.set_title(title, fontsize=9, loc="right")
+            ax.set_title(title, fontsize=9, loc="right", y=TITLE_Y)
         _annotate_extrema(ax, deg, y, units)
         low, high = np.nanmin(y), np.nanmax(y)
         pad = 0.25 * (high - low) if high > low else 1.0
@@ -171,7 +174,7 @@ def draw_pressure_angle(ax, result) -> None:
         ax.set_ylim(-top, top)
         verdict = "within the limits" if pa.passed else "OVER THE LIMIT"
         ax.set_title(f"pressure angle — {verdict}" + (" (reversible)" if result.follower.reversible else ""),
-                     fontsize=10)
+                     fontsize=10, y=TITLE_Y)
         ax.legend(loc="upper right", fontsize=8)
     ax.axhline(0.0, color="black", lw=0.6)
     ax.set_ylabel("pressure angle (deg)")
@@ -238,7 +241,7 @@ def draw_curvature(ax, result) -> None:
     ax.set_ylim(bottom, top)
     ax.set_ylabel("radius of curvature ρ (mm), + convex, − concave")
     ax.set_xlabel("cam angle θ (deg)")
-    ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10)
+    ax.set_title("radius of curvature" + (" — UNDERCUT" if result.undercut else ""), fontsize=10, y=TITLE_Y)
     ax.legend(loc="upper center", fontsize=8, ncol=3)   # one row, in the headroom left above the curves
     _theta_axis(ax)
 
@@ -321,7 +324,7 @@ def draw_profile(ax, result, legend: bool | float = True, title: str | None = No
                     label=f"roller at the largest pressure angle ({math.degrees(worst.value):.1f}° "
                           f"@ {math.degrees(worst.at):.0f}°)")
     turn = "clockwise" if f.cw else "counter-clockwise"
-    ax.set_title(title or f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10)
+    ax.set_title(title or f"{result.name}: cam profile (cam turns {turn}; drawn at θ = 0)", fontsize=10, y=TITLE_Y)
     ax.set_aspect("equal")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.set_xlabel("x (mm)")
@@ -441,54 +444,108 @@ def plot_summary(result, report: dict | None = None):
     >>> figure.axes[0].get_xlabel(), figure.axes[1].get_ylabel()
     ('x (mm)', 's (mm)')
     """
-    import textwrap
-
     from camcad.profile.summary import profile_report
 
-    report = report if report is not None else profile_report(result)
-    fig = new_figure(15, 9, rows=0, layout=None)[0]
-    # fixed margins: a layout engine would measure every label of the page before drawing it (~40 % of the
-    # time of this figure)
-    grid = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.25, 1.25], left=0.05, right=0.985, top=0.92, bottom=0.1,
-                            wspace=0.42, hspace=0.32)
-    turn = "clockwise" if result.follower.cw else "counter-clockwise"
-    profile_ax = fig.add_subplot(grid[:, 0])
-    draw_profile(profile_ax, result, legend=6, title=f"cam profile at θ = 0 (turns {turn})")
-    profile_ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), fontsize=7, ncol=1, frameon=False)
-    law_ax = fig.add_subplot(grid[0, 1])
-    draw_kinematics([law_ax], result, rows=("s",), titles=False)
-    accel = law_ax.twinx()
-    t = result.table
-    unit = "rad" if result.follower.kind == "oscillating" else "mm"
-    accel.plot(np.degrees(t.theta), t.a, color="#c27c0e", lw=1.0, ls="--")
-    accel.set_ylabel(f"a (dashed, {unit}/rad²)", color="#c27c0e")
-    law_ax.set_title("displacement s (solid) and acceleration analog a (dashed)", fontsize=9, loc="left")
-    law_ax.set_xlabel("cam angle θ (deg)")
-    pressure_ax = fig.add_subplot(grid[0, 2])
-    draw_pressure_angle(pressure_ax, result)
-    curvature_ax = fig.add_subplot(grid[1, 1])
-    draw_curvature(curvature_ax, result)
-    for ax in (law_ax, pressure_ax, curvature_ax):
-        _theta_axis(ax, 60)
-    text_ax = fig.add_subplot(grid[1, 2])
-    text_ax.axis("off")
-    lines = _verdict_lines(report)
-    wrapped = []
-    for line, colour in lines:
-        for k, piece in enumerate(textwrap.wrap(line, 56) or [""]):
-            wrapped.append(("    " + piece if k else piece, colour))
-    height_in = text_ax.get_position().height * fig.get_figheight()
-    step = 1.3 * 8.0 / 72.0 / height_in            # one line of 8 pt text, in axes fractions
-    y = 1.0
-    for k, (line, colour) in enumerate(wrapped[: int(1.0 / step)]):
-        text_ax.text(0.0, y, line, transform=text_ax.transAxes, fontsize=8, va="top", family="monospace",
-                     color=colour, weight="bold" if k == 0 else "normal")
-        y -= step
-    verdict = "all checks passed" if report.get("passed") else "FAILED"
-    phases = report.get("phase_angles", "")
-    fig.suptitle(f"{result.name}: {verdict}" + (f" — {phases}" if phases else ""), fontsize=12,
-                 color=COLOURS["ok"] if report.get("passed") else COLOURS["fail"])
-    return fig
+    return SummaryPage().draw(result, report if report is not None else profile_report(result))
+
+
+class SummaryPage:
+    """The summary page (``plot_summary``) as one figure drawn again for each cam: its axes, their ticks and
+    tick labels are made once, and each ``draw`` replaces only what it shows (the lines, fills, labels,
+    legends and the verdict), so a group of mechanisms pays for one page's set-up.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> follower = camcad.Follower("roller", base_radius=40.0, roller_radius=10.0)
+    >>> settings = camcad.ProfileSettings(plots=False, design=False)
+    >>> page = SummaryPage()
+    >>> first = page.draw(camcad.synthesize(law, follower, settings, name="a"), {"passed": True})
+    >>> second = page.draw(camcad.synthesize(law, follower.with_base_radius(60.0), settings, name="b"), {})
+    >>> first is second, bool(second.axes[0].get_xlim()[1] > 70.0), second.texts[0].get_text()
+    (True, True, 'b: FAILED')
+    """
+
+    def __init__(self) -> None:
+        fig = new_figure(15, 9, rows=0, layout=None)[0]
+        # fixed margins: a layout engine would measure every label of the page before drawing it (~40 % of the
+        # time of this figure)
+        grid = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.25, 1.25], left=0.05, right=0.985, top=0.92,
+                                bottom=0.1, wspace=0.42, hspace=0.32)
+        self.figure = fig
+        self.profile_ax = fig.add_subplot(grid[:, 0])
+        self.law_ax = fig.add_subplot(grid[0, 1])
+        self.accel_ax = self.law_ax.twinx()
+        self.pressure_ax = fig.add_subplot(grid[0, 2])
+        self.curvature_ax = fig.add_subplot(grid[1, 1])
+        self.text_ax = fig.add_subplot(grid[1, 2])
+        self.text_ax.axis("off")
+        self._title = None
+
+    def _clear(self) -> None:
+        """Remove what the last ``draw`` showed; the axes and their ticks stay."""
+        for ax in self.figure.axes:
+            for artist in [*ax.lines, *ax.patches, *ax.collections, *ax.texts, *ax.images]:
+                artist.remove()
+            if ax.get_legend() is not None:
+                ax.get_legend().remove()
+            for loc in ("left", "center", "right"):
+                ax.set_title("", loc=loc, y=TITLE_Y)
+            ax.ignore_existing_data_limits = True     # the next cam's data set the limits afresh
+            ax.set_autoscale_on(True)
+        if self._title is not None:
+            self._title.remove()
+
+    def draw(self, result, report: dict):
+        """Draw the page of ``result`` and its ``report`` (``plot_summary``); returns the figure."""
+        import textwrap
+
+        self._clear()
+        fig = self.figure
+        turn = "clockwise" if result.follower.cw else "counter-clockwise"
+        draw_profile(self.profile_ax, result, legend=False, title=f"cam profile at θ = 0 (turns {turn})")
+        self.profile_ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), fontsize=7, ncol=1, frameon=False)
+        law_ax, accel = self.law_ax, self.accel_ax
+        draw_kinematics([law_ax], result, rows=("s",), titles=False)
+        t = result.table
+        unit = "rad" if result.follower.kind == "oscillating" else "mm"
+        accel.plot(np.degrees(t.theta), t.a, color="#c27c0e", lw=1.0, ls="--")
+        accel.set_ylabel(f"a (dashed, {unit}/rad²)", color="#c27c0e")
+        law_ax.set_title("displacement s (solid) and acceleration analog a (dashed)", fontsize=9, loc="left",
+                         y=TITLE_Y)
+        law_ax.set_xlabel("cam angle θ (deg)")
+        draw_pressure_angle(self.pressure_ax, result)
+        draw_curvature(self.curvature_ax, result)
+        for ax in (law_ax, self.pressure_ax, self.curvature_ax):
+            _theta_axis(ax, 60)
+        for ax in (self.profile_ax, accel):
+            ax.relim()
+            ax.autoscale_view()
+        text_ax = self.text_ax
+        wrapped = []
+        for line, colour in _verdict_lines(report):
+            for k, piece in enumerate(textwrap.wrap(line, 56) or [""]):
+                wrapped.append(("    " + piece if k else piece, colour))
+        height_in = text_ax.get_position().height * fig.get_figheight()
+        step = 1.3 * 8.0 / 72.0 / height_in            # one line of 8 pt text, in axes fractions
+        # one text object per run of lines of one colour (a page pays for each text object it draws)
+        shown = wrapped[: int(1.0 / step)]
+        k = 0
+        while k < len(shown):
+            end = k + 1
+            while k > 0 and end < len(shown) and shown[end][1] == shown[k][1]:
+                end += 1
+            text_ax.text(0.0, 1.0 - k * step, "\n".join(line for line, _ in shown[k:end]),
+                         transform=text_ax.transAxes, fontsize=8, va="top", family="monospace", color=shown[k][1],
+                         weight="bold" if k == 0 else "normal", linespacing=VERDICT_LINESPACING)
+            k = end
+        verdict = "all checks passed" if report.get("passed") else "FAILED"
+        phases = report.get("phase_angles", "")
+        self._title = fig.suptitle(f"{result.name}: {verdict}" + (f" — {phases}" if phases else ""), fontsize=12,
+                                   color=COLOURS["ok"] if report.get("passed") else COLOURS["fail"])
+        fix_label_positions(fig)
+        return fig
 
 
 def _verdict_lines(report: dict) -> list[tuple[str, str]]:
@@ -507,12 +564,19 @@ PLOTS = {"summary": plot_summary, "kinematics": plot_kinematics, "pressure_angle
          "curvature": plot_curvature, "profile": plot_profile, "hodograph": plot_hodograph}
 
 
-def save_profile_plots(result, folder: str | Path, which=("summary",), report: dict | None = None) -> list[Path]:
+def save_profile_plots(result, folder: str | Path, which=("summary",), report: dict | None = None,
+                       page: SummaryPage | None = None) -> list[Path]:
     """Draw the plots named in ``which`` (keys of ``PLOTS``; "all" for every one) and save each as
-    ``<name>.png`` in ``folder``. Returns the written paths."""
+    ``<name>.png`` in ``folder``; the summary into ``page`` when given (a ``SummaryPage`` drawn again for
+    each mechanism of a group). Returns the written paths."""
+    from camcad.profile.summary import profile_report
+
     names = list(PLOTS) if "all" in which else [name for name in PLOTS if name in which]
     written = []
     for name in names:
-        fig = plot_summary(result, report) if name == "summary" else PLOTS[name](result)
+        if name == "summary":
+            fig = (page or SummaryPage()).draw(result, report if report is not None else profile_report(result))
+        else:
+            fig = PLOTS[name](result)
         written.append(save_figure(fig, Path(folder) / f"{name}.png"))
     return written

@@ -7,13 +7,15 @@ folder waits for this one.
 
 Plots: by default one summary page per mechanism (``summary.png``: the profile, the law, the pressure
 angle and the curvature with their limits, and the verdict with every margin); ``plots=("all",)`` adds
-every plot of the profile and of the models the mechanism ran (dynamics, impact, contact). When several
-mechanisms have plots and the machine has several cores, their plots are drawn in parallel processes.
+every plot of the profile and of the models the mechanism ran (dynamics, impact, contact). The pages are
+drawn in this process, one after the other, every mechanism's summary into the same figure
+(``camcad.report.profile.SummaryPage``): a group pays once for the page's axes and ticks and for
+matplotlib's first page (its fonts), where parallel processes each paid for both and for their start
+(the loom group's six pages: 2.3 s of CPU in two processes, 1.2 s in one).
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from pathlib import Path
 
@@ -21,10 +23,14 @@ import numpy as np
 
 from camcad.io.jsonout import write_json
 from camcad.io.law_write import write_law_csv
-from camcad.io.output_folder import OutputFolder, distinct_names, init_worker, safe_name
+from camcad.io.output_folder import OutputFolder, distinct_names, safe_name
 from camcad.profile.servo import ServoExport
+from camcad.report.animation import write_animation
+from camcad.report.design_report import write_design_report
 from camcad.report.part_files import scene_part_files, write_part_files
 from camcad.report.servo import servo_files, write_servo
+from camcad.report.sweep import scene_toml
+from camcad.scene.animation import mechanism_frames
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
 
@@ -53,16 +59,20 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
         ServoExport().validated() if parts[name].servo else None) for name in result.runs}
     cyclogram_plots = bool(options.plots and (result.report.get("cyclogram") or {}).get("feasible"))
     with OutputFolder(folder, [(p, "an input of the scene") for p in result.scene.input_files()]) as out:
-        # every file of the run, checked as a set before any is written (the plots are drawn in other processes)
+        # every file of the run, checked as a set before any is written
         planned = [(name, (name,) if result.group else (), file) for name, run in result.runs.items()
                    for file in _data_files(run) + (MECHANISM_PLOT_FILES if options.plots else ())
                    + tuple(parts[name].files) + servo_files(servos[name])]
         planned += [(CYCLOGRAM_JOB, (), file) for file in (CYCLOGRAM_PLOT_FILES if cyclogram_plots else ())]
-        planned.append(("", (), "report.json"))
+        planned += [(name, (name,) if result.group else (), f"animation.{kind}") for name, run in result.runs.items()
+                    if run.profile is not None for kind in options.animate]
+        planned += [("", (), file) for file in ("report.json", *(f"report.{kind}" for kind in options.report))]
         out.plan([(*sub, file) for _, sub, file in planned],
                  [f"{file} of {name}" if name else file for name, _, file in planned])
         written: dict[str, list[Path]] = {}
+        animations: dict[str, str] = {}
         jobs = []
+        pages = [out.path(f"report.{kind}") for kind in options.report]   # refused before anything is written
         for name, run in result.runs.items():
             sub = (name,) if result.group else ()
             say(f"{name}: writing")
@@ -76,6 +86,9 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
             if servo is not None:
                 files, target["servo"] = write_servo(run, out, sub, servo, result.scene.speeds_rpm)
                 written[name].extend(files)
+            # ---- --animate (camcad.report.animation)
+            if options.animate:
+                written[name] += _write_animation(run, out, sub, options, target, animations)
             # ----
             if options.plots:
                 jobs.append((name, run, out.path(*sub) if sub else out.folder, tuple(options.plots), target))
@@ -93,9 +106,37 @@ def write_scene(result: SceneResult, options: PipelineOptions = PipelineOptions(
         outputs.extend(drawn)
         report_path = out.path("report.json")
         outputs.append(report_path)
-        result.report["outputs"] = [str(p) for p in outputs]
+        result.report["outputs"] = [str(p) for p in outputs + pages]
         write_json(report_path, result.report)
+        if pages:   # --report (camcad.report.design_report): from report.json as written
+            say("report")
+            scene = result.scene
+            scene_text = (scene.path.read_text(encoding="utf-8") if scene.from_file and scene.path.is_file() else
+                          scene_toml(scene.raw, "the scene camcad built from the command's options"))
+            write_design_report(report_path, pages[0], pdf_path=pages[1] if len(pages) > 1 else None,
+                                command=options.command, scene_text=scene_text, animations=animations)
     return result
+
+
+def _write_animation(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], options: PipelineOptions,
+                     target: dict, animations: dict[str, str]) -> list[Path]:
+    """The mechanism's animation files (``options.animate``); its page is kept in ``animations`` for the report."""
+    if run.profile is None:
+        target.setdefault("skipped", {})["animation"] = "no profile to animate (no [follower])"
+        return []
+    for kind in options.animate:
+        out.path(*sub, f"animation.{kind}")
+    frames = mechanism_frames(run, options.animate_step_deg)
+    folder = out.path(*sub) if sub else out.folder
+    law = "; ".join(note.removeprefix("law: ") for note in (target.get("law") or {}).get("notes", [])[:1])
+    files = write_animation(frames, folder, options.animate, title=run.name,
+                            subtitle=run.profile.follower.describe() + (f"; {law}" if law else ""))
+    target["animation"] = {"files": [p.name for p in files], "frames": frames.count,
+                           "step_deg": 360.0 / frames.count}
+    html_file = folder / "animation.html"
+    if html_file in files:
+        animations[run.name] = html_file.read_text(encoding="utf-8")
+    return files
 
 
 def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOptions(),
@@ -167,9 +208,11 @@ def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], opti
     return [write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta))]
 
 
-def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], report: dict) -> list[Path]:
+def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], report: dict,
+                    page=None) -> list[Path]:
     """Draw and save the plots of one mechanism named in ``plots`` into ``folder`` (the profile's through
-    ``camcad.report.profile``, the models' when named or with "all")."""
+    ``camcad.report.profile``, the models' when named or with "all"); the summary into ``page`` when given
+    (a ``camcad.report.profile.SummaryPage`` shared by the mechanisms of a run)."""
     from camcad.report.figure import save_figure
 
     every = "all" in plots
@@ -178,7 +221,7 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
         from camcad.report.profile import PLOTS, save_profile_plots
 
         wanted = tuple(name for name in PLOTS if every or name in plots)
-        written.extend(save_profile_plots(run.profile, folder, wanted, report))
+        written.extend(save_profile_plots(run.profile, folder, wanted, report, page=page))
     figures = []
     if run.dynamics is not None and (every or "dynamics" in plots):
         from camcad.report.dynamics import plot_acceleration_cycle, plot_speed_sweep
@@ -224,50 +267,22 @@ CYCLOGRAM_PLOT_FILES = ("cyclogram.png", "network.png")
 CYCLOGRAM_JOB = "[cyclogram]"
 
 
-def _plot_job(job) -> tuple[str, list[Path]]:
-    name, run, folder, plots, report = job
-    if name == CYCLOGRAM_JOB:          # run is the scene, report its cyclogram object
-        from camcad.report.cyclogram import scene_cyclogram_figures
-        from camcad.report.figure import save_figure
-
-        return name, [save_figure(fig, folder / file) for file, fig in scene_cyclogram_figures(run, report)]
-    return name, mechanism_plots(run, folder, plots, report)
-
-
 def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
-    """Every mechanism's plots and the cyclogram's: in parallel processes (fork) when there are several
-    jobs and several cores. matplotlib and the plot modules are imported here, once, before the fork,
-    so that no worker imports them again (0.6 s of CPU each)."""
-    workers = min(len(jobs), os.cpu_count() or 1)
-    if workers < 2 or not hasattr(os, "fork"):
-        return [_plot_job(job) for job in jobs]
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    """Every mechanism's plots and the cyclogram's, in this process, the summaries into one shared page
+    (module docstring)."""
+    from camcad.report.profile import SummaryPage
 
-    _preload_plotting()
-    # MechanismRun.memo holds the pipeline's solved limits: not needed to draw, and not worth pickling
-    light = [(name, run if name == CYCLOGRAM_JOB else _without_memo(run), folder, plots, report)
-             for name, run, folder, plots, report in jobs]
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
-                             initializer=init_worker, initargs=(os.getpid(),)) as pool:
-        return list(pool.map(_plot_job, light))
+    page: SummaryPage | None = None
+    drawn = []
+    for name, run, folder, plots, report in jobs:
+        if name == CYCLOGRAM_JOB:          # run is the scene, report its cyclogram object
+            from camcad.report.cyclogram import scene_cyclogram_figures
+            from camcad.report.figure import save_figure
 
-
-def _preload_plotting() -> None:
-    """Import the plotting stack and open the fonts the plots use, in this process (see ``_draw_all``)."""
-    from matplotlib import font_manager
-    from matplotlib.backends import backend_agg  # noqa: F401 - imported for the workers to inherit
-
-    import camcad.report.contact
-    import camcad.report.cyclogram
-    import camcad.report.dynamics
-    import camcad.report.profile  # noqa: F401
-
-    for family in ("sans-serif", "monospace"):
-        font_manager.get_font(font_manager.findfont(font_manager.FontProperties(family=[family])))
-
-
-def _without_memo(run: MechanismRun) -> MechanismRun:
-    from dataclasses import replace
-
-    return replace(run, memo=None)
+            figures = scene_cyclogram_figures(run, report)
+            drawn.append((name, [save_figure(fig, folder / file) for file, fig in figures]))
+            continue
+        if page is None and run.profile is not None and ("summary" in plots or "all" in plots):
+            page = SummaryPage()
+        drawn.append((name, mechanism_plots(run, folder, plots, report, page)))
+    return drawn

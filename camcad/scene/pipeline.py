@@ -84,6 +84,16 @@ class PipelineOptions:
     export : dict, optional
         The part's files and units given on the command line (``camcad.scene.sections.export.ExportSettings`` field
         names → values; lengths mm, feed mm/min), put over each mechanism's [export] section.
+    animate : tuple of str
+        Write each mechanism's animation (``camcad.report.animation``) in these formats: "html"
+        (animation.html), "gif", "mp4"; () none.
+    animate_step_deg : float
+        Cam angle between the animation's frames, deg (must divide 360).
+    report : tuple of str
+        Write the design's report: "html" (report.html), "pdf" (also report.pdf, printed by headless
+        Chromium); () none.
+    command : str
+        The command that ran, for the report's "how to reproduce it" (no unit); "" when called from Python.
 
     Examples
     --------
@@ -122,6 +132,14 @@ class PipelineOptions:
     polydyne_rpm: float | None = None
     #: the part's files and units given on the command line (``ExportSettings`` field names → values), or None
     export: dict | None = None
+    #: ``--animate``: animation formats ("html", "gif", "mp4"); () none
+    animate: tuple[str, ...] = ()
+    #: ``--animate-step``: cam angle between frames, deg
+    animate_step_deg: float = 1.0
+    #: ``--report``: "html" (report.html) and "pdf" (report.pdf); () none
+    report: tuple[str, ...] = ()
+    #: the command that ran (the report says how to reproduce it); "" from Python
+    command: str = ""
 
     def runs(self, model: str) -> bool:
         """Whether the analysis pass runs ``model`` (one of ``MODELS``)."""
