@@ -321,7 +321,6 @@ def settings_for(linkage: Linkage, adj: Adjustment, psi_max: float, quantity: st
     >>> round(characteristics(lk, adj, x, 0.5).swing, 12)
     0.2
     """
-    from scipy.optimize import brentq
 
     x_b = base_setting(linkage, adj)
     interval = working_interval(linkage, adj, psi_max, span, step, mu_min)
@@ -343,12 +342,44 @@ def settings_for(linkage: Linkage, adj: Adjustment, psi_max: float, quantity: st
             if diff[i] == 0.0:
                 roots.append(float(grid[i]))
             elif diff[i] * diff[i + 1] < 0.0:
-                roots.append(float(brentq(lambda x, t=target: value(x) - t, grid[i], grid[i + 1], xtol=1e-15,
-                                          rtol=4 * np.finfo(float).eps)))
+                root = bracketed_root(lambda x, t=target: value(x) - t, float(grid[i]), float(grid[i + 1]))
+                if root is not None:
+                    roots.append(root)
         if len(diff) and diff[-1] == 0.0:
             roots.append(float(grid[-1]))
         found.append(min(roots, key=lambda r: abs(r - x_b)) if roots else None)
     return found
+
+
+def bracketed_root(fn, lo: float, hi: float, pieces: int = 16) -> float | None:
+    """A root of ``fn`` between ``lo`` and ``hi`` (finite values of opposite signs there) by Brent's method;
+    where ``fn`` is NaN somewhere inside (the linkage opens between two working settings) the bracket is cut
+    into ``pieces`` and the first sub-bracket with finite values of opposite signs is refined; None when there
+    is none.
+
+    Examples
+    --------
+    >>> round(bracketed_root(lambda x: x * x - 2.0, 0.0, 2.0), 12)
+    1.414213562373
+    >>> f = lambda x: float("nan") if 0.4 < x < 0.6 else x - 0.8
+    >>> round(bracketed_root(f, 0.0, 1.0), 12)
+    0.8
+    """
+    from scipy.optimize import brentq
+
+    try:
+        return float(brentq(fn, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+    except ValueError:
+        pass
+    grid = np.linspace(lo, hi, pieces + 1)
+    values = [fn(float(x)) for x in grid]
+    for k in range(pieces):
+        f0, f1 = values[k], values[k + 1]
+        if math.isfinite(f0) and math.isfinite(f1) and f0 * f1 <= 0.0:
+            if f0 == 0.0:
+                return float(grid[k])
+            return bracketed_root(fn, float(grid[k]), float(grid[k + 1]), pieces) if pieces > 2 else None
+    return None
 
 
 def working_interval(linkage: Linkage, adj: Adjustment, psi_max: float, span: float = math.pi,
@@ -392,6 +423,7 @@ class AdjustResult:
     deviation: dict
     monotone: bool
     notes: tuple[str, ...] = ()
+    evidence: dict | None = None
 
 
 def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, float], count: int = 7,
@@ -429,7 +461,7 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
 
 
 def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, float], functions: dict,
-             count: int = 21, starts: int = 6, max_evaluations: int = 150) -> AdjustResult:
+             count: int = 21, starts: int = 6, max_evaluations: int = 150, mu_min: float = 0.0) -> AdjustResult:
     """Tasks 2–6 of Table 3 fitted by least squares on ``count`` values of the regulating variable u
     over ``u_range``: the arc of joint A on the input lever (centre M, radius r) and the settings
     x(u) = x₀ + (x₁ − x₀)(u − u₀)/(u₁ − u₀); task 4 keeps task 1's arc (ψ₁ exact) and fits x₀, x₁ only.
@@ -438,6 +470,8 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
     {"psi2"}; task 5 {"psi1", "psi2"}; task 6 {"swing"}. The fit starts from task 1's arc with settings
     spans of 10°, 20°, … (``starts``) in both directions, ``max_evaluations`` residual evaluations each; it is
     a local least-squares fit: the deviation it reports is what it reached, not a proven optimum.
+    ``mu_min`` (rad): the transmission-angle limit, a constraint of the fit (10 × the violation in rad added to
+    the residuals at every setting).
 
     Returns
     -------
@@ -466,12 +500,13 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
             try:
                 r = characteristics(linkage, adj, x, psi_max, points=3, quick=True)
             except (CamcadError, ValueError, ZeroDivisionError):
-                out += [1.0, 1.0]
+                out += [1.0, 1.0, 1.0]
                 continue
             if not r.branch_continuous:
-                out += [1.0, 1.0]
+                out += [1.0, 1.0, 1.0]
                 continue
             out += _task_residual(task, r, uk, functions)
+            out.append(10.0 * max(0.0, mu_min - r.mu_min) if math.isfinite(r.mu_min) else 1.0)
         return np.array(out)
 
     best: Any = None
@@ -594,16 +629,31 @@ def crank_characteristics(linkage: Linkage, adj: Adjustment, x: float) -> dict:
             "psi2_deg": math.degrees(psi2), "psi12_deg": math.degrees(math.remainder(psi2 - psi1, 2 * math.pi))}
 
 
-def check_requirements(rows: list[dict], task: int, table: int = 3, tol_deg: float = 1e-9) -> dict:
+def check_requirements(rows: list[dict], task: int, table: int = 3, tol_deg: float = 1e-9, kept: str = "psi1"
+                       ) -> dict:
     """Which of the task's requirements the rows of characteristics (deg) meet: a "const" column must not
     move by more than ``tol_deg``; "var" and "f" columns must change monotonically over the rows.
+
+    ``kept = "psi2"``: Table 3 task 1 solved with the second extreme kept (``solve_task1(keep="psi2")``) — the
+    columns ψ₁ and ψ₂ trade roles, so the task's "ψ₁ const, ψ₂ var" is judged on ψ₂ const, ψ₁ var and reported
+    under the names of the columns judged.
 
     Examples
     --------
     >>> rows = [{"psi1_deg": 0.0, "psi2_deg": 10.0}, {"psi1_deg": 0.0, "psi2_deg": 12.0}]
     >>> check_requirements(rows, 1)["passed"]
     True
+    >>> kept2 = [{"psi1_deg": 4.0, "psi2_deg": 24.0}, {"psi1_deg": 2.0, "psi2_deg": 24.0}]
+    >>> out = check_requirements(kept2, 1, kept="psi2")
+    >>> out["psi2"]["need"], out["psi1"]["need"], out["passed"]
+    ('const', 'var', True)
     """
+    if kept not in ("psi1", "psi2"):
+        raise CamcadError(f"keep must be psi1 or psi2, got {kept!r}", "--keep", "use --keep psi1 or --keep psi2")
+    if kept == "psi2":
+        swapped = [{**r, "psi1_deg": r["psi2_deg"], "psi2_deg": r["psi1_deg"]} for r in rows]
+        verdict = check_requirements(swapped, task, table, tol_deg)
+        return {{"psi1": "psi2", "psi2": "psi1"}.get(k, k): v for k, v in verdict.items()}
     spec = (TABLE3 if table == 3 else TABLE2).get(task)
     if spec is None:
         raise CamcadError(f"Table {table} has no task {task}", "--task",

@@ -19,9 +19,12 @@ import numpy as np
 from camcad.io.atomic import write_atomic, write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfText, write_dxf
 from camcad.io.jsonout import write_json
+from camcad.linkage.fgen import structural_error
+from camcad.linkage.synthesis import error_tolerance
 
 PNG_METADATA = {"Software": None}
 FORBIDDEN = "#f4c7c3"
+FORBIDDEN_EDGE = "#c0392b"
 
 
 def _write_dxf(path: Path, drawing: Drawing) -> Path:
@@ -258,15 +261,18 @@ def error_figure(result):
     ax.axhline(0, color="grey", lw=0.6)
     ax.plot(phi, err, color="#1f4e9c", lw=1.4, label="structural error")
     nodes_deg = np.degrees(result.nodes_phi)
-    if result.method == "minimax":
-        node_err = np.interp(nodes_deg, phi, err)
+    # each node where the error is (the Q method's centre pivot, least squares and minimax do not interpolate)
+    node_err = np.degrees(structural_error(result.mechanism, t, result.nodes_phi)) if len(nodes_deg) else nodes_deg
+    if result.method == "remez":
         ax.plot(nodes_deg, node_err, "s", color="#c0392b", ms=5, label=f"{len(nodes_deg)} reference points")
     elif len(nodes_deg) <= 12:
-        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "o", color="#c0392b", ms=5,
-                label=f"{len(nodes_deg)} interpolation nodes")
-    else:
-        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "|", color="#c0392b", ms=8,
-                label=f"{len(nodes_deg)} fitting points")
+        ax.plot(nodes_deg, node_err, "o", color="#c0392b", ms=5, label=f"{len(nodes_deg)} interpolation nodes")
+    elif len(nodes_deg):
+        ax.plot(nodes_deg, node_err, "|", color="#c0392b", ms=8, label=f"{len(nodes_deg)} fitting points")
+    tolerance = error_tolerance(result.options, t)
+    if tolerance <= 4 * max(float(np.max(np.abs(err))), 1e-300):
+        ax.axhline(tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--", label=f"tolerance ±{tolerance:.3g} deg")
+        ax.axhline(-tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--")
     k = int(np.argmax(np.abs(err)))
     ax.plot(phi[k], err[k], "D", color="black", ms=5, label="largest |error|")
     ax.set_ylabel("output angle error Δψ (deg)")
