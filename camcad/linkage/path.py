@@ -256,6 +256,8 @@ def from_dyads(o: complex, a_1: complex, b_1: complex, pivot: complex, m_1: comp
     ([40.0, 108.166538264, 90.0, 100.0], -1)
     """
     b = abs(b_1 - a_1)
+    if not (b > 0 and abs(a_1 - o) > 0 and abs(b_1 - pivot) > 0):
+        raise ValueError("a link of zero length: no four-bar")
     frame = (b_1 - a_1) / b
     point = (m_1 - a_1) / frame
     base = GuidingFourBar(o, pivot, abs(a_1 - o), b, abs(b_1 - pivot), 1, point, theta0)
@@ -482,8 +484,8 @@ def _pack(mech: GuidingFourBar) -> np.ndarray:
 
 
 def _unpack(x, branch: int) -> GuidingFourBar:
-    return GuidingFourBar(complex(x[0], x[1]), complex(x[2], x[3]), math.exp(x[4]), math.exp(x[5]), math.exp(x[6]),
-                          branch, complex(x[7], x[8]), float(x[9]))
+    a, b, c = (math.exp(min(float(v), 700.0)) for v in x[4:7])
+    return GuidingFourBar(complex(x[0], x[1]), complex(x[2], x[3]), a, b, c, branch, complex(x[7], x[8]), float(x[9]))
 
 
 def _residuals(target: PathTarget, mech: GuidingFourBar, theta: np.ndarray, work: PathWork) -> np.ndarray:
@@ -543,16 +545,36 @@ def polish(target: PathTarget, mech: GuidingFourBar, limits: Limits, work: PathW
     return out
 
 
-def _crank_dyad(target: PathTarget, phi: np.ndarray, rng, starts: int, work: PathWork):
-    """O, a, θ₀, e = |AM| with |M_k − A(θ₀ + φ_k)| = e by least squares (``phi`` may carry a free step: then the
-    step is the last unknown and φ_k = k·step)."""
+def _distinct(fits: list, size: float, key, keep: int = 6) -> list:
+    """The fits of least cost (within 10× the best, or exact), one per distinct solution (``key``: a point)."""
+    fits = sorted(fits, key=lambda f: f.cost)
+    if not fits:
+        return []
+    bound = max(1e-20, 10.0 * fits[0].cost)
+    out: list = []
+    for f in fits:
+        if f.cost > bound or not np.all(np.isfinite(f.x)):
+            break
+        if all(abs(key(f) - key(g)) > 1e-6 * size for g in out):
+            out.append(f)
+        if len(out) == keep:
+            break
+    return out
+
+
+def _crank_dyad(target: PathTarget, phi: np.ndarray | None, rng, starts: int, work: PathWork) -> list:
+    """O, a, θ₀, e = |AM| with |M_k − A(θ₀ + φ_k)| = e by least squares (``phi`` None: equal steps, the step a
+    further unknown and φ_k = k·step): the distinct solutions of least cost as (O, a, crank angles, cost). With
+    more rows than unknowns the first exact fit ends the search; with as many (five rows) every start runs, as the
+    exact solutions are several."""
     from scipy.optimize import least_squares
 
     pts, size = target.points, target.size
     centre = complex(np.mean(pts))
     free_step = phi is None
     k = np.arange(len(pts))
-    best = None
+    square = len(pts) <= 5 + int(free_step)
+    fits = []
     for _ in range(starts):
         x0 = [centre.real + rng.uniform(-1.5, 1.5) * size, centre.imag + rng.uniform(-1.5, 1.5) * size,
               math.log(size) + rng.uniform(-2.5, 0.3), rng.uniform(-math.pi, math.pi),
@@ -564,27 +586,29 @@ def _crank_dyad(target: PathTarget, phi: np.ndarray, rng, starts: int, work: Pat
         def res(x):
             work.positions += len(pts)
             angles = k * x[5] if free_step else phi
-            a_pts = x[0] + 1j * x[1] + math.exp(x[2]) * np.exp(1j * (x[3] + angles))
-            return (np.abs(pts - a_pts) - math.exp(x[4])) / size
+            a_pts = x[0] + 1j * x[1] + math.exp(min(x[2], 700.0)) * np.exp(1j * (x[3] + angles))
+            return (np.abs(pts - a_pts) - math.exp(min(x[4], 700.0))) / size
 
-        fit = least_squares(res, x0, method="lm", xtol=1e-15, ftol=1e-15, max_nfev=300)
-        if best is None or fit.cost < best.cost:
-            best = fit
-        if best.cost < 1e-24:
+        fits.append(least_squares(res, x0, method="lm", xtol=1e-15, ftol=1e-15, max_nfev=300))
+        if not square and fits[-1].cost < 1e-24:
             break
-    assert best is not None  # starts >= 1
-    x = best.x
-    angles = k * x[5] if free_step else phi
-    o = complex(x[0], x[1])
-    return o, math.exp(x[2]), x[3] + angles, best.cost
+    out = []
+    for fit in _distinct(fits, size, lambda f: complex(f.x[0], f.x[1])):
+        x = fit.x
+        angles = k * x[5] if free_step else phi
+        out.append((complex(x[0], x[1]), math.exp(x[2]), x[3] + angles, fit.cost))
+    return out
 
 
-def _rocker_dyad(target_points: np.ndarray, a_pts: np.ndarray, size: float, rng, starts: int, work: PathWork):
-    """The coupler point B (w from A along A→M and to its left) whose positions lie on one circle (C, c)."""
+def _rocker_dyad(target_points: np.ndarray, a_pts: np.ndarray, size: float, rng, starts: int, work: PathWork
+                 ) -> list:
+    """The coupler points B (w from A along A→M and to its left) whose positions lie on one circle (C, c): the
+    distinct solutions of least cost as (B_k, C)."""
     from scipy.optimize import least_squares
 
     g = (target_points - a_pts) / np.abs(target_points - a_pts)
-    best = None
+    square = len(a_pts) <= 5
+    fits = []
     for _ in range(starts):
         w0 = complex(rng.uniform(-3, 3), rng.uniform(-3, 3)) * size
         b_pts = a_pts + w0 * g
@@ -594,19 +618,16 @@ def _rocker_dyad(target_points: np.ndarray, a_pts: np.ndarray, size: float, rng,
         def res(x):
             work.positions += len(a_pts)
             b = a_pts + complex(x[0], x[1]) * g
-            return (np.abs(b - complex(x[2], x[3])) - math.exp(x[4])) / size
+            return (np.abs(b - complex(x[2], x[3])) - math.exp(min(x[4], 700.0))) / size
 
         fit = least_squares(res, x0, method="lm", xtol=1e-15, ftol=1e-15, max_nfev=300)
         if abs(complex(fit.x[0], fit.x[1])) < 1e-3 * size:
             continue                                 # B on A: no coupler
-        if best is None or fit.cost < best.cost:
-            best = fit
-        if best.cost < 1e-24:
+        fits.append(fit)
+        if not square and fit.cost < 1e-24:
             break
-    if best is None:
-        return None
-    w = complex(best.x[0], best.x[1])
-    return a_pts + w * g, complex(best.x[2], best.x[3])
+    return [(a_pts + complex(f.x[0], f.x[1]) * g, complex(f.x[2], f.x[3]))
+            for f in _distinct(fits, size, lambda f: complex(f.x[2], f.x[3]))]
 
 
 def _from_poses(o: complex, a_pts: np.ndarray, b_pts: np.ndarray, pivot: complex, m_pts: np.ndarray,
@@ -698,15 +719,13 @@ def _dyad_starts(target: PathTarget, seed: int, work: PathWork) -> list[tuple[Gu
         steps = np.r_[0.0, np.cumsum(chords[:-1])] * 2 * math.pi / float(np.sum(chords))
         timings += [steps, -steps]
     for phi in timings:
-        o, a, theta, cost = _crank_dyad(target, phi, rng, 30, work)
-        if not math.isfinite(cost):
-            continue
-        a_pts = o + a * np.exp(1j * theta)
-        found = _rocker_dyad(target.points, a_pts, size, rng, 30, work)
-        if found is None:
-            continue
-        b_pts, pivot = found
-        out.append((_from_poses(o, a_pts, b_pts, pivot, target.points, float(theta[0])), theta))
+        for o, a, theta, _ in _crank_dyad(target, phi, rng, 30, work):
+            a_pts = o + a * np.exp(1j * theta)
+            for b_pts, pivot in _rocker_dyad(target.points, a_pts, size, rng, 30, work):
+                try:
+                    out.append((_from_poses(o, a_pts, b_pts, pivot, target.points, float(theta[0])), theta))
+                except ValueError:
+                    continue
     return out
 
 
@@ -738,6 +757,7 @@ class QPath:
     pivots: np.ndarray
     mechanism: GuidingFourBar | None
     theta: np.ndarray | None
+    split: int = 0          # the timed task: the first ``split`` pivots are stage 1's (crank pins), the rest stage 2's
 
 
 def _side_patterns(dist: np.ndarray) -> list[np.ndarray]:
@@ -788,11 +808,11 @@ class PathQ:
         t = self.target
         self.work.evaluations += 1
         self.work.positions += t.count
-        if t.task == "points":
-            return self._points(x)
-        if t.task == "timed":
-            return self._timed(x)
-        return self._distance(x)
+        solve = {"points": self._points, "timed": self._timed, "distance": self._distance}[t.task]
+        try:
+            return solve(x)
+        except (ValueError, ZeroDivisionError, OverflowError):      # a degenerate set of free parameters
+            return QPath(math.inf, np.array([complex(math.nan)]), None, None)
 
     def _found(self, pts: np.ndarray, radius: float | None) -> np.ndarray:
         """The pivot of each node subset: the circumcentre (3 nodes) or, with ``radius``, the meeting point of
@@ -859,7 +879,7 @@ class PathQ:
             return QPath(math.inf, found, None, None)
         theta_1 = cmath.phase(a_1 - o)
         mech = from_dyads(o, a_1, complex(b_pts[0]), pivot, complex(pts[0]), theta_1)
-        return QPath(q1 + q2, np.concatenate([best, found]), mech, theta_1 + phi)
+        return QPath(q1 + q2, np.concatenate([best, found]), mech, theta_1 + phi, len(best))
 
     def _distance(self, x) -> QPath:
         t = self.target
@@ -891,7 +911,8 @@ class PathQ:
         k = len(st.pivots)
         if st.mechanism is None or not np.all(np.isfinite(st.pivots)):
             return np.full(2 * k + 1, 10.0)
-        spread = (st.pivots - np.mean(st.pivots)) / self.size
+        groups = [st.pivots[:st.split], st.pivots[st.split:]] if st.split else [st.pivots]
+        spread = np.concatenate([g - np.mean(g) for g in groups]) / self.size
         lo, hi = self._range(st)
         margins = limit_margins(st.mechanism, lo, hi, self.limits, inside=0.0)
         penalty = 10.0 * float(np.sum(np.maximum(0.0, -margins)))
@@ -938,6 +959,16 @@ def admissible(mech: GuidingFourBar, chk: PathCheck, limits: Limits) -> bool:
                 and max(links) / min(links) <= limits.ratio_max)
 
 
+def _start_cost(target: PathTarget, item, work: PathWork) -> float:
+    """The sum of squared deviations of a start (its own crank angles for points)."""
+    mech, theta = item
+    angles = theta if target.task == "points" and theta is not None else mech.theta0 + target.phi
+    if target.task == "points" and theta is None:
+        return math.inf
+    r = _residuals(target, mech, np.asarray(angles, dtype=float), work)
+    return float(np.sum(r * r))
+
+
 def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, tolerance: float | None = None
                         ) -> PathResult:
     """The deviation method (module docstring): starts from the dyads (and, for points that they do not reach,
@@ -954,22 +985,30 @@ def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, toler
     """
     work = PathWork()
     tol = tolerance if tolerance is not None else DEFAULT_TOLERANCE * target.size
-    starts = _dyad_starts(target, seed, work)
-    if target.task == "distance":
-        starts = _random_distance_starts(target, seed, 40)
-    mechs = [polish(target, m, limits, work, th) for m, th in starts]
-    notes = []
+    starts = _dyad_starts(target, seed, work) if target.task != "distance" else \
+        _random_distance_starts(target, seed, 40)
+    notes: list[str] = []
+
+    def polished(pool) -> list[GuidingFourBar]:
+        """Polish the starts best first; stop at the first admissible one within a tenth of the tolerance."""
+        ranked = sorted(pool, key=lambda item: _start_cost(target, item, work))
+        out = []
+        for mech, theta in ranked[:8]:
+            out.append(polish(target, mech, limits, work, theta))
+            chk = check(out[-1], target)
+            if admissible(out[-1], chk, limits) and chk.max_deviation <= 0.1 * tol:
+                break
+        return out
+
+    mechs = polished(starts)
     if target.task == "points":
         best = _best(target, mechs, limits) if mechs else None
         if best is None or not admissible(*best, limits) or best[1].max_deviation > tol:
             evo = _evolution_starts(target, limits, seed, work)
-            mechs += [polish(target, m, limits, work, th) for m, th in evo]
-            notes.append(f"starts: {len(starts)} from the dyads (equal crank steps), {len(evo)} from differential "
-                         "evolution on the implicit equation")
+            mechs += polished(evo)
+            notes.append(f"starts: {len(starts)} from the dyads (equal crank steps, chord steps), {len(evo)} from "
+                         "differential evolution on the implicit equation")
             starts = starts + evo
-    elif target.task == "distance":
-        judged = sorted(mechs, key=lambda m: check(m, target).max_deviation)
-        mechs = judged[:5]
     if not mechs:
         raise CamcadError("no four-bar was found for this path", target.source,
                           "check the table (points along one curve, in order)")
@@ -1019,7 +1058,10 @@ def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 
             x += [math.log(size) + rng.uniform(-1.5, 0.5)] if nodes == 2 else []
         xs.append(np.array(x))
     best = None
-    for x0 in xs:
+    given = len(xs) - random_starts
+    for index, x0 in enumerate(xs):
+        if index == given and best is not None and not best[0][0] and best[0][1] <= 1e-9 * size:
+            break                 # a given start reached Q = 0 within the limits: no random start can do better
         try:
             fit = least_squares(problem.residual, x0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
         except ValueError:
