@@ -17,7 +17,12 @@ Laws: ``load_law``, ``compose`` (standard shapes), ``parse_phases``, ``kinematic
 ``min_base_radius``, ``write_outputs``. Fourier: ``analyse``, ``resonant_harmonics``, ``filter_law``.
 Dynamics: ``ElasticFollower``, ``steady_state``, ``residual_vibration``, ``StopModel``, ``impact_sweep``.
 Contact: ``ContactParams``, ``contact_stress``. Cyclogram: ``Operation``, ``make_network``, ``optimise``.
-Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Plots (each returns a Figure):
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Linkages (Sunkuev 1984): a request in,
+a report out (``to_dict()``, ``exit_code``, ``lines()``) — ``run_linkage_atlas`` (``AtlasRequest``),
+``run_linkage_fgen`` (``FgenRequest``), ``run_linkage_path`` (``PathRequest``), ``run_linkage_family``
+(``FamilyRequest``), ``run_linkage_analyse`` (``AnalyseRequest``), ``run_linkage_adjust`` (``AdjustRequest``),
+``run_linkage_tune`` (``TuneRequest``) with ``LinkageSource`` and ``ElementSpec``; ``linkage_command`` runs one and
+writes its files. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``.
 
@@ -51,10 +56,21 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.phases import parse_phases
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
+    from camcad.linkage.runners import (
+        AtlasRequest,
+        FamilyRequest,
+        FgenRequest,
+        PathRequest,
+        run_linkage_atlas,
+        run_linkage_family,
+        run_linkage_fgen,
+        run_linkage_path,
+    )
     from camcad.profile.design import min_base_radius
     from camcad.profile.followers import Follower
     from camcad.profile.summary import profile_report
     from camcad.profile.synth import ProfileResult, ProfileSettings, synthesize
+    from camcad.report.linkage_commands import linkage_command
     from camcad.report.profile import (
         plot_curvature,
         plot_hodograph,
@@ -66,6 +82,16 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
     from camcad.scene.file import read_scene
+    from camcad.scene.linkage_commands import (
+        AdjustRequest,
+        AnalyseRequest,
+        ElementSpec,
+        LinkageSource,
+        TuneRequest,
+        run_linkage_adjust,
+        run_linkage_analyse,
+        run_linkage_tune,
+    )
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
 
 #: public name -> the module that defines it
@@ -94,6 +120,13 @@ _EXPORTS: dict[str, str] = {
     "plot_summary": "camcad.report.profile", "plot_kinematics": "camcad.report.profile",
     "plot_pressure_angle": "camcad.report.profile", "plot_curvature": "camcad.report.profile",
     "plot_profile": "camcad.report.profile", "plot_hodograph": "camcad.report.profile",
+    **{name: "camcad.linkage.runners" for name in (
+        "AtlasRequest", "FgenRequest", "PathRequest", "FamilyRequest", "run_linkage_atlas", "run_linkage_fgen",
+        "run_linkage_path", "run_linkage_family")},
+    **{name: "camcad.scene.linkage_commands" for name in (
+        "LinkageSource", "ElementSpec", "AnalyseRequest", "AdjustRequest", "TuneRequest", "run_linkage_analyse",
+        "run_linkage_adjust", "run_linkage_tune")},
+    "linkage_command": "camcad.report.linkage_commands",
 }
 
 
@@ -101,18 +134,27 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 __all__ = [
+    "AdjustRequest",
+    "AnalyseRequest",
+    "AtlasRequest",
     "BalanceReport",
     "CamcadError",
     "ContactParams",
     "Correction",
     "ElasticFollower",
+    "ElementSpec",
+    "FamilyRequest",
+    "FgenRequest",
     "Follower",
+    "LinkageSource",
     "LoadedLaw",
     "Operation",
+    "PathRequest",
     "PipelineOptions",
     "ProfileResult",
     "ProfileSettings",
     "StopModel",
+    "TuneRequest",
     "__version__",
     "analyse",
     "analyse_scene",
@@ -123,6 +165,7 @@ __all__ = [
     "filter_law",
     "impact_sweep",
     "kinematics_deg",
+    "linkage_command",
     "load_law",
     "make_network",
     "min_base_radius",
@@ -138,6 +181,13 @@ __all__ = [
     "read_scene",
     "residual_vibration",
     "resonant_harmonics",
+    "run_linkage_adjust",
+    "run_linkage_analyse",
+    "run_linkage_atlas",
+    "run_linkage_family",
+    "run_linkage_fgen",
+    "run_linkage_path",
+    "run_linkage_tune",
     "run_scene",
     "steady_state",
     "synthesize",

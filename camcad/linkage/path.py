@@ -211,7 +211,7 @@ class GuidingFourBar:
     --------
     >>> m = GuidingFourBar(0j, 100 + 0j, 40.0, 120.0, 90.0, 1, 60 + 20j, 0.0)
     >>> a_pt, b_pt, p_pt = m.positions(np.array([math.pi / 2]))
-    >>> round(abs(a_pt[0] - b_pt[0]), 9), round(abs(b_pt[0] - 100), 9)
+    >>> round(float(abs(a_pt[0] - b_pt[0])), 9), round(float(abs(b_pt[0] - 100)), 9)
     (120.0, 90.0)
     """
 
@@ -253,7 +253,7 @@ def from_dyads(o: complex, a_1: complex, b_1: complex, pivot: complex, m_1: comp
     --------
     >>> m = from_dyads(0j, 40j, 100 + 90j, 100 + 0j, 30 + 60j)
     >>> [round(v, 9) for v in m.links()], m.branch
-    ([40.0, 108.166538264, 90.0, 100.0], -1)
+    ([40.0, 111.803398875, 90.0, 100.0], -1)
     """
     b = abs(b_1 - a_1)
     if not (b > 0 and abs(a_1 - o) > 0 and abs(b_1 - pivot) > 0):
@@ -295,8 +295,8 @@ def circumcentre(z1, z2, z3):
 
     Examples
     --------
-    >>> complex(circumcentre(1 + 0j, 1j, -1 + 0j))
-    0j
+    >>> abs(complex(circumcentre(1 + 0j, 1j, -1 + 0j))) < 1e-12
+    True
     """
     w = (z3 - z1) / (z2 - z1)
     with np.errstate(all="ignore"):
@@ -455,7 +455,9 @@ def limit_margins(mech: GuidingFourBar, lo: float, hi: float, limits: Limits, in
 
     Examples
     --------
-    >>> m = GuidingFourBar(0j, 100 + 0j, 40.0, 120.0, 90.0, 1, 60 + 20j)
+    Crank 30 of a 30/120/90/100 crank-rocker: the diagonal runs 70…130 mm, μ 35.4…75.0 deg over a turn:
+
+    >>> m = GuidingFourBar(0j, 100 + 0j, 30.0, 120.0, 90.0, 1, 60 + 20j)
     >>> bool(limit_margins(m, 0.0, 2 * math.pi, Limits(30.0, 10.0)).min() > 0)
     True
     """

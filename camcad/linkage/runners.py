@@ -125,8 +125,22 @@ class LinkageReport:
 
 @dataclass(frozen=True)
 class AtlasRequest:
-    """``camcad linkage atlas``: chains with ``links`` links (frame counted) and mobility ``dof``; with
-    ``adjustable`` = m, adjustable chains of n' = ``links``, W' = ``dof`` with m locked pairs (Table 1)."""
+    """What ``camcad linkage atlas`` enumerates (Sunkuev 1984, ch. 1 and Table 1).
+
+    Parameters
+    ----------
+    links : int
+        Number of links n, the frame counted; with ``adjustable``, n' of the adjustable chain.
+    dof : int
+        Mobility W; with ``adjustable``, W'.
+    adjustable : int or None
+        m locked pairs: enumerate adjustable chains (n = n' + m, W = W' + m, m pairs locked).
+
+    Examples
+    --------
+    >>> run_linkage_atlas(AtlasRequest(4, 1, adjustable=2)).to_dict()["count"]
+    3
+    """
 
     links: int
     dof: int = 1
@@ -208,12 +222,47 @@ def run_linkage_atlas(request: AtlasRequest) -> LinkageAtlasReport:
 
 @dataclass(frozen=True)
 class FgenRequest:
-    """``camcad linkage fgen``: a four-bar function generator for y = f(x).
+    """What ``camcad linkage fgen`` synthesises: a four-bar function generator for y = f(x).
 
-    The function is ``function`` (an expression of x) or ``table`` (x, y rows); ``x`` its interval (X0, X1);
-    ``input_range``/``output_range`` the links' turns (deg); ``method`` one of q, precision, lsq, minimax,
-    remez, or all; the limits ``mu_min`` (deg) and ``ratio_max``; ``max_error`` the accuracy asked for (deg;
-    default 1 % of the output range)."""
+    Parameters
+    ----------
+    function : str or None
+        y = f(x) as an expression of x (``"log10(x)"``); or give ``table``.
+    table : Path or None
+        A two-column table x, y (.csv/.txt).
+    x : str or sequence of float
+        The interval X0, X1 of x (``"1:2"`` or ``(1, 2)``), in the function's own unit.
+    input_range, output_range : float
+        The input and output links' turns over the interval, deg (signed).
+    method : str
+        q (the seed's Q method), precision, lsq, minimax (least maximum error under the limits), remez (equal
+        ripple without limits: a reference), or all.
+    nodes : int or None
+        q: S nodes (odd, default 5); lsq: N points (default 41).
+    spacing : str
+        chebyshev or uniform nodes.
+    mu_min : float
+        Smallest transmission angle, deg.
+    ratio_max : float
+        Largest link-length ratio (dimensionless).
+    frame : float
+        Frame length OC of the result, mm.
+    phi0, psi0 : float or None
+        precision: the input and output offsets, deg (default scanned).
+    pick : str
+        q, the last step: ``centre`` of the Q rectangle or ``search`` it.
+    seed : int
+        q: the scan grid's random shift.
+    max_error : float or None
+        The accuracy asked for, deg; default 1 % of the output range.
+
+    Examples
+    --------
+    >>> r = run_linkage_fgen(FgenRequest(function="log10(x)", x="1:2", input_range=60, output_range=90,
+    ...                                  method="precision", phi0=45, psi0=135))
+    >>> r.to_dict()["method"], len(r.to_dict()["nodes_deg"])
+    ('precision', 3)
+    """
 
     function: str | None = None
     table: Path | None = None
@@ -390,9 +439,35 @@ def run_linkage_fgen(request: FgenRequest) -> FgenReport:
 
 @dataclass(frozen=True)
 class FamilyRequest:
-    """``camcad linkage family``: one adjustable four-bar for a family of position functions ψ⁽ʲ⁾(x), each
-    an expression of the input angle x (deg) giving deg (``members``), or a table of x then one column per
-    member (``table``); ``phi`` the input interval (deg)."""
+    """What ``camcad linkage family`` synthesises: one adjustable four-bar for a family of position functions.
+
+    Parameters
+    ----------
+    members : tuple of str
+        Each member ψ⁽ʲ⁾(x) as an expression of the input angle x (deg) giving deg.
+    table : Path or None
+        Instead of ``members``: x (deg), then one column per member (deg).
+    phi : str or sequence of float
+        The input interval A, B, deg (``"0:60"``).
+    nodes : int
+        S nodes per member (odd).
+    crank : float
+        Crank length OA, mm.
+    phi0 : float
+        The crank's angle at x = 0, deg.
+    spacing : str
+        chebyshev or uniform nodes.
+    ratio_max : float
+        Largest link-length ratio (dimensionless).
+    mu_min : float
+        Transmission-angle limit, deg (a constraint of the search).
+
+    Examples
+    --------
+    >>> r = run_linkage_family(FamilyRequest(members=("0.5*x", "0.6*x", "0.7*x"), phi="0:40", crank=40, phi0=60))
+    >>> r.to_dict()["members"]
+    3
+    """
 
     members: tuple[str, ...] = ()
     table: Path | None = None
@@ -452,8 +527,9 @@ def table_members(path: Path, a: float, b: float) -> list[Member]:
 
 
 def run_linkage_family(request: FamilyRequest) -> FamilyReport:
-    """One adjustable four-bar for a family of position functions (``camcad linkage family``): stage 1 the Q
-    method over every member, stage 2 the circle through the members' pivots.
+    """One adjustable four-bar for a family of position functions (``camcad linkage family``).
+
+    Stage 1 the Q method over every member, stage 2 the circle through the members' pivots.
 
     Parameters
     ----------
@@ -534,11 +610,45 @@ def run_linkage_family(request: FamilyRequest) -> FamilyReport:
 
 @dataclass(frozen=True)
 class PathRequest:
-    """``camcad linkage path``: a guiding four-bar for ``points`` (a table x_mm,y_mm: a curve), ``timed``
-    (phi_deg,x_mm,y_mm: the curve with its timing) or ``distance`` (phi_deg,L_mm: the distance to
-    ``fixed_point`` X, Y mm); or the rows themselves in ``rows`` with ``task``. ``method`` q (the seed's), deviation
-    or all; ``nodes`` 2 or 3 (the Q method's subsets); the limits ``mu_min`` (deg) and ``ratio_max``;
-    ``max_deviation`` the accuracy asked for (mm; default 0.1 % of the target's size)."""
+    """What ``camcad linkage path`` synthesises: a guiding four-bar for a curve, a timed curve or a distance.
+
+    Parameters
+    ----------
+    points : Path or None
+        A curve: a table with the header ``x_mm,y_mm`` (the points in order along it).
+    timed : Path or None
+        A curve with its timing: ``phi_deg,x_mm,y_mm`` (φ the input's turn from the first row).
+    distance : Path or None
+        A distance to the fixed point: ``phi_deg,L_mm``.
+    fixed_point : str or sequence of float
+        The fixed point X, Y of a distance task, mm.
+    rows : sequence or None
+        Instead of a table: the rows (mm, deg as the headers say), with ``task``.
+    task : str or None
+        points, timed or distance (with ``rows``).
+    method : str
+        q (the seed's Q method), deviation, or all (both; the best is reported).
+    nodes : int
+        The Q method's subsets: 2 or 3 nodes each.
+    mu_min : float
+        Smallest transmission angle over the input's range, deg.
+    ratio_max : float
+        Largest link-length ratio (dimensionless).
+    max_deviation : float or None
+        The accuracy asked for, mm; default 0.1 % of the target's size.
+    seed : int
+        Random starts' seed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.linkage.path import GuidingFourBar
+    >>> m = GuidingFourBar(0j, 100 + 0j, 40.0, 120.0, 90.0, 1, 60 + 20j, 0.3)
+    >>> pts = m.positions(0.3 + np.radians([0, 30, 60, 90, 120, 150]))[2]
+    >>> request = PathRequest(rows=[(30 * k, z.real, z.imag) for k, z in enumerate(pts)], task="timed")
+    >>> request.task, len(request.rows)
+    ('timed', 6)
+    """
 
     points: Path | None = None
     timed: Path | None = None

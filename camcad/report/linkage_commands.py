@@ -89,7 +89,8 @@ def linkage_command(request, output: Path | None = None, plots: bool = True) -> 
     Returns
     -------
     CommandRun
-        ``payload`` the JSON (with ``outputs``), ``exit_code`` 0 or 1, ``text()`` the printed lines.
+        ``payload`` the JSON (with ``outputs``; lengths mm, angles deg), ``exit_code`` 0 or 1, ``text()`` the
+        printed lines.
 
     Examples
     --------

@@ -37,11 +37,47 @@ from camcad.scene.linkage import (
 
 @dataclass(frozen=True)
 class LinkageSource:
-    """The linkage a command works on: a scene (``scene``, ``mechanism``) or options — the input pivot
-    ``pivot``, output pivot ``output_pivot`` (X, Y mm), ``links`` (OA, AB, CB mm), the input link's angle at
-    ψ = 0 ``input_angle`` (deg), the follower's ``swing`` (deg), ``sense`` ±1, ``branch`` ±1, a six-bar's second
-    loop (``output_pivot_2``, ``links_2``, ``coupling_2`` deg, ``branch_2``), a ``coupler_point`` (U, V mm) —
-    and the transmission-angle limit ``mu_min`` (deg)."""
+    """The linkage after the follower a command works on: a scene's ``[linkage]``, or options.
+
+    Parameters
+    ----------
+    scene : Path or None
+        A scene (.toml) with a ``[linkage]``; then the options below describing the linkage stay None.
+    mechanism : str or None
+        The mechanism of a group scene.
+    pivot : str or sequence of float
+        Input pivot O (the follower's pivot) X, Y, mm.
+    output_pivot : str or sequence of float
+        Output pivot C, X, Y, mm.
+    links : str or sequence of float
+        Input link OA, coupler AB, output link CB, mm.
+    input_angle : float or None
+        The input link's angle at ψ = 0, deg.
+    swing : float or None
+        The follower's swing ψ_max, deg.
+    sense : int
+        +1: the input link turns counter-clockwise as ψ grows; −1 clockwise (camcad's oscillating follower).
+    branch : int
+        Assembly branch ±1.
+    output_pivot_2 : str or sequence of float
+        Six-bar: the second output pivot F, X, Y, mm.
+    links_2 : str or sequence of float
+        Six-bar: CD, DE, FE, mm.
+    coupling_2 : float
+        Six-bar: the angle from CB to CD, deg.
+    branch_2 : int
+        Six-bar: the second loop's branch ±1.
+    coupler_point : str or sequence of float
+        A coupler point U (along AB), V (to its left), mm.
+    mu_min : float
+        Transmission-angle limit, deg.
+
+    Examples
+    --------
+    >>> src = LinkageSource(links="40,120,90", output_pivot="100,20", input_angle=80, swing=30, sense=-1)
+    >>> round(resolve(src).psi_max, 12) == round(math.radians(30), 12)
+    True
+    """
 
     scene: Path | None = None
     mechanism: str | None = None
@@ -104,8 +140,27 @@ def inputs_of(command: CommandLinkage) -> tuple[Path, ...]:
 
 @dataclass(frozen=True)
 class ElementSpec:
-    """An adjustable element given by options: ``element`` pivot, joint or link_angle; its ``joint`` (C, F,
-    A, B, E); ``path`` arc or slot; the arc's ``centre`` (X, Y mm) or the slot's ``direction`` (deg)."""
+    """An adjustable element given by options (``camcad.linkage.adjust.Adjustment``).
+
+    Parameters
+    ----------
+    element : str or None
+        pivot (a frame pivot on an arc or slot), joint (a joint on its lever) or link_angle; None: the scene's
+        ``[linkage.adjust]``.
+    joint : str
+        The element's joint: C or F (pivot), A, B or E (joint).
+    path : str
+        arc or slot.
+    centre : str or sequence of float
+        The arc's centre X, Y, mm.
+    direction : float
+        The slot's direction, deg.
+
+    Examples
+    --------
+    >>> ElementSpec("pivot", "C", centre="100,5").centre
+    '100,5'
+    """
 
     element: str | None = None
     joint: str = "C"
@@ -140,8 +195,22 @@ def element_of(command: CommandLinkage, spec: ElementSpec):
 
 @dataclass(frozen=True)
 class AnalyseRequest:
-    """``camcad linkage analyse``: the linkage (``source``), samples over the swing (``points``), and with a
-    scene whether the cam is drawn on the same sheet (``cam``)."""
+    """What ``camcad linkage analyse`` analyses.
+
+    Parameters
+    ----------
+    source : LinkageSource
+        The linkage (a scene or options).
+    points : int
+        Samples over the swing.
+    cam : bool
+        With a scene: draw the cam on the same sheet.
+
+    Examples
+    --------
+    >>> AnalyseRequest(LinkageSource(links="40,120,90", output_pivot="100,20", input_angle=80, swing=30)).points
+    721
+    """
 
     source: LinkageSource = field(default_factory=LinkageSource)
     points: int = 721
@@ -165,8 +234,10 @@ class AnalyseReport(LinkageReport):
 
 
 def run_linkage_analyse(request: AnalyseRequest) -> AnalyseReport:
-    """Analyse the linkage after the follower: exact Π, Π′, Π″, Π‴, transmission angles, dead points, branch,
-    coupler path; with a scene also the working member's motion, every setting and the cam.
+    """Analyse the linkage after the follower (``camcad linkage analyse``).
+
+    Exact Π, Π′, Π″, Π‴, transmission angles, dead points, branch, coupler path; with a scene also the working
+    member's motion, every setting and the cam.
 
     Parameters
     ----------
@@ -257,13 +328,39 @@ def _analyse_lines(payload: dict, mu_min: float) -> list[str]:
 
 @dataclass(frozen=True)
 class AdjustRequest:
-    """``camcad linkage adjust``: a regulation task of the seed's Table 3 (``table=3``, tasks 1–6) or Table 2
-    (``table=2``, tasks 1–17, crank input).
+    """What ``camcad linkage adjust`` solves: a regulation task of the seed's Table 3 or Table 2.
 
-    Task 1: ``swing_range`` (A, B deg) and ``keep`` psi1|psi2. Tasks 2–6: ``x`` the regulating variable's range
-    and the functions of x (deg): ``psi1``, ``psi2``, ``swing_function``, ``psi2_of_psi1``. Table 2: the element
-    (``element``) and its ``settings`` (deg, mm for a slot) are checked, or with ``synthesise`` an element is
-    found for the task. ``count`` settings are listed."""
+    Parameters
+    ----------
+    source : LinkageSource
+        The linkage (a scene or options).
+    task : int or None
+        The task: Table 3 1–6, Table 2 1–17.
+    table : int
+        3 (rocker input: the cam case) or 2 (crank input).
+    swing_range : str or sequence of float
+        Task 1: the swings A, B to cover, deg.
+    keep : str
+        Task 1: keep psi1 or psi2 constant.
+    count : int
+        Settings listed.
+    x : str or sequence of float
+        Tasks 2–6: the regulating variable's range U0, U1 (deg for task 2, where x = ψ₁).
+    psi1, psi2, swing_function, psi2_of_psi1 : str or None
+        Tasks 2–6: the requirements as expressions of x giving deg.
+    element : ElementSpec
+        Table 2: the element whose settings are checked.
+    settings : str or sequence of float
+        Table 2: the settings to check, deg (mm for a slot).
+    synthesise : bool
+        Table 2: find the element for the task instead of checking one.
+
+    Examples
+    --------
+    >>> src = LinkageSource(links="40,120,90", output_pivot="100,20", input_angle=80, swing=30, sense=-1)
+    >>> AdjustRequest(src, task=1, swing_range="18:30").table
+    3
+    """
 
     source: LinkageSource = field(default_factory=LinkageSource)
     task: int | None = None
@@ -330,9 +427,9 @@ def run_linkage_adjust(request: AdjustRequest) -> AdjustReport:
     Examples
     --------
     >>> src = LinkageSource(links="40,120,90", output_pivot="100,20", input_angle=80, swing=30, sense=-1)
-    >>> r = run_linkage_adjust(AdjustRequest(src, task=1, swing_range="18:30", count=3))
+    >>> r = run_linkage_adjust(AdjustRequest(src, task=1, swing_range="10:20", count=3))
     >>> r.exit_code, [round(row["swing_deg"], 9) for row in r.to_dict()["rows"]]
-    (0, [18.0, 24.0, 30.0])
+    (0, [10.0, 15.0, 20.0])
     """
     if request.table not in (2, 3):
         raise CamcadError(f"--table {request.table}: the seed's regulation tables are 2 and 3", "--table",
@@ -463,9 +560,28 @@ def _adjust_table2(request: AdjustRequest, command: CommandLinkage) -> AdjustRep
 
 @dataclass(frozen=True)
 class TuneRequest:
-    """``camcad linkage tune``: settings x₁ (on the element) and x₂ (the input link's clamp angle) for the
-    extreme positions ``psi1``, ``psi2`` (deg), or a settings table over ``grid`` ("P1A:P1B:N,SWA:SWB:M", deg);
-    ``range`` limits x₁ (deg, mm for a slot); ``points`` samples F(x₁)."""
+    """What ``camcad linkage tune`` finds: the settings for given extreme positions (seed ch. 6).
+
+    Parameters
+    ----------
+    source : LinkageSource
+        The linkage (a scene or options).
+    psi1, psi2 : float or None
+        The requested extreme positions of the working member, deg.
+    grid : str or None
+        A settings table instead: ``"P1A:P1B:N,SWA:SWB:M"`` (ψ₁ values and swings, deg).
+    range : str or sequence of float
+        The interval of x₁ searched, deg (mm for a slot).
+    points : int
+        Samples of F(x₁).
+    element : ElementSpec
+        The element of x₁ (default: the scene's ``[linkage.adjust]``).
+
+    Examples
+    --------
+    >>> TuneRequest(LinkageSource(scene=None), psi1=-2.0, psi2=12.0).points
+    721
+    """
 
     source: LinkageSource = field(default_factory=LinkageSource)
     psi1: float | None = None
@@ -510,8 +626,9 @@ def grid_axes(text: str) -> tuple[list[float], list[float]]:
 
 
 def run_linkage_tune(request: TuneRequest) -> TuneReport:
-    """Settings for given extreme positions: every root of the seed's F(x₁) = f₁(x₁) − f₂(x₁) = 0
-    (``camcad linkage tune``), or the settings table.
+    """Settings for given extreme positions (``camcad linkage tune``).
+
+    Every root of the seed's F(x₁) = f₁(x₁) − f₂(x₁) = 0, or the settings table.
 
     Parameters
     ----------
