@@ -168,13 +168,18 @@ def adjust(scene: SceneOptArg = None, mechanism: MechOpt = None,
            settings: Annotated[str | None, _opt("--settings", "--table 2: settings to check (deg or mm).")] = None,
            synthesise: Annotated[bool, typer.Option("--synthesise", help="--table 2: find the element for the "
                                                                          "task.")] = False,
+           phi1: Annotated[str | None, _opt("--phi1", "--table 2: phi1 change (deg) as a function of x.")] = None,
+           phi2: Annotated[str | None, _opt("--phi2", "--table 2: phi2 change (deg) as a function of x.")] = None,
+           var_range: Annotated[str | None, _opt("--var-range", "--table 2: a var column's change A:B (deg).")]
+           = None,
            output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """An adjustable mechanism for a regulation task (seed Tables 2 and 3); exit 1 when it fails a check."""
     from camcad.scene.linkage_commands import AdjustRequest
 
     values = locals()
     _go(AdjustRequest(_source(values), task, table, swing_range, keep, count, u_range, psi1, psi2, swing_fn,
-                      psi2_of_psi1, _element(values), settings, synthesise), output, not no_plots, as_json)
+                      psi2_of_psi1, _element(values), settings, synthesise, phi1, phi2, var_range), output,
+        not no_plots, as_json)
 
 
 @linkage_app.command()

@@ -461,7 +461,8 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
 
 
 def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, float], functions: dict,
-             count: int = 21, starts: int = 6, max_evaluations: int = 150, mu_min: float = 0.0) -> AdjustResult:
+             count: int = 21, starts: int = 6, max_evaluations: int = 150, mu_min: float = 0.0,
+             ring_starts: int = 6) -> AdjustResult:
     """Tasks 2–6 of Table 3 fitted by least squares on ``count`` values of the regulating variable u
     over ``u_range``: the arc of joint A on the input lever (centre M, radius r) and the settings
     x(u) = x₀ + (x₁ − x₀)(u − u₀)/(u₁ − u₀); task 4 keeps task 1's arc (ψ₁ exact) and fits x₀, x₁ only.
@@ -471,7 +472,8 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
     spans of 10°, 20°, … (``starts``) in both directions, ``max_evaluations`` residual evaluations each; it is
     a local least-squares fit: the deviation it reports is what it reached, not a proven optimum.
     ``mu_min`` (rad): the transmission-angle limit, a constraint of the fit (10 × the violation in rad added to
-    the residuals at every setting).
+    the residuals at every setting). Besides task 1's arc, ``ring_starts`` arc centres on a ring of radius b/2
+    around it start fits too; ``evidence`` says how many starts end at the best cost (within 1e-3 relative).
 
     Returns
     -------
@@ -509,23 +511,35 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
             out.append(10.0 * max(0.0, mu_min - r.mu_min) if math.isfinite(r.mu_min) else 1.0)
         return np.array(out)
 
-    best: Any = None
     centre = cast(complex, base.centre)
-    for k in range(starts):
-        width = math.radians(10.0 + 10.0 * k)
-        for sign in (1.0, -1.0):
-            p0 = [x_b - sign * width / 2, x_b + sign * width / 2]
-            if task != 4:
-                p0 += [centre.real, centre.imag]
-            try:
-                fit = least_squares(residuals, np.array(p0), x_scale=[1.0, 1.0] + ([b_len, b_len] if task != 4 else []),
-                                    xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=max_evaluations)
-            except ValueError:
-                continue
-            if best is None or fit.cost < best.cost:
-                best = fit
-        if best is not None and best.cost < 1e-24:
-            break
+    centres = [centre] + ([centre + 0.5 * b_len * complex(math.cos(2 * math.pi * k / ring_starts),
+                                                          math.sin(2 * math.pi * k / ring_starts))
+                           for k in range(ring_starts)] if task != 4 else [])
+    fits = []
+    for c0 in centres:
+        for k in range(starts):
+            width = math.radians(10.0 + 10.0 * k)
+            x_mid = x_b if c0 == centre else math.atan2((_base_point(linkage, "A") - c0).imag,
+                                                        (_base_point(linkage, "A") - c0).real)
+            for sign in (1.0, -1.0):
+                p0 = [x_mid - sign * width / 2, x_mid + sign * width / 2]
+                if task != 4:
+                    p0 += [c0.real, c0.imag]
+                try:
+                    fits.append(least_squares(residuals, np.array(p0), x_scale=[1.0, 1.0] + (
+                        [b_len, b_len] if task != 4 else []), xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                        max_nfev=max_evaluations))
+                except ValueError:
+                    continue
+            if fits and min(f.cost for f in fits) < 1e-24:
+                break
+    fits.sort(key=lambda f: f.cost)
+    best: Any = fits[0]
+    reach = sum(1 for f in fits if f.cost <= best.cost * (1 + 1e-3) + 1e-24)
+    evidence = {"starts": len(fits), "reaching_best": reach, "tolerance_deg": 1e-3,
+                "spread_deg": math.degrees(math.sqrt(2 * fits[min(len(fits) - 1, 4)].cost / max(len(best.fun), 1))),
+                "note": "a multistart over arc centres and setting spans; the best of the starts is not a proof of "
+                        "the global optimum"}
     adj, x0, x1 = unpack(best.x)
     xs = x0 + (x1 - x0) * (u - u[0]) / (u[-1] - u[0])
     rows = [characteristics(linkage, adj, float(x), psi_max) for x in xs]
@@ -534,7 +548,7 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
     values = np.array([getattr(r, quantity) for r in rows])
     monotone = bool(np.all(np.diff(values) > 0) or np.all(np.diff(values) < 0))
     notes = () if all(r.branch_continuous for r in rows) else ("some settings do not keep the branch",)
-    return AdjustResult(task, adj, radius(linkage, adj), u, xs, rows, deviation, monotone, notes)
+    return AdjustResult(task, adj, radius(linkage, adj), u, xs, rows, deviation, monotone, notes, evidence)
 
 
 def _task_residual(task: int, r: SettingResult, u: float, f: dict) -> list[float]:
@@ -677,3 +691,155 @@ def check_requirements(rows: list[dict], task: int, table: int = 3, tol_deg: flo
         ok = ok and passed
     out["passed"] = ok
     return out
+
+
+# --------------------------------------------------------------------------------------------
+# Table 2 synthesised (crank input)
+# --------------------------------------------------------------------------------------------
+
+#: the characteristics of Table 2 (crank input), deg, as changes from the nominal setting's values
+TABLE2_COLUMNS = ("phi1", "psi1", "phi2", "psi2", "psi12")
+
+
+@dataclass(frozen=True)
+class Table2Result:
+    """An element found for a Table 2 task: the element, its settings (deg or mm) over the regulating variable u,
+    the largest deviation of each constrained characteristic (deg) and the multistart evidence."""
+
+    adjustment: Adjustment
+    u: np.ndarray
+    settings: list
+    deviation: dict
+    evidence: dict
+    notes: tuple[str, ...] = ()
+
+
+def _relative(linkage: Linkage, adj: Adjustment, x: float, nominal: dict) -> dict | None:
+    ch = crank_characteristics(linkage, adj, x)
+    if not ch:
+        return None
+    out = {k: math.remainder(math.radians(ch[f"{k}_deg"]) - math.radians(nominal[f"{k}_deg"]), 2 * math.pi)
+           for k in TABLE2_COLUMNS}
+    return out
+
+
+def table2_targets(task: int, u: np.ndarray, functions: dict, var_range: tuple[float, float] | None) -> dict:
+    """The target of each constrained column of Table 2 task ``task`` over u (rad, changes from nominal):
+    const 0; var a linear sweep over ``var_range`` (rad); f the given function of u (rad)."""
+    spec = TABLE2[task]
+    targets = {}
+    for column, need in spec.items():
+        if column == "x1":
+            continue                          # the setting follows u by construction (x linear in u)
+        if need == "const":
+            targets[column] = np.zeros_like(u)
+        elif need == "var":
+            if var_range is None:
+                raise CamcadError(f"task {task} regulates {column} within limits", "--var-range",
+                                  f"give --var-range A:B (deg, the change of {column} from the nominal)")
+            targets[column] = var_range[0] + (var_range[1] - var_range[0]) * (u - u[0]) / (u[-1] - u[0])
+        else:
+            if column not in functions:
+                option = {"psi12": "--swing-function"}.get(column, f"--{column.replace('_', '-')}")
+                raise CamcadError(f"task {task} relates {column} to the regulating variable", option,
+                                  f"give {option} EXPR (deg, the change from the nominal, a function of x)")
+            targets[column] = np.array([functions[column](v) for v in u])
+    return targets
+
+
+def synthesise_table2(linkage: Linkage, task: int, u_range: tuple[float, float] = (0.0, 1.0),
+                      functions: dict | None = None, var_range: tuple[float, float] | None = None,
+                      joint: str = "C", count: int = 11, mu_min: float = 0.0, rings: int = 3,
+                      per_ring: int = 8) -> Table2Result:
+    """An adjustable element for Table 2 task ``task`` (crank input): the pivot C (or the joint B on the rocker,
+    ``joint="B"``) on an arc of centre M, locked at x(u) = x₀ + (x₁ − x₀)(u − u₀)/(u₁ − u₀), fitted by least
+    squares to the task's columns (changes from the nominal linkage's values, rad): const → 0, var → a linear
+    sweep over ``var_range``, f → ``functions[column](u)``; the crank must turn fully at every setting and the
+    transmission angle over the turn stay ≥ ``mu_min`` (rad; exact penalties). Starts: arc centres on ``rings``
+    rings (radius 0.5, 1, 2 × the rocker) × ``per_ring`` directions, settings spans ±10°; the best fit and how
+    many starts reach it (within 1e-3 deg) are the evidence (a multistart, not a proof of the global optimum).
+
+    Examples
+    --------
+    Task 2 (φ₁, ψ₁ const, ψ₂ var) of a crank-rocker: the swing grows while the first extreme stays.
+
+    >>> from camcad.linkage.analysis import Loop
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 30.0, 110.0, 90.0),), theta0=0.0)
+    >>> r = synthesise_table2(lk, 2, (0.0, 1.0), var_range=(0.0, math.radians(8.0)), rings=1, per_ring=4, count=5)
+    >>> r.deviation["psi2"] < 0.5, r.deviation["psi1"] < 0.5
+    (True, True)
+    """
+    from scipy.optimize import least_squares
+
+    if len(linkage.loops) != 1:
+        raise CamcadError("Table 2 synthesis is for a four-bar with a crank", "--table 2", "give a four-bar")
+    functions = functions or {}
+    u = np.linspace(u_range[0], u_range[1], count)
+    targets = table2_targets(task, u, functions, var_range)
+    nominal = crank_characteristics(linkage, Adjustment("link_angle"), 0.0)
+    if not nominal:
+        raise CamcadError("the nominal linkage's input cannot turn fully (not a crank)", "--table 2",
+                          "Table 2 is for a rotating input; the cam's rocker input is Table 3")
+    loop = linkage.loops[0]
+    p0 = complex(np.asarray(linkage.joints(0.0)[joint]))
+    scale = loop.c
+
+    def unpack(p):
+        return Adjustment("pivot" if joint == "C" else "joint", joint, "arc", complex(p[0], p[1])), p[2], p[3]
+
+    def residuals(p):
+        adj, x0, x1 = unpack(p)
+        out = []
+        for k, uk in enumerate(u):
+            x = x0 + (x1 - x0) * (uk - u[0]) / (u[-1] - u[0]) if u[-1] != u[0] else x0
+            rel = _relative(linkage, adj, x, nominal)
+            if rel is None:
+                out += [1.0] * (len(targets) + 1)
+                continue
+            out += [rel[c] - targets[c][k] for c in targets]
+            lk = adjusted(linkage, adj, x).loops[0]
+            worst = lk.worst_transmission(0.0, 2 * math.pi)
+            out.append(10.0 * max(0.0, mu_min - worst) if math.isfinite(worst) else 1.0)
+        return np.array(out)
+
+    fits = []
+    for ring in range(rings):
+        for k in range(per_ring):
+            centre = p0 + (0.5 * 2 ** ring) * scale * complex(math.cos(2 * math.pi * k / per_ring),
+                                                                  math.sin(2 * math.pi * k / per_ring))
+            x_b = math.atan2((p0 - centre).imag, (p0 - centre).real)
+            for sign in (1.0, -1.0):
+                start = [centre.real, centre.imag, x_b, x_b + sign * math.radians(10.0)]
+                try:
+                    fits.append(least_squares(residuals, start, x_scale=[scale, scale, 1.0, 1.0], xtol=1e-12,
+                                              ftol=1e-14, gtol=1e-14, max_nfev=200))
+                except (ValueError, CamcadError):
+                    continue
+    if not fits:
+        raise CamcadError(f"no element was found for Table 2 task {task}", "--synthesise",
+                          "change the requirements or the linkage")
+    fits.sort(key=lambda f: f.cost)
+    best = fits[0]
+    adj, x0, x1 = unpack(best.x)
+    xs = [x0 + (x1 - x0) * (uk - u[0]) / (u[-1] - u[0]) for uk in u]
+    deviation = {}
+    for k, x in enumerate(xs):
+        rel = _relative(linkage, adj, x, nominal)
+        for c in targets:
+            value = abs(rel[c] - targets[c][k]) if rel is not None else math.inf
+            deviation[c] = max(deviation.get(c, 0.0), math.degrees(value))
+    worst = max(deviation.values()) if deviation else 0.0
+    reach = 0
+    for f in fits:
+        a2, y0, y1 = unpack(f.x)
+        dev = 0.0
+        for k, uk in enumerate(u):
+            rel = _relative(linkage, a2, y0 + (y1 - y0) * (uk - u[0]) / (u[-1] - u[0]), nominal)
+            dev = max([dev] + [math.degrees(abs(rel[c] - targets[c][k])) if rel else math.inf for c in targets])
+        reach += dev <= worst + 1e-3
+    evidence = {"starts": len(fits), "reaching_best": int(reach), "tolerance_deg": 1e-3, "best_deg": worst,
+                "spread_deg": math.degrees(math.sqrt(2 * fits[min(len(fits) - 1, 4)].cost / len(best.fun)))
+                if len(fits) > 1 else 0.0}
+    settings = [math.degrees(x) for x in xs]
+    notes = ("the columns are changes from the nominal linkage's values (deg)",)
+    return Table2Result(adj, u, settings, deviation, evidence, notes)

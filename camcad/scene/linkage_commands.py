@@ -353,7 +353,13 @@ class AdjustRequest:
     settings : str or sequence of float
         Table 2: the settings to check, deg (mm for a slot).
     synthesise : bool
-        Table 2: find the element for the task instead of checking one.
+        Table 2: find the element for the task instead of checking one (the pivot C on an arc, or with
+        ``element`` joint B the rocker's pin on an arc), fitted over ``x`` (default 0:1).
+    phi1, phi2 : str or None
+        Table 2, f columns: φ₁, φ₂ (the crank's angles at the output's extremes; changes from the nominal, deg)
+        as expressions of x; ``psi1``, ``psi2`` and ``swing_function`` likewise for Table 2.
+    var_range : str or sequence of float
+        Table 2, a var column: the change from the nominal to sweep, A, B deg.
 
     Examples
     --------
@@ -376,6 +382,9 @@ class AdjustRequest:
     element: ElementSpec = field(default_factory=ElementSpec)
     settings: Any = None
     synthesise: bool = False
+    phi1: str | None = None
+    phi2: str | None = None
+    var_range: Any = None
 
 
 @dataclass
@@ -512,10 +521,19 @@ def _adjust_table2(request: AdjustRequest, command: CommandLinkage) -> AdjustRep
     task = cast(int, request.task)
     if task not in adj_mod.TABLE2:
         raise CamcadError(f"Table 2 has no task {task}", "--task", "tasks are 1 to 17")
+    extra: dict[str, Any] = {}
     if request.synthesise:
-        found = adj_mod.synthesise_table2(lk, task, count=request.count)
+        span = numbers(request.x, "--x", 2, "0:1") or (0.0, 1.0)
+        var = numbers(request.var_range, "--var-range", 2, "0:8")
+        texts = {"phi1": ("--phi1", request.phi1), "psi1": ("--psi1", request.psi1), "phi2": ("--phi2", request.phi2),
+                 "psi2": ("--psi2", request.psi2), "psi12": ("--swing-function", request.swing_function)}
+        found = adj_mod.synthesise_table2(lk, task, span, _functions(texts), None if var is None else
+                                          (math.radians(var[0]), math.radians(var[1])),
+                                          joint=request.element.joint if request.element.element else "C",
+                                          count=max(request.count, 5), mu_min=math.radians(command.mu_min))
         adj, values = found.adjustment, found.settings
         notes = list(found.notes)
+        extra = {"u": [float(v) for v in found.u], "deviation_deg": found.deviation, "evidence": found.evidence}
     else:
         adj, spec = element_of(command, request.element)
         values = numbers(request.settings, "--settings", None, "10,20,30") or \
@@ -536,13 +554,18 @@ def _adjust_table2(request: AdjustRequest, command: CommandLinkage) -> AdjustRep
     verdict = adj_mod.check_requirements(rows, task, 2)
     payload = {"command": "linkage adjust", "name": command.name, "table": 2, "task": task,
                "element": adj.describe(), "synthesised": bool(request.synthesise), "rows": rows,
-               "requirements": verdict, "notes": notes, "passed": bool(verdict["passed"])}
+               "requirements": verdict, "notes": notes, "passed": bool(verdict["passed"]), **extra}
     summary = [f"camcad linkage adjust: Table 2 task {task}, {adj.describe()}"
                + (" (synthesised)" if request.synthesise else "")]
     summary += [f"  setting {r['setting']:<10.6g} phi1 {r['phi1_deg']:.4f} psi1 {r['psi1_deg']:.4f} phi2 "
                 f"{r['phi2_deg']:.4f} psi2 {r['psi2_deg']:.4f} deg" for r in rows]
     summary += [f"  requirement {k}: {v['need']} " + ("ok" if v["passed"] else "NOT met")
                 for k, v in verdict.items() if isinstance(v, dict)]
+    if extra:
+        summary.append("  deviation      " + ", ".join(f"{k} {v:.3g} deg" for k, v in extra["deviation_deg"].items()))
+        ev = extra["evidence"]
+        summary.append(f"  evidence       {ev['starts']} starts, {ev['reaching_best']} reach the best within "
+                       f"{ev['tolerance_deg']:g} deg")
     summary += [f"  note           {n}" for n in notes]
     settings = [(f"{r['setting']:.4g}", adjusted(lk, adj, math.radians(r["setting"]) if adj.unit == "rad"
                                                   else r["setting"])) for r in rows]
