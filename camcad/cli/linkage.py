@@ -111,10 +111,11 @@ def fgen(function: Annotated[str | None, _opt("--function", 'y = f(x), e.g. "log
 
 
 @linkage_app.command()
-def path(points: Annotated[Path | None, _opt("--points", "A curve: table x_mm,y_mm (the points in order).")] = None,
-         timed: Annotated[Path | None, _opt("--timed", "A timed curve: table phi_deg,x_mm,y_mm.")] = None,
-         distance: Annotated[Path | None, _opt("--distance", "A distance to --fixed-point: table phi_deg,L_mm.")]
-         = None,
+def path(points: Annotated[list[Path] | None, _opt("--points", "A curve: table x_mm,y_mm (the points in order); "
+                                                             "repeat for a family.")] = None,
+         timed: Annotated[list[Path] | None, _opt("--timed", "A timed curve: table phi_deg,x_mm,y_mm.")] = None,
+         distance: Annotated[list[Path] | None, _opt("--distance", "A distance to --fixed-point: table "
+                                                                   "phi_deg,L_mm.")] = None,
          fixed_point: Annotated[str | None, _opt("--fixed-point", "The fixed point X,Y (mm) of --distance.")] = None,
          method: Annotated[str, _opt("--method", "q (the seed's), deviation, or all (both; the best is "
                                                  "reported).")] = "all",
@@ -124,7 +125,8 @@ def path(points: Annotated[Path | None, _opt("--points", "A curve: table x_mm,y_
                                                                         "the target's size.")] = None,
          seed: SeedOpt = 0, output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Synthesise a guiding four-bar: its coupler point through a curve, a timed curve, or at given distances from
-    a fixed point (seed ch. 2 and 5); exit 1 when a check (deviation, transmission angle, link ratio) fails."""
+    a fixed point (seed ch. 2 and 5); three or more tables: one adjustable four-bar for the family; exit 1 when a
+    check (deviation, transmission angle, link ratio) fails."""
     from camcad.linkage.runners import PathRequest
 
     _go(PathRequest(points, timed, distance, fixed_point, None, None, method, nodes, mu_min, ratio_max, max_deviation,

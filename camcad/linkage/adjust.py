@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import Any, cast
 
 import numpy as np
@@ -108,7 +109,9 @@ class Adjustment:
         return "mm" if self.path == "slot" and self.element != "link_angle" else "rad"
 
 
+@lru_cache(maxsize=256)
 def _base_point(linkage: Linkage, joint: str) -> complex:
+    """The joint's position at ψ = 0 (complex mm); cached: the scans and fits ask it of one nominal linkage."""
     return complex(np.asarray(linkage.joints(0.0)[joint]))
 
 
@@ -171,7 +174,6 @@ def adjusted(linkage: Linkage, adj: Adjustment, x: float) -> Linkage:
         return replace(linkage, theta0=linkage.theta0 + x)
     new = _place(linkage, adj, x)
     loops = list(linkage.loops)
-    j0 = linkage.joints(0.0)
     if adj.element == "pivot":
         point = (new.real, new.imag)
         if adj.joint == "C":
@@ -183,6 +185,7 @@ def adjusted(linkage: Linkage, adj: Adjustment, x: float) -> Linkage:
         else:
             raise ValueError(f"no pivot {adj.joint}")
         return replace(linkage, loops=tuple(loops))
+    j0 = linkage.joints(0.0)
     if adj.joint == "A":
         origin = complex(*loops[0].p)
         theta0 = math.atan2(new.imag - origin.imag, new.real - origin.real)

@@ -60,6 +60,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.linkage.analysis import Loop
+from camcad.linkage.family import fit_circle
 from camcad.linkage.fgen import Limits
 
 TASKS = ("points", "timed", "distance")
@@ -564,7 +565,8 @@ def _distinct(fits: list, size: float, key, keep: int = 6) -> list:
     return out
 
 
-def _crank_dyad(target: PathTarget, phi: np.ndarray | None, rng, starts: int, work: PathWork) -> list:
+def _crank_dyad(target: PathTarget, phi: np.ndarray | None, rng, starts: int, work: PathWork, every: bool = False
+                ) -> list:
     """O, a, θ₀, e = |AM| with |M_k − A(θ₀ + φ_k)| = e by least squares (``phi`` None: equal steps, the step a
     further unknown and φ_k = k·step): the distinct solutions of least cost as (O, a, crank angles, cost). With
     more rows than unknowns the first exact fit ends the search; with as many (five rows) every start runs, as the
@@ -575,7 +577,7 @@ def _crank_dyad(target: PathTarget, phi: np.ndarray | None, rng, starts: int, wo
     centre = complex(np.mean(pts))
     free_step = phi is None
     k = np.arange(len(pts))
-    square = len(pts) <= 5 + int(free_step)
+    square = every or len(pts) <= 5 + int(free_step)
     fits = []
     for _ in range(starts):
         x0 = [centre.real + rng.uniform(-1.5, 1.5) * size, centre.imag + rng.uniform(-1.5, 1.5) * size,
@@ -602,14 +604,14 @@ def _crank_dyad(target: PathTarget, phi: np.ndarray | None, rng, starts: int, wo
     return out
 
 
-def _rocker_dyad(target_points: np.ndarray, a_pts: np.ndarray, size: float, rng, starts: int, work: PathWork
-                 ) -> list:
+def _rocker_dyad(target_points: np.ndarray, a_pts: np.ndarray, size: float, rng, starts: int, work: PathWork,
+                 every: bool = False) -> list:
     """The coupler points B (w from A along A→M and to its left) whose positions lie on one circle (C, c): the
     distinct solutions of least cost as (B_k, C)."""
     from scipy.optimize import least_squares
 
     g = (target_points - a_pts) / np.abs(target_points - a_pts)
-    square = len(a_pts) <= 5
+    square = every or len(a_pts) <= 5
     fits = []
     for _ in range(starts):
         w0 = complex(rng.uniform(-3, 3), rng.uniform(-3, 3)) * size
@@ -706,7 +708,8 @@ def _evolution_starts(target: PathTarget, limits: Limits, seed: int, work: PathW
     return out
 
 
-def _dyad_starts(target: PathTarget, seed: int, work: PathWork) -> list[tuple[GuidingFourBar, np.ndarray]]:
+def _dyad_starts(target: PathTarget, seed: int, work: PathWork, every: bool = False
+                 ) -> list[tuple[GuidingFourBar, np.ndarray]]:
     """Starts from the dyads: the crank's fitted to a timing of the rows (timed: the given φ; points: equal crank
     steps with the step a further unknown, and steps in proportion to the chords between the points over one turn,
     both senses), the rocker's to the coupler poses that gives."""
@@ -721,9 +724,9 @@ def _dyad_starts(target: PathTarget, seed: int, work: PathWork) -> list[tuple[Gu
         steps = np.r_[0.0, np.cumsum(chords[:-1])] * 2 * math.pi / float(np.sum(chords))
         timings += [steps, -steps]
     for phi in timings:
-        for o, a, theta, _ in _crank_dyad(target, phi, rng, 30, work):
+        for o, a, theta, _ in _crank_dyad(target, phi, rng, 30, work, every):
             a_pts = o + a * np.exp(1j * theta)
-            for b_pts, pivot in _rocker_dyad(target.points, a_pts, size, rng, 30, work):
+            for b_pts, pivot in _rocker_dyad(target.points, a_pts, size, rng, 30, work, every):
                 try:
                     out.append((_from_poses(o, a_pts, b_pts, pivot, target.points, float(theta[0])), theta))
                 except ValueError:
@@ -940,6 +943,7 @@ class PathResult:
     q_pivots: np.ndarray | None = None
     starts: int = 0
     notes: list[str] = field(default_factory=list)
+    candidates: list[GuidingFourBar] = field(default_factory=list)   # every polished mechanism (deviation)
 
 
 def _best(target: PathTarget, mechs: list[GuidingFourBar], limits: Limits) -> tuple[GuidingFourBar, PathCheck]:
@@ -971,8 +975,8 @@ def _start_cost(target: PathTarget, item, work: PathWork) -> float:
     return float(np.sum(r * r))
 
 
-def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, tolerance: float | None = None
-                        ) -> PathResult:
+def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, tolerance: float | None = None,
+                        every: bool = False) -> PathResult:
     """The deviation method (module docstring): starts from the dyads (and, for points that they do not reach,
     from differential evolution on the implicit equation), each polished by least squares under the limits.
 
@@ -987,18 +991,19 @@ def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, toler
     """
     work = PathWork()
     tol = tolerance if tolerance is not None else DEFAULT_TOLERANCE * target.size
-    starts = _dyad_starts(target, seed, work) if target.task != "distance" else \
+    starts = _dyad_starts(target, seed, work, every) if target.task != "distance" else \
         _random_distance_starts(target, seed, 40)
     notes: list[str] = []
 
     def polished(pool) -> list[GuidingFourBar]:
-        """Polish the starts best first; stop at the first admissible one within a tenth of the tolerance."""
+        """Polish the starts best first; stop at the first admissible one within a tenth of the tolerance (all
+        of the best eight with ``every``, as a family's starts)."""
         ranked = sorted(pool, key=lambda item: _start_cost(target, item, work))
         out = []
         for mech, theta in ranked[:8]:
             out.append(polish(target, mech, limits, work, theta))
             chk = check(out[-1], target)
-            if admissible(out[-1], chk, limits) and chk.max_deviation <= 0.1 * tol:
+            if not every and admissible(out[-1], chk, limits) and chk.max_deviation <= 0.1 * tol:
                 break
         return out
 
@@ -1015,7 +1020,7 @@ def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, toler
         raise CamcadError("no four-bar was found for this path", target.source,
                           "check the table (points along one curve, in order)")
     mech, chk = _best(target, mechs, limits)
-    return PathResult("deviation", mech, chk, work, starts=len(starts), notes=notes)
+    return PathResult("deviation", mech, chk, work, starts=len(starts), notes=notes, candidates=mechs)
 
 
 def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 0,
@@ -1082,3 +1087,137 @@ def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 
     chk = check(st.mechanism, target)
     return PathResult("q", st.mechanism, chk, work, st.q, st.pivots, len(xs),
                       [] if best[0][0] is False else ["the least Q found violates a limit"])
+
+
+# --------------------------------------------------------------------------------------------
+# Adjustable guiding mechanisms: a family of curves, of timed curves, of distances (seed ch. 5)
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class PathFamilyResult:
+    """One adjustable guiding four-bar for a family of targets: every member's mechanism (they differ only by the
+    position of the moved pivot, which lies on the arc of ``centre``, ``radius`` at the angles ``settings``) and
+    its check; ``q`` = Σ Q⁽ʲ⁾ (mm) of stage 1; ``moved`` names the moved pivot (O or C)."""
+
+    members: list[PathTarget]
+    mechanisms: list[GuidingFourBar]
+    checks: list[PathCheck]
+    centre: complex
+    radius: float
+    settings: np.ndarray
+    circle_residual: float
+    q: float
+    q_members: list[float]
+    moved: str
+    work: PathWork
+    starts: int
+
+
+def _family_states(problems: list[PathQ], x: np.ndarray) -> list[QPath]:
+    task = problems[0].target.task
+    if task == "distance":          # shared: O, log a, log e, w (, log c); per member: θ₀
+        shared, phases = x[:len(x) - len(problems)], x[len(x) - len(problems):]
+        return [p.state(np.concatenate([shared[:3], [ph], shared[3:]])) for p, ph in zip(problems, phases)]
+    return [p.state(x) for p in problems]
+
+
+def _family_residual(problems: list[PathQ], limits: Limits, x: np.ndarray) -> np.ndarray:
+    states = _family_states(problems, x)
+    size = max(p.size for p in problems)
+    out = []
+    for p, st in zip(problems, states):
+        k = max(2 * len(st.pivots) + 1, 3)
+        if st.mechanism is None or not np.all(np.isfinite(st.pivots)):
+            out.append(np.full(k, 10.0))
+            continue
+        groups = [st.pivots[:st.split], st.pivots[st.split:]] if st.split else [st.pivots]
+        spread = np.concatenate([g - np.mean(g) for g in groups]) / size
+        lo, hi = p._range(st)
+        penalty = 10.0 * float(np.sum(np.maximum(0.0, -limit_margins(st.mechanism, lo, hi, limits, inside=0.0))))
+        out.append(np.concatenate([spread.real, spread.imag, [penalty]]))
+    if problems[0].target.task == "timed":    # one crank: the crank pins of the members at one radius from O
+        o = complex(x[0], x[1])
+        radii = [abs(st.mechanism.a) if st.mechanism is not None else 0.0 for st in states]
+        out.append(np.array([(r - np.mean(radii)) / size for r in radii]))
+        del o
+    return np.concatenate(out)
+
+
+def path_family(targets: list[PathTarget], limits: Limits, seed: int = 0, random_starts: int = 20
+                ) -> PathFamilyResult:
+    """One adjustable guiding four-bar for a family of targets of one task (the seed's ch. 5, Figs. 10–12).
+
+    Stage 1: the Q construction of each member (``PathQ``, two-node subsets for curves so the crank is shared)
+    with the free parameters shared by all members — points: the rocker's dyad, the coupler and the crank (the
+    crank's pivot O is each member's found pivot); timed: the crank's pivot O, |AM| and the coupler (each
+    member's crank pins and rocker pivot C are found; the crank pins' radius is held equal); distance: every
+    free parameter but the crank's phase θ₀⁽ʲ⁾ (each member's rocker pivot C is found) — minimising Σ Q⁽ʲ⁾ with
+    the limits as exact penalties (least squares on the pivots' spreads), from a member's own synthesis and
+    ``random_starts`` random starts. Stage 2: the centres of the members' rectangles lie on the arc of the
+    adjustable link: the circle through them (three members; least squares beyond) gives its centre and radius,
+    and the settings are the angles of the pivot about it.
+
+    Examples
+    --------
+    Three timed members made by one four-bar whose rocker pivot sits at three points of an arc:
+
+    >>> base = GuidingFourBar(0j, 100 + 0j, 35.0, 110.0, 95.0, 1, 55 + 35j, 0.3)
+    >>> arc = [100 + 20 * cmath.exp(1j * t) - 20 for t in (0.0, 0.25, 0.5)]
+    >>> phi = np.radians(np.arange(0.0, 240.0, 40.0))
+    >>> members = [make_target("timed", [(math.degrees(p), z.real, z.imag) for p, z in
+    ...                                 zip(phi, replace(base, pivot=c).positions(0.3 + phi)[2])]) for c in arc]
+    >>> r = path_family(members, Limits(20.0, 10.0), random_starts=0)
+    >>> round(abs(r.centre - 80), 6), round(r.radius, 6)
+    (0.0, 20.0)
+    """
+    from scipy.optimize import least_squares
+
+    task = targets[0].task
+    if len(targets) < 3 or any(t.task != task for t in targets):
+        raise CamcadError(f"a family needs three or more tables of one task, got {len(targets)}", "linkage path",
+                          "repeat --points (or --timed, or --distance) for each member")
+    if task == "distance" and len({t.fixed for t in targets}) != 1:
+        raise CamcadError("the members of a distance family share the fixed point", "--fixed-point",
+                          "give one --fixed-point")
+    work = PathWork()
+    nodes = 2 if task == "points" else 3
+    problems = [PathQ(t, nodes, limits, work) for t in targets]
+    first = deviation_synthesis(targets[0], limits, seed, every=True)
+    xs = []
+    for mech in first.candidates:
+        try:
+            x = problems[0].start_of(mech)
+        except (ValueError, ZeroDivisionError):
+            continue
+        if task == "distance":
+            x = np.concatenate([x[:3], x[4:], [x[3]] * len(targets)])
+        xs.append(x)
+    rng = np.random.default_rng(seed)
+    xs += [xs[k % len(xs)] * (1 + 0.05 * rng.standard_normal(len(xs[0]))) for k in range(random_starts) if xs]
+    best = None
+    for x0 in xs:
+        try:
+            fit = least_squares(lambda x: _family_residual(problems, limits, x), x0, method="trf", xtol=1e-15,
+                                ftol=1e-15, gtol=1e-15, max_nfev=400)
+        except ValueError:
+            continue
+        if best is None or fit.cost < best.cost:
+            best = fit
+    if best is None:
+        raise CamcadError("no adjustable four-bar was found for this family", "linkage path",
+                          "check the members (curves of one kind, points in order)")
+    states = _family_states(problems, best.x)
+    if any(st.mechanism is None for st in states):
+        raise CamcadError("the family's Q construction has no pivot for a member", "linkage path",
+                          "check the members, or give more rows")
+    if task == "points":
+        moved = [st.mechanism.o for st in states]
+    else:
+        moved = [st.mechanism.pivot for st in states]
+    centre, rad, residual = fit_circle(moved)
+    settings = np.array([cmath.phase(p - centre) for p in moved])
+    mechs = [st.mechanism for st in states]
+    checks = [check(m, t) for m, t in zip(mechs, targets)]
+    q_members = [st.q for st in states]
+    return PathFamilyResult(targets, mechs, checks, centre, rad, settings, residual, float(sum(q_members)), q_members,
+                            "O" if task == "points" else "C", work, len(xs))

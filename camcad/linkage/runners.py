@@ -29,10 +29,13 @@ from camcad.linkage.family import FamilyResult, Member, synthesize_family
 from camcad.linkage.fgen import Limits
 from camcad.linkage.path import (
     DEFAULT_TOLERANCE,
+    OPTIONS,
     TASKS,
+    PathFamilyResult,
     PathResult,
     PathTarget,
     deviation_synthesis,
+    path_family,
     q_synthesis,
     read_target,
 )
@@ -614,12 +617,13 @@ class PathRequest:
 
     Parameters
     ----------
-    points : Path or None
-        A curve: a table with the header ``x_mm,y_mm`` (the points in order along it).
-    timed : Path or None
-        A curve with its timing: ``phi_deg,x_mm,y_mm`` (φ the input's turn from the first row).
-    distance : Path or None
-        A distance to the fixed point: ``phi_deg,L_mm``.
+    points : Path, list of Path, or None
+        A curve: a table with the header ``x_mm,y_mm`` (the points in order along it); three or more tables: a
+        family, one adjustable mechanism for all (seed ch. 5).
+    timed : Path, list of Path, or None
+        A curve with its timing: ``phi_deg,x_mm,y_mm`` (φ the input's turn from the first row); or a family.
+    distance : Path, list of Path, or None
+        A distance to the fixed point: ``phi_deg,L_mm``; or a family.
     fixed_point : str or sequence of float
         The fixed point X, Y of a distance task, mm.
     rows : sequence or None
@@ -650,9 +654,9 @@ class PathRequest:
     ('timed', 6)
     """
 
-    points: Path | None = None
-    timed: Path | None = None
-    distance: Path | None = None
+    points: Any = None
+    timed: Any = None
+    distance: Any = None
     fixed_point: Any = None
     rows: Any = None
     task: str | None = None
@@ -666,32 +670,43 @@ class PathRequest:
 
 @dataclass
 class PathReport(LinkageReport):
-    """The guiding four-bar of each method run, the target, and which result the top-level figures are."""
+    """The guiding four-bar of each method run, the target, and which result the top-level figures are; for a
+    family the adjustable mechanism (``family``)."""
 
     target: PathTarget | None = None
     results: list[PathResult] = field(default_factory=list)
     best: PathResult | None = None
+    family: PathFamilyResult | None = None
 
 
-def path_target(request: PathRequest) -> PathTarget:
-    """The request's target (a table, or rows)."""
-    given = [(task, p) for task, p in (("points", request.points), ("timed", request.timed),
-                                       ("distance", request.distance)) if p is not None]
+def path_targets(request: PathRequest) -> list[PathTarget]:
+    """The request's targets (a table, several tables of one task for a family, or rows)."""
     fixed = numbers(request.fixed_point, "--fixed-point", 2, "120,40")
     if request.rows is not None:
-        if given or request.task not in TASKS:
+        if any(v for v in (request.points, request.timed, request.distance)) or request.task not in TASKS:
             raise CamcadError("give the rows with their task, or one table", "linkage path",
                               "rows=..., task='points' (or timed, distance)")
-        return make_path_target(request.task, request.rows, fixed)
+        return [make_path_target(request.task, request.rows, fixed)]
+
+    def tables(value) -> list[Path]:
+        if value is None:
+            return []
+        return [Path(v) for v in value] if isinstance(value, (list, tuple)) else [Path(value)]
+
+    given = [(task, tables(v)) for task, v in (("points", request.points), ("timed", request.timed),
+                                               ("distance", request.distance)) if tables(v)]
     if len(given) != 1:
-        raise CamcadError("give exactly one of --points, --timed, --distance", "command line",
+        raise CamcadError("give exactly one of --points, --timed, --distance (repeated for a family)", "command line",
                           "e.g. --points curve.csv (a table x_mm,y_mm)")
-    task, table = given[0]
+    task, paths = given[0]
     if task == "distance" and fixed is None:
         raise CamcadError("a distance task needs the fixed point", "--fixed-point", "give --fixed-point X,Y (mm)")
     if task != "distance" and fixed is not None:
         raise CamcadError("--fixed-point belongs to a distance task", "--fixed-point", "drop it, or use --distance")
-    return read_target(Path(table), task, fixed)
+    if len(paths) == 2:
+        raise CamcadError("two tables: a family needs three or more members", OPTIONS[task],
+                          "give one table, or three or more for an adjustable mechanism")
+    return [read_target(p, task, fixed) for p in paths]
 
 
 def _path_row(result: PathResult, target: PathTarget, limits: Limits, tolerance: float) -> dict:
@@ -727,7 +742,8 @@ def _path_row(result: PathResult, target: PathTarget, limits: Limits, tolerance:
            "deviations_mm": [float(d) for d in chk.deviations],
            "checks": checks, "passed": all(c["passed"] for c in checks.values()), "notes": list(result.notes)}
     if result.q is not None:
-        row["q"] = {"value_mm": result.q, "pivots_mm": [[p.real, p.imag] for p in np.asarray(result.q_pivots)]}
+        pivots = [] if result.q_pivots is None else np.atleast_1d(np.asarray(result.q_pivots))
+        row["q"] = {"value_mm": result.q, "pivots_mm": [[p.real, p.imag] for p in pivots]}
     return row
 
 
@@ -773,7 +789,12 @@ def run_linkage_path(request: PathRequest) -> PathReport:
     if not (0.0 <= request.mu_min < 90.0) or not request.ratio_max > 1.0:
         raise CamcadError("--mu-min must be in [0, 90) deg and --ratio-max above 1", "--mu-min",
                           "e.g. --mu-min 30 --ratio-max 10")
-    target = path_target(request)
+    targets = path_targets(request)
+    inputs = tuple(p for v in (request.points, request.timed, request.distance) if v
+                   for p in ([Path(x) for x in v] if isinstance(v, (list, tuple)) else [Path(v)]))
+    if len(targets) > 1:
+        return _path_family_report(targets, limits, request, inputs)
+    target = targets[0]
     tolerance = request.max_deviation if request.max_deviation is not None else DEFAULT_TOLERANCE * target.size
     results: list[PathResult] = []
     if request.method in ("deviation", "all"):
@@ -813,6 +834,44 @@ def run_linkage_path(request: PathRequest) -> PathReport:
                  f"C ({top['output_pivot_mm'][0]:.4f}, {top['output_pivot_mm'][1]:.4f}) mm, coupler point u "
                  f"{top['coupler_point_mm']['u']:.4f} v {top['coupler_point_mm']['v']:.4f} mm")
     best = results[ranked[0]]
-    inputs = tuple(Path(p) for p in (request.points, request.timed, request.distance) if p is not None)
     return PathReport("path", payload, bool(top["passed"]), lines, f"path-{target.task}", inputs, target, results,
                       best)
+
+
+def _path_family_report(targets: list[PathTarget], limits: Limits, request: PathRequest, inputs: tuple) -> PathReport:
+    """A family of guiding targets: one adjustable four-bar (``camcad.linkage.path.path_family``)."""
+    fam = path_family(targets, limits, request.seed)
+    rows = []
+    for k, (t, mech, chk) in enumerate(zip(targets, fam.mechanisms, fam.checks)):
+        tolerance = request.max_deviation if request.max_deviation is not None else DEFAULT_TOLERANCE * t.size
+        result = PathResult("q", mech, chk, fam.work, fam.q_members[k])
+        row = _path_row(result, t, limits, tolerance)
+        row.update({"member": k + 1, "source": t.source, "setting_deg": math.degrees(fam.settings[k]),
+                    "tolerance_mm": tolerance})
+        rows.append(row)
+    worst = max(rows, key=lambda r: r["max_deviation_mm"])
+    passed = all(r["passed"] for r in rows)
+    payload = {"command": "linkage path", "task": targets[0].task, "family": True, "members": len(targets),
+               "moved_pivot": fam.moved, "arc_centre_mm": [fam.centre.real, fam.centre.imag],
+               "arc_radius_mm": fam.radius, "circle_residual_mm": fam.circle_residual,
+               "settings_deg": [math.degrees(x) for x in fam.settings], "q_mm": fam.q,
+               "limits": {"mu_min_deg": request.mu_min, "ratio_max": request.ratio_max},
+               "max_deviation_mm": worst["max_deviation_mm"], "mu_min_deg": min(r["mu_min_deg"] for r in rows),
+               "position_evaluations": fam.work.positions, "passed": passed, "rows": rows}
+    if targets[0].fixed is not None:
+        payload["fixed_point_mm"] = [targets[0].fixed.real, targets[0].fixed.imag]
+    pivot = "crank pivot O" if fam.moved == "O" else "rocker pivot C"
+    lines = [f"camcad linkage path: a family of {len(targets)} {targets[0].task} targets, one adjustable four-bar "
+             f"(the {pivot} on an arc)",
+             f"  stage 1        sum of Q = {fam.q:.4g} mm",
+             f"  stage 2        arc centre ({fam.centre.real:.6f}, {fam.centre.imag:.6f}) mm, radius "
+             f"{fam.radius:.6f} mm (residual {fam.circle_residual:.3g} mm)"]
+    lines += [f"  member {r['member']} {r['source']:<16} setting {r['setting_deg']:10.5f} deg, max deviation "
+              f"{r['max_deviation_mm']:.4g} mm (tolerance {r['tolerance_mm']:.3g}), mu min {r['mu_min_deg']:.2f} deg"
+              + ("" if r["passed"] else ", FAILED") for r in rows]
+    mech = fam.mechanisms[0]
+    links = mech.links()
+    lines.append(f"  shared         OA {links[0]:.4f}, AB {links[1]:.4f}, CB {links[2]:.4f} mm; coupler point u "
+                 f"{mech.point.real:.4f} v {mech.point.imag:.4f} mm")
+    return PathReport("path", payload, passed, lines, f"path-{targets[0].task}-family", inputs, targets[0], [], None,
+                      fam)

@@ -185,8 +185,124 @@ def path_figure(report: PathReport):
     return fig
 
 
+COLOURS = ("#1f4e9c", "#c0392b", "#2d7f3b", "#7b3294", "#e66101", "#666666")
+
+
+def _family_csv(report: PathReport) -> str:
+    fam = report.family
+    assert fam is not None  # a family report
+    lines = ["# every member: each row of its target, the coupler point its setting gives, the deviation (mm)",
+             "member,row,target_x_mm,target_y_mm,phi_deg,L_mm,reproduced_x_mm,reproduced_y_mm,deviation_mm,theta_deg"]
+    for j, (t, chk) in enumerate(zip(fam.members, fam.checks), start=1):
+        for k in range(t.count):
+            p = t.points[k] if t.task != "distance" else complex(math.nan, math.nan)
+            phi = math.degrees(t.phi[k]) if t.task != "points" else math.nan
+            length = t.distance[k] if t.task == "distance" else math.nan
+            m = chk.reproduced[k]
+            lines.append(f"{j},{k + 1},{p.real:.12g},{p.imag:.12g},{phi:.12g},{length:.12g},{m.real:.12g},"
+                         f"{m.imag:.12g},{chk.deviations[k]:.12g},{math.degrees(chk.theta[k]):.12g}".replace("nan", ""))
+    return "\n".join(lines) + "\n"
+
+
+def family_drawing(report: PathReport) -> Drawing:
+    """The adjustable guiding four-bar as DXF (mm): FRAME, LINKS and JOINTS at member 1's first row, SETTINGS (the
+    linkage of every other member), COUPLER_CURVE (every member's curve over its range), TARGET, ADJUSTMENT (the
+    arc of the moved pivot, its centre and the lock radii), TEXT."""
+    fam = report.family
+    assert fam is not None  # a family report
+    size = max(t.size for t in fam.members)
+    r = 0.012 * max(size, max(fam.mechanisms[0].links()))
+    h = 0.02 * max(size, max(fam.mechanisms[0].links()))
+    lines: list[DxfLine] = []
+    circles: list[DxfCircle] = []
+    paths: list[DxfPath] = []
+    texts: list[DxfText] = []
+    for j, (mech, chk, t) in enumerate(zip(fam.mechanisms, fam.checks, fam.members)):
+        layer = "LINKS" if j == 0 else "SETTINGS"
+        a_pt, b_pt, m_pt = (complex(v[0]) for v in mech.positions(np.array([float(chk.theta[0])])))
+        for p, q in ((mech.o, a_pt), (a_pt, b_pt), (b_pt, mech.pivot), (a_pt, m_pt), (b_pt, m_pt)):
+            lines.append(DxfLine(layer, (p.real, p.imag), (q.real, q.imag)))
+        for p in (mech.o, a_pt, b_pt, mech.pivot, m_pt):
+            circles.append(DxfCircle("JOINTS", (p.real, p.imag), r))
+        curve = mech.positions(np.linspace(chk.lo, chk.hi, 361))[2]
+        ok = np.isfinite(curve)
+        if ok.sum() >= 2:
+            paths.append(DxfPath("COUPLER_CURVE", np.column_stack([curve.real[ok], curve.imag[ok]]), False))
+        if t.task != "distance":
+            for p in t.points:
+                lines.append(DxfLine("TARGET", (p.real - r, p.imag), (p.real + r, p.imag)))
+                lines.append(DxfLine("TARGET", (p.real, p.imag - r), (p.real, p.imag + r)))
+        moved = mech.o if fam.moved == "O" else mech.pivot
+        lines.append(DxfLine("ADJUSTMENT", (fam.centre.real, fam.centre.imag), (moved.real, moved.imag)))
+        texts.append(DxfText("TEXT", f"x{j + 1}", (moved.real + 1.5 * r, moved.imag + 1.5 * r), h))
+    for p in (fam.mechanisms[0].o if fam.moved == "C" else fam.mechanisms[0].pivot, fam.centre):
+        lines.append(DxfLine("FRAME", (p.real - 2 * r, p.imag - 1.6 * r), (p.real + 2 * r, p.imag - 1.6 * r)))
+    lo = min(fam.settings) - 0.2
+    hi = max(fam.settings) + 0.2
+    arc = fam.centre + fam.radius * np.exp(1j * np.linspace(lo, hi, 91))
+    paths.append(DxfPath("ADJUSTMENT", np.column_stack([arc.real, arc.imag]), False))
+    circles.append(DxfCircle("ADJUSTMENT", (fam.centre.real, fam.centre.imag), r))
+    mech = fam.mechanisms[0]
+    links = mech.links()
+    low = min(float(np.nanmin([c.reproduced.imag.min() for c in fam.checks])), fam.centre.imag) - 6 * r
+    left = min(float(np.nanmin([c.reproduced.real.min() for c in fam.checks])), fam.centre.real)
+    info = [f"adjustable guiding four-bar ({fam.members[0].task}, {len(fam.members)} members), the "
+            f"{'crank pivot O' if fam.moved == 'O' else 'rocker pivot C'} on an arc",
+            f"OA {links[0]:.3f}  AB {links[1]:.3f}  CB {links[2]:.3f} mm; coupler point u {mech.point.real:.3f} v "
+            f"{mech.point.imag:.3f} mm",
+            f"arc centre ({fam.centre.real:.3f}, {fam.centre.imag:.3f}) radius {fam.radius:.3f} mm; settings "
+            + ", ".join(f"{math.degrees(x):.3f}" for x in fam.settings) + " deg"]
+    for k, line in enumerate(info):
+        texts.append(DxfText("TEXT", line, (left, low - k * 1.8 * h), h))
+    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(lines), texts=tuple(texts),
+                   layers=("FRAME", "LINKS", "SETTINGS", "JOINTS", "COUPLER_CURVE", "TARGET", "ADJUSTMENT", "TEXT"))
+
+
+def family_figure(report: PathReport):
+    """Every member's coupler curve against its target, the linkage at every setting and the arc (left); each
+    member's deviation per row (right)."""
+    from matplotlib.figure import Figure
+
+    fam = report.family
+    assert fam is not None  # a family report
+    fig = Figure(figsize=(11.0, 5.4), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2, width_ratios=(1.5, 1.0))
+    for j, (mech, chk, t) in enumerate(zip(fam.mechanisms, fam.checks, fam.members)):
+        colour = COLOURS[j % len(COLOURS)]
+        curve = mech.positions(np.linspace(chk.lo, chk.hi, 361))[2]
+        ax.plot(curve.real, curve.imag, color=colour, lw=1.6, label=f"member {j + 1}: x = "
+                f"{math.degrees(fam.settings[j]):.2f} deg")
+        if t.task != "distance":
+            ax.plot(t.points.real, t.points.imag, "o", mfc="none", mec=colour, ms=7)
+        a_pt, b_pt, m_pt = (complex(v[0]) for v in mech.positions(np.array([float(chk.theta[0])])))
+        chain = [mech.o, a_pt, b_pt, mech.pivot]
+        ax.plot([z.real for z in chain], [z.imag for z in chain], "-", color=colour, lw=0.9, alpha=0.8)
+        ax.plot([a_pt.real, m_pt.real, b_pt.real], [a_pt.imag, m_pt.imag, b_pt.imag], ":", color=colour, lw=0.8)
+        rows = np.arange(1, t.count + 1)
+        ax2.plot(rows, chk.deviations, "o-", color=colour, ms=4, label=f"member {j + 1}")
+    arc = fam.centre + fam.radius * np.exp(1j * np.linspace(min(fam.settings) - 0.2, max(fam.settings) + 0.2, 91))
+    ax.plot(arc.real, arc.imag, color="black", lw=1.0, ls="--", label="arc of the moved pivot")
+    ax.plot([fam.centre.real], [fam.centre.imag], "k+", ms=10)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"one adjustable four-bar for {len(fam.members)} {fam.members[0].task} targets (sum of Q "
+                 f"{fam.q:.3g} mm)", fontsize=9)
+    ax2.set_yscale("log")
+    ax2.set_xlabel("row")
+    ax2.set_ylabel("deviation (mm)")
+    ax2.grid(True, lw=0.4, alpha=0.5, which="both")
+    ax2.legend(fontsize=8)
+    return fig
+
+
 def path_files(report: PathReport, plots: bool):
     """(texts, figures, drawing) of a path report for ``write_linkage_outputs``."""
+    if report.family is not None:
+        figures = {"path.png": lambda: family_figure(report)} if plots else {}
+        return {"deviation.csv": _family_csv(report)}, figures, family_drawing(report)
     best = report.best
     assert best is not None  # a path report carries its best result
     texts = {"deviation.csv": _rows_csv(report),
