@@ -134,6 +134,24 @@ def path(points: Annotated[list[Path] | None, _opt("--points", "A curve: table x
 
 
 @linkage_app.command()
+def variator(u_mean: Annotated[str | None, _opt("--u-mean", "Mean velocity analog U_cp regulated, A:B (rad per rad of "
+                                                            "crank).")] = None,
+             interval: Annotated[float, _opt("--interval", "The crank's working interval (deg).")] = 90.0,
+             settings: Annotated[int, _opt("--settings", "Settings p (U_cp spread over A:B).")] = 3,
+             crank: Annotated[float, _opt("--crank", "Crank length OA (mm).")] = 20.0,
+             mu_min: MuOpt = 30.0, ratio_max: RatioOpt = 10.0,
+             starts: Annotated[int, _opt("--starts", "Random starts of stage 2.")] = 24, seed: SeedOpt = 0,
+             max_delta: Annotated[float | None, _opt("--max-delta", "Allowed non-uniformity [delta].")] = None,
+             output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
+    """The transforming six-bar of an impulse variator (seed Fig. 7): U constant over the working interval while
+    its mean is regulated; the non-uniformity delta reported; exit 1 when a check fails."""
+    from camcad.linkage.runners import VariatorRequest
+
+    _go(VariatorRequest(u_mean, interval, settings, crank, mu_min, ratio_max, starts, seed, max_delta), output,
+        not no_plots, as_json)
+
+
+@linkage_app.command()
 def analyse(scene: SceneOptArg = None, mechanism: MechOpt = None, pivot: PivotOpt = "0,0",
             output_pivot: OutPivotOpt = None, links: LinksOpt = None, input_angle: InputAngleOpt = None,
             swing: SwingOpt = None, sense: SenseOpt = 1, branch: BranchOpt = 1, output_pivot_2: OutPivot2Opt = None,

@@ -42,6 +42,7 @@ from camcad.linkage.path import (
 from camcad.linkage.path import make_target as make_path_target
 from camcad.linkage.synthesis import CONSTRAINED, METHODS, FgenOptions, FgenResult, report, synthesize
 from camcad.linkage.target import Target, make_target, target_from_table
+from camcad.linkage.variator import VariatorResult, synthesise_variator
 
 # --------------------------------------------------------------------------------------------
 # Options as the command line writes them, or as values
@@ -875,3 +876,118 @@ def _path_family_report(targets: list[PathTarget], limits: Limits, request: Path
                  f"{mech.point.real:.4f} v {mech.point.imag:.4f} mm")
     return PathReport("path", payload, passed, lines, f"path-{targets[0].task}-family", inputs, targets[0], [], None,
                       fam)
+
+
+# --------------------------------------------------------------------------------------------
+# variator
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class VariatorRequest:
+    """What ``camcad linkage variator`` synthesises: the transforming six-bar of an impulse variator (seed Fig. 7).
+
+    Parameters
+    ----------
+    u_mean : str or sequence of float
+        The regulated mean velocity analog U_cp of the output over the working interval, from A to B
+        (dimensionless: rad of output per rad of crank).
+    interval : float
+        The crank's working interval φ_p, deg.
+    settings : int
+        The settings p (U_cp spread evenly from A to B).
+    crank : float
+        Crank length OA, mm.
+    mu_min : float
+        Transmission-angle limit, deg.
+    ratio_max : float
+        Largest link-length ratio (dimensionless).
+    starts : int
+        Random starts of the second stage.
+    seed : int
+        Their seed.
+    max_delta : float or None
+        The non-uniformity [δ] allowed (dimensionless); None: reported, not judged.
+
+    Examples
+    --------
+    >>> VariatorRequest(u_mean="0.05:0.15", interval=90.0).settings
+    3
+    """
+
+    u_mean: Any = None
+    interval: float = 90.0
+    settings: int = 3
+    crank: float = 20.0
+    mu_min: float = 30.0
+    ratio_max: float = 10.0
+    starts: int = 24
+    seed: int = 0
+    max_delta: float | None = None
+
+
+@dataclass
+class VariatorReport(LinkageReport):
+    """The variator and each setting's figures."""
+
+    result: VariatorResult | None = None
+
+
+def run_linkage_variator(request: VariatorRequest) -> VariatorReport:
+    """The transforming six-bar of an impulse variator (``camcad linkage variator``, seed ch. 4, Fig. 7).
+
+    Parameters
+    ----------
+    request : VariatorRequest
+        The regulated mean ratio range (dimensionless), the working interval (deg), the settings, the crank (mm)
+        and the limits (deg, ratio).
+
+    Returns
+    -------
+    VariatorReport
+        ``to_dict()``: the links (mm), the pivots (mm), per setting the setting angle of C about O (deg), U_cp, δ
+        (dimensionless) and the worst transmission angles (deg); ``delta_max`` = max δ.
+
+    References
+    ----------
+    Sunkuev 1984, ch. 4 (the two-stage synthesis of the impulse variator's transforming six-bar).
+
+    Examples
+    --------
+    >>> r = run_linkage_variator(VariatorRequest(u_mean="0.05:0.15", interval=90.0, starts=2))
+    >>> [round(row["u_mean"], 6) for row in r.to_dict()["rows"]]
+    [0.05, 0.1, 0.15]
+    """
+    span = numbers(request.u_mean, "--u-mean", 2, "0.05:0.15")
+    if span is None:
+        raise CamcadError("missing", "--u-mean", "give the mean ratios to regulate, e.g. --u-mean 0.05:0.15")
+    result = synthesise_variator(span, request.interval, request.settings, request.crank, request.mu_min,
+                                 request.ratio_max, request.starts, request.seed)
+    v = result.variator
+    rows = result.rows
+    delta_max = result.delta_max
+    checks = {"transmission_angle": {
+        "value": min(min(r["mu_min_first_deg"], r["mu_min_second_deg"]) for r in rows), "limit": request.mu_min,
+        "passed": all(min(r["mu_min_first_deg"], r["mu_min_second_deg"]) >= request.mu_min - 1e-6 for r in rows),
+        "why": "worst min(mu, 180 - mu) of the first loop over the turn and the second over the working interval"}}
+    checks["transmission_angle"]["margin"] = checks["transmission_angle"]["value"] - request.mu_min
+    if request.max_delta is not None:
+        checks["non_uniformity"] = {"value": delta_max, "limit": request.max_delta,
+                                    "margin": request.max_delta - delta_max, "passed": delta_max <= request.max_delta,
+                                    "why": "max over the settings of (U_max - U_min)/U_cp over the working interval"}
+    passed = all(c["passed"] for c in checks.values())
+    payload = {"command": "linkage variator", "links_mm": {"OA": v.a, "AB": v.b, "CB": v.c, "OC": v.radius,
+                                                           "BD": v.e, "ED": v.f},
+               "pivot_e_mm": [v.pivot_e.real, v.pivot_e.imag], "interval_deg": math.degrees(v.interval),
+               "interval_start_deg": math.degrees(v.start), "branches": [v.branch1, v.branch2],
+               "delta_w": result.delta_w, "delta_max": delta_max, "rows": rows, "checks": checks,
+               "position_evaluations": result.evaluations, "passed": passed, "notes": result.notes}
+    lines = [f"camcad linkage variator: U_cp {span[0]:g} .. {span[1]:g} over a working interval of "
+             f"{request.interval:g} deg, {request.settings} settings",
+             f"  links          OA {v.a:.4f}, AB {v.b:.4f}, CB {v.c:.4f}, |OC| {v.radius:.4f}, BD {v.e:.4f}, ED "
+             f"{v.f:.4f} mm; E ({v.pivot_e.real:.4f}, {v.pivot_e.imag:.4f}) mm",
+             f"  stage 1        delta_w = {result.delta_w:.4g} (the first four-bar alone)"]
+    lines += [f"  setting {r['setting_deg']:9.4f} deg: U_cp {r['u_mean']:.5f}, delta {r['delta']:.4f}, mu min "
+              f"{r['mu_min_first_deg']:.2f} / {r['mu_min_second_deg']:.2f} deg" for r in rows]
+    lines.append(f"  max delta      {delta_max:.4f}")
+    lines += [f"  check {k:<18} " + ("ok" if c["passed"] else "FAILED") for k, c in checks.items()]
+    return VariatorReport("variator", payload, passed, lines, "variator", (), result)

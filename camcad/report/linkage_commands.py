@@ -24,11 +24,14 @@ from camcad.linkage.runners import (
     LinkageReport,
     PathReport,
     PathRequest,
+    VariatorReport,
+    VariatorRequest,
     outputs_line,
     run_linkage_atlas,
     run_linkage_family,
     run_linkage_fgen,
     run_linkage_path,
+    run_linkage_variator,
 )
 from camcad.report.command import CommandRun, open_folder
 from camcad.report.linkage import (
@@ -45,7 +48,7 @@ from camcad.report.linkage import (
     write_fgen_outputs,
     write_linkage_outputs,
 )
-from camcad.report.linkage_path import path_files
+from camcad.report.linkage_path import path_files, variator_drawing, variator_figure
 from camcad.scene.linkage_commands import (
     AdjustReport,
     AdjustRequest,
@@ -69,7 +72,8 @@ def _lines(run: CommandRun) -> list[str]:
 def _run(request):
     """The request's runner."""
     runners = {AtlasRequest: run_linkage_atlas, FgenRequest: run_linkage_fgen, FamilyRequest: run_linkage_family,
-               PathRequest: run_linkage_path, AnalyseRequest: run_linkage_analyse, AdjustRequest: run_linkage_adjust,
+               PathRequest: run_linkage_path, VariatorRequest: run_linkage_variator,
+               AnalyseRequest: run_linkage_analyse, AdjustRequest: run_linkage_adjust,
                TuneRequest: run_linkage_tune}
     return runners[type(request)](request)
 
@@ -117,7 +121,7 @@ def write_report(report: LinkageReport, out, plots: bool) -> list[Path]:
     if isinstance(report, FgenReport):
         return _write_fgen(report, out, plots)
     writer = {FamilyReport: _family_files, AnalyseReport: _analyse_files, AdjustReport: _adjust_files,
-              TuneReport: _tune_files, PathReport: path_files}[type(report)]
+              TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files}[type(report)]
     texts, figures, drawing = writer(report, plots)
     for name in [*texts, *figures, f"{report.command}.dxf", f"{report.command}.json"]:
         out.path(name)
@@ -227,3 +231,17 @@ def _tune_files(report: TuneReport, plots: bool):
             "SETTINGS: the mechanism at every root, both extremes"))
     return {"tune.csv": rows_csv(report.rows)}, figures, drawing
 
+
+
+def _variator_files(report: VariatorReport, plots: bool):
+    result = report.result
+    assert result is not None  # a variator report carries its result
+    v = result.variator
+    lines = ["# the output's velocity analog U = w k over the working interval at every setting (dimensionless)",
+             "setting_deg,theta_deg,w,k,U"]
+    for x in result.settings:
+        theta, w, k, u = v.ratios(float(x))
+        lines += [f"{math.degrees(math.remainder(float(x), 2 * math.pi)):.9g},{math.degrees(t):.9g},{a:.12g},"
+                  f"{b:.12g},{c:.12g}" for t, a, b, c in zip(theta, w, k, u)]
+    figures = {"variator.png": lambda: variator_figure(result)} if plots else {}
+    return {"variator.csv": "\n".join(lines) + "\n"}, figures, variator_drawing(result)

@@ -10,6 +10,7 @@ import numpy as np
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfText
 from camcad.linkage.path import GuidingFourBar
 from camcad.linkage.runners import PathReport
+from camcad.linkage.variator import VariatorResult
 
 #: frames of the position table (the crank's range through the rows, ends included)
 FRAMES = 121
@@ -309,3 +310,74 @@ def path_files(report: PathReport, plots: bool):
              "positions.csv": _positions_csv(best.mechanism, best.check.lo, best.check.hi)}
     figures = {"path.png": lambda: path_figure(report)} if plots else {}
     return texts, figures, path_drawing(report)
+
+
+def variator_figure(result: VariatorResult):
+    """U over the working interval at every setting (left) and the six-bar at each setting (right)."""
+    from matplotlib.figure import Figure
+
+    v = result.variator
+    fig = Figure(figsize=(11.0, 5.0), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
+    for j, x in enumerate(result.settings):
+        colour = COLOURS[j % len(COLOURS)]
+        theta, _, _, u = v.ratios(float(x))
+        row = result.rows[j]
+        ax.plot(np.degrees(theta - theta[0]), u, color=colour, lw=1.5,
+                label=f"x = {row['setting_deg']:.2f} deg: U_cp {row['u_mean']:.4g}, δ {row['delta']:.3f}")
+        ax.axhline(row["u_mean"], color=colour, lw=0.6, ls=":")
+        first, second = v.loops(float(x))
+        t0 = float(theta[len(theta) // 2])
+        a_pt, b_pt = (complex(np.asarray(p)) for p in first.joints(t0))
+        beta = float(first.output(t0))
+        _, d_pt = (complex(np.asarray(p)) for p in second.joints(beta))
+        c_pt, e_pt = complex(*first.q), complex(*second.q)
+        chain = [0j, a_pt, b_pt, c_pt]
+        ax2.plot([z.real for z in chain], [z.imag for z in chain], "-o", color=colour, lw=1.2, ms=3)
+        ax2.plot([b_pt.real, d_pt.real, e_pt.real], [b_pt.imag, d_pt.imag, e_pt.imag], "-o", color=colour, lw=1.2,
+                 ms=3)
+    arc = v.radius * np.exp(1j * np.linspace(min(result.settings) - 0.3, max(result.settings) + 0.3, 91))
+    ax2.plot(arc.real, arc.imag, "k--", lw=0.8, label="arc of C about O")
+    ax2.plot([0.0, v.pivot_e.real], [0.0, v.pivot_e.imag], "k^", ms=9)
+    ax.set_xlabel("crank angle over the working interval (deg)")
+    ax.set_ylabel("U = dψ/dφ")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize=7)
+    ax.set_title(f"impulse variator: max δ {result.delta_max:.3f} (first loop alone δ_w {result.delta_w:.3f})",
+                 fontsize=9)
+    ax2.set_aspect("equal", adjustable="datalim")
+    ax2.grid(True, lw=0.4, alpha=0.5)
+    ax2.legend(fontsize=7)
+    ax2.set_title("the six-bar at every setting (mid working interval), mm", fontsize=9)
+    return fig
+
+
+def variator_drawing(result: VariatorResult) -> Drawing:
+    """The variator's six-bar at every setting (layer SETTINGS; the first also LINKS), the pivots (FRAME), the
+    arc of C about O (ADJUSTMENT), JOINTS and TEXT (mm)."""
+    v = result.variator
+    r = 0.02 * max(v.b, v.c, v.radius)
+    h = 1.5 * r
+    lines, circles, paths, texts = [], [], [], []
+    for j, x in enumerate(result.settings):
+        layer = "LINKS" if j == 0 else "SETTINGS"
+        first, second = v.loops(float(x))
+        t0 = float(x) + v.start + v.interval / 2
+        a_pt, b_pt = (complex(np.asarray(p)) for p in first.joints(t0))
+        _, d_pt = (complex(np.asarray(p)) for p in second.joints(float(first.output(t0))))
+        c_pt = complex(*first.q)
+        for p, q in ((0j, a_pt), (a_pt, b_pt), (c_pt, b_pt), (b_pt, d_pt), (v.pivot_e, d_pt)):
+            lines.append(DxfLine(layer, (p.real, p.imag), (q.real, q.imag)))
+        for p in (a_pt, b_pt, c_pt, d_pt):
+            circles.append(DxfCircle("JOINTS", (p.real, p.imag), r))
+        texts.append(DxfText("TEXT", f"C{j + 1}", (c_pt.real + r, c_pt.imag + r), h))
+    for p in (0j, v.pivot_e):
+        circles.append(DxfCircle("FRAME", (p.real, p.imag), r))
+        lines.append(DxfLine("FRAME", (p.real - 2 * r, p.imag - 1.6 * r), (p.real + 2 * r, p.imag - 1.6 * r)))
+    arc = v.radius * np.exp(1j * np.linspace(min(result.settings) - 0.3, max(result.settings) + 0.3, 91))
+    paths.append(DxfPath("ADJUSTMENT", np.column_stack([arc.real, arc.imag]), False))
+    texts.append(DxfText("TEXT", f"impulse variator: max delta {result.delta_max:.4f}; OA {v.a:.3f} AB {v.b:.3f} CB "
+                                 f"{v.c:.3f} OC {v.radius:.3f} BD {v.e:.3f} ED {v.f:.3f} mm",
+                         (min(0.0, v.pivot_e.real), min(0.0, v.pivot_e.imag) - 6 * r), h))
+    return Drawing(paths=tuple(paths), circles=tuple(circles), lines=tuple(lines), texts=tuple(texts),
+                   layers=("FRAME", "LINKS", "SETTINGS", "JOINTS", "ADJUSTMENT", "TEXT"))
