@@ -72,6 +72,8 @@ DEFAULT_TOLERANCE = 1e-3
 CURVE_SAMPLES = 2001
 #: how far inside its limits an optimiser keeps a mechanism (cos μ, log link ratio)
 INSIDE = 1e-9
+#: the same for the exact penalties of the Q searches, which end a hair outside the boundary they are pushed to
+PENALTY_INSIDE = 1e-6
 
 
 # --------------------------------------------------------------------------------------------
@@ -919,7 +921,7 @@ class PathQ:
         groups = [st.pivots[:st.split], st.pivots[st.split:]] if st.split else [st.pivots]
         spread = np.concatenate([g - np.mean(g) for g in groups]) / self.size
         lo, hi = self._range(st)
-        margins = limit_margins(st.mechanism, lo, hi, self.limits, inside=0.0)
+        margins = limit_margins(st.mechanism, lo, hi, self.limits, inside=PENALTY_INSIDE)
         penalty = 10.0 * float(np.sum(np.maximum(0.0, -margins)))
         return np.concatenate([spread.real, spread.imag, [penalty]])
 
@@ -1133,7 +1135,8 @@ def _family_residual(problems: list[PathQ], limits: Limits, x: np.ndarray) -> np
         groups = [st.pivots[:st.split], st.pivots[st.split:]] if st.split else [st.pivots]
         spread = np.concatenate([g - np.mean(g) for g in groups]) / size
         lo, hi = p._range(st)
-        penalty = 10.0 * float(np.sum(np.maximum(0.0, -limit_margins(st.mechanism, lo, hi, limits, inside=0.0))))
+        penalty = 10.0 * float(np.sum(np.maximum(0.0, -limit_margins(st.mechanism, lo, hi, limits,
+                                                                     inside=PENALTY_INSIDE))))
         out.append(np.concatenate([spread.real, spread.imag, [penalty]]))
     if problems[0].target.task == "timed":    # one crank: the crank pins of the members at one radius from O
         o = complex(x[0], x[1])
