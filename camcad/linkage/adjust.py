@@ -110,9 +110,19 @@ class Adjustment:
 
 
 @lru_cache(maxsize=256)
+def _nominal_joints(linkage: Linkage) -> dict:
+    """The joints at ψ = 0 (complex mm); cached: the scans and fits ask them of one nominal linkage."""
+    return {k: complex(np.asarray(v)) for k, v in linkage.joints(0.0).items()}
+
+
+@lru_cache(maxsize=256)
+def _reference(linkage: Linkage) -> float:
+    """The working member's absolute angle at ψ = 0 (rad), cached as ``_nominal_joints``."""
+    return float(linkage.working_angle(np.array([0.0]))[0])
+
+
 def _base_point(linkage: Linkage, joint: str) -> complex:
-    """The joint's position at ψ = 0 (complex mm); cached: the scans and fits ask it of one nominal linkage."""
-    return complex(np.asarray(linkage.joints(0.0)[joint]))
+    return _nominal_joints(linkage)[joint]
 
 
 def radius(linkage: Linkage, adj: Adjustment) -> float:
@@ -185,7 +195,7 @@ def adjusted(linkage: Linkage, adj: Adjustment, x: float) -> Linkage:
         else:
             raise ValueError(f"no pivot {adj.joint}")
         return replace(linkage, loops=tuple(loops))
-    j0 = linkage.joints(0.0)
+    j0 = _nominal_joints(linkage)
     if adj.joint == "A":
         origin = complex(*loops[0].p)
         theta0 = math.atan2(new.imag - origin.imag, new.real - origin.real)
@@ -249,7 +259,7 @@ def characteristics(linkage: Linkage, adj: Adjustment, x: float, psi_max: float,
     [True, True]
     """
     s = linkage.output_sense
-    ref = float(linkage.working_angle(np.array([0.0]))[0])
+    ref = _reference(linkage)
     lk = adjusted(linkage, adj, x)
     if quick:
         return _quick(lk, x, psi_max, s, ref, points)
@@ -464,8 +474,8 @@ def solve_task1(linkage: Linkage, psi_max: float, swing_range: tuple[float, floa
 
 
 def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, float], functions: dict,
-             count: int = 21, starts: int = 6, max_evaluations: int = 150, mu_min: float = 0.0,
-             ring_starts: int = 6) -> AdjustResult:
+             count: int = 21, starts: int = 3, max_evaluations: int = 100, mu_min: float = 0.0,
+             ring_starts: int = 4) -> AdjustResult:
     """Tasks 2–6 of Table 3 fitted by least squares on ``count`` values of the regulating variable u
     over ``u_range``: the arc of joint A on the input lever (centre M, radius r) and the settings
     x(u) = x₀ + (x₁ − x₀)(u − u₀)/(u₁ − u₀); task 4 keeps task 1's arc (ψ₁ exact) and fits x₀, x₁ only.
@@ -476,7 +486,8 @@ def fit_task(linkage: Linkage, psi_max: float, task: int, u_range: tuple[float, 
     a local least-squares fit: the deviation it reports is what it reached, not a proven optimum.
     ``mu_min`` (rad): the transmission-angle limit, a constraint of the fit (10 × the violation in rad added to
     the residuals at every setting). Besides task 1's arc, ``ring_starts`` arc centres on a ring of radius b/2
-    around it start fits too; ``evidence`` says how many starts end at the best cost (within 1e-3 relative).
+    around it start fits too (spans of 10°, 20°, 30° by default); ``evidence`` says how many starts end at the
+    best cost (within 1e-3 relative).
 
     Returns
     -------
@@ -764,12 +775,13 @@ def synthesise_table2(linkage: Linkage, task: int, u_range: tuple[float, float] 
 
     Examples
     --------
-    Task 2 (φ₁, ψ₁ const, ψ₂ var) of a crank-rocker: the swing grows while the first extreme stays.
+    Task 3 (ψ₁ and ψ₂ functions of the setting) of a crank-rocker: both extremes move 3° apart per unit of u.
 
     >>> from camcad.linkage.analysis import Loop
     >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 0.0), 30.0, 110.0, 90.0),), theta0=0.0)
-    >>> r = synthesise_table2(lk, 2, (0.0, 1.0), var_range=(0.0, math.radians(8.0)), rings=1, per_ring=4, count=5)
-    >>> r.deviation["psi2"] < 0.5, r.deviation["psi1"] < 0.5
+    >>> f = {"psi1": lambda u: -math.radians(3.0) * u, "psi2": lambda u: math.radians(3.0) * u}
+    >>> r = synthesise_table2(lk, 3, (0.0, 1.0), f, rings=1, per_ring=2, count=5)
+    >>> r.deviation["psi1"] < 0.2, r.deviation["psi2"] < 0.2
     (True, True)
     """
     from scipy.optimize import least_squares

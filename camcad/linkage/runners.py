@@ -40,6 +40,7 @@ from camcad.linkage.path import (
     read_target,
 )
 from camcad.linkage.path import make_target as make_path_target
+from camcad.linkage.schemes import annotate_schemes
 from camcad.linkage.synthesis import CONSTRAINED, METHODS, FgenOptions, FgenResult, report, synthesize
 from camcad.linkage.target import Target, make_target, target_from_table
 from camcad.linkage.variator import VariatorResult, synthesise_variator
@@ -183,6 +184,9 @@ def atlas_lines(payload: dict, seconds: float) -> list[str]:
         lines.append("  by assortment  " + ", ".join(f"{k}: {v}" for k, v in payload["by_assortment"].items()))
     if payload.get("discrepancy"):
         lines.append(f"  discrepancy    {payload['discrepancy']}")
+    if "adjustable_jointed_to_frame" in payload:
+        lines.append(f"  schemes        {payload['adjustable_jointed_to_frame']} of {payload['count']} have the "
+                     "adjustable link jointed to the frame")
     if payload.get("guide"):
         lines.append(f"  choosing       {payload['guide']}")
     lines.append(f"  rule           {payload['rule']}")
@@ -215,6 +219,7 @@ def run_linkage_atlas(request: AtlasRequest) -> LinkageAtlasReport:
     (38, 38, 0)
     """
     result = atlas(request.links, request.dof, request.adjustable)
+    annotate_schemes(result)
     name = f"atlas-n{request.links}-w{request.dof}" + (f"-m{request.adjustable}" if request.adjustable else "")
     return LinkageAtlasReport("atlas", result.payload, True, atlas_lines(result.payload, result.seconds), name,
                               atlas=result)

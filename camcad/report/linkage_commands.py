@@ -115,7 +115,7 @@ def linkage_command(request, output: Path | None = None, plots: bool = True) -> 
 def write_report(report: LinkageReport, out, plots: bool) -> list[Path]:
     """Write a linkage report's files into the OutputFolder ``out``; the JSON is the last path."""
     if isinstance(report, LinkageAtlasReport):
-        for name in ("atlas.json", "atlas.csv", "atlas.dxf", "atlas.png"):
+        for name in ("atlas.json", "atlas.csv", "atlas.dxf", "atlas.png", "schemes.dxf", "schemes.png"):
             out.path(name)
         return write_atlas_outputs(out.folder, report.atlas, plots)
     if isinstance(report, FgenReport):
