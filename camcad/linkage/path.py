@@ -978,7 +978,7 @@ def _start_cost(target: PathTarget, item, work: PathWork) -> float:
 
 
 def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, tolerance: float | None = None,
-                        every: bool = False) -> PathResult:
+                        every: bool = False, evolution: bool = True) -> PathResult:
     """The deviation method (module docstring): starts from the dyads (and, for points that they do not reach,
     from differential evolution on the implicit equation), each polished by least squares under the limits.
 
@@ -1010,7 +1010,7 @@ def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, toler
         return out
 
     mechs = polished(starts)
-    if target.task == "points":
+    if target.task == "points" and evolution:
         best = _best(target, mechs, limits) if mechs else None
         if best is None or not admissible(*best, limits) or best[1].max_deviation > tol:
             evo = _evolution_starts(target, limits, seed, work)
@@ -1156,7 +1156,8 @@ def path_family(targets: list[PathTarget], limits: Limits, seed: int = 0, random
     member's crank pins and rocker pivot C are found; the crank pins' radius is held equal); distance: every
     free parameter but the crank's phase θ₀⁽ʲ⁾ (each member's rocker pivot C is found) — minimising Σ Q⁽ʲ⁾ with
     the limits as exact penalties (least squares on the pivots' spreads), from a member's own synthesis and
-    ``random_starts`` random starts. Stage 2: the centres of the members' rectangles lie on the arc of the
+    ``random_starts`` random starts (the first member's synthesis: every distinct dyad solution with timing, the
+    dyad starts without differential evolution for curves). Stage 2: the centres of the members' rectangles lie on the arc of the
     adjustable link: the circle through them (three members; least squares beyond) gives its centre and radius,
     and the settings are the angles of the pivot about it.
 
@@ -1185,7 +1186,7 @@ def path_family(targets: list[PathTarget], limits: Limits, seed: int = 0, random
     work = PathWork()
     nodes = 2 if task == "points" else 3
     problems = [PathQ(t, nodes, limits, work) for t in targets]
-    first = deviation_synthesis(targets[0], limits, seed, every=True)
+    first = deviation_synthesis(targets[0], limits, seed, every=task != "points", evolution=False)
     xs = []
     for mech in first.candidates:
         try:
