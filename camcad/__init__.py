@@ -31,7 +31,12 @@ Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft to
 ``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
 groups: ``Group``, ``make_machine``, ``optimise_machine``.
 Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Speed against error:
-``run_bench``/``BenchRequest`` (``camcad bench``). Plots (each returns a Figure):
+``run_bench``/``BenchRequest`` (``camcad bench``). Linkages (Sunkuev 1984): a request in,
+a report out (``to_dict()``, ``exit_code``, ``lines()``) — ``run_linkage_atlas`` (``AtlasRequest``),
+``run_linkage_fgen`` (``FgenRequest``), ``run_linkage_path`` (``PathRequest``), ``run_linkage_family``
+(``FamilyRequest``), ``run_linkage_analyse`` (``AnalyseRequest``), ``run_linkage_adjust`` (``AdjustRequest``),
+``run_linkage_tune`` (``TuneRequest``) with ``LinkageSource`` and ``ElementSpec``; ``linkage_command`` runs one and
+writes its files. Plots (each returns a Figure):
 ``plot_summary``, ``plot_kinematics``, ``plot_pressure_angle``, ``plot_curvature``, ``plot_profile``,
 ``plot_hodograph``. Handing a design over: ``cam_frames`` (``CamFrames``) and ``mechanism_frames``
 (``MechanismFrames``), the mechanism frame by frame; ``animation_html`` (the animation page) and
@@ -80,6 +85,16 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.law.source import LoadedLaw, load_law
     from camcad.law.standard import compose
     from camcad.law.vdi import catalogue_table, rest_shape
+    from camcad.linkage.runners import (
+        AtlasRequest,
+        FamilyRequest,
+        FgenRequest,
+        PathRequest,
+        run_linkage_atlas,
+        run_linkage_family,
+        run_linkage_fgen,
+        run_linkage_path,
+    )
     from camcad.profile.animation import CamFrames, cam_frames
     from camcad.profile.batch import synthesize_many
     from camcad.profile.design import min_base_radius
@@ -91,6 +106,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.report.animation import animation_html
     from camcad.report.bench import BenchRequest, run_bench
     from camcad.report.design_report import design_report_html
+    from camcad.report.linkage_commands import linkage_command
     from camcad.report.part_files import part_files
     from camcad.report.profile import (
         plot_curvature,
@@ -105,6 +121,16 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     from camcad.scene.animation import MechanismFrames, mechanism_frames
     from camcad.scene.commands.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
+    from camcad.scene.linkage_commands import (
+        AdjustRequest,
+        AnalyseRequest,
+        ElementSpec,
+        LinkageSource,
+        TuneRequest,
+        run_linkage_adjust,
+        run_linkage_analyse,
+        run_linkage_tune,
+    )
     from camcad.scene.pipeline import PipelineOptions, analyse_scene
     from camcad.scene.sections.export import ExportSettings
 
@@ -155,6 +181,13 @@ _EXPORTS: dict[str, str] = {
     "CamFrames": "camcad.profile.animation", "cam_frames": "camcad.profile.animation",
     "MechanismFrames": "camcad.scene.animation", "mechanism_frames": "camcad.scene.animation",
     "animation_html": "camcad.report.animation", "design_report_html": "camcad.report.design_report",
+    **{name: "camcad.linkage.runners" for name in (
+        "AtlasRequest", "FgenRequest", "PathRequest", "FamilyRequest", "run_linkage_atlas", "run_linkage_fgen",
+        "run_linkage_path", "run_linkage_family")},
+    **{name: "camcad.scene.linkage_commands" for name in (
+        "LinkageSource", "ElementSpec", "AnalyseRequest", "AdjustRequest", "TuneRequest", "run_linkage_analyse",
+        "run_linkage_adjust", "run_linkage_tune")},
+    "linkage_command": "camcad.report.linkage_commands",
 }
 
 
@@ -162,6 +195,9 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 __all__ = [
+    "AdjustRequest",
+    "AnalyseRequest",
+    "AtlasRequest",
     "BalanceReport",
     "BenchRequest",
     "CamDrive",
@@ -172,14 +208,19 @@ __all__ = [
     "DriveRequest",
     "ElasticFollower",
     "ElasticShaft",
+    "ElementSpec",
     "ExportSettings",
+    "FamilyRequest",
+    "FgenRequest",
     "Follower",
     "Group",
     "LawRecord",
     "LeverBeam",
+    "LinkageSource",
     "LoadedLaw",
     "MechanismFrames",
     "Operation",
+    "PathRequest",
     "PipelineOptions",
     "ProfileFollower",
     "ProfileResult",
@@ -188,6 +229,7 @@ __all__ = [
     "SegmentSpec",
     "ShaftCam",
     "StopModel",
+    "TuneRequest",
     "__version__",
     "analyse",
     "analyse_scene",
@@ -208,6 +250,7 @@ __all__ = [
     "harmonic_beats",
     "impact_sweep",
     "kinematics_deg",
+    "linkage_command",
     "load_law",
     "make_machine",
     "make_network",
@@ -235,6 +278,13 @@ __all__ = [
     "rest_shape",
     "run_bench",
     "run_drive",
+    "run_linkage_adjust",
+    "run_linkage_analyse",
+    "run_linkage_atlas",
+    "run_linkage_family",
+    "run_linkage_fgen",
+    "run_linkage_path",
+    "run_linkage_tune",
     "run_scene",
     "servo_table",
     "simulate_shaft",

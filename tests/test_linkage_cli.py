@@ -59,12 +59,10 @@ def test_atlas_json_contract(cli, tmp_path):
     assert [c["fractionated"] for c in ordinary.json()["chains"]].count(True) == 1   # two four-bar loops on one link
 
 
-def test_atlas_text_states_the_table1_discrepancy(capsys):
-    from camcad.cli.linkage import _atlas_summary
-    from camcad.linkage.atlas import atlas
+def test_atlas_text_states_the_table1_discrepancy():
+    from camcad.linkage.runners import AtlasRequest, run_linkage_atlas
 
-    _atlas_summary(atlas(8, 1, 1).payload, 0.0)
-    out = capsys.readouterr().out
+    out = "\n".join(run_linkage_atlas(AtlasRequest(8, 1, 1)).lines())
     assert "285" in out and "137" in out and "287" in out and "NOT reproduced" in out
 
 

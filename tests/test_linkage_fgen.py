@@ -209,8 +209,8 @@ def test_q_result_is_the_same_from_every_random_start(q_runs):
         assert run.evaluation.branch_continuous
 
 
-def test_minimax_shows_s_plus_one_equal_alternating_extrema(log10_target):
-    result = synthesize(log10_target, FgenOptions(method="minimax"))
+def test_remez_shows_s_plus_one_equal_alternating_extrema(log10_target):
+    result = synthesize(log10_target, FgenOptions(method="remez"))
     fg = result.mechanism
     refs = np.radians(result.minimax.references_deg)
     assert len(refs) == 6                                       # S + 1 with S = 5

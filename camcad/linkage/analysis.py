@@ -342,7 +342,7 @@ class Linkage:
 
     def working_angle(self, psi):
         """The working member's absolute angle β_last + output_offset (rad) at swings ψ."""
-        return self.absolute_derivatives(psi)[0] + self.output_offset
+        return self.absolute_derivatives(psi, order=1)[0] + self.output_offset
 
     def joints(self, psi) -> dict[str, np.ndarray]:
         """Named joints (complex mm) at swings ψ: O, A, B, C and, for a six-bar, D, E, F; ``P`` the coupler point.

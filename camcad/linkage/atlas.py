@@ -417,6 +417,7 @@ class AtlasReport:
     payload: dict
     adjustable: bool
     seconds: float = 0.0
+    schemes: list = field(default_factory=list)   # camcad.linkage.schemes.Scheme per chain, once annotated
 
 
 def _discrepancy(key: tuple[int, int, int], result: AdjustableAtlas) -> str | None:

@@ -17,18 +17,19 @@ import math
 
 import numpy as np
 
-from camcad.linkage.fgen import FunctionGenerator, Limits, Work, structural_error
+from camcad.linkage.fgen import (
+    INSIDE,
+    FunctionGenerator,
+    Limits,
+    Work,
+    limit_margins,
+    pack,
+    structural_error,
+    unpack,
+)
 from camcad.linkage.target import Target
 
 PENALTY_WEIGHT = 10.0
-
-
-def _pack(fg: FunctionGenerator) -> np.ndarray:
-    return np.array([math.log(fg.b / fg.a), math.log(fg.c / fg.a), math.log(fg.d / fg.a), fg.phi0, fg.psi0])
-
-
-def _unpack(x, branch: int) -> FunctionGenerator:
-    return FunctionGenerator(1.0, math.exp(x[0]), math.exp(x[1]), math.exp(x[2]), float(x[3]), float(x[4]), branch)
 
 
 def _penalty(fg: FunctionGenerator, target: Target, limits: Limits, work: Work) -> float:
@@ -64,16 +65,63 @@ def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Li
 
     def residuals(x):
         work.objective_evaluations += 1
-        fg = _unpack(x, branch)
+        fg = unpack(x, branch)
         err = structural_error(fg, target, phi, work)
         err = np.where(np.isfinite(err), err, math.pi)
         pen = _penalty(fg, target, limits, work)
         return np.append(err, pen)
 
-    x0 = _pack(start)
+    x0 = pack(start)
     result = least_squares(residuals, x0, method="trf", x_scale="jac", xtol=1e-12, ftol=1e-14, gtol=1e-14,
                            max_nfev=400)
-    return _unpack(result.x, branch)
+    fg = unpack(result.x, branch)
+    if limit_margins(fg, target, limits, work).min() < 0:
+        # the exact penalty stops a hair outside an active limit: finish with the limits as constraints
+        fg = constrained_least_squares(target, fg, limits, work, phi)
+    return fg
+
+
+def parameter_bounds(limits: Limits) -> list[tuple[float, float]]:
+    """Bounds of the ``pack`` parameters for the constrained optimisers: each log link ratio within
+    ± (log R_max + 1) (the link-ratio limit itself is a constraint; the bounds keep SLSQP's trial steps from
+    overflowing), the offsets free."""
+    span = math.log(limits.ratio_max) + 1.0
+    return [(-span, span)] * 3 + [(None, None)] * 2
+
+
+def constrained_least_squares(target: Target, start: FunctionGenerator, limits: Limits, work: Work,
+                              phi) -> FunctionGenerator:
+    """Σ Δψ(φ_k)² minimised by SLSQP with the limits as constraints (``fgen.limit_margins``) from ``start``;
+    ``start`` itself when SLSQP ends outside the limits.
+
+    Examples
+    --------
+    >>> from camcad.linkage.fourbar import output_angle
+    >>> from camcad.linkage.target import make_target
+    >>> f = lambda x: output_angle(1.0, 3.0, 2.25, 2.5, 1.0 + x, 1) - output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1)
+    >>> t = make_target(f, 0.0, 1.0, math.degrees(1.0), math.degrees(f(1.0)), "four-bar")
+    >>> start = FunctionGenerator(1.0, 3.0, 2.25, 2.5, 1.0, output_angle(1.0, 3.0, 2.25, 2.5, 1.0, 1), 1)
+    >>> fg = constrained_least_squares(t, start, Limits(), Work(), np.linspace(0, 1, 21))
+    >>> [round(v, 6) for v in fg.links()]
+    [1.0, 3.0, 2.25, 2.5]
+    """
+    from scipy.optimize import minimize
+
+    branch = start.branch
+    phi = np.asarray(phi, dtype=float)
+    scale = 1.0 / max(len(phi), 1)
+
+    def objective(x):
+        work.objective_evaluations += 1
+        err = structural_error(unpack(x, branch), target, phi, work)
+        return float(np.sum(np.where(np.isfinite(err), err, math.pi) ** 2)) * scale
+
+    result = minimize(objective, pack(start), method="SLSQP", bounds=parameter_bounds(limits),
+                      constraints=[{"type": "ineq",
+                                    "fun": lambda x: limit_margins(unpack(x, branch), target, limits, work)}],
+                      options={"maxiter": 400, "ftol": 1e-18})
+    fg = unpack(result.x, branch)
+    return fg if np.all(np.isfinite(result.x)) and limit_margins(fg, target, limits).min() >= -INSIDE else start
 
 
 def max_deviation_synthesis(target: Target, start: FunctionGenerator, limits: Limits, work: Work,
@@ -100,14 +148,14 @@ def max_deviation_synthesis(target: Target, start: FunctionGenerator, limits: Li
 
     def objective(x):
         work.objective_evaluations += 1
-        fg = _unpack(x, branch)
+        fg = unpack(x, branch)
         err = structural_error(fg, target, phi, work)
         worst = float(np.max(np.abs(err))) if np.all(np.isfinite(err)) else math.pi
         return worst + _penalty(fg, target, limits, work)
 
-    x0 = _pack(start)
+    x0 = pack(start)
     simplex = np.array([x0] + [x0 + step for step in np.diag([0.1, 0.1, 0.1, 0.05, 0.05])])
     result = minimize(objective, x0, method="Nelder-Mead",
                       options={"xatol": 1e-10, "fatol": 1e-14, "maxfev": max_evaluations,
                                "initial_simplex": simplex})
-    return _unpack(result.x, branch)
+    return unpack(result.x, branch)

@@ -199,7 +199,7 @@ def fit_circle(points: list[complex]) -> tuple[complex, float, float]:
 
 def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0, phi0: float = 0.0,
                       spacing: str = "chebyshev", grid: tuple[int, int] = (48, 96), ratio_max: float = 10.0,
-                      keep: int = 8) -> FamilyResult:
+                      keep: int = 8, mu_min: float = 0.0) -> FamilyResult:
     """Two-stage synthesis of the adjustable four-bar for a family (module docstring).
 
     Parameters
@@ -220,6 +220,9 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
         b is scanned in [1/ratio_max, ratio_max] crank lengths.
     keep : int
         Best scan rows refined by least squares.
+    mu_min : float
+        Transmission-angle limit (rad), a constraint of the search: a member's centre mechanism below it is
+        excluded from the scan and penalised (10 × the violation, rad) in the least-squares refinement.
 
     Returns
     -------
@@ -242,14 +245,23 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
     evaluations = 0
 
     lo = 1.0 / ratio_max
+    spans = [(phi0 + m.phi_start, phi0 + m.phi_end) for m in members]
 
-    def admissible(st: MemberState, b: float) -> MemberState:
+    def worst_mu(st: MemberState, b: float, j: int) -> float:
+        loop = Loop((0.0, 0.0), (st.centre.real, st.centre.imag), 1.0, b, st.c)
+        worst = loop.worst_transmission(*spans[j])
+        return worst if math.isfinite(worst) else -1.0
+
+    def admissible(st: MemberState, b: float, j: int | None = None) -> MemberState:
         """A degenerate four-bar (an output link or frame shorter than 1/ratio_max cranks, or links
-        beyond the ratio) is no mechanism: B₁ on O with C = O makes Q = 0 for any family."""
+        beyond the ratio) is no mechanism: B₁ on O with C = O makes Q = 0 for any family. With ``j``, a
+        member's centre mechanism below the transmission-angle limit is excluded too."""
         if st.centre is None:
             return st
         links = (1.0, b, st.c, abs(st.centre))
         if min(links) < lo or max(links) / min(links) > ratio_max:
+            return MemberState([], math.inf, None, math.nan, 0)
+        if j is not None and mu_min > 0 and worst_mu(st, b, j) < mu_min:
             return MemberState([], math.inf, None, math.nan, 0)
         return st
 
@@ -271,19 +283,19 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
     for lb in log_b:
         b = math.exp(lb)
         best_alphas, ok = [], True
-        for a_pts, psi in data:
+        for j, (a_pts, psi) in enumerate(data):
             evaluations += len(alpha)
-            q = np.array([admissible(member_state(a_pts, psi, b, al, subsets), b).q for al in alpha])
+            q = np.array([admissible(member_state(a_pts, psi, b, al, subsets), b, j).q for al in alpha])
             if not np.any(np.isfinite(q)):
                 ok = False
                 break
             # the landscape of Q in α is sharp: refine the best cell by a bounded one-dimensional search
             start = float(alpha[int(np.argmin(q))])
 
-            def q_of(al, a_pts=a_pts, psi=psi, b=b):
+            def q_of(al, a_pts=a_pts, psi=psi, b=b, j=j):
                 nonlocal evaluations
                 evaluations += 1
-                return min(admissible(member_state(a_pts, psi, b, al, subsets), b).q, 1e3)
+                return min(admissible(member_state(a_pts, psi, b, al, subsets), b, j).q, 1e3)
 
             fine = minimize_scalar(q_of, bounds=(start - step, start + step), method="bounded",
                                    options={"xatol": 1e-10})
@@ -300,12 +312,15 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
         def residual(p):
             sts = states(math.exp(p[0]), p[1:])
             if any(s.centre is None for s in sts):
-                return np.full(sum(2 * (len(subsets) - 1) for _ in sts) + len(sts) - 1, 10.0)
+                return np.full(sum(2 * (len(subsets) - 1) for _ in sts) + len(sts) - 1
+                               + (len(sts) if mu_min > 0 else 0), 10.0)
             out = []
             for s in sts:
                 for c in s.pivots[1:]:
                     out += [(c - s.pivots[0]).real, (c - s.pivots[0]).imag]
             out += [s.c - sts[0].c for s in sts[1:]]
+            if mu_min > 0:     # the limit as an exact penalty (rad): 0 inside it
+                out += [10.0 * max(0.0, mu_min - worst_mu(s, math.exp(p[0]), j)) for j, s in enumerate(sts)]
             return np.array(out)
 
         fit = least_squares(residual, np.r_[math.log(b), alphas], xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400)

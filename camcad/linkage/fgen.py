@@ -34,6 +34,8 @@ from camcad.linkage.target import Target
 
 #: points of the verification grid (uniform in φ, ends included)
 CHECK_POINTS = 2001
+#: a transmission angle this close to 0 or 180 deg (rad) is a dead point: the output is not driven there
+DEAD_POINT = 1e-6
 
 
 @dataclass
@@ -168,6 +170,71 @@ class Limits:
         return -1.0 if math.isnan(worst) else worst - math.radians(self.mu_min_deg)
 
 
+def pack(fg: FunctionGenerator) -> np.ndarray:
+    """The five scheme parameters the optimisers vary (a = 1): log b/a, log c/a, log d/a, φ0, ψ0 (rad).
+
+    Examples
+    --------
+    >>> [round(float(v), 6) for v in pack(FunctionGenerator(2.0, 2.0, 4.0, 2.0, 0.5, 0.25, 1))]
+    [0.0, 0.693147, 0.0, 0.5, 0.25]
+    """
+    return np.array([math.log(fg.b / fg.a), math.log(fg.c / fg.a), math.log(fg.d / fg.a), fg.phi0, fg.psi0])
+
+
+def unpack(x, branch: int) -> FunctionGenerator:
+    """The function generator (a = 1) of the parameters of ``pack``.
+
+    Examples
+    --------
+    >>> unpack([0.0, math.log(2.0), 0.0, 0.5, 0.25], 1).links()
+    (1.0, 1.0, 2.0, 1.0)
+    """
+    return FunctionGenerator(1.0, math.exp(x[0]), math.exp(x[1]), math.exp(x[2]), float(x[3]), float(x[4]), branch)
+
+
+#: how far inside its limits an optimiser keeps a mechanism (on cos μ and on log of the link ratio), so that
+#: the check after it, which allows no violation, is met: 1e-9 of cos μ is 6e-8 deg of μ at 30 deg
+INSIDE = 1e-9
+
+
+def limit_margins(fg: FunctionGenerator, target: Target, limits: Limits, work: Work | None = None,
+                  inside: float = INSIDE) -> np.ndarray:
+    """The limits as smooth inequality constraints (every entry >= 0 when the mechanism is admissible).
+
+    Transmission angle: min(μ, 180° − μ) >= μ_min is |cos μ| <= cos μ_min, written as the two smooth
+    conditions cos μ_min ∓ cos μ >= 0 at the angles where |cos μ| can be largest over the working range — its
+    ends and the input angles θ ≡ 0, π inside it (the diagonal f is extreme there; closed form, as
+    ``fourbar.worst_transmission_angle``); they are defined where the loop does not close too (|cos μ| > 1
+    then), so an optimiser is pushed back into the closing region. Link ratio: log R_max − log(l_i/l_j) >= 0
+    for every ordered pair of links. Each entry is reduced by ``inside``.
+
+    Examples
+    --------
+    The lsq mechanism of log10 on [1, 2] (60 deg, 90 deg) meets μ >= 30 deg (its worst μ is 35.4 deg):
+
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> fg = FunctionGenerator(2.4321, 3.4329, 1.1837, 1.0, math.radians(85.82), math.radians(339.71), -1)
+    >>> bool(limit_margins(fg, t, Limits(30.0, 10.0)).min() > 0)
+    True
+    """
+    lo = fg.phi0 + min(0.0, target.dphi)
+    hi = fg.phi0 + max(0.0, target.dphi)
+    angles = [lo, hi]
+    for base in (0.0, math.pi):      # one angle per base, so the number of constraints never changes
+        inside_angle = base + 2 * math.pi * math.ceil((lo - base) / (2 * math.pi))
+        angles.append(inside_angle if inside_angle <= hi else lo)
+    if work is not None:
+        work.positions += len(angles)
+    theta = np.array(angles)
+    f2 = fg.a ** 2 + fg.d ** 2 - 2.0 * fg.a * fg.d * np.cos(theta)
+    cos_mu = (fg.b ** 2 + fg.c ** 2 - f2) / (2.0 * fg.b * fg.c)
+    bound = math.cos(math.radians(limits.mu_min_deg))
+    logs = np.log(np.array(fg.links()))
+    ratio = [math.log(limits.ratio_max) - (logs[i] - logs[j]) for i in range(4) for j in range(4) if i != j]
+    return np.concatenate([bound - cos_mu, bound + cos_mu, ratio]) - inside
+
+
 @dataclass(frozen=True)
 class Evaluation:
     """A mechanism checked on the dense grid (``CHECK_POINTS`` points over the working range)."""
@@ -229,11 +296,14 @@ def evaluate(fg: FunctionGenerator, target: Target, points: int = CHECK_POINTS) 
     h = abs(phi[1] - phi[0])
     steps = np.abs(wrap(np.diff(beta)))
     bound = 1.5 * np.nanmax(np.abs(d_beta)) * h if finite.any() else 0.0
-    continuous = bool(finite.all() and np.all(np.isfinite(d_beta)) and steps.max() <= bound + 1e-15)
     mu = transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + phi)
     dev = np.minimum(mu, math.pi - mu)
     worst = worst_transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + min(0.0, target.dphi),
                                      fg.phi0 + max(0.0, target.dphi))
+    # at a dead point β' is unbounded, so the step bound grows without limit there: a transmission angle of
+    # 0 or 180 deg anywhere in the range (closed form) breaks the branch by itself
+    continuous = bool(finite.all() and np.all(np.isfinite(d_beta)) and steps.max() <= bound + 1e-15
+                      and math.isfinite(worst) and worst > DEAD_POINT)
     g = grashof(fg.a, fg.b, fg.c, fg.d)
     if finite.all():
         ext = _local_extrema(phi, err)

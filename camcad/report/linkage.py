@@ -19,9 +19,12 @@ import numpy as np
 from camcad.io.atomic import write_atomic, write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfText, write_dxf
 from camcad.io.jsonout import write_json
+from camcad.linkage.fgen import structural_error
+from camcad.linkage.synthesis import error_tolerance
 
 PNG_METADATA = {"Software": None}
 FORBIDDEN = "#f4c7c3"
+FORBIDDEN_EDGE = "#c0392b"
 
 
 def _write_dxf(path: Path, drawing: Drawing) -> Path:
@@ -203,6 +206,125 @@ def atlas_title(payload: dict) -> str:
     return head
 
 
+def _scheme_cells(report, cell: float = 3.0):
+    """(origin, scheme, chain) per chain on the atlas grid (the same cells as the graphs)."""
+    rows, cols = _grid(len(report.chains))
+    for k, (chain, sch) in enumerate(zip(report.chains, report.schemes)):
+        r, c = divmod(k, cols)
+        yield k, np.array([c * cell, -r * cell]), sch, chain
+    del rows
+
+
+def schemes_figure(report, title: str):
+    """Every chain of the atlas as a kinematic scheme (stage 4): links as bars and plates through their joints,
+    the frame hatched, the input marked with an arrow, an adjustable link filled with its locked pairs as squares.
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.schemes import annotate_schemes
+    >>> r = atlas(4, 1, adjustable=1)
+    >>> annotate_schemes(r)
+    >>> len(schemes_figure(r, "n'=4, m=1").axes)
+    1
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Polygon
+
+    rows, cols = _grid(len(report.chains))
+    cell = 1.3 if len(report.chains) <= 60 else 0.9
+    fig = Figure(figsize=(max(6.5, cols * cell), rows * cell + 1.0))
+    ax = fig.add_axes((0.005, 0.005, 0.99, 1 - 0.9 / (rows * cell + 1.0)))
+    ax.set_axis_off()
+    ax.set_aspect("equal")
+    for k, origin, sch, chain in _scheme_cells(report):
+        pts = sch.joints * 1.05 + origin
+        adjustable = {v for g in sch.adjustable for v in g}
+        locked = set(chain.locked)
+        for link, poly in enumerate(sch.polygons):
+            xy = pts[list(poly)]
+            face = "#bdbdbd" if link in adjustable else ("#f3e3b5" if link == sch.frame else "white")
+            hatch = "////" if link == sch.frame else None
+            if len(poly) == 2:
+                ax.plot(xy[:, 0], xy[:, 1], color="#8c8c8c" if link in adjustable else "black",
+                        lw=4.0 if link in adjustable else 2.6 if link == sch.frame else 1.4, solid_capstyle="round",
+                        zorder=2)
+            else:
+                ax.add_patch(Polygon(xy, closed=True, facecolor=face, edgecolor="black", lw=1.0, hatch=hatch,
+                                     zorder=1))
+            if link == sch.input:
+                mid = xy.mean(axis=0)
+                ax.annotate("", xy=mid + (0.25, 0.25), xytext=mid, arrowprops={"arrowstyle": "->", "lw": 0.9},
+                            zorder=4)
+        for j, e in enumerate(chain.edges):
+            if e in locked:
+                ax.plot(*pts[j], "s", ms=4.5, color="black", zorder=3)
+            else:
+                ax.plot(*pts[j], "o", ms=4.0, mfc="white", mec="black", mew=0.9, zorder=3)
+        ax.text(origin[0] - 1.35, origin[1] + 1.2, str(k + 1), fontsize=6 if len(report.chains) > 60 else 7,
+                color="#555555", va="center")
+    ax.set_xlim(-1.6, cols * 3.0 - 1.4)
+    ax.set_ylim(-(rows - 1) * 3.0 - 1.6, 1.6)
+    fig.suptitle(f"{title}: kinematic schemes (stage 4)\nframe hatched, input arrowed, adjustable link grey with "
+                 "locked pairs as squares", fontsize=9)
+    return fig
+
+
+def schemes_drawing(report, title: str, cell_mm: float = 40.0) -> Drawing:
+    """The kinematic schemes as DXF (mm, ``cell_mm`` per chain): SCHEME_LINK (bars and plate outlines),
+    SCHEME_FRAME (the frame's outline and its ground hatch), SCHEME_INPUT (the input's arrow),
+    SCHEME_ADJUSTABLE (adjustable links' outlines), SCHEME_JOINT (circles; locked pairs as squares on
+    SCHEME_LOCKED), ATLAS_TEXT (numbers and the title).
+
+    Examples
+    --------
+    >>> from camcad.linkage.atlas import atlas
+    >>> from camcad.linkage.schemes import annotate_schemes
+    >>> r = atlas(4, 1, adjustable=2)
+    >>> annotate_schemes(r)
+    >>> sorted({c.layer for c in schemes_drawing(r, "t").circles})
+    ['SCHEME_JOINT']
+    """
+    scale = cell_mm / 3.0
+    lines, circles, texts = [], [], []
+    r = 0.09 * scale
+    for k, origin, sch, chain in _scheme_cells(report):
+        pts = (sch.joints * 1.05 + origin) * scale
+        adjustable = {v for g in sch.adjustable for v in g}
+        locked = set(chain.locked)
+        for link, poly in enumerate(sch.polygons):
+            layer = ("SCHEME_FRAME" if link == sch.frame else "SCHEME_ADJUSTABLE" if link in adjustable
+                     else "SCHEME_LINK")
+            ring = list(poly) + ([poly[0]] if len(poly) > 2 else [])
+            for a, b in pairwise(ring):
+                lines.append(DxfLine(layer, tuple(map(float, pts[a])), tuple(map(float, pts[b]))))
+            if link == sch.frame:
+                base = pts[list(poly)].mean(axis=0)
+                for j in range(4):
+                    x0 = base[0] - 1.5 * r + j * r
+                    lines.append(DxfLine("SCHEME_FRAME", (float(x0), float(base[1] - 2 * r)),
+                                         (float(x0 - 0.7 * r), float(base[1] - 2.7 * r))))
+            if link == sch.input:
+                mid = pts[list(poly)].mean(axis=0)
+                tip = mid + np.array([3 * r, 3 * r])
+                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, mid)), tuple(map(float, tip))))
+                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, tip)), (float(tip[0] - r), float(tip[1]))))
+                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, tip)), (float(tip[0]), float(tip[1] - r))))
+        for j, e in enumerate(chain.edges):
+            x, y = map(float, pts[j])
+            if e in locked:
+                square = [(x - r, y - r), (x + r, y - r), (x + r, y + r), (x - r, y + r), (x - r, y - r)]
+                lines += [DxfLine("SCHEME_LOCKED", a, b) for a, b in pairwise(square)]
+            else:
+                circles.append(DxfCircle("SCHEME_JOINT", (x, y), r))
+        texts.append(DxfText("ATLAS_TEXT", str(k + 1), (float((origin[0] - 1.35) * scale),
+                                                       float((origin[1] + 1.2) * scale)), 0.12 * scale))
+    texts.append(DxfText("ATLAS_TEXT", title, (-1.6 * scale, 2.0 * scale), 0.15 * scale))
+    return Drawing(circles=tuple(circles), lines=tuple(lines), texts=tuple(texts),
+                   layers=("SCHEME_LINK", "SCHEME_FRAME", "SCHEME_INPUT", "SCHEME_ADJUSTABLE", "SCHEME_JOINT",
+                           "SCHEME_LOCKED", "ATLAS_TEXT"))
+
+
 def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]:
     """Write atlas.json, atlas.csv, atlas.dxf and (unless ``plots`` is False) atlas.png into ``out_dir``
     (atomically, byte-identical for the same input); returns the paths.
@@ -222,9 +344,14 @@ def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]
     title = atlas_title(payload)
     written = [write_text_atomic(out_dir / "atlas.csv", atlas_csv(payload)),
                _write_dxf(out_dir / "atlas.dxf", atlas_drawing(report.chains, layouts, title, report.adjustable))]
+    if report.schemes:
+        written.append(_write_dxf(out_dir / "schemes.dxf", schemes_drawing(report, title)))
     if plots:
         fig = atlas_figure(report.chains, layouts, title, report.adjustable)
         written.append(_save_png(fig, out_dir / "atlas.png", dpi=110 if len(report.chains) > 100 else 140))
+        if report.schemes:
+            written.append(_save_png(schemes_figure(report, title), out_dir / "schemes.png",
+                                     dpi=110 if len(report.chains) > 100 else 140))
     payload["outputs"] = [str(p) for p in written] + [str(out_dir / "atlas.json")]
     written.append(write_json(out_dir / "atlas.json", payload))
     return written
@@ -258,15 +385,18 @@ def error_figure(result):
     ax.axhline(0, color="grey", lw=0.6)
     ax.plot(phi, err, color="#1f4e9c", lw=1.4, label="structural error")
     nodes_deg = np.degrees(result.nodes_phi)
-    if result.method == "minimax":
-        node_err = np.interp(nodes_deg, phi, err)
+    # each node where the error is (the Q method's centre pivot, least squares and minimax do not interpolate)
+    node_err = np.degrees(structural_error(result.mechanism, t, result.nodes_phi)) if len(nodes_deg) else nodes_deg
+    if result.method == "remez":
         ax.plot(nodes_deg, node_err, "s", color="#c0392b", ms=5, label=f"{len(nodes_deg)} reference points")
     elif len(nodes_deg) <= 12:
-        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "o", color="#c0392b", ms=5,
-                label=f"{len(nodes_deg)} interpolation nodes")
-    else:
-        ax.plot(nodes_deg, np.zeros_like(nodes_deg), "|", color="#c0392b", ms=8,
-                label=f"{len(nodes_deg)} fitting points")
+        ax.plot(nodes_deg, node_err, "o", color="#c0392b", ms=5, label=f"{len(nodes_deg)} interpolation nodes")
+    elif len(nodes_deg):
+        ax.plot(nodes_deg, node_err, "|", color="#c0392b", ms=8, label=f"{len(nodes_deg)} fitting points")
+    tolerance = error_tolerance(result.options, t)
+    if tolerance <= 4 * max(float(np.max(np.abs(err))), 1e-300):
+        ax.axhline(tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--", label=f"tolerance ±{tolerance:.3g} deg")
+        ax.axhline(-tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--")
     k = int(np.argmax(np.abs(err)))
     ax.plot(phi[k], err[k], "D", color="black", ms=5, label="largest |error|")
     ax.set_ylabel("output angle error Δψ (deg)")
