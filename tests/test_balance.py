@@ -28,6 +28,8 @@ def _unbalanced_cycloidal(n=181, seed=0):
     return PiecewiseLinearLaw(theta, a, 2 * np.pi, detect_phases(theta, a, 2 * np.pi))
 
 
+@pytest.mark.reference("second method", "v(theta) and s(theta) of the exact integrator (camcad.law), also inside a "
+                                        "segment")
 def test_condition_rows_equal_the_exact_integrals_anywhere():
     # C @ a must equal v(θ) and s(θ) of the exact integrator, also for θ inside a segment.
     law = _unbalanced_cycloidal()
@@ -40,6 +42,7 @@ def test_condition_rows_equal_the_exact_integrals_anywhere():
     assert values[5:] == pytest.approx(kin.s, abs=1e-11)
 
 
+@pytest.mark.reference("second method", "dense trapezoid quadrature of a^2 on 2,000,001 points")
 def test_mass_matrix_gives_the_l2_norm_of_the_polyline():
     # ∫ a² dθ of a polyline against dense trapezoid quadrature (independent, converges as h²)
     law = _unbalanced_cycloidal()
@@ -49,6 +52,8 @@ def test_mass_matrix_gives_the_l2_norm_of_the_polyline():
     assert exact == pytest.approx(dense, rel=1e-9)
 
 
+@pytest.mark.reference("property", "KKT optimality: the change is M-orthogonal to the null space of the conditions "
+                                   "(scipy null_space); no random feasible change is smaller")
 @pytest.mark.parametrize("keep_lift", [True, False])
 def test_min_change_is_the_least_change_and_balances_exactly(keep_lift):
     law = _unbalanced_cycloidal()   # no jumps: every free vertex is an unknown of its own
@@ -71,14 +76,31 @@ def test_min_change_is_the_least_change_and_balances_exactly(keep_lift):
         assert other @ mass @ other >= delta @ mass @ delta
 
 
+@pytest.mark.reference("property", "a balanced law is its own least change: every mode's solver returns it unchanged "
+                                   "to 1e-12 of the peak")
 def test_fixing_a_balanced_law_changes_nothing():
+    # a balanced law is its own least change: the fast path says so without solving, and every mode's own solver
+    # (reached by holding one vertex at its drawn value, a move that skips the fast path) returns it unchanged to
+    # round-off; a mode that moved a balanced law (a bias, a rescaled lobe) fails here
     loaded = load_law(SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf")
+    law = loaded.law
+    before = balance.check(law)
+    assert before.balanced and np.max(np.abs(before.residuals)) <= 1e-12 * before.rise
+    quick = balance.correct(law, "min-change")
+    assert not quick.changed and quick.law is law and quick.iterations == 0
+    peak = float(np.max(np.abs(law.a)))
+    k = int(np.argmax(law.a))
+    hold = (float(np.degrees(law.x[k])), float(law.a[k]))
     for mode in balance.MODES:
-        result = balance.correct(loaded.law, mode, segment_deg=(0, 360))
-        assert result.max_change == 0.0
-        assert np.array_equal(result.law.a, loaded.law.a)
+        result = balance.correct(law, mode, segment_deg=(0, 360), moves=[hold])
+        assert result.moves[0].honoured and result.iterations >= 1, mode     # the solver ran
+        assert result.after.balanced, mode
+        assert result.max_change <= 1e-12 * peak, (mode, result.max_change / peak)
+        same = np.interp(law.x, result.law.x, result.law.a)
+        assert np.max(np.abs(same - law.a)) <= 1e-12 * peak, mode
 
 
+@pytest.mark.reference("property", "the least change: no other mode's balanced law has a smaller RMS change")
 @pytest.mark.parametrize("name", UNBALANCED)
 def test_min_change_balances_every_sample_and_changes_it_least(name):
     loaded = load_law(SAMPLES / name)
@@ -93,6 +115,7 @@ def test_min_change_balances_every_sample_and_changes_it_least(name):
         assert best.rms_change <= other.rms_change * (1 + 1e-9), mode
 
 
+@pytest.mark.reference("second method", "residuals measured by the exact integrator, not the loop's own trapezoid")
 @pytest.mark.parametrize("name", UNBALANCED[:4])
 @pytest.mark.parametrize("mode", ["min-change", "keypoints", "extrema-resample"])
 def test_iterative_loop_reaches_the_requested_tolerance(name, mode):
@@ -104,6 +127,8 @@ def test_iterative_loop_reaches_the_requested_tolerance(name, mode):
     assert result.iterations > 1
 
 
+@pytest.mark.reference("property", "points of the rise cannot change the return's own balance: refused, naming "
+                                   "min-change")
 def test_segment_mode_that_cannot_reach_an_unbalanced_phase_says_so():
     # the return's own areas differ (its decelerating lobe is drawn 5 % high); points of the rise
     # cannot change the return's own balance, only shift the velocity it starts from
@@ -113,6 +138,7 @@ def test_segment_mode_that_cannot_reach_an_unbalanced_phase_says_so():
     assert "min-change" in str(err.value)
 
 
+@pytest.mark.reference("property", "only vertices inside the segment (>= 60 deg) change, and the law balances")
 def test_segment_mode_covering_the_motions_balances():
     loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
     result = balance.correct(loaded.law, "segment", segment_deg=(60, 360))
@@ -121,6 +147,7 @@ def test_segment_mode_covering_the_motions_balances():
     assert np.degrees(loaded.law.x[changed]).min() >= 60 - 1e-9
 
 
+@pytest.mark.reference("property", "a --move vertex keeps exactly the value set, the rest balances")
 def test_move_holds_the_users_point():
     loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
     target_deg, value = 90.0, float(loaded.law.a[np.argmin(np.abs(loaded.law.x - np.radians(90)))] * 0.9)
@@ -130,6 +157,7 @@ def test_move_holds_the_users_point():
     assert result.after.balanced
 
 
+@pytest.mark.reference("property", "phase mode: ordinates unchanged, angles moved, residuals within 1e-9 of the rise")
 def test_phase_mode_keeps_the_ordinates_and_moves_the_angles():
     loaded = load_law(SAMPLES / "dxf" / "fig2_rise_area_too_large.dxf")
     result = balance.correct(loaded.law, "phase")
@@ -139,6 +167,8 @@ def test_phase_mode_keeps_the_ordinates_and_moves_the_angles():
     assert result.law.x[0] == 0 and result.law.x[-1] == pytest.approx(2 * np.pi)
 
 
+@pytest.mark.reference("second method", "the change recomputed here by linear interpolation through the extrema, zero "
+                                        "outside the lobes")
 def test_extrema_mode_moves_the_extrema_and_tapers_to_the_lobe_ends():
     # the change is piecewise linear in θ through its values at the extrema, zero at the vertices just
     # outside each lobe: recomputed here from the groups and the lobes, independently of the basis
@@ -166,6 +196,7 @@ def test_extrema_mode_moves_the_extrema_and_tapers_to_the_lobe_ends():
     assert np.max(np.abs(delta)) <= np.max(np.abs(law.a))   # no spike
 
 
+@pytest.mark.reference("second method", "RMS and max of the difference by dense sampling and every knot of both laws")
 def test_difference_norms_against_dense_sampling():
     law = _unbalanced_cycloidal()
     other = balance.correct(law, "extrema-resample").law
@@ -177,6 +208,8 @@ def test_difference_norms_against_dense_sampling():
     assert max_change == pytest.approx(np.abs(diff).max(), rel=1e-6)
 
 
+@pytest.mark.reference("property", "the least change is linear in a: a law scaled by 1e-6 or 1e6 gives the scaled "
+                                   "change")
 def test_tiny_and_huge_scales_balance_alike():
     law = _unbalanced_cycloidal()
     base = balance.correct(law, "min-change")
@@ -186,6 +219,8 @@ def test_tiny_and_huge_scales_balance_alike():
         assert np.max(np.abs(scaled.after.residuals)) <= 1e-9 * scaled.before.rise
 
 
+@pytest.mark.reference("closed form", "trapezoid error bounds derived here: |v error| <= sum|dm_k| h^2/8, |s error| "
+                                      "adds T h^2 max|a'|/12")
 def test_source_check_by_trapezoid_is_within_its_error_bound():
     # The source's check (seed 003): resample a with step h, trapezoid twice. Bounds derived here:
     # - a grid that holds every knot integrates the polyline's v exactly (a is linear between grid points);
@@ -206,6 +241,8 @@ def test_source_check_by_trapezoid_is_within_its_error_bound():
         assert abs(errors[-1]) <= period * kinks * h**2 / 8 + period * h**2 * np.abs(slopes).max() / 12
 
 
+@pytest.mark.reference("property", "check --trapezoid reports its step and one residual per condition beside the "
+                                   "exact ones")
 def test_check_cli_reports_the_trapezoid_beside_the_exact(cli):
     result = cli("check", SAMPLES / "law_table.csv", "--trapezoid", "--step", "0.5", "--json")
     assert result.code == 1
