@@ -38,6 +38,7 @@ def one_line(result, pattern: str = "") -> None:
 
 # ------------------------------------------------------------------------------------ resonance (item 4)
 
+@pytest.mark.reference("closed form", "A = h |sin pi tau| / (pi tau |tau^2 - 1|) after a cycloidal rise, tau = T fn")
 @pytest.mark.parametrize("fn", [6.0, 10.0, 12.0, 17.2])
 def test_residual_vibration_at_and_near_exact_undamped_resonance(cli, tmp_path, fn):
     # Cycloidal dwell-rise-dwell-return, rise 90° at 60 rpm (1 rev/s): the rise lasts T = 0.25 s, τ = T fn.
@@ -62,6 +63,7 @@ def test_residual_vibration_at_and_near_exact_undamped_resonance(cli, tmp_path, 
         assert near and near[0]["figure"] == pytest.approx(17 / 17.2, rel=1e-9)
 
 
+@pytest.mark.reference("closed form", "the warning's ratio 299.9/300 and the dynamic error beyond the lift")
 def test_near_resonance_warns_and_a_dynamic_error_larger_than_the_lift(cli, tmp_path):
     # 299.9 rpm against fn = 5 Hz: harmonic 1 at ratio 0.9998, undamped; X = (h/2)·r²/(1 − r²) for the first
     # harmonic alone (amplitude h/2 of the cycloidal cycle's first harmonic is not h/2, so only the warning's
@@ -77,6 +79,7 @@ def test_near_resonance_warns_and_a_dynamic_error_larger_than_the_lift(cli, tmp_
 
 # ------------------------------------------------------------------------------------ spectrum --filter (item 2)
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_an_unbalanced_law_is_refused_before_filtering(cli, tmp_path):
     result = cli("spectrum", SAMPLES / "dxf" / "spline_law.dxf", "--filter", "--fn", "100", "--rpm", "280:420",
                  "-o", tmp_path)
@@ -138,6 +141,8 @@ def _cycloid_s(theta_deg: np.ndarray, lift: float, rise: tuple[float, float], re
     return s
 
 
+@pytest.mark.reference("second method", "the written DXF read with ezdxf, integrated exactly from rest, against the "
+                                        "closed-form law")
 def test_a_filter_that_ruins_the_law_exits_1_with_the_figures(harsh):
     code, payload, out = harsh
     spectrum = payload["spectrum"]
@@ -162,6 +167,7 @@ def test_a_filter_that_ruins_the_law_exits_1_with_the_figures(harsh):
     assert checks["peak acceleration ratio"]["value"] == pytest.approx(np.max(np.abs(a)) / peak_original, rel=1e-6)
 
 
+@pytest.mark.reference("second method", "numpy's FFT of the written polyline's a on 2^18 points, A_k(s) = A_k(a)/k^2")
 def test_the_band_left_in_the_written_law_by_an_fft_of_its_polyline(cli, tmp_path):
     # The filter's figure "amplitude left in the band" is measured here by another route: the written
     # polyline a(θ) (read with ezdxf) sampled on 2^18 points, one real FFT, A_k(s) = A_k(a)/k² (2π cycle).
@@ -188,6 +194,7 @@ def test_the_band_left_in_the_written_law_by_an_fft_of_its_polyline(cli, tmp_pat
 
 # ------------------------------------------------------------------------------------ units, rounding (item 3)
 
+@pytest.mark.reference("second method", "the variance by numpy on dense samples of the closed-form harmonic law")
 def test_oscillating_law_in_rad_everywhere(cli, tmp_path):
     result = cli("spectrum", BATTEN, "--json", "--no-plots", "-o", tmp_path, "-N", "16")
     assert result.code == 0, result.err
@@ -205,6 +212,7 @@ def test_oscillating_law_in_rad_everywhere(cli, tmp_path):
     assert spectrum["mean_square_mm2"] == spectrum["variance_rad2"]   # the old key, kept one release
 
 
+@pytest.mark.reference("closed form", "simple harmonic rise: a_max = (pi^2/2) h/beta^2 w^2, in rad")
 def test_dynamics_of_a_law_in_rad_says_rad(cli, tmp_path):
     result = cli("dynamics", "--standard", "harmonic",
                  "--phases", "0:100:dwell,100:164:rise,164:228:return,228:360:dwell",
@@ -231,6 +239,7 @@ def _floats(tree):
         yield tree
 
 
+@pytest.mark.reference("property", "JSON numbers carry at most 10 significant digits")
 def test_json_figures_carry_their_meaningful_digits_only(cli, tmp_path):
     result = cli("impact", SHUTTLE, "--json", "--no-plots", "-o", tmp_path, "--rpm", "280:420:70")
     floats = list(_floats(result.json()))
@@ -263,6 +272,8 @@ def loom_pair(tmp_path_factory):
     return command, pipeline
 
 
+@pytest.mark.reference("property", "contact and profile analyse the cyclogram's phase angles; the opener held at "
+                                   "safety factor 1")
 def test_contact_and_profile_analyse_the_same_phase_angles(loom_pair):
     command, pipeline = loom_pair
     assert "cyclogram" in command["phase_angles"]
@@ -279,6 +290,8 @@ def test_contact_and_profile_analyse_the_same_phase_angles(loom_pair):
     assert any(w["rule"].startswith("safety factor <") for w in command["contact"]["warnings"])
 
 
+@pytest.mark.reference("property", "every check is value, limit, margin, passed, why; margin = limit - value to the "
+                                   "rounding")
 def test_contact_checks_are_figures_limits_and_margins(loom_pair):
     command, _ = loom_pair
     contact = command["contact"]
@@ -332,11 +345,13 @@ BAD = [
 ]
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("command, args, pattern", BAD, ids=[f"{c}-{i}" for i, (c, _, _) in enumerate(BAD)])
 def test_every_ordinary_mistake_gets_one_line(cli, tmp_path, command, args, pattern):
     one_line(cli(command, *args, "-o", tmp_path / "out"), pattern)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("command, args", [
     ("spectrum", ["--standard", "cycloidal", "--phases", DRDR, "--lift", "25"]),
     ("dynamics", ["--standard", "cycloidal", "--phases", DRDR, "--lift", "25", "--fn", "40", "--zeta", "0.1",
@@ -352,6 +367,7 @@ def test_output_folder_mistakes(cli, tmp_path, command, args):
     one_line(cli(command, *args, "-o", existing / "below"), "cannot create the output folder \\(Not a directory\\)")
 
 
+@pytest.mark.reference("property", "an input named like an output is never replaced (its digest unchanged)")
 def test_a_law_named_like_an_output_is_never_replaced(cli, tmp_path):
     from conftest import file_digest
 
@@ -362,6 +378,7 @@ def test_a_law_named_like_an_output_is_never_replaced(cli, tmp_path):
     assert file_digest(law) == digest
 
 
+@pytest.mark.reference("property", "a scene file with another suffix is read as a scene")
 def test_a_scene_with_another_suffix_is_read_as_a_scene(cli, tmp_path):
     scene = tmp_path / "batten.txt"
     scene.write_text(BATTEN.read_text())
@@ -372,12 +389,14 @@ def test_a_scene_with_another_suffix_is_read_as_a_scene(cli, tmp_path):
 
 # ------------------------------------------------------------------------------------ plots (item 6)
 
+@pytest.mark.reference("property", "the plot modules build figures without pyplot")
 def test_plot_modules_use_no_pyplot():
     for name in ("spectrum", "dynamics", "contact", "cyclogram"):
         source = (ROOT / "camcad" / "report" / f"{name}.py").read_text()
         assert "pyplot" not in source, name
 
 
+@pytest.mark.reference("closed form", "a half-wave-symmetric cycle has zero even harmonics: 8 bars, not 16")
 def test_zero_harmonics_are_not_drawn_as_bars():
     from camcad import fourier
     from camcad.report.spectrum import plot_spectrum

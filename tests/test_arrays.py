@@ -16,6 +16,7 @@ CASES = [
 ]
 
 
+@pytest.mark.reference("second method", "numpy.unique (an independent implementation) on hand-picked hard cases")
 @pytest.mark.parametrize("values", CASES)
 def test_unique_equals_numpys(values):
     ours, theirs = unique(values), np.unique(np.asarray(values))
@@ -23,6 +24,7 @@ def test_unique_equals_numpys(values):
     np.testing.assert_array_equal(ours, theirs)
 
 
+@pytest.mark.reference("second method", "numpy.union1d on random grids")
 def test_union_equals_numpys_on_random_grids():
     rng = np.random.default_rng(3)
     for _ in range(50):
@@ -31,6 +33,7 @@ def test_union_equals_numpys_on_random_grids():
         np.testing.assert_array_equal(union(a, b), np.union1d(a, b))
 
 
+@pytest.mark.reference("property", "importing camcad.arrays leaves numpy.ma unimported (start-up)")
 def test_unique_does_not_import_numpys_masked_arrays():
     import subprocess
     import sys

@@ -56,6 +56,8 @@ def samples():
 
 # --- the lift ------------------------------------------------------------------------------------
 
+@pytest.mark.reference("second method", "rise, v and s at phase ends by trapezoid sums of the polyline written here "
+                                        "(velocity, displacement)")
 @pytest.mark.parametrize("mode", VERTEX_MODES + PHASE_MODES)
 def test_every_mode_keeps_the_drawn_rise_and_changes_no_vertex_by_more_than_the_peak(samples, mode):
     for name, loaded in samples.items():
@@ -79,6 +81,8 @@ def test_every_mode_keeps_the_drawn_rise_and_changes_no_vertex_by_more_than_the_
             assert np.max(np.abs(np.interp(t, new.x, new.a) - np.interp(t, law.x, law.a))) <= peak, name
 
 
+@pytest.mark.reference("regression", "issue 11: fix lowered fig2's drawn rise from 6.91 to 6.18 mm (6.176, camcad's "
+                                     "earlier answer, kept for --free-lift)")
 def test_fig2_keeps_its_rise_and_reports_it(samples):
     # issue 11: fix lowered the rise of fig2 from 6.91 to 6.18 mm
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law
@@ -92,6 +96,8 @@ def test_fig2_keeps_its_rise_and_reports_it(samples):
     assert not free.lift_targets
 
 
+@pytest.mark.reference("property", "only the return is wrong: no vertex of the rise moves by more than 1e-12 of the "
+                                   "peak")
 def test_a_wrong_return_leaves_the_rise_untouched(samples):
     # issue 11: on drrd_return_short only the return is wrong; the rise must not change at all
     law = samples["dxf/drrd_return_short.dxf"].law
@@ -102,6 +108,7 @@ def test_a_wrong_return_leaves_the_rise_untouched(samples):
         assert np.max(np.abs((result.law.a - law.a)[in_rise])) <= 1e-12 * np.max(np.abs(law.a)), mode
 
 
+@pytest.mark.reference("property", "the loop's trapezoid keeps the drawn rise within twice its tolerance")
 def test_iterate_keeps_the_rise_within_its_tolerance(samples):
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law
     tol = 1e-5
@@ -110,6 +117,8 @@ def test_iterate_keeps_the_rise_within_its_tolerance(samples):
     assert abs(rises(result.law)[0] - drawn) <= 2 * tol * drawn   # the loop's trapezoid rule, then exact
 
 
+@pytest.mark.reference("closed form", "a stretch f with ordinates kept scales the displacement by f^2: the whole rise "
+                                      "stretched keeps it")
 def test_phase_mode_keeps_the_rise_by_stretching_the_whole_rise(samples):
     # closed form: a stretch f of a part with the ordinates kept scales its displacement by f²
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law
@@ -119,6 +128,7 @@ def test_phase_mode_keeps_the_rise_by_stretching_the_whole_rise(samples):
     assert rises(result.law)[0] == pytest.approx(rises(law)[0], rel=1e-12)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_rise_without_a_return_says_which_condition_fails():
     # a law whose only motion is a rise cannot come back while keeping it (the AutoCAD samples)
     x = np.radians([0.0, 120.0, 240.0, 360.0])
@@ -140,6 +150,7 @@ def _jump_law():
     return PiecewiseLinearLaw(x, np.array(a, float), 2 * np.pi, phases)
 
 
+@pytest.mark.reference("property", "both vertices of a jump change by the same amount in every mode")
 @pytest.mark.parametrize("mode", ["min-change", "keypoints", "segment"])
 def test_the_vertices_of_a_jump_move_together(mode):
     law = _jump_law()
@@ -152,6 +163,7 @@ def test_the_vertices_of_a_jump_move_together(mode):
     assert result.after.balanced
 
 
+@pytest.mark.reference("property", "a moved vertex of a jump is held at its value; its partner moves alone")
 def test_a_held_vertex_unties_its_jump():
     law = _jump_law()
     i = 3  # the left vertex of the jump at 90 deg
@@ -162,6 +174,8 @@ def test_a_held_vertex_unties_its_jump():
     assert result.law.a[i + 1] != law.a[i + 1]  # its partner still moves, alone
 
 
+@pytest.mark.reference("regression", "issue 11: --mode extrema moved single jump vertices by 23 mm/rad^2, three times "
+                                     "the peak")
 def test_extrema_never_spikes_at_a_jump(samples):
     # issue 11: --mode extrema moved single jump vertices by 23.06 mm/rad^2, three times the peak of ~7.5
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law
@@ -171,6 +185,8 @@ def test_extrema_never_spikes_at_a_jump(samples):
 
 # --- edits -----------------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "each --move honoured at its vertex or refused with its reason (dwell, outside the "
+                                   "cycle, not finite, repeated)")
 def test_several_moves_are_each_honoured_or_refused_with_a_reason(samples):
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law
     requests = [(75.0, 7.0), (75.0, 8.0), (30.0, 1.0), (400.0, 1.0), (120.0, 2.0), (float("nan"), 1.0),
@@ -189,6 +205,8 @@ def test_several_moves_are_each_honoured_or_refused_with_a_reason(samples):
     assert rises(result.law)[0] == pytest.approx(rises(law)[0], rel=1e-12)
 
 
+@pytest.mark.reference("property", "at a dwell edge the move takes the motion side of the jump (6.75 drawn), a dwell "
+                                   "point is refused")
 def test_a_move_at_a_dwell_edge_takes_the_motion_side_of_the_jump(samples):
     law = samples["dxf/fig2_rise_area_too_large.dxf"].law  # 0 -> 6.75 at 60 deg
     result = balance.correct(law, "min-change", moves=[(60.0, 6.0)])
@@ -200,6 +218,7 @@ def test_a_move_at_a_dwell_edge_takes_the_motion_side_of_the_jump(samples):
 
 # --- already balanced --------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "a balanced law is returned as it is, with the note saying so")
 def test_a_balanced_law_is_already_balanced():
     loaded = load_law(SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf")
     for mode in balance.MODES:
@@ -211,6 +230,7 @@ def test_a_balanced_law_is_already_balanced():
 
 # --- singular systems ------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "a staircase law balances in every mode and keeps its rise to 1e-9")
 def test_jumps_at_every_vertex_and_zero_length_ends_are_solved():
     # a staircase law: every vertex belongs to a jump, the first and last have segments of zero length
     deg = [0, 0, 60, 60, 120, 120, 180, 180, 240, 240, 300, 300, 360, 360]
@@ -226,6 +246,8 @@ def test_jumps_at_every_vertex_and_zero_length_ends_are_solved():
         assert rises(result.law)[0] == pytest.approx(lift, rel=1e-9), mode
 
 
+@pytest.mark.reference("property", "dependent conditions: the least-squares answer, and fixing it again changes "
+                                   "nothing")
 def test_dependent_conditions_are_met_in_the_least_squares_sense():
     law = _jump_law()
     conds = balance.conditions(law) + balance.lift_conditions(law)
@@ -237,6 +259,7 @@ def test_dependent_conditions_are_met_in_the_least_squares_sense():
     assert again == pytest.approx(once, abs=1e-12 * np.max(np.abs(law.a)))
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_contradicting_conditions_name_the_one_that_cannot_be_met():
     law = _jump_law()
     lift = balance.lift_conditions(law)[0]
@@ -250,6 +273,7 @@ def test_contradicting_conditions_name_the_one_that_cannot_be_met():
     assert "cannot keep the rise" in str(err.value) and "--free-lift" in str(err.value)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("step", ["0", "1e-300", "nan"])
 def test_the_source_s_loop_refuses_a_step_it_cannot_resample_with(cli, tmp_path, step):
     # the step rule is applied where the grid is built, so `fix --method iterate` answers as `check
@@ -263,6 +287,7 @@ def test_the_source_s_loop_refuses_a_step_it_cannot_resample_with(cli, tmp_path,
     assert not out.exists()
 
 
+@pytest.mark.reference("regression", "fuzz campaign seed 11 case 44694: --max-stretch nan ended in IndexError (exit 3)")
 @pytest.mark.parametrize("stretch", ["nan", "-0.1", "inf"])
 def test_phase_keypoints_refuses_a_stretch_limit_that_is_not_a_fraction(cli, tmp_path, stretch):
     # the fuzz campaign's case 44694 (seed 11): --max-stretch nan clipped every stretch factor to NaN and the
@@ -276,6 +301,7 @@ def test_phase_keypoints_refuses_a_stretch_limit_that_is_not_a_fraction(cli, tmp
     assert not out.exists()
 
 
+@pytest.mark.reference("property", "--max-stretch 0: no phase stretched, the key points balance it (check exit 0)")
 def test_phase_keypoints_with_no_stretch_allowed_still_balances(cli, tmp_path):
     # the limit 0 is a fraction too: no phase is stretched and the key points do all of the balancing
     law = SAMPLES / "law_table.csv"

@@ -27,6 +27,7 @@ def stops(tmp_path):
     return path
 
 
+@pytest.mark.reference("closed form", "the phases the law was drawn with: rise 0-60, dwell 60-100, rise 100-160, ...")
 def test_intermediate_stop_is_a_dwell_not_a_constant_velocity(stops):
     loaded = camcad.load_law(stops)
     kinds = [(p.kind, round(math.degrees(p.start), 6), round(math.degrees(p.end), 6)) for p in loaded.law.phases]
@@ -34,6 +35,7 @@ def test_intermediate_stop_is_a_dwell_not_a_constant_velocity(stops):
                      ("return", 200, 300), ("dwell", 300, 360)]
 
 
+@pytest.mark.reference("closed form", "+ 0 - is one rise coasting at constant velocity, as drawn")
 def test_a_zero_stretch_in_motion_stays_a_constant_velocity(tmp_path):
     path = tmp_path / "cv.csv"
     # + 0 − : accelerate, coast at constant velocity, decelerate: one rise
@@ -70,6 +72,8 @@ def test_fix_brings_every_stated_position(stops):
         correct(loaded.law, "phase")
 
 
+@pytest.mark.reference("property", "fix with stated positions: balanced after, the 2.5 mm position named among the "
+                                   "conditions")
 def test_fix_from_the_command_line_with_stated_positions(stops, cli, tmp_path):
     result = cli("fix", stops, "--phases", STATED, "-o", tmp_path / "fixed.csv", "--no-plots", "--json")
     assert result.code == 0, result.err
@@ -78,6 +82,7 @@ def test_fix_from_the_command_line_with_stated_positions(stops, cli, tmp_path):
     assert "displacement at the end of the rise (160 deg) = 2.5 mm" in names
 
 
+@pytest.mark.reference("closed form", "a stated 0.1 mm/deg is 0.1 x 180/pi mm/rad")
 def test_stated_velocity_is_the_target_at_a_phase_end():
     phases = parse_phases("0:90:rise:5:0.1,90:180:rise:20,180:360:return:0", 360.0)
     assert phases[0].v_end == pytest.approx(math.degrees(0.1))

@@ -47,6 +47,7 @@ def test_the_serial_table_gives_the_law_it_was_made_from():
     assert kinds == [("dwell", 0), ("rise", 90), ("return", 162), ("dwell", 234)]
 
 
+@pytest.mark.reference("property", "each written law reads back with the phases of its record, in rad, balanced")
 def test_the_study_laws_read_back_with_their_phases():
     for name in ("synthesised.dxf", "filtered.dxf", "new_law.dxf"):
         loaded = camcad.load_law(SAMPLES / "batten" / name)
@@ -55,6 +56,8 @@ def test_the_study_laws_read_back_with_their_phases():
         assert report is None or report.balanced, name
 
 
+@pytest.mark.reference("published", "the batten study's figures (docs/references.md) each printed once with its "
+                                    "status; the swing 0.421 rad")
 def test_compare_on_the_batten_sample_prints_every_thesis_figure_with_its_status(cli, tmp_path):
     run = cli("compare", "--scene", SCENE, "--json", "--no-plots", "-o", tmp_path / "out")
     assert run.code == 0, run.err

@@ -117,6 +117,8 @@ def test_the_displacement_deviation_of_two_closed_form_laws(tmp_path, scene):
     assert any("no scene" in n for n in report.notes)
 
 
+@pytest.mark.reference("published", "the batten study's figures (docs/references.md), each with its status: "
+                                    "published, reproduced, depends, not reproduced")
 def test_published_figures_get_their_status(cli, tmp_path, scene):
     _law_file(tmp_path, "law.dxf"), _law_file(tmp_path, "half.dxf", lift=10.0)
     text = scene.read_text() + """
@@ -159,6 +161,7 @@ why_not = "a measured strain, not modelled"
     assert "published figures beside camcad's" in text_run.out and "depends on chosen inputs" in text_run.out
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("args,expected", [
     (("{law}", "{law}"), "no speed given"),
     (("{law}", "--rpm", "300"), "no law B given"),

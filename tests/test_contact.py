@@ -34,6 +34,8 @@ def shigley_cylinders(force, length, d1, d2, e1, nu1, e2, nu2):
     return b, 2 * force / (math.pi * b * length)
 
 
+@pytest.mark.reference("closed form", "Hertz line contact by hand: E* = 115384.6 MPa, R' = 10.909 mm, sigma_H = 580.2 "
+                                      "MPa (Johnson 1985)")
 def test_convex_point_equals_closed_form():
     # cam ρ = 40 mm convex, roller Rr = 15 mm, steel on steel, F = 1000 N over L = 10 mm.
     # Hand value: E* = 2.1e5/(2·0.91) = 115384.6 MPa, R' = 40·15/55 = 10.909 mm,
@@ -47,6 +49,7 @@ def test_convex_point_equals_closed_form():
     assert steel == pytest.approx(580.2, abs=0.05)
 
 
+@pytest.mark.reference("closed form", "conforming contact R' = 15 x 60/(60 - 15) = 20 mm, Hertz by hand")
 def test_concave_point_equals_conforming_closed_form():
     # concave flank ρ = −60 mm against Rr = 15 mm: R' = 15·60/(60 − 15) = 20 mm (conforming contact)
     r_eff = float(contact.effective_radius(-60.0, 15.0))
@@ -62,6 +65,7 @@ def test_concave_point_equals_conforming_closed_form():
     assert not bool(contact.fits(-12.0, 15.0)) and bool(contact.fits(-15.0, 15.0))
 
 
+@pytest.mark.reference("closed form", "flat face: 1/R' = 1/rho (Shigley, cylinder on a plane)")
 def test_flat_follower_equals_cylinder_on_plane():
     # flat face: 1/R' = 1/ρ + 0; Shigley with d2 → ∞ (1/d2 = 0)
     e_star = contact.effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU)
@@ -73,6 +77,7 @@ def test_flat_follower_equals_cylinder_on_plane():
     assert float(contact.hertz_peak_pressure(500.0, 8.0, r_eff, e_star)) == pytest.approx(p_ref, rel=1e-12)
 
 
+@pytest.mark.reference("second method", "quadrature of the elliptical Hertz pressure across the strip gives F/L")
 @pytest.mark.parametrize("rho, r_f", [(40.0, 15.0), (-60.0, 15.0), (35.0, np.inf)])
 def test_pressure_integrates_back_to_the_load(rho, r_f):
     # ∫_{-b}^{b} p(x) dx · L = F for the elliptical Hertz distribution (quadrature, not p0 π b L / 2)
@@ -108,6 +113,7 @@ def flat_follower_rise(beta_deg: float, lift: float = 20.0, rb: float = 40.0, po
     return u * beta, s, v, a, np.zeros_like(u), rho
 
 
+@pytest.mark.reference("closed form", "sigma_H of a flat face along the profile, computed here from the Hertz formula")
 def test_profile_stress_of_flat_follower_equals_closed_form():
     theta, s, v, a, phi, rho = flat_follower_rise(100.0)
     p = params()
@@ -123,6 +129,8 @@ def test_profile_stress_of_flat_follower_equals_closed_form():
     assert not result.separation
 
 
+@pytest.mark.reference("closed form", "Hertz stress at hand-made convex, concave and straight points at 20 deg "
+                                      "pressure angle")
 def test_roller_profile_with_convex_concave_and_straight_points():
     # hand-made arrays: convex, concave and straight profile points, pressure angle 20 deg
     theta = np.radians([0.0, 10.0, 20.0])
@@ -142,6 +150,8 @@ def test_roller_profile_with_convex_concave_and_straight_points():
         contact.contact_stress(theta, s, v, a, phi, np.array([50.0, -12.0, 90.0]), 16.0, 200.0, p)
 
 
+@pytest.mark.reference("property", "force balance on the follower along its path for both directions of motion and "
+                                   "both signs of phi")
 def test_guide_friction_satisfies_the_force_balance():
     # vector balance on the follower (x across the guide, y along the path): the cam's normal force
     # F_n (sin φ, cos φ), the guide's side reaction −F_n sin φ and its friction −μ |F_n sin φ| sgn(ṡ)
@@ -158,6 +168,8 @@ def test_guide_friction_satisfies_the_force_balance():
         contact.normal_force([100.0], [math.radians(80)], [1.0], 0.2)   # tan 80° > 1/0.2
 
 
+@pytest.mark.reference("closed form", "n_sep = 60/(2 pi) sqrt(1000 F0 beta^2/(m 2 pi h)) for a constant-force spring "
+                                      "on a cycloidal rise")
 def test_separation_speed_closed_form_and_consistency():
     # a constant-force spring (k = 0, preload F0) on a cycloidal rise: the follower leaves the cam
     # where the deceleration m|a|ω² first reaches F0: |a|max = 2πh/β² (at u = 3/4, on the grid),
@@ -182,6 +194,8 @@ def test_separation_speed_closed_form_and_consistency():
     assert not form.separation and form.min_force < 0
 
 
+@pytest.mark.reference("second method", "sigma_max(t) on a grid (monotone) and brentq: the limit reproduces [sigma_H] "
+                                        "to 1e-6")
 def test_phase_angle_limit_meets_the_allowable_stress():
     # σ_max(t): largest σ_H over a cycloidal rise of 20 mm stretched to t deg (flat face, Rb 40 mm,
     # 400 rpm). Below about 85 deg the flat face undercuts (ρ ≤ 0, inadmissible: inf); above, σ_max
@@ -210,6 +224,8 @@ def test_phase_angle_limit_meets_the_allowable_stress():
         least_phase_angle(sigma_max, 100.0, 90.0, 180.0, source="contact", what="operation 1->2")
 
 
+@pytest.mark.reference("property", "[contact] parsed as written, its assumptions noted; bad keys refused with the "
+                                   "reason")
 def test_parse_contact_reads_and_rejects():
     table = {"cam_modulus": 2.1e5, "cam_poisson": 0.3, "follower_modulus": 2.1e5, "follower_poisson": 0.3,
              "width": 12.0, "mass": 0.5, "allowable_stress": 1000.0, "spring_rate": 8.0, "preload": 60.0}
@@ -234,6 +250,7 @@ def test_parse_contact_reads_and_rejects():
         parse_contact({**table, "load_range_deg": [90]}, "x")
 
 
+@pytest.mark.reference("closed form", "groove walls: inner R' = 50 x 10/60, outer (conforming) R' = 70 x 10/60")
 def test_groove_outer_wall_carries_negative_forces():
     # form-closed groove cam: where the cam must pull the follower back (F < 0) the roller presses on
     # the groove's outer wall, which it touches from inside (conforming): pass ρ_back = −(ρ_p + Rr).
@@ -259,6 +276,8 @@ ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 
 
+@pytest.mark.reference("closed form", "Norton's pitch-curve radius and phi = atan(v/(Rp + s)) for the sample's "
+                                      "cycloidal rise, Hertz on top")
 def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
     import tomllib
 
@@ -323,6 +342,7 @@ def test_cli_contact_on_the_sample_matches_textbook_geometry(tmp_path, cli):
     assert 1100.0 < sigma_max(rise_limit * (1 - 1e-5)) < math.inf
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_cli_contact_bad_input(tmp_path, cli):
     text = SAMPLE.read_text()
     for edit, pattern in ((("allowable_stress = 1100.0", "allowable_stres = 1100.0"),

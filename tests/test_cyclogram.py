@@ -45,6 +45,8 @@ def hand_network(cycle_deg: float = 360.0):
     return make_network(ops, cycle_deg=cycle_deg)
 
 
+@pytest.mark.reference("closed form", "the hand-made network's earliest schedule worked by hand: makespan 45 deg, "
+                                      "path S-Y-X-E")
 def test_active_bounds_on_a_hand_made_case():
     result = optimise(hand_network())
     assert result.feasible
@@ -63,6 +65,7 @@ def test_active_bounds_on_a_hand_made_case():
     json.dumps(report)
 
 
+@pytest.mark.reference("closed form", "a 42 deg limit on S->Y lifts the makespan to 42 - 5 + 10 = 47 deg")
 def test_phase_limit_raises_a_lower_bound_and_becomes_the_active_one():
     # a vibration limit of 42 deg on S->Y lifts the makespan to 42 − 5 + 10 = 47
     limit = PhaseLimit(42.0, 0.1, 0.1, True, "vibration")
@@ -76,6 +79,8 @@ def test_phase_limit_raises_a_lower_bound_and_becomes_the_active_one():
 
 # ---------------------------------------------------------------- infeasible and cyclic networks
 
+@pytest.mark.reference("closed form", "with the cycle capped at 40 deg the conflict is S->Y >= 40, X->Y <= 5, X->E >= "
+                                      "10, excess 5 deg")
 def test_infeasible_network_names_its_conflicting_constraints():
     # with the cycle capped at 40 deg the 45-deg path cannot fit: the conflict is exactly
     # S->Y >= 40, X->Y <= 5, X->E >= 10 and makespan <= 40 (excess 40 − 5 + 10 − 40 = 5 deg)
@@ -93,6 +98,8 @@ def test_infeasible_network_names_its_conflicting_constraints():
     assert "\n" not in message
 
 
+@pytest.mark.reference("closed form", "the two conflicts of the hand-made network, the smaller one (two constraints) "
+                                      "reported")
 def test_smallest_conflict_is_found():
     # two conflicts: a phase limit of 8 deg on X->Y against its upper bound 5 (two constraints),
     # and the long one through the cycle cap of 40 deg (four). The smallest is reported.
@@ -107,6 +114,7 @@ def test_smallest_conflict_is_found():
     assert all(a.head == b.tail for a, b in zip(cycle, cycle[1:] + cycle[:1]))   # closed
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_cyclic_network_is_rejected_with_the_cycle_named():
     ops = [Operation("1", "2", 10), Operation("2", "3", 10), Operation("3", "4", 5), Operation("4", "2", 5),
            Operation("3", "5", 1)]
@@ -114,6 +122,7 @@ def test_cyclic_network_is_rejected_with_the_cycle_named():
         make_network(ops)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("ops, pattern", [
     ([Operation("1", "2"), Operation("1", "2", 5)], "two operations join 1 to 2"),
     ([Operation("1", "1")], "same event"),
@@ -154,6 +163,7 @@ def dp_longest_path(n, weights):
     return earliest
 
 
+@pytest.mark.reference("second method", "a longest-path dynamic programme over a topological order written here")
 @settings(max_examples=60, deadline=None)
 @given(precedence_networks())
 def test_lp_equals_longest_path_on_precedence_networks(case):
@@ -202,6 +212,8 @@ def lp_reference(network):
     return {event: float(second.x[index[event]]) for event in network.events}
 
 
+@pytest.mark.reference("second method", "scipy's linprog on the same constraints: the earliest schedule, infeasible "
+                                        "exactly when it is")
 @settings(max_examples=60, deadline=None)
 @given(precedence_networks(), st.data())
 def test_longest_paths_agree_with_the_lp_with_upper_bounds(case, data):
@@ -229,6 +241,8 @@ def test_longest_paths_agree_with_the_lp_with_upper_bounds(case, data):
 
 # ---------------------------------------------------------------- phase-angle limits
 
+@pytest.mark.reference("published", "Podgorny et al. 2018: a(3,7) = -0.003 t + 0.208 mm <= 0.1 mm gives t >= 36 deg "
+                                    "(closed form)")
 def test_vibration_limit_from_the_source_relation():
     # a(3,7) = −0.003 t + 0.208 mm ≤ 0.1 mm  ⇔  t ≥ 36 deg (closed form)
     relation = LinearRelation(-0.003, 0.208)
@@ -268,6 +282,7 @@ amplitude_intercept_mm = 0.208
 """
 
 
+@pytest.mark.reference("closed form", "the section's network: makespan 20 + 36 = 56 deg")
 def test_parse_cyclogram_reads_a_section():
     network = parse_cyclogram(section(GOOD), "g.toml [cyclogram]", mechanisms=["lift"])
     assert network.start == "1" and network.end == "3"
@@ -276,6 +291,7 @@ def test_parse_cyclogram_reads_a_section():
     assert result.makespan_deg == pytest.approx(56.0, abs=1e-9)     # 20 + 36
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("edit, pattern", [
     (lambda t: t.replace("bounds_deg = [20.0, 60.0]", "bound_deg = [20.0, 60.0]"), "did you mean 'bounds_deg'"),
     (lambda t: t.replace("bounds_deg = [20.0, 60.0]", "bounds_deg = [60.0, 20.0]"), "min > max"),
@@ -296,6 +312,8 @@ def test_parse_cyclogram_errors(edit, pattern):
 
 # ---------------------------------------------------------------- feeding angles back
 
+@pytest.mark.reference("closed form", "phases retimed by hand: a rise stretched to 120 deg takes 30 deg from the next "
+                                      "dwell")
 def test_retime_and_stretch_phases():
     phases = [(0, 90, "dwell"), (90, 180, "rise"), (180, 270, "dwell"), (270, 360, "return")]
     # the cyclogram starts the rise at 40 deg for 50 deg and the return at 200 deg for 60 deg
@@ -316,6 +334,7 @@ def test_retime_and_stretch_phases():
         stretch_phase(phases, 1, 300.0)
 
 
+@pytest.mark.reference("closed form", "the operation's start and angle (0, 20 deg) from the schedule")
 def test_operation_timing_feeds_the_mechanisms():
     network = parse_cyclogram(section(GOOD), "g", mechanisms=["lift"])
     result = optimise(network, vibration_limits(network))
@@ -324,6 +343,8 @@ def test_operation_timing_feeds_the_mechanisms():
 
 # ---------------------------------------------------------------- the sample group scene
 
+@pytest.mark.reference("published", "Podgorny et al. 2018: the shuttle lift's operation 3->7 limited to t >= 36 deg "
+                                    "by its vibration relation")
 def test_sample_scene_has_a_limiting_operation():
     scene = tomllib.loads(SAMPLE.read_text())
     network = parse_cyclogram(scene["cyclogram"], "loom_group1.toml [cyclogram]",
@@ -336,6 +357,8 @@ def test_sample_scene_has_a_limiting_operation():
     assert result.phase_angles_deg["3->7"] == pytest.approx(36.0, abs=1e-7)
 
 
+@pytest.mark.reference("property", "each phase angle is the difference of its event times; the contact-stress limit "
+                                   "reaches [sigma_H] = 1100 MPa")
 def test_cli_cyclogram_on_the_sample(tmp_path, cli):
     done = cli("cyclogram", SAMPLE, "--json", "-o", tmp_path)
     assert done.code == 0, done.err
@@ -369,6 +392,7 @@ def test_cli_cyclogram_on_the_sample(tmp_path, cli):
     assert back == (pytest.approx(times["6"], abs=1e-7), pytest.approx(times["8"], abs=1e-7))
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_cli_cyclogram_bad_scene(tmp_path, cli):
     plain = GOOD.replace('mechanism = "lift"\nphase = "rise"\n', "")
     for text, pattern in ((plain.replace("to = 3", "to = 1"), "cycle: 1 -> 2 -> 1"),
@@ -384,6 +408,7 @@ def test_cli_cyclogram_bad_scene(tmp_path, cli):
         assert len(done.err.strip().splitlines()) == 1
 
 
+@pytest.mark.reference("closed form", "the cycle is short by 20 + 36 - 50 = 6 deg: exit 1 naming it")
 def test_cli_cyclogram_infeasible_exits_1(tmp_path, cli):
     scene = tmp_path / "tight.toml"
     scene.write_text(GOOD.replace('mechanism = "lift"\nphase = "rise"\n', "").replace("cycle_deg = 360.0",

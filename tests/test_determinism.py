@@ -54,6 +54,7 @@ def _same(first: dict[str, bytes], second: dict[str, bytes], suffixes: set[str])
         assert data == second[name], name
 
 
+@pytest.mark.reference("property", "two runs under a moved clock: byte-identical outputs, nothing on stderr")
 @pytest.mark.parametrize("options", [[], ["--r12"], ["--arcs"], ["--spline"]], ids=["r2000", "r12", "arcs", "spline"])
 def test_profile_outputs_are_byte_identical(cli, tmp_path, options):
     law = SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf"
@@ -67,6 +68,7 @@ def test_profile_outputs_are_byte_identical(cli, tmp_path, options):
     _same(first, second, {".dxf", ".csv", ".json"})
 
 
+@pytest.mark.reference("property", "two runs under a moved clock: byte-identical outputs")
 def test_law_dxf_and_csv_are_byte_identical(tmp_path):
     theta = np.linspace(0, 360, 361)
     accel = np.sin(np.radians(2 * theta))
@@ -83,6 +85,7 @@ def test_law_dxf_and_csv_are_byte_identical(tmp_path):
     _same(first, second, {".dxf", ".csv"})
 
 
+@pytest.mark.reference("property", "two runs under a moved clock: byte-identical outputs, nothing on stderr")
 @pytest.mark.parametrize("name", ["fig2_rise_area_too_large.dxf", "r12_polyline_harmonic.dxf", "spline_law.dxf",
                                   "line_chain_trapezoid.dxf"])
 def test_fix_outputs_are_byte_identical(cli, tmp_path, name):
@@ -101,6 +104,7 @@ def test_fix_outputs_are_byte_identical(cli, tmp_path, name):
     _same(first, second, {".dxf", ".csv", ".json", ".png"})
 
 
+@pytest.mark.reference("property", "a CR LF drawing corrected twice: byte-identical, CR LF kept")
 def test_corrected_crlf_drawing_is_byte_identical(tmp_path):
     # a drawing saved with CR LF line ends, as AutoCAD does: a law (a rise over 0..180, a return after) and its axis
     import io
@@ -127,6 +131,8 @@ def test_corrected_crlf_drawing_is_byte_identical(tmp_path):
     assert b"\r\n" in first["fixed.dxf"][:100]
 
 
+@pytest.mark.reference("closed form", "the DXF Julian date of SOURCE_DATE_EPOCH: 1970-01-01 is day 2440588, "
+                                      "2000-01-01 day 2451545")
 def test_source_date_epoch_sets_the_stamps_of_camcads_own_drawings(tmp_path, monkeypatch):
     import ezdxf
 
@@ -146,6 +152,7 @@ def test_source_date_epoch_sets_the_stamps_of_camcads_own_drawings(tmp_path, mon
     assert ezdxf.readfile(plain).header["$VERSIONGUID"] is not None
 
 
+@pytest.mark.reference("property", "ezdxf's own save under the moved clock differs: the checks above can fail")
 def test_the_moving_clock_would_show_in_a_plain_ezdxf_save(tmp_path):
     # the check above has teeth: ezdxf's own save, twice, differs under the same clock
     import ezdxf

@@ -375,6 +375,7 @@ def test_servo_motor_through_a_gearbox(tmp_path):
     assert checks["motor speed"]["passed"]
 
 
+@pytest.mark.reference("property", "a motor over its rated RMS torque fails the check: exit 1, FAILED printed")
 def test_servo_motor_over_its_rating_fails_with_exit_1(tmp_path, cli):
     path = roller_scene(tmp_path, rpm="600", extra="[drive]\nmotor_rated_torque = 0.5\nmotor_peak_torque = 0.6\n")
     result = cli("drive", path, "-o", tmp_path / "out", "--no-plots")
@@ -445,6 +446,7 @@ def test_elastic_torque_of_a_single_dof_follower(tmp_path):
 # Bad input: one line, exit 2
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize(("extra", "words"), [
     ("[drive]\ndelta = 2.0\n", "delta"),
     ('[drive]\ndelta = "1/0"\n', "delta"),
@@ -466,6 +468,7 @@ def test_bad_sections_are_one_line_exit_2(tmp_path, cli, extra, words):
     assert not (tmp_path / "out" / "drive.json").exists()
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_no_speed_no_contact_and_bad_delta_option(tmp_path, cli):
     path = roller_scene(tmp_path)
     assert cli("drive", path, "--delta", "1.5", "-o", tmp_path / "o1").code == 2
@@ -483,6 +486,7 @@ def test_no_speed_no_contact_and_bad_delta_option(tmp_path, cli):
         run_drive(DriveRequest(tmp_path / "missing.toml"))
 
 
+@pytest.mark.reference("property", "drive --json: one object, its assumptions (friction = 0) in the notes")
 def test_drive_json_is_one_object_and_says_what_it_assumed(tmp_path, cli):
     path = roller_scene(tmp_path)
     result = cli("drive", path, "-o", tmp_path / "out", "--json", "--no-plots")
@@ -507,6 +511,8 @@ def _same(line: str) -> str:
     return " ".join(line.split())
 
 
+@pytest.mark.reference("property", "docs/drive.md quotes what camcad prints (the documentation kept true; the "
+                                   "figures' references are the tests above)")
 def test_drive_doc_loom_excerpt_is_what_camcad_prints(tmp_path, cli):
     from conftest import SAMPLES
 
@@ -519,6 +525,8 @@ def test_drive_doc_loom_excerpt_is_what_camcad_prints(tmp_path, cli):
         assert _same(line) in printed, line
 
 
+@pytest.mark.reference("property", "docs/drive.md's figures are what camcad finds (the documentation kept true); the "
+                                   "polydyne residual after design < 1e-12")
 def test_drive_doc_press_feed_and_polydyne_figures_are_what_camcad_finds(tmp_path, cli):
     from conftest import ROOT
 

@@ -66,6 +66,7 @@ def test_a_scene_drives_the_multimass_model_with_its_motor(cli, tmp_path):
     assert data["harmonic"]["k"] == 17 and (tmp_path / "out" / "harmonic_17.png").exists()
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("extra,expected", [
     ('drive = "motor"', "needs the motor's characteristic"),
     ('motor_torque = [[0.0, 1.0], [400.0, 0.0]]', 'drive is "speed"'),

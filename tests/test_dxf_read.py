@@ -32,6 +32,7 @@ def _sampled(step=2.0):
     return np.degrees(theta), law.kinematics(theta).a
 
 
+@pytest.mark.reference("second method", "ezdxf's own entity kinds and vertex counts of each sample drawing")
 @pytest.mark.parametrize("name,kind", [
     ("dxf/balanced_drdr_cycloidal.dxf", "LWPOLYLINE"),
     ("dxf/r12_polyline_harmonic.dxf", "POLYLINE"),
@@ -54,6 +55,8 @@ def test_samples_read_as_the_entity_they_are(name, kind):
     assert loaded.law.x[0] == 0 and loaded.law.x[-1] == pytest.approx(2 * np.pi)
 
 
+@pytest.mark.reference("closed form", "the cycloidal law drawn at 1/2 unit per degree and 1/50 scale: lift exactly 25 "
+                                      "mm, ordinates within 1 %")
 def test_lwpolyline_x_extent_maps_to_the_cycle_and_lift_scales(tmp_path):
     t, a = _sampled()
     # drawn at x 100..280 (half a unit per degree) and y at 1/50 scale
@@ -68,6 +71,8 @@ def test_lwpolyline_x_extent_maps_to_the_cycle_and_lift_scales(tmp_path):
     assert np.max(np.abs(loaded.law.a - reference.kinematics(theta).a)) < 0.01 * np.abs(loaded.law.a).max()
 
 
+@pytest.mark.reference("second method", "ezdxf's own flattening of the spline (20,000 points) within the stated "
+                                        "tolerance")
 def test_spline_is_flattened_within_its_tolerance(tmp_path):
     t, a = _sampled(10.0)
     path = _write(tmp_path, lambda msp, doc: msp.add_open_spline(list(zip(t, a, 0 * t)), degree=3))
@@ -83,6 +88,8 @@ def test_spline_is_flattened_within_its_tolerance(tmp_path):
     assert np.max(np.abs(chord_y - dense[:, 1]) / np.sqrt(1 + slope**2)) <= 1.01e-4
 
 
+@pytest.mark.reference("closed form", "a bulge-1 arc of radius 10: flattened points on the circle, sagittas within "
+                                      "1e-3")
 def test_bulge_polyline_is_flattened_exactly(tmp_path):
     # one arc of radius 10 (bulge 1 = half circle) between two straight parts: the flattening's
     # points lie on the circle to round-off and its chords within the stated tolerance
@@ -99,6 +106,7 @@ def test_bulge_polyline_is_flattened_exactly(tmp_path):
     assert sagitta.max() <= 1e-3 + 1e-12
 
 
+@pytest.mark.reference("property", "a law drawn right to left or with duplicates is the same law")
 def test_right_to_left_and_duplicates_give_the_same_law(tmp_path):
     forward = load_law(SAMPLES / "dxf" / "balanced_drdr_cycloidal.dxf")
     t, a = _sampled()
@@ -111,6 +119,8 @@ def test_right_to_left_and_duplicates_give_the_same_law(tmp_path):
     assert any("right to left" in n for n in backward.notes)
 
 
+@pytest.mark.reference("closed form", "the dropped middle points of a vertical run map back at their fractions 0.25 "
+                                      "and 0.75")
 def test_vertical_runs_keep_first_and_last(tmp_path):
     pts = [(0, 0), (60, 0), (60, 1), (60, 3), (60, 4), (120, 4), (120, -4), (180, -4), (180, 0), (200, 0),
            (200, -4), (260, -4), (260, 4), (320, 4), (320, 0), (360, 0)]
@@ -122,6 +132,7 @@ def test_vertical_runs_keep_first_and_last(tmp_path):
     assert loaded.vertex_map.weight[3] == pytest.approx(0.75)
 
 
+@pytest.mark.reference("property", "the widest chain is the law; the notes name it, the candidates and the zero axis")
 def test_largest_x_range_is_chosen_and_reported(tmp_path):
     t, a = _sampled()
 
@@ -136,6 +147,7 @@ def test_largest_x_range_is_chosen_and_reported(tmp_path):
     assert any(n.startswith("zero axis: y = 0, LINE") and "(x 0..400)" in n for n in loaded.notes)
 
 
+@pytest.mark.reference("property", "two curves of one width are ambiguous; --layer and --handle pick the same law")
 def test_layer_and_handle_pick_the_curve(tmp_path):
     t, a = _sampled()
 
@@ -151,6 +163,7 @@ def test_layer_and_handle_pick_the_curve(tmp_path):
     assert np.array_equal(by_handle.law.a, by_layer.law.a)
 
 
+@pytest.mark.reference("closed form", "the block inserted at y = 5: the dwells give that zero, the peak unchanged")
 def test_insert_of_a_block_is_exploded(tmp_path):
     t, a = _sampled()
 
@@ -165,6 +178,7 @@ def test_insert_of_a_block_is_exploded(tmp_path):
     assert not loaded.curve.editable and loaded.curve.handles[0] == loaded.curve.handle  # the INSERT's handle
 
 
+@pytest.mark.reference("property", "a binary DXF gives the law of its ASCII twin")
 def test_binary_dxf_is_read(tmp_path):
     t, a = _sampled()
     doc = ezdxf.new("R2000")
@@ -175,6 +189,7 @@ def test_binary_dxf_is_read(tmp_path):
     assert len(loaded.law.x) == len(t)
 
 
+@pytest.mark.reference("property", "comma and semicolon tables of one law read alike")
 def test_table_dialects_read_alike():
     comma = load_law(SAMPLES / "law_table.csv")
     semicolon = load_law(SAMPLES / "law_table_semicolon.txt")
@@ -182,6 +197,7 @@ def test_table_dialects_read_alike():
     assert any("closed periodically" in n for n in semicolon.notes)
 
 
+@pytest.mark.reference("property", "unsorted rows sorted, and the notes say so")
 def test_unsorted_table_rows_are_sorted_and_reported(tmp_path):
     rows = ["0,0", "180,0", "90,1", "135,-1", "45,1", "270,-1", "225,-1", "315,1", "360,0"]
     path = tmp_path / "t.csv"
@@ -193,6 +209,8 @@ def test_unsorted_table_rows_are_sorted_and_reported(tmp_path):
 
 # --- real drawings written by other programs (tests/fixtures/dxf-real) --------------------------------
 
+@pytest.mark.reference("property", "every real drawing of 33 (tests/fixtures/dxf-real): a law or one clear line, the "
+                                   "input unchanged")
 def test_every_real_drawing_gets_a_result_or_one_clear_line(real_dxf, cli, tmp_path):
     paths = sorted(real_dxf.glob("*.[dD][xX][fF]"))
     assert len(paths) == 33, len(paths)       # 23 copied, 10 stand-ins (the folder's README)
@@ -210,6 +228,7 @@ def test_every_real_drawing_gets_a_result_or_one_clear_line(real_dxf, cli, tmp_p
         assert file_digest(path) == before, path.name
 
 
+@pytest.mark.reference("property", "drawings that hold no law say why (closed, 3D, goes back in x, straight)")
 @pytest.mark.parametrize("name,expected", [
     ("ezdxf__Minimal_DXF_AC1009.dxf", "no curve found"),
     ("gdal__closed_polyline_with_bulge.dxf", "it is closed"),
@@ -249,6 +268,8 @@ def _answer(result) -> tuple:
     return result.code, kind, units
 
 
+@pytest.mark.reference("second method", "the GPL-licensed original of ../shared/dxf-real answered alike (skipped "
+                                        "without it)")
 @pytest.mark.parametrize("stand_in", sorted(STAND_INS), ids=lambda name: STAND_INS[name])
 def test_a_stand_in_is_read_as_its_gpl_original(cli, stand_in):
     # our own drawing in place of a GPL-licensed one that is not copied here (tests/fixtures/dxf-real/README.md):
@@ -260,6 +281,7 @@ def test_a_stand_in_is_read_as_its_gpl_original(cli, stand_in):
     assert _answer(cli("check", REAL_DXF / stand_in, "--json")) == _answer(cli("check", original, "--json"))
 
 
+@pytest.mark.reference("property", "ezdxf's recover reads the damaged drawing; the notes report the repair")
 def test_damaged_drawing_is_recovered_and_the_repair_reported(real_dxf):
     # two chains of the same width in the repaired drawing: ambiguous without --handle
     with pytest.raises(CamcadError, match="same x-range"):
@@ -268,6 +290,7 @@ def test_damaged_drawing_is_recovered_and_the_repair_reported(real_dxf):
     assert any("recover" in n for n in loaded.notes)
 
 
+@pytest.mark.reference("property", "GDAL's header-less R2000 excerpt keeps its closed flag (129)")
 def test_headerless_r2000_excerpt_keeps_its_closed_flag(real_dxf):
     # without the $ACADVER injection ezdxf would read it as R12 and drop the closed flag (129)
     from camcad.io.dxf_read import collect_pieces, open_drawing
@@ -276,6 +299,7 @@ def test_headerless_r2000_excerpt_keeps_its_closed_flag(real_dxf):
     assert pieces[0].closed
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_no_traceback_in_a_real_process(tmp_path):
     # the console script itself, not the in-process runner: stderr holds one line and no traceback
     bad = tmp_path / "bad.dxf"

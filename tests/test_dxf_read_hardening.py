@@ -14,6 +14,9 @@ import numpy as np
 import pytest
 from conftest import cpu_seconds, file_digest
 
+pytestmark = pytest.mark.reference("property", "issue 19's reproducers: a result (exit 0/1) or one line under 300 "
+                                               "characters (exit 2), the input unchanged")
+
 LIMIT_S = 10          # CPU seconds the worst input may take (test_the_hang_reproducers_take_little_cpu)
 HANG_S = 120          # wall seconds after which a run is a hang (generous: the machine may be loaded)
 LAW = [(0, 0), (60, 0), (90, 12), (120, 0), (150, -12), (180, 0), (210, 0), (240, -12), (270, 0), (300, 12),
@@ -92,6 +95,7 @@ def test_the_hang_reproducers_take_little_cpu(cli, tmp_path):
     assert cpu < LIMIT_S
 
 
+@pytest.mark.reference("closed form", "the law drawn fifty times over is the law once: the return closes to 1e-12")
 def test_a_law_drawn_fifty_times_over_reads_once(cli, tmp_path):
     lines = []
     for (t0, a0), (t1, a1) in itertools.pairwise(LAW):
@@ -186,6 +190,7 @@ def _plain_law(tmp_path) -> Path:
     return path
 
 
+@pytest.mark.reference("second method", "the same drawing in plain UTF-8: the same areas")
 @pytest.mark.parametrize("encoding", ["utf-8-sig", "utf-16", "utf-16-le", "utf-16-be"])
 def test_utf8_bom_and_utf16_drawings_read_like_the_plain_file(cli, tmp_path, encoding):
     plain = _plain_law(tmp_path)
@@ -198,6 +203,7 @@ def test_utf8_bom_and_utf16_drawings_read_like_the_plain_file(cli, tmp_path, enc
     assert any(("byte-order mark" in n) or ("UTF-16" in n) for n in payload["notes"])
 
 
+@pytest.mark.reference("closed form", "a triangle of height 1.5 over 60 deg each side: area 1.5 pi/6")
 @pytest.mark.parametrize("name,text", [
     ("quoted.csv", '"theta","a"\n' + "".join(f'"{t}","{str(a).replace(".", ",")}"\n' for t, a in
                                             [(0, 0), (60, 0), (90, 1.5), (120, 0), (150, -1.5), (180, 0), (210, 0),
@@ -218,6 +224,7 @@ def test_tables_with_decimal_commas_read_their_values(cli, tmp_path, name, text)
     assert payload["areas"]["rise_decel"] == pytest.approx(-1.5 * np.pi / 6, rel=1e-12)
 
 
+@pytest.mark.reference("closed form", "the staircase the rows draw: rise area 2 pi/3, closed")
 def test_a_table_with_a_jump_at_every_vertex(cli, tmp_path):
     # constant acceleration steps: a jumps at every angle; the law is the staircase the rows draw
     rows = []

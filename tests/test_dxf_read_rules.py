@@ -61,6 +61,8 @@ def _trapezoid_areas(points=LAW):
 
 # ---------------------------------------------------------------------------------------------- zero axis
 
+@pytest.mark.reference("closed form", "Inkscape's page coordinates: the axis LINE at y = 104.3 is the zero, agreeing "
+                                      "with the dwell level")
 def test_axis_line_at_page_coordinates_is_the_zero_and_does_not_close_the_chain(tmp_path):
     # Inkscape's case: the graph at y = 104.3 (page coordinates), the axis a LINE on the law's layer whose
     # ends touch the law's ends (the chain law + axis is closed; the law alone is read)
@@ -76,6 +78,7 @@ def test_axis_line_at_page_coordinates_is_the_zero_and_does_not_close_the_chain(
     assert "y = 104.3, LINE" in zero and "agreeing with the dwell level" in zero
 
 
+@pytest.mark.reference("property", "a LINE chain touching its axis at both ends is the law, the axis left out and said")
 def test_a_line_chain_law_touching_its_axis_at_both_ends_is_read(tmp_path):
     x0, y0 = -50.0, 20.0
 
@@ -91,6 +94,7 @@ def test_a_line_chain_law_touching_its_axis_at_both_ends_is_read(tmp_path):
         any("zero axis: y = 20, LINE" in n for n in loaded.notes)
 
 
+@pytest.mark.reference("closed form", "the law drawn with its dwells at y = 250: that is the zero")
 def test_dwell_level_is_the_zero_without_an_axis(tmp_path):
     loaded = load_law(_save(tmp_path, lambda msp, doc: msp.add_lwpolyline(_placed(30.0, 250.0))))
     _assert_law(loaded)
@@ -98,6 +102,7 @@ def test_dwell_level_is_the_zero_without_an_axis(tmp_path):
     assert any("the dwell level (the flat stretches at both ends" in n for n in loaded.notes)
 
 
+@pytest.mark.reference("property", "no dwell, no axis: y = 0 of the drawing, the note names --y0")
 def test_nothing_evident_keeps_y_zero_and_says_how_to_override(tmp_path):
     # no dwell, no axis: the drawing's own y = 0 is taken, and the note names --y0
     pts = [(0, 5), (90, 15), (180, -5), (270, 5), (360, 5.5)]
@@ -106,6 +111,7 @@ def test_nothing_evident_keeps_y_zero_and_says_how_to_override(tmp_path):
     assert any(n.startswith("zero axis: none found") and "--y0" in n for n in loaded.notes)
 
 
+@pytest.mark.reference("property", "grid, frame and axes left out; the axis agreeing with the dwell level is the zero")
 def test_grid_frame_and_axes_are_left_out_and_the_axis_agreeing_with_the_dwell_wins(tmp_path):
     x0, y0 = 100.0, 300.0
 
@@ -125,6 +131,8 @@ def test_grid_frame_and_axes_are_left_out_and_the_axis_agreeing_with_the_dwell_w
     assert loaded.curve.layer == "LAW" and loaded.y0 == y0
 
 
+@pytest.mark.reference("property", "of several spanning horizontal lines, the one nearest the curve's mean height, "
+                                   "said")
 def test_several_horizontal_lines_without_a_dwell_pick_the_one_nearest_the_mean(tmp_path):
     # a law with no flat stretch (rise–return, no dwells); grid lines at y0 ± 10 and y0 span it too
     y0 = 40.0
@@ -140,6 +148,7 @@ def test_several_horizontal_lines_without_a_dwell_pick_the_one_nearest_the_mean(
                for n in loaded.notes)
 
 
+@pytest.mark.reference("property", "plateaus at +A at both ends are not dwells: y = 0 stays the zero")
 def test_constant_acceleration_plateaus_at_the_ends_are_not_dwells(tmp_path):
     # flat at +A at both ends: the curve never rises above it, so it is no zero; y = 0 of the drawing stays
     pts = [(0, 8), (90, 8), (90, -8), (180, -8), (180, -8), (270, -8), (270, 8), (360, 8)]
@@ -147,6 +156,7 @@ def test_constant_acceleration_plateaus_at_the_ends_are_not_dwells(tmp_path):
     assert loaded.y0 == 0.0
 
 
+@pytest.mark.reference("closed form", "the dwell drawn 0.3 above the axis over x 180..210: the warning says so")
 def test_a_dwell_drawn_off_the_axis_is_warned_of(tmp_path):
     y0 = 100.0
     pts = _placed(0, y0)
@@ -163,6 +173,8 @@ def test_a_dwell_drawn_off_the_axis_is_warned_of(tmp_path):
 
 # ------------------------------------------------------------------------------------------ the options
 
+@pytest.mark.reference("closed form", "--y0 shifted by 2 adds 2 to every ordinate; --origin and --x0/--y0 agree; "
+                                      "conflicts refused")
 def test_y0_x0_and_origin_override_what_is_found(tmp_path, cli):
     x0, y0 = 1000.0, 104.3
     path = _save(tmp_path, lambda msp, doc: msp.add_lwpolyline(_placed(x0, y0)))
@@ -183,6 +195,7 @@ def test_y0_x0_and_origin_override_what_is_found(tmp_path, cli):
     assert bad.code == 2 and len(bad.err.strip().splitlines()) == 1 and "--origin X,Y" in bad.err
 
 
+@pytest.mark.reference("closed form", "the scene's y0 = 68, x0 = 500: ordinates shifted by 2")
 def test_scene_keys_y0_and_x0(tmp_path):
     from camcad.scene.laws import build_law
     from camcad.scene.sections.law import parse_law
@@ -237,6 +250,8 @@ def _assert_mixed(payload):
     assert payload["displacement_closure"] == pytest.approx(ref["s_end"], abs=tol * 2 * math.pi)
 
 
+@pytest.mark.reference("property", "LINE, ARC, ELLIPSE, SPLINE and polylines in any order and direction join into one "
+                                   "law")
 def test_pieces_of_every_kind_in_any_order_and_direction_form_one_law(tmp_path):
     from camcad.balance.checking import check
 
@@ -248,6 +263,7 @@ def test_pieces_of_every_kind_in_any_order_and_direction_form_one_law(tmp_path):
     _assert_mixed(check(loaded.law).to_dict())
 
 
+@pytest.mark.reference("property", "pieces on several layers are joined when no layer holds the law, said")
 def test_pieces_on_several_layers_are_joined_when_no_layer_holds_the_law(tmp_path, cli):
     layers = ("DWELL", "LOBES", "LOBES", "DWELL", "LOBES", "LOBES", "DWELL")
     path = _save(tmp_path, lambda msp, doc: _mixed_pieces(msp, 0.0, 0.0, layers))
@@ -275,6 +291,7 @@ def _thousands_of_pieces():
     return pts, PieceSet(tuple(pieces)), rng
 
 
+@pytest.mark.reference("closed form", "the chain is the law's 20,001 points in order, each piece once")
 def test_thousands_of_pieces_join_into_the_drawn_law(tmp_path):
     # the chain is the law's points in order, each piece once; the same through a file with 2 000 LINEs
     from camcad.io.chain import find_law
@@ -294,6 +311,7 @@ def test_thousands_of_pieces_join_into_the_drawn_law(tmp_path):
     assert np.allclose(np.degrees(loaded.law.x), small[:, 0], atol=1e-9) and np.allclose(loaded.law.a, small[:, 1])
 
 
+@pytest.mark.reference("property", "the join is O(n log n): 22,000 pieces in under 10 s of CPU")
 @pytest.mark.timing
 def test_thousands_of_pieces_join_in_under_10_s_of_cpu():
     # the join is O(n log n): 22 000 pieces in well under 10 s of CPU (a quadratic join took minutes)
@@ -305,6 +323,7 @@ def test_thousands_of_pieces_join_in_under_10_s_of_cpu():
     assert cpu_seconds() - began < 10
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_chain_that_goes_back_in_x_is_explained_with_where(tmp_path):
     pts = _placed()
     pts[3] = (pts[2][0] - 5, pts[3][1])   # vertex 3 drawn left of vertex 2
@@ -316,6 +335,7 @@ def test_a_chain_that_goes_back_in_x_is_explained_with_where(tmp_path):
         load_law(_save(tmp_path, build))
 
 
+@pytest.mark.reference("property", "an open border round three sides is no law: the law inside it is read")
 def test_a_border_that_turns_round_does_not_hide_the_law(tmp_path):
     # an open polyline round three sides of the sheet, wider than the law: it goes back in x by its whole
     # width, so it is no mis-drawn law and the law inside it is read
@@ -327,6 +347,7 @@ def test_a_border_that_turns_round_does_not_hide_the_law(tmp_path):
     _assert_law(loaded)
 
 
+@pytest.mark.reference("property", "a y axis touching the law's start is left out of the chain")
 def test_a_y_axis_touching_the_laws_start_is_left_out(tmp_path):
     def build(msp, doc):
         pts = _placed(10.0, 10.0)
@@ -340,6 +361,7 @@ def test_a_y_axis_touching_the_laws_start_is_left_out(tmp_path):
 
 # ---------------------------------------------------------------------------- cycle coverage and units
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_rise_alone_is_not_stretched_to_a_cycle(tmp_path, cli):
     rise = [(0, 0), (30, 10), (60, 0), (90, -10), (120, 0)]
     path = _save(tmp_path, lambda msp, doc: msp.add_lwpolyline(rise))
@@ -353,6 +375,7 @@ def test_a_rise_alone_is_not_stretched_to_a_cycle(tmp_path, cli):
     assert cli("check", path, "--cycle", "360", "--json").code in (0, 1)
 
 
+@pytest.mark.reference("property", "$INSUNITS is reported, not applied: mm and inch drawings give the same numbers")
 def test_units_are_reported_not_applied(tmp_path):
     mm = load_law(_save(tmp_path, lambda msp, doc: msp.add_lwpolyline(LAW), "mm.dxf", units=4))
     inch = load_law(_save(tmp_path, lambda msp, doc: msp.add_lwpolyline(LAW), "in.dxf", units=1))
@@ -367,6 +390,7 @@ def test_units_are_reported_not_applied(tmp_path):
 
 # ----------------------------------------------------------------------------- the curve for the writers
 
+@pytest.mark.reference("property", "each vertex's reference names its entity and place (LINE end, polyline vertex)")
 def test_the_curve_says_how_to_write_back(tmp_path):
     from camcad.io.dxf_read import curve_entities, open_drawing
 
@@ -397,6 +421,7 @@ def test_the_curve_says_how_to_write_back(tmp_path):
     assert backwards.curve.editable and np.array_equal(backwards.curve.points, np.array(_placed()[::-1], float))
 
 
+@pytest.mark.reference("property", "with duplicate handles the drawn LINEs are found again by position, not the BLOCK")
 def test_entities_are_found_again_when_handles_are_not_unique(tmp_path):
     # a LINE of the law whose handle is also a BLOCK's (as in tests/fixtures/dxf-real/ezdxf__duplicate_handles.dxf):
     # ezdxf's handle lookup gives the BLOCK, curve_entities gives the LINE (found by model-space position)
@@ -423,6 +448,8 @@ def test_entities_are_found_again_when_handles_are_not_unique(tmp_path):
             assert np.allclose(tuple(getattr(entities[loaded.curve.handles.index(handle)].dxf, end))[:2], point)
 
 
+@pytest.mark.reference("property", "the corrected law written where it was drawn: the zero axis and the dwells "
+                                   "unmoved, it checks balanced")
 def test_fix_writes_the_corrected_law_back_where_it_was_drawn(tmp_path, cli):
     # an unbalanced law on a sheet (axis at y = 104.3): the corrected copy keeps the zero axis and the dwells
     x0, y0 = 1000.0, 104.3
@@ -443,6 +470,7 @@ def test_fix_writes_the_corrected_law_back_where_it_was_drawn(tmp_path, cli):
     assert np.array_equal(vertices[[0, 1, 5, 6, 10, 11], 1], np.full(6, y0))   # the dwells did not move
 
 
+@pytest.mark.reference("closed form", "a fit-point spline passes through its fit points (1e-4)")
 def test_fit_point_spline_passes_through_its_fit_points(tmp_path):
     fit = [(t, a) for t, a in LAW if t not in (180, 330)]   # no two fit points at one place
 
@@ -454,6 +482,7 @@ def test_fit_point_spline_passes_through_its_fit_points(tmp_path):
     assert np.allclose(values, [a for _, a in fit], atol=1e-4)
 
 
+@pytest.mark.reference("property", "a piece 0.5 units short: the gap named with its piece and distance")
 def test_a_piece_stopping_just_short_of_the_chain_is_warned_of(tmp_path):
     # The law in three pieces; the last is drawn 0.5 units (0.14 % of the width) short of the middle one: the
     # widest chain is then only part of the law, and the reader says which piece and how far. A tick mark at

@@ -92,6 +92,8 @@ def only(doc, layer: str, kind: str):
 
 # ---- tests ---------------------------------------------------------------------------------------
 
+@pytest.mark.reference("second method", "the drawing re-read with ezdxf: closed, mm, every vertex as computed, "
+                                        "extents holding ezdxf's boxes")
 def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
     result, doc = make(tmp_path)
     assert doc.dxfversion == "AC1015"
@@ -130,6 +132,8 @@ def test_r2000_profile_is_closed_in_mm_and_within_tolerance(tmp_path):
             and np.all(high - np.array(measured.extmax)[:2] < size / 3))
 
 
+@pytest.mark.reference("closed form", "an arc over chord c with bulge b leaves at angle(c) - 2 atan b and arrives at "
+                                      "angle(c) + 2 atan b")
 def test_arcs_are_tangent_continuous_and_within_tolerance(tmp_path):
     result, doc = make(tmp_path, arcs=True)
     profile = only(doc, "PROFILE", "LWPOLYLINE")
@@ -149,6 +153,7 @@ def test_arcs_are_tangent_continuous_and_within_tolerance(tmp_path):
     assert np.max(np.abs(kink)) < 1e-8
 
 
+@pytest.mark.reference("second method", "the R12 drawing re-read with ezdxf, its distance from the exact profile")
 @pytest.mark.parametrize("arcs", [False, True])
 def test_r12_profile_is_a_closed_polyline_within_tolerance(tmp_path, arcs):
     result, doc = make(tmp_path, r12=True, arcs=arcs)
@@ -158,6 +163,8 @@ def test_r12_profile_is_a_closed_polyline_within_tolerance(tmp_path, arcs):
     assert deviation(result, written_curve(profile)) <= 1e-3
 
 
+@pytest.mark.reference("second method", "the drawing re-read with ezdxf, its distance from the exact profile at each "
+                                        "tolerance")
 @pytest.mark.parametrize("tol, arcs", [(1e-2, False), (1e-2, True), (1e-4, False), (1e-4, True)])
 def test_oscillating_profile_meets_other_tolerances(tmp_path, tol, arcs):
     follower = Follower("oscillating", 40.0, 10.0, pivot=120.0, arm=100.0)
@@ -168,6 +175,7 @@ def test_oscillating_profile_meets_other_tolerances(tmp_path, tol, arcs):
     assert measured > 0.5 * tol   # the point count follows the tolerance, it is not just dense
 
 
+@pytest.mark.reference("second method", "the re-read control points and knots evaluated as a B-spline by scipy")
 def test_spline_is_closed_by_control_points_and_within_tolerance(tmp_path):
     result, doc = make(tmp_path, spline=True)
     spline = only(doc, "PROFILE_SPLINE", "SPLINE")
@@ -190,6 +198,8 @@ def test_spline_is_closed_by_control_points_and_within_tolerance(tmp_path):
     assert deviation(result, curve) <= 1e-3
 
 
+@pytest.mark.reference("closed form", "the flat face's line at theta = 0 lies at y = Rb and spans the contact points "
+                                      "x = v")
 def test_groove_counter_cam_flat_and_knife_drawings(tmp_path):
     groove = Follower("roller", 50.0, 10.0, groove=True, pair_distance=150.0)
     _, doc = make(tmp_path / "g", groove)
@@ -207,6 +217,7 @@ def test_groove_counter_cam_flat_and_knife_drawings(tmp_path):
     assert [e.dxftype() for e in doc.modelspace() if e.dxf.layer == "ROLLER"] == ["LINE"]
 
 
+@pytest.mark.reference("property", "an unbalanced law's profile is written open, not closed by a segment")
 def test_open_profile_is_written_open(tmp_path):
     # an unbalanced law: the drawing must show the break, not hide it with a closing segment
     from camcad.law.law import PiecewiseLinearLaw
@@ -219,6 +230,7 @@ def test_open_profile_is_written_open(tmp_path):
     assert not only(doc, "PROFILE", "LWPOLYLINE").closed
 
 
+@pytest.mark.reference("property", "text written as ASCII transliterations; R12 refuses splines in one line")
 def test_text_is_ascii_and_r12_refuses_splines():
     assert ascii_text("cam Ø50 – 30° ψ ≤ 2") == "cam D50 - 30 deg psi <= 2"
     assert ascii_text("Kulachok: profil\u0300 ok\u00e9") == "Kulachok: profil oke"
@@ -227,6 +239,7 @@ def test_text_is_ascii_and_r12_refuses_splines():
         build_document(Drawing(splines=(spline,)), "R12")
 
 
+@pytest.mark.reference("property", "every file written is listed in report.json's outputs, nothing else in the folder")
 def test_outputs_are_atomic_and_listed(tmp_path):
     law = compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 10.0, "modified_trapezoid")
     settings = ProfileSettings(design=False, plots=False)

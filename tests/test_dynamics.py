@@ -47,6 +47,8 @@ def residual_closed_form(lift: float, r: float) -> float:
     return lift * abs(math.sin(math.pi * r)) / (math.pi * r * abs(r * r - 1.0))
 
 
+@pytest.mark.reference("closed form", "residual vibration after a cycloidal rise: A = h |sin pi r| / (pi r |r^2 - "
+                                      "1|), r = T fn")
 @pytest.mark.parametrize("r", [0.37, 1.0, 1.5, 2.0, 2.5, 3.0, 4.2])
 def test_undamped_cycloidal_residual_matches_closed_form(r):
     law = dwell_rise_dwell_return()
@@ -64,6 +66,7 @@ def test_undamped_cycloidal_residual_matches_closed_form(r):
     assert dynamics.cycloidal_residual_amplitude(LIFT, r / fn, fn) == pytest.approx(expected, abs=1e-12 * LIFT)
 
 
+@pytest.mark.reference("closed form", "A = h |sin pi r| / (pi r |r^2 - 1|): zero at integer r > 1, h/2 at r = 1")
 @pytest.mark.parametrize("r", [2.0, 3.0, 5.0])
 def test_residual_vanishes_at_integer_multiples_of_the_period(r):
     law = dwell_rise_dwell_return()
@@ -87,6 +90,7 @@ def constant_acceleration_law(lift=LIFT) -> PiecewiseLinearLaw:
     return PiecewiseLinearLaw(deg, accel, 2 * math.pi, phases)
 
 
+@pytest.mark.reference("closed form", "a parabolic law drawn with jumps rises by h and closes (s and v back to 0)")
 def test_drawn_law_with_jumps_closes_and_rises_by_the_lift():
     law = constant_acceleration_law()
     kin = law.kinematics(np.radians([0.0, 180.0, 270.0, 360.0]))
@@ -95,6 +99,7 @@ def test_drawn_law_with_jumps_closes_and_rises_by_the_lift():
     assert kin.v[3] == pytest.approx(0.0, abs=1e-12 * LIFT)
 
 
+@pytest.mark.reference("second method", "the Duhamel quadrature against time marching (solve_ivp)")
 @pytest.mark.parametrize("make_law", [dwell_rise_dwell_return, constant_acceleration_law])
 def test_damped_residual_agrees_between_duhamel_and_time_marching(make_law):
     law = make_law()
@@ -123,6 +128,7 @@ class CosineLaw:
         return Kinematics(theta, h * (1 - np.cos(theta)), h * np.sin(theta), h * np.cos(theta), -h * np.sin(theta))
 
 
+@pytest.mark.reference("closed form", "x = Re[X e^(iwt)], X = -(h/2) w^2/(wn^2 - w^2 + 2i zeta wn w)")
 @pytest.mark.parametrize("zeta", [0.0, 0.05, 0.3])
 def test_frequency_response_of_one_harmonic(zeta):
     # s = h/2 − (h/2) cos ωt; x'' + 2ζωn x' + ωn² x = −s̈ = −(h/2) ω² cos ωt.
@@ -140,6 +146,7 @@ def test_frequency_response_of_one_harmonic(zeta):
     assert np.max(np.abs(response.accel_elastic - expected_accel)) < 1e-10 * np.max(np.abs(expected_accel))
 
 
+@pytest.mark.reference("second method", "periodic shooting in time (solve_ivp) against the frequency path")
 def test_frequency_and_time_paths_agree_on_the_periodic_steady_state():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.05)
@@ -155,6 +162,8 @@ def test_frequency_and_time_paths_agree_on_the_periodic_steady_state():
         assert freq.peak_accel_ratio > 1.5  # the elastic follower matters at these speeds
 
 
+@pytest.mark.reference("closed form", "far below resonance x = -s''/wn^2 + 2 zeta s'''/wn^3 + the free vibration of "
+                                      "each jerk jump, bound derived here")
 def test_quasi_static_limit_of_the_dynamic_error():
     # Far below resonance x = −s̈/ωn² + 2ζ s⃛/ωn³ + O(s⁗/ωn⁴) (expand x'' + 2ζωn x' + ωn² x = −s̈ in
     # 1/ωn), plus the free vibration that each jump Δj of the cycloid's jerk (at the ends of each
@@ -173,6 +182,8 @@ def test_quasi_static_limit_of_the_dynamic_error():
     assert response.peak_accel_ratio == pytest.approx(1.0, abs=0.03)
 
 
+@pytest.mark.reference("second method", "a start-up from rest marched for many cycles until the transient decays "
+                                        "below 1e-20")
 def test_periodic_shooting_equals_a_long_start_up_with_variable_stiffness():
     # Second method for the variable-stiffness path: march from rest for many cycles; with ζ = 0.15
     # the start-up transient decays by e^{−ζωn t} < 1e-20 before the last cycle.
@@ -189,6 +200,7 @@ def test_periodic_shooting_equals_a_long_start_up_with_variable_stiffness():
         dynamics.steady_state_frequency(law, follower, rpm)
 
 
+@pytest.mark.reference("property", "a speed sweep gives at each speed what a single run gives")
 def test_sweep_matches_single_speeds_and_reports_progress():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.05)
@@ -201,6 +213,8 @@ def test_sweep_matches_single_speeds_and_reports_progress():
     assert list(result.responses) == [350.0]
 
 
+@pytest.mark.reference("second method", "the frequency path against time marching with the pulse; the pulse raises "
+                                        "the start load")
 def test_external_pulse_agrees_between_paths_and_raises_the_start_load():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.08, mass_kg=2.0)
@@ -221,6 +235,7 @@ def test_external_pulse_agrees_between_paths_and_raises_the_start_load():
     assert plain[0].force_n == pytest.approx(2.0 * plain[0].peak_link_accel * 1e-3, rel=1e-15)
 
 
+@pytest.mark.reference("closed form", "an open law's closure gap is its lift h")
 def test_closure_is_required():
     law = dwell_rise_dwell_return()
     broken = PiecewiseLinearLaw(np.radians([0.0, 90.0, 180.0, 360.0]), np.array([0.0, 1.0, 0.0, 0.0]), 2 * math.pi,
@@ -230,6 +245,8 @@ def test_closure_is_required():
     assert dynamics.check_closure(law) == pytest.approx(LIFT, rel=1e-6)
 
 
+@pytest.mark.reference("closed form", "psi = energy dissipated per cycle / energy stored, from the damper's integral "
+                                      "of b x'^2 dt")
 def test_psi_is_energy_lost_per_cycle_at_resonance():
     # Steady vibration x = X sin(ωn t): the damper dissipates ∮ b ẋ² dt, the spring stores at most cX²/2.
     follower = ElasticFollower(25.0, dynamics.damping_ratio_from_psi(0.6), mass_kg=1.5)
@@ -242,6 +259,7 @@ def test_psi_is_energy_lost_per_cycle_at_resonance():
 
 # ------------------------------------------------------------------------------------ multi-mass model
 
+@pytest.mark.reference("second method", "the single-DOF follower model: the multi-mass model's rigid-shaft limit")
 def test_multimass_rigid_shaft_limit_equals_single_dof():
     law = dwell_rise_dwell_return()
     stiffness = StiffnessTable.from_degrees([[0, 1.0], [180, 1.2]])
@@ -262,6 +280,8 @@ def test_multimass_rigid_shaft_limit_equals_single_dof():
     assert np.max(np.abs(free.dynamic_error - reference.dynamic_error)) < 1e-6 * LIFT
 
 
+@pytest.mark.reference("property", "the shaft's twist is torque/c1: the error falls about tenfold per tenfold "
+                                   "stiffness")
 def test_multimass_elastic_shaft_converges_to_the_rigid_limit():
     law = dwell_rise_dwell_return()
     follower = ElasticFollower(40.0, 0.05, mass_kg=2.0)
@@ -277,6 +297,7 @@ def test_multimass_elastic_shaft_converges_to_the_rigid_limit():
     assert 5.0 < errors[0] / errors[1] < 20.0
 
 
+@pytest.mark.reference("property", "T + V conserved by the undamped, torque-free equations, within 1e-9")
 def test_multimass_conserves_energy_when_undamped_and_unforced():
     # T + V is conserved by the undamped, torque-free equations only if they are derived right,
     # including the ½ c2'(φ1)(Π − q)² term of the cam equation (without it the drift is ~1e-4).
@@ -293,6 +314,8 @@ def test_multimass_conserves_energy_when_undamped_and_unforced():
 
 # ------------------------------------------------------------------------------------ scene section
 
+@pytest.mark.reference("property", "the [dynamics] section parsed in its units; stiffness tables and alternatives "
+                                   "read as written")
 def test_parse_dynamics_reads_units_and_alternatives():
     settings = scene_dynamics.parse_dynamics({"mass_kg": 2.0, "stiffness_N_per_m": 2.0 * (2 * math.pi * 50) ** 2,
                                     "psi": 4 * math.pi * 0.05}, "s.toml [dynamics]")
@@ -304,6 +327,7 @@ def test_parse_dynamics_reads_units_and_alternatives():
     assert varying.follower.stiffness(math.radians(270.0)) == pytest.approx(1.5)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("table, message", [
     ({"natural_frequncy_hz": 40.0, "damping_ratio": 0.1}, "did you mean 'natural_frequency_hz'"),
     ({"natural_frequency_hz": 40.0}, "damping_ratio"),
@@ -325,6 +349,7 @@ def test_parse_dynamics_errors(table, message):
 PHASES = "0:90:dwell,90:180:rise,180:270:dwell,270:360:return"
 
 
+@pytest.mark.reference("second method", "the library's sweep at the same speeds gives the JSON's figures to 10 digits")
 def test_cli_dynamics_json(cli, tmp_path):
     result = cli("dynamics", "--standard", "cycloidal", "--phases", PHASES, "--lift", "25", "--fn", "40",
                  "--zeta", "0.05", "--rpm", "280:420:70", "--json", "-o", tmp_path, "--max-ratio", "3")
@@ -346,6 +371,8 @@ def test_cli_dynamics_json(cli, tmp_path):
     assert failed.code == 1 and failed.json()["dynamics"]["passed"] is False
 
 
+@pytest.mark.reference("closed form", "simple harmonic rise: a_max = (pi^2/2) h/beta^2 w^2; the batten study's "
+                                      "elastic/rigid ratio above 2")
 def test_cli_dynamics_scene_with_variable_stiffness_and_multimass(cli, tmp_path):
     result = cli("dynamics", SAMPLES / "scenes" / "batten.toml", "--rpm", "420", "--json", "--no-plots",
                  "-o", tmp_path)
@@ -360,6 +387,7 @@ def test_cli_dynamics_scene_with_variable_stiffness_and_multimass(cli, tmp_path)
     assert "multimass" in d and d["start_load"]["phases"][0]["with_pulse"]["increase"] > 1.0
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("args, message", [
     (("--standard", "cycloidal", "--phases", PHASES, "--lift", "25", "--rpm", "300"), "--fn"),
     (("--standard", "cycloidal", "--phases", PHASES, "--lift", "25", "--fn", "40", "--zeta", "0.1"), "no speed"),
@@ -375,6 +403,8 @@ def test_cli_dynamics_bad_input_is_one_line(cli, args, message):
     assert len(result.err.strip().splitlines()) == 1
 
 
+@pytest.mark.reference("second method", "the reduction is the ratio of the two runs' peak link accelerations, "
+                                        "recomputed from the library")
 def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     # The source (seed 001): lead-in segments before the motion bring the follower to the cam slowly and
     # cut the summary load at the start of motion. A harmonic law jumps in acceleration at its start, so
@@ -395,6 +425,8 @@ def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
     assert lead["reduction"][0] > 1.05  # measured 1.10 here (the source reports 3.45x for its batten law)
 
 
+@pytest.mark.reference("second method", "numpy's eigenvalues of the linearised two-DOF model: largest <= bound^2 <= 2 "
+                                        "x largest")
 @pytest.mark.parametrize("seed", range(5))
 def test_the_stiffness_bound_holds_the_highest_natural_frequency(seed):
     # the bound (trace of M^-1 K) against the eigenvalues of the linearised two-DOF model (cam on an
@@ -419,6 +451,7 @@ def _stiff_scene(tmp_path):
     return scene
 
 
+@pytest.mark.reference("property", "refused before the solver starts: under 2 s of CPU")
 @pytest.mark.timing
 def test_the_too_stiff_multimass_model_is_refused_within_2_s_of_cpu(cli, tmp_path):
     # refused before the solver starts: the scene's own analysis only (the explicit solver took minutes)
@@ -429,6 +462,8 @@ def test_the_too_stiff_multimass_model_is_refused_within_2_s_of_cpu(cli, tmp_pat
     assert cpu_seconds() - began < 2
 
 
+@pytest.mark.reference("regression", "issue 19: a cam inertia of 1e-6 kg m^2 ran the explicit solver for minutes; now "
+                                     "one line, exit 2")
 def test_a_multimass_model_too_stiff_for_an_explicit_solver_is_refused_at_once(tmp_path):
     # issue 19's reproducer: a cam inertia of 1e-6 kg m^2 ran the explicit solver for minutes
     import subprocess
@@ -444,6 +479,7 @@ def test_a_multimass_model_too_stiff_for_an_explicit_solver_is_refused_at_once(t
     assert "stiff.toml [dynamics]" in lines[0] and "too stiff for DOP853" in lines[0]
 
 
+@pytest.mark.reference("second method", "the array path's slope and the difference quotient of the stiffness factor")
 def test_the_stiffness_slope_of_one_angle_equals_the_array_s_and_the_difference_quotient():
     # the multi-mass right-hand side asks for dc/dθ one angle at a time: the float path must give the array
     # path's slope, and both the difference quotient of the factor inside each knot interval

@@ -9,6 +9,7 @@ from camcad.extrema import zoom_max
 from camcad.numerics import bounded_minimum
 
 
+@pytest.mark.reference("closed form", "cos(x - x0): peak 1 at x0, between grid points")
 @pytest.mark.parametrize("shift", [0.0, 0.123456789, 0.5, 0.99])
 def test_smooth_peaks_to_round_off(shift):
     # f = cos(x − x0): peak 1 at x0 + 2πk, between grid points of a 1° grid
@@ -19,6 +20,8 @@ def test_smooth_peaks_to_round_off(shift):
     assert at[0] == pytest.approx(x0, abs=1e-7)      # the value is flat there: δx ≈ 1e-7 changes it by 5e-15
 
 
+@pytest.mark.reference("second method", "Brent's bounded search (camcad.numerics) on each row, and the rows one at a "
+                                        "time")
 def test_many_rows_at_once_equal_one_row_at_a_time_and_brent():
     # rows of a cycloidal-like family with peaks at different places; each against Brent's bounded search
     rng = np.random.default_rng(5)
@@ -40,6 +43,8 @@ def test_many_rows_at_once_equal_one_row_at_a_time_and_brent():
         assert at[row] == pytest.approx(x, abs=1e-7)
 
 
+@pytest.mark.reference("closed form", "-|x - 0.301| peaks at 0.301, within the last zoom spacing h/512; NaN and -inf "
+                                      "are absent")
 def test_a_kink_and_absent_values():
     # −|x − 0.301| peaks at a kink between samples: the peak is within the last zoom level's spacing, h/512
     grid = np.linspace(0.0, 1.0, 11)
@@ -54,6 +59,7 @@ def test_a_kink_and_absent_values():
     assert peak[0] == 1.0 and peak[1] == -np.inf
 
 
+@pytest.mark.reference("closed form", "f = x on [0, 0.3): supremum 0.3 not taken, every value returned is one f took")
 def test_a_jump_is_approached_from_below_never_overshot():
     # f = x on [0, 0.3), x − 1 after: its supremum 0.3 is not taken; a parabola through samples that straddle
     # the jump would rise above it, so every value returned must be one f took

@@ -112,6 +112,8 @@ def law_of_rows(rows) -> PiecewiseLinearLaw:
     return PiecewiseLinearLaw(theta, a, 2 * math.pi, detect_phases(theta, a, 2 * math.pi))
 
 
+@pytest.mark.reference("closed form", "s of the constant-acceleration jump law by parabolic pieces, written here "
+                                      "(jump_law_s)")
 def test_jumps_in_a_table_stay_vertical_and_integrate_exactly(tmp_path):
     loaded = load_law(write_table(tmp_path / "jumps.csv", JUMP_ROWS))
     law = loaded.law
@@ -129,6 +131,8 @@ def test_jumps_in_a_table_stay_vertical_and_integrate_exactly(tmp_path):
     assert report_.rise == pytest.approx(20.0, rel=1e-13)
 
 
+@pytest.mark.reference("closed form", "trapezoid rule exact for piecewise-constant a on a grid holding both sides of "
+                                      "each jump (jump_law_s)")
 def test_trapezoid_integration_keeps_each_jump_at_its_angle():
     # a is piecewise constant, so on a grid holding both sides of every jump the trapezoid rule is exact
     # for v (linear pieces) and for s (trapezoids of a linear v): the error is round-off only. A jump
@@ -138,6 +142,7 @@ def test_trapezoid_integration_keeps_each_jump_at_its_angle():
     assert np.max(np.abs(s - jump_law_s(np.degrees(grid)))) <= 1e-11 * 20.0
 
 
+@pytest.mark.reference("closed form", "s of the jump law (jump_law_s) after snapping near-vertical steps")
 def test_a_jump_drawn_a_hair_off_vertical_is_a_jump(tmp_path):
     # x steps below 1e-9 of the x-range are vertical segments drawn a hair off: each is snapped to a jump
     # at the x of its first vertex, which is where the exact law jumps, so s is exact to round-off.
@@ -149,6 +154,8 @@ def test_a_jump_drawn_a_hair_off_vertical_is_a_jump(tmp_path):
     assert np.max(np.abs(law.kinematics(np.radians(theta_deg)).s - jump_law_s(theta_deg))) <= 1e-12 * 20.0
 
 
+@pytest.mark.reference("closed form", "pitch-curve radius rho = ((Rp+s)^2+v^2)^1.5/((Rp+s)^2+2v^2-a(Rp+s)) on each "
+                                      "parabolic piece")
 def test_profile_curvature_at_the_jumps_matches_the_closed_form(tmp_path):
     # The pitch curve's radius of curvature jumps with a; its smallest convex value, from the textbook
     # ρ = ((Rp+s)² + v²)^{3/2} / ((Rp+s)² + 2v² − a(Rp+s)) (e = 0) on each parabolic piece separately
@@ -174,6 +181,7 @@ def test_profile_curvature_at_the_jumps_matches_the_closed_form(tmp_path):
 A3 = 10.0
 
 
+@pytest.mark.reference("closed form", "a from A to -A and back: v = A(theta - theta^2/pi), rise A pi^2/6")
 def test_three_vertex_law_rises_returns_and_balances(cli, tmp_path):
     # a falls linearly from A to −A over [0, π] and climbs back over [π, 2π]: v = A(θ − θ²/π) ≥ 0 on the
     # rise, v(π) = 0, and by symmetry the return comes back exactly. Rise h = ∫₀^π v dθ = Aπ²/6.
@@ -191,6 +199,7 @@ def test_three_vertex_law_rises_returns_and_balances(cli, tmp_path):
     assert abs(payload["displacement_closure"]) <= 1e-14 * A3 * math.pi**2
 
 
+@pytest.mark.reference("closed form", "phi = atan(v/(Rp + s)) with v, s of the three-vertex law in closed form")
 def test_three_vertex_law_pressure_angle_matches_the_closed_form(tmp_path):
     # φ = atan(v/(Rp + s)) with v = A(θ − θ²/π), s = A(θ²/2 − θ³/(3π)) on the rise; the law is symmetric
     # about π (s(2π − θ) = s(θ), v(2π − θ) = −v(θ)), so the return's minimum is −max.
@@ -207,6 +216,7 @@ def test_three_vertex_law_pressure_angle_matches_the_closed_form(tmp_path):
     assert result["closed"] and not result["undercut"]
 
 
+@pytest.mark.reference("property", "three vertices can balance only as a = 0: fix refuses in one line, writes nothing")
 @pytest.mark.parametrize("rows", [[(0, A3), (120, -A3), (360, A3)], [(0, 0.0), (180, A3), (360, 0.0)]])
 def test_unbalanced_three_vertex_law_gets_a_clear_error_from_fix(cli, tmp_path, rows):
     # Three vertices cannot keep a shape and meet the balance conditions: the least change is a = 0
@@ -221,6 +231,7 @@ def test_unbalanced_three_vertex_law_gets_a_clear_error_from_fix(cli, tmp_path, 
     assert not out.exists()
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_two_rows_are_not_a_law(cli, tmp_path):
     result = cli("check", write_table(tmp_path / "two.csv", [(0, 1.0), (360, -1.0)]), "--json")
     assert one_line_error(result) and "at least 3" in result.err
@@ -231,6 +242,8 @@ def test_two_rows_are_not_a_law(cli, tmp_path):
 MILLION = 1_000_000
 
 
+@pytest.mark.reference("closed form", "cycloidal law with 1e6 vertices: boundaries within a step, rise within the "
+                                      "chord bound step^2 max|a''|/8")
 def test_million_vertex_law_phases_check_fix_and_profile():
     # The cycloidal dwell–rise–dwell–return law (h = 25 mm, β = 120°) drawn with 10⁶ vertices.
     lift, beta = 25.0, 2 * math.pi / 3
@@ -304,6 +317,7 @@ def sign_runs_one_segment_at_a_time(x, a):
     return runs
 
 
+@pytest.mark.reference("second method", "the sign-run rule applied one segment at a time, written here")
 def test_sign_runs_of_random_drawn_laws_follow_the_rule():
     # phases.sign_runs works on all segments at once (a million-vertex law); here it must give exactly the
     # runs of the rule applied one segment at a time, on laws with jumps, vertices on the axis and specks.
@@ -322,6 +336,7 @@ def test_sign_runs_of_random_drawn_laws_follow_the_rule():
         assert sign_runs(x, a) == sign_runs_one_segment_at_a_time(x, a)
 
 
+@pytest.mark.reference("property", "50,000 vertices written and read back by ezdxf: every coordinate as written")
 def test_a_large_law_is_written_and_read_back_exactly(tmp_path):
     # 50,000 vertices through write_law_dxf (the writer sets ezdxf's packed vertex array in one step;
     # ezdxf's own add_lwpolyline appends vertex by vertex in O(N²)) and back: every coordinate as written.
@@ -344,6 +359,7 @@ def cycloid_rows(step_deg: float = 1.0):
     return list(zip(theta_deg.tolist(), exact.kinematics(np.radians(theta_deg)).a.tolist()))
 
 
+@pytest.mark.reference("property", "row order and duplicates do not change the law: the clean table's law")
 def test_shuffled_table_with_duplicated_rows_reads_as_the_clean_law(tmp_path):
     rows = cycloid_rows()
     clean = load_law(write_table(tmp_path / "clean.csv", rows))
@@ -357,6 +373,7 @@ def test_shuffled_table_with_duplicated_rows_reads_as_the_clean_law(tmp_path):
     assert "sorted" in notes and "30 duplicated or redundant vertices ignored" in notes
 
 
+@pytest.mark.reference("closed form", "s of the jump law (jump_law_s) after a stable sort of shuffled rows")
 def test_rows_at_one_angle_keep_their_order_when_the_table_is_sorted(tmp_path):
     # Shuffle the jump law's rows but keep the file order of rows that share an angle (a stable sort then
     # restores the law). The jumps must come out as drawn.
@@ -372,6 +389,8 @@ def test_rows_at_one_angle_keep_their_order_when_the_table_is_sorted(tmp_path):
     assert np.max(np.abs(loaded.law.kinematics(np.radians(theta_deg)).s - jump_law_s(theta_deg))) <= 1e-12 * 20.0
 
 
+@pytest.mark.reference("closed form", "the clean law and s of the jump law (jump_law_s) from duplicated, reversed, "
+                                      "redundant vertices")
 def test_polyline_with_duplicates_reversed_and_redundant_vertices(tmp_path):
     rows = cycloid_rows(2.0)
     clean = load_law(write_polyline(tmp_path / "clean.dxf", rows), x_deg=True).law
@@ -392,6 +411,7 @@ def test_polyline_with_duplicates_reversed_and_redundant_vertices(tmp_path):
     assert np.max(np.abs(vertical.kinematics(np.radians(theta_deg)).s - jump_law_s(theta_deg))) <= 1e-12 * 20.0
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_vertex_going_back_in_x_is_a_clear_error(cli, tmp_path):
     rows = cycloid_rows(2.0)
     rows[40], rows[41] = rows[41], rows[40]
@@ -403,6 +423,8 @@ def test_a_vertex_going_back_in_x_is_a_clear_error(cli, tmp_path):
 
 # ------------------------------------------------------------------------------------ scale
 
+@pytest.mark.reference("property", "scale and position invariance: differences within eps|x|/(x1 - x0) of the cycle "
+                                   "and max|a'| times that")
 @pytest.mark.parametrize("x_scale, x_offset, y_scale", [(1e-6, 0.0, 1e-6), (1e6, 0.0, 1e6), (1.0, 1e6, 1.0),
                                                         (1e6, -1e12, 1.0), (1.0, 0.0, 1e-6), (1e-6, 1e6, 1e6)])
 def test_drawings_at_any_scale_and_position_give_the_same_law(tmp_path, x_scale, x_offset, y_scale):
@@ -428,6 +450,8 @@ def test_drawings_at_any_scale_and_position_give_the_same_law(tmp_path, x_scale,
     assert balance.check(law).balanced
 
 
+@pytest.mark.reference("property", "the straight-line rule (points within 1e-9 of the chord) refuses a 1e13-aspect "
+                                   "law in one line")
 def test_a_law_flatter_than_1e_minus_9_of_its_width_is_taken_for_a_line(tmp_path):
     # Curve selection skips straight lines (axes, grid lines): a curve whose points all lie within 1e-9
     # of its chord's length from the chord. A law drawn 1e6 wide and 1e-6 high (aspect 1e13) falls under
@@ -438,6 +462,7 @@ def test_a_law_flatter_than_1e_minus_9_of_its_width_is_taken_for_a_line(tmp_path
         load_law(path, lift=10.0)
 
 
+@pytest.mark.reference("property", "s, v and closures are linear in y: scaled exactly, the verdict unchanged")
 @pytest.mark.parametrize("y_scale", [1e-6, 1e6])
 def test_law_taken_literally_scales_its_check(tmp_path, y_scale):
     # Without --lift, y is the acceleration in mm/rad²: s, v and every closure scale with y exactly, and
@@ -454,6 +479,7 @@ def test_law_taken_literally_scales_its_check(tmp_path, y_scale):
                            atol=1e-13 * y_scale * unit.rise)
 
 
+@pytest.mark.reference("property", "lengths scaled by k: pressure angles unchanged, every radius times k")
 @pytest.mark.parametrize("k, tol_mm", [(1e-6, 1e-9), (1e6, 1.0)])
 def test_cam_at_any_scale_has_the_same_angles_and_scaled_lengths(k, tol_mm):
     # Scaling every length by k leaves the pressure angle unchanged (φ = atan(v/(Rp + s)) is a ratio of
@@ -479,6 +505,8 @@ def drawn_cycloid(vertices: int = 721):
     return x, exact.kinematics(x).a
 
 
+@pytest.mark.reference("property", "noise below the 1e-6 zero threshold: the clean law's phases, closures moved by at "
+                                   "most 2 pi max|noise|")
 def test_lobes_of_1e_minus_12_in_the_dwells_are_dwell(tmp_path):
     # Drawing noise of 1e-12 × max|a| in the dwells (hundreds of tiny lobes of both signs) is below the
     # zero threshold (1e-6 × max|a|): the phases are those of the clean law, and the closures move by at
@@ -495,6 +523,8 @@ def test_lobes_of_1e_minus_12_in_the_dwells_are_dwell(tmp_path):
     assert after.balanced and np.max(np.abs(np.subtract(after.residuals, before.residuals))) <= bound
 
 
+@pytest.mark.reference("property", "phases, verdicts and the least change are linear in a: a law scaled by 1e-12 or "
+                                   "1e-300 gives scaled answers")
 @pytest.mark.parametrize("factor", [1e-12, 1e-300])
 def test_a_law_of_tiny_areas_is_the_same_law_scaled(factor):
     # Every lobe 1e-12 (or 1e-300) of the usual size: phases, verdicts and the least change are linear in
@@ -510,6 +540,8 @@ def test_a_law_of_tiny_areas_is_the_same_law_scaled(factor):
     assert np.max(np.abs(tiny.law.a - factor * unit.law.a)) <= 1e-12 * factor * np.max(np.abs(a))
 
 
+@pytest.mark.reference("closed form", "the rise's end velocity equals the accelerating lobe's trapezoid area, summed "
+                                      "here")
 def test_a_decelerating_lobe_of_1e_minus_12_is_a_constant_velocity_stretch():
     # The rise's decelerating lobe drawn at 1e-12 of its size counts as zero acceleration: the follower
     # keeps its speed through it, so the motion is one rise from 60° to the end, whose end velocity is
@@ -532,6 +564,8 @@ def test_a_decelerating_lobe_of_1e_minus_12_is_a_constant_velocity_stretch():
 
 # ------------------------------------------------------------------------------------ pressure angle → 90°
 
+@pytest.mark.reference("closed form", "knife edge on Rb -> 0: 90 deg - phi_max ~ 3 Rb/(c1 u^2), u^3 = 2 Rb/c2 "
+                                      "(derived in the test)")
 @pytest.mark.parametrize("rb", [1e-3, 1e-9])
 def test_pressure_angle_near_90_degrees_fails_the_limit_without_crashing(rb):
     # Knife edge on a base circle of radius Rb → 0: φ = atan(v/(Rb + s)) → 90° just after the rise starts,
@@ -561,6 +595,7 @@ def test_pressure_angle_near_90_degrees_fails_the_limit_without_crashing(rb):
     assert result["closed"] and all(np.isfinite([result["rho_pitch_min_mm"], result["closure_gap_mm"]]))
 
 
+@pytest.mark.reference("property", "a pressure angle over 88 deg fails the limit: exit 1, the check failed")
 def test_cli_reports_the_steep_cam_as_failing(cli, tmp_path):
     result = cli("profile", "--follower", "knife", "--rb", "0.001", "--rr", "0", "--no-plots", "--json",
                  "-o", tmp_path / "steep")
@@ -571,6 +606,8 @@ def test_cli_reports_the_steep_cam_as_failing(cli, tmp_path):
 
 # ------------------------------------------------------------------------------------ undercut boundary
 
+@pytest.mark.reference("closed form", "undercut when Rr reaches the pitch curve's smallest convex radius, from the "
+                                      "textbook rho formula")
 def test_roller_undercut_boundary_just_inside_and_just_outside():
     # The roller profile is the pitch curve offset by Rr; it is undercut exactly when Rr reaches the
     # smallest convex radius of the pitch curve (the pitch curve depends on Rp = Rb + Rr only). The
@@ -600,6 +637,7 @@ def test_roller_undercut_boundary_just_inside_and_just_outside():
             assert result.profile.rho_convex_min.value == pytest.approx(-margin * rho_min, rel=1e-3)
 
 
+@pytest.mark.reference("closed form", "flat face undercut where Rb + s + a <= 0: boundary Rb = -min(s + a)")
 def test_flat_face_undercut_boundary_just_inside_and_just_outside():
     # A flat face touches a profile of radius Rb + s + a; it is undercut where that is ≤ 0, so the
     # boundary is Rb = −min(s + a), taken on the decelerating half of the cycloidal rise.
@@ -621,6 +659,7 @@ def test_flat_face_undercut_boundary_just_inside_and_just_outside():
 
 # ------------------------------------------------------------------------------------ resonance, no damping
 
+@pytest.mark.reference("closed form", "x = X cos wt, X = -(h/2) w^2/(wn^2 - w^2), within eps/|detuning|")
 @pytest.mark.parametrize("detuning", [1e-3, -1e-3, 1e-6, -1e-6, 1e-9])
 def test_undamped_response_next_to_resonance_is_the_closed_form(detuning):
     # x'' + ωn² x = −s̈ = −(h/2) ω² cos ωt, so x = X cos ωt with X = −(h/2) ω²/(ωn² − ω²): 1/(2δ) times the
@@ -639,6 +678,8 @@ def test_undamped_response_next_to_resonance_is_the_closed_form(detuning):
         assert np.max(np.abs(marched.dynamic_error - expected)) <= 1e-6 * abs(big_x)
 
 
+@pytest.mark.reference("closed form", "zeta -> 0 limit X cos theta, X = -(h/2) w^2/(wn^2 - w^2) when the resonant "
+                                      "harmonic is zero")
 @pytest.mark.parametrize("method", ["frequency", "time"])
 @pytest.mark.parametrize("fn, harmonic", [(5.0, 1), (10.0, 2)])
 def test_exact_resonance_is_refused_only_for_a_harmonic_that_is_not_zero(method, fn, harmonic):
@@ -660,6 +701,7 @@ def test_exact_resonance_is_refused_only_for_a_harmonic_that_is_not_zero(method,
         assert f"harmonic {harmonic}" in str(caught.value)
 
 
+@pytest.mark.reference("closed form", "residual vibration A = h |sin pi r| / (pi r |r^2 - 1|), r = T fn")
 def test_cli_reports_resonance_and_the_residual_vibration(cli, tmp_path):
     # 300 rpm is exactly fn = 5 Hz: harmonic 1 of the cycle resonates, so there is no bounded steady state
     # (check failed, exit 1) — but the residual vibration after the 90° rise (T = 0.05 s, r = T fn = 0.25) is
@@ -675,6 +717,7 @@ def test_cli_reports_resonance_and_the_residual_vibration(cli, tmp_path):
         25.0 * abs(math.sin(math.pi * r)) / (math.pi * r * abs(r * r - 1)), rel=1e-9)
 
 
+@pytest.mark.reference("closed form", "A = h |sin pi r| / (pi r |r^2 - 1|) -> h/2 at r = 1")
 @pytest.mark.parametrize("r", [1 - 1e-7, 1 + 1e-7])
 def test_undamped_residual_vibration_next_to_resonance(r):
     # The Duhamel quadrature has no denominator: next to r = T·fn = 1 it gives the continuous closed form
@@ -696,6 +739,8 @@ def stiff_stop(ratio: float = 1000.0) -> impact.StopModel:
     return replace(stop, stop_stiffness_n_per_m=stop.stiffness_n_per_m * (ratio**2 - 1.0))
 
 
+@pytest.mark.reference("second method", "scipy's Radau (implicit) on the stop equation with restarts at the pulse's "
+                                        "kinks")
 def test_stiff_stop_closed_form_matches_a_stiff_solver():
     # The response on the stop, q̈ + 2ζωc q̇ + ωc² q = −Q(t)/m from q = 0, q̇ = v0, with f_stop = 1000 f_free
     # (297 kHz; the pulse lasts τ = 1.7 µs). Radau (implicit, L-stable) marches it with restarts at the
@@ -741,6 +786,8 @@ def test_stiff_stop_closed_form_matches_a_stiff_solver():
     assert abs(marched[-1, 0]) <= 1e-12 * peak and abs(q[-1]) <= 1e-12 * peak
 
 
+@pytest.mark.reference("property", "scaling q = (v0/wc) Y(wc t): the rebound x wc / v0 depends on zeta and k only; "
+                                   "force = m v0 (1 + k) 2 f_stop")
 def test_stiff_stop_keeps_the_dimensionless_rebound():
     # With τ = π/ωc and F = m v0 (1 + k)/τ, the substitution q = (v0/ωc) Y(ωc t) turns the equation into
     # Y'' + 2ζY' + Y = −((1 + k)/π) tri(T/π), Y(0) = 0, Y'(0) = 1: the rebound × ωc / v0 depends on ζ and k

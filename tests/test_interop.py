@@ -120,6 +120,8 @@ def _gdal_kind(feature: dict) -> str:
     return {"Point": "TEXT"}.get(geometry, "?")
 
 
+@pytest.mark.reference("second method", "GDAL's ogr2ogr (an independent reader): every entity by layer and the exact "
+                                        "coordinates")
 @pytest.mark.parametrize("kind", KINDS)
 def test_gdal_reads_every_entity_and_the_exact_coordinates(written, kind):
     _reader("gdal")
@@ -152,6 +154,7 @@ def test_gdal_reads_every_entity_and_the_exact_coordinates(written, kind):
     assert distance.max() <= TOL_MM * 1.001 + 1e-6, distance.max()
 
 
+@pytest.mark.reference("second method", "LibreCAD's dxf2pdf (an independent reader) draws each file")
 @pytest.mark.parametrize("kind", KINDS)
 def test_librecad_renders_every_file(written, kind, tmp_path):
     _reader("librecad")
@@ -170,6 +173,7 @@ def test_librecad_renders_every_file(written, kind, tmp_path):
     assert ink.sum() > 200, f"the rendered page is (nearly) blank: {ink.sum()} dark pixels"
 
 
+@pytest.mark.reference("second method", "Inkscape's DXF import (an independent reader): every layer drawn")
 @pytest.mark.parametrize("kind", KINDS)
 def test_inkscape_imports_every_layer(written, kind):
     _reader("inkscape")

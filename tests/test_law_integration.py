@@ -9,6 +9,8 @@ from camcad.law.law import PiecewiseLinearLaw, integrate_exact, integrate_trapez
 from camcad.law.standard import compose
 
 
+@pytest.mark.reference("closed form", "v and s of a two-segment polyline with a jump, integrated by hand (trapezoid "
+                                      "and Simpson-exact sums)")
 def test_exact_integrator_reproduces_hand_computed_sums():
     # Law: a rises 0 -> 2 on [0, 1], jumps to -1 at x = 1, rises -1 -> 1 on [1, 3] (rad).
     # By hand (v = ∫a, s = ∫v, from rest at 0):
@@ -30,6 +32,7 @@ def test_exact_integrator_reproduces_hand_computed_sums():
     assert kin.j == pytest.approx([1.0, 2.0], abs=1e-12)
 
 
+@pytest.mark.reference("second method", "scipy.integrate.quad of the interpolated acceleration (v) and of v (s)")
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.floats(0.01, 1.0), st.floats(-50, 50)), min_size=2, max_size=30))
 def test_exact_integration_matches_high_order_quadrature(segments):
@@ -60,6 +63,8 @@ def _drawn_cycloidal(n_vertices: int):
     return law, PiecewiseLinearLaw(theta, law.kinematics(theta).a, 2 * np.pi, law.phases)
 
 
+@pytest.mark.reference("property", "linear interpolation of a smooth a: closure error O(h^2), observed order in (1.8, "
+                                   "2.2)")
 def test_closure_errors_of_a_drawn_cycloidal_law_converge_at_second_order():
     # Linear interpolation of a smooth a has error O(h²); its integrals inherit O(h²).
     from camcad.balance.checking import check
@@ -76,6 +81,8 @@ def test_closure_errors_of_a_drawn_cycloidal_law_converge_at_second_order():
     assert 1.8 < order < 2.2, (order, errors)
 
 
+@pytest.mark.reference("property", "trapezoid rule: error O(h^2) in the step, exact for v on the drawn knots (a "
+                                   "linear between them)")
 def test_trapezoid_error_is_second_order_in_the_step_and_exact_on_the_knots():
     _law, drawn = _drawn_cycloidal(203)
     exact_end = drawn.kinematics(np.array([2 * np.pi])).s[0]
@@ -93,6 +100,8 @@ def test_trapezoid_error_is_second_order_in_the_step_and_exact_on_the_knots():
     assert np.max(np.abs(v_trap - v_exact)) < 1e-12
 
 
+@pytest.mark.reference("closed form", "a = 1 from rest: s = theta^2/2 at the cycle end; the state one cycle later is "
+                                      "the same")
 def test_law_is_periodic_and_keeps_the_cycle_end():
     x = np.array([0.0, 1.0, 2.0])
     law = PiecewiseLinearLaw(x, np.array([1.0, 1.0, 1.0]), cycle=2.0)
@@ -101,6 +110,8 @@ def test_law_is_periodic_and_keeps_the_cycle_end():
     assert kin.s[2] == pytest.approx(2.0)           # s(T) itself is kept (s = θ²/2 at θ = 2)
 
 
+@pytest.mark.reference("property", "the integrals are linear in a: laws scaled by 1e-6 and 1e6 give scaled v and s to "
+                                   "round-off")
 def test_scale_invariance_tiny_and_huge_ordinates():
     # the integrals are linear in a: 1e-6 and 1e6 scaled laws give scaled closures to round-off
     _, drawn = _drawn_cycloidal(203)

@@ -37,6 +37,7 @@ def _phases_of(loaded) -> str:
     return ",".join(f"{math.degrees(p.start):.12g}:{math.degrees(p.end):.12g}:{p.kind}" for p in loaded.law.phases)
 
 
+@pytest.mark.reference("property", "the phases written in the record come back; detection alone finds others")
 @pytest.mark.parametrize("r12", [False, True])
 def test_a_law_dxf_keeps_its_phases(tmp_path, r12):
     theta, a = _filtered_like_law()
@@ -50,6 +51,7 @@ def test_a_law_dxf_keeps_its_phases(tmp_path, r12):
     assert _phases_of(without) != PHASES    # the residue on the dwells: detection alone finds other phases
 
 
+@pytest.mark.reference("property", "a law.csv and a fixed table keep their phases and unit")
 def test_a_law_csv_and_a_fixed_table_keep_their_phases(tmp_path):
     theta, a = _filtered_like_law()
     record = LawRecord(PHASES, 360.0, "camcad test", unit="rad")
@@ -66,6 +68,7 @@ def test_a_law_csv_and_a_fixed_table_keep_their_phases(tmp_path):
     assert _phases_of(again) == PHASES and again.table.delimiter == ";" and again.table.decimal_comma
 
 
+@pytest.mark.reference("property", "a fixed drawing reads back with the phases it was fixed with, one record")
 @pytest.mark.parametrize("sample", ["fig2_rise_area_too_large.dxf", "spline_law.dxf", "r12_polyline_harmonic.dxf"])
 def test_a_fixed_drawing_keeps_the_phases_it_was_fixed_with(cli, tmp_path, sample):
     shutil.copy(SAMPLES / "dxf" / sample, tmp_path / sample)
@@ -84,6 +87,7 @@ def test_a_fixed_drawing_keeps_the_phases_it_was_fixed_with(cli, tmp_path, sampl
     assert sum(1 for e in doc.modelspace() if e.has_xdata(APPID)) == 1
 
 
+@pytest.mark.reference("property", "given phases override the record; an edited curve and a broken record are said")
 def test_the_given_phases_override_the_record_and_an_edited_curve_is_noticed(tmp_path):
     theta, a = _filtered_like_law()
     path = write_law_dxf(tmp_path / "law.dxf", np.degrees(theta), a, record=LawRecord(PHASES, 360.0, "camcad test"))
@@ -129,6 +133,8 @@ def test_spectrum_filter_then_check_passes_with_the_same_phases(cli, tmp_path):
     assert other.code == 1 and "basis" not in other.json()
 
 
+@pytest.mark.reference("property", "the filtered law's phases come back (100 and 164 deg); its start load of the "
+                                   "original's order")
 def test_dynamics_compare_reads_the_filtered_law_with_its_phases(cli, tmp_path):
     scene = SAMPLES / "scenes" / "batten.toml"
     assert cli("spectrum", scene, "--filter", "-o", tmp_path / "out", "--no-plots").code == 0

@@ -77,12 +77,15 @@ def real_drawings() -> list[Path]:
     return sorted(p for p in REAL_DXF.iterdir() if p.suffix.lower() == ".dxf")
 
 
+@pytest.mark.reference("property", "the drawings of tests/fixtures/dxf-real that hold a law are exactly the listed ten")
 def test_the_drawings_with_a_law_are_the_listed_ones():
     # the corpus the next test runs over: the drawings camcad reads a law from, and no other
     assert len(real_drawings()) == 33
     assert tuple(p.name for p in real_drawings() if usable(p) is not None) == WITH_A_LAW
 
 
+@pytest.mark.reference("second method", "the input's entities, layers, blocks and header read from its bytes and by "
+                                        "ezdxf, against the copy")
 @pytest.mark.parametrize("name", WITH_A_LAW)
 def test_a_corrected_copy_keeps_everything_of_the_input(tmp_path, name):
     path = REAL_DXF / name
@@ -143,6 +146,8 @@ def test_a_corrected_copy_keeps_everything_of_the_input(tmp_path, name):
         assert any(("no $ACADVER" in n) or ("the copy is" in n) for n in notes), notes
 
 
+@pytest.mark.reference("property", "R14 becomes R2000 and an ENTITIES-only excerpt gets a header: both said; CR LF "
+                                   "kept")
 def test_r14_crlf_and_entities_only_inputs_are_said(tmp_path):
     # an R14 drawing with CR LF line ends, as AutoCAD R14 saves it: a law polyline and its axis
     doc = ezdxf.new("R2000")
@@ -170,6 +175,7 @@ def test_r14_crlf_and_entities_only_inputs_are_said(tmp_path):
     assert any("no $ACADVER" in n for n in notes)
 
 
+@pytest.mark.reference("property", "a law inside a block reference is written once, the original kept as an INSERT")
 def test_a_law_inside_a_block_reference_is_replaced_not_doubled(tmp_path):
     doc = ezdxf.new("R2000")
     block = doc.blocks.new("LAWBLOCK")
@@ -189,6 +195,8 @@ def test_a_law_inside_a_block_reference_is_replaced_not_doubled(tmp_path):
     assert any("block reference" in n for n in notes)
 
 
+@pytest.mark.reference("property", "duplicate handles: the drawn ELLIPSE and LINE entities are kept, not the table "
+                                   "entry")
 def test_duplicate_handles_find_the_drawn_entity_not_the_table_entry(tmp_path):
     path = REAL_DXF / "ezdxf__duplicate_handles.dxf"
     # the law: a chain of two ELLIPSE arcs and a LINE (handles 110, 108, 111), handles the file also gives
@@ -200,6 +208,7 @@ def test_duplicate_handles_find_the_drawn_entity_not_the_table_entry(tmp_path):
     assert sorted(e.dxftype() for e in kept) == ["ELLIPSE", "ELLIPSE", "LINE"]     # the drawn entities, no table entry
 
 
+@pytest.mark.reference("closed form", "the moved vertices' coordinates set by hand, in their own entities")
 def test_a_chain_of_lines_and_polyline_pieces_moves_each_vertex_in_its_own_entity():
     # the Curve contract for mixed chains: (handle, "start"|"end") for LINE ends, (handle, k) for vertex k
     doc = ezdxf.new("R2000")
@@ -219,6 +228,7 @@ def test_a_chain_of_lines_and_polyline_pieces_moves_each_vertex_in_its_own_entit
     assert tuple(line2.dxf.start)[:2] == (3.0, 0.25)
 
 
+@pytest.mark.reference("property", "an R12 copy stays R12 with extents from its content (not 1e20)")
 def test_r12_copy_stays_r12_with_real_extents(tmp_path):
     loaded = load_law(SAMPLES / "dxf" / "r12_polyline_harmonic.dxf")
     out, _ = write_corrected_drawing(loaded, loaded.law.with_ordinates(loaded.law.a * 1.01), tmp_path / "r12.dxf")

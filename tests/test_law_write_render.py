@@ -79,6 +79,7 @@ def _assert_one_law(ink: dict) -> None:
     assert ink["control"] / ink["input"] >= 1.4, ink              # two laws are clearly more ink
 
 
+@pytest.mark.reference("second method", "LibreCAD's rendering (an independent reader): one law drawn, not two")
 def test_librecad_draws_one_law(drawings, tmp_path):
     _need("librecad", "pdftoppm")
     ink = {}
@@ -91,6 +92,7 @@ def test_librecad_draws_one_law(drawings, tmp_path):
     _assert_one_law(ink)
 
 
+@pytest.mark.reference("second method", "LibreOffice's rendering (an independent reader): one law drawn, not two")
 def test_libreoffice_draws_one_law(drawings, tmp_path):
     _need("soffice", "pdftoppm")
     profile = tmp_path / "profile"
@@ -101,6 +103,8 @@ def test_libreoffice_draws_one_law(drawings, tmp_path):
     _assert_one_law(ink)
 
 
+@pytest.mark.reference("second method", "Inkscape's import (an independent reader): one law drawn, the control shows "
+                                        "two")
 def test_inkscape_draws_one_law(drawings):
     _need(str(INKSCAPE_DXF), "/usr/bin/python3")
     drawn = {}

@@ -121,6 +121,8 @@ def test_flat_face_least_angle_is_bound_by_the_cusp_condition_and_says_so(rb):
     assert any("cusp condition" in note for note in report["phase_limit_notes"])
 
 
+@pytest.mark.reference("regression", "the least angles of the cams built at them in this file's other tests, printed "
+                                     "to 6 digits")
 def test_profile_prints_what_binds(cli, tmp_path):
     result = cli("profile", "--follower", "flat", "--rb", "60", "--no-plots", "-o", tmp_path)
     assert result.code == 0

@@ -29,6 +29,8 @@ LINKAGE = Linkage((Loop((0.0, 0.0), (100.0, 20.0), 40.0, 120.0, 90.0, 1),), thet
 SWING = math.radians(30.0)
 
 
+@pytest.mark.reference("property", "Sunkuev 1984 Table 3 task 1: one extreme fixed within 1e-9 rad at 41 settings, "
+                                   "the swing monotone over 10-20 deg")
 @pytest.mark.parametrize("keep", ["psi1", "psi2"])
 def test_table3_task1_keeps_one_extreme_and_covers_the_swings(keep):
     """ψ₁ (or ψ₂) stays within 1e-9 rad over the whole adjustment range — checked on 41 settings spread
@@ -48,11 +50,13 @@ def test_table3_task1_keeps_one_extreme_and_covers_the_swings(keep):
     assert result.radius == pytest.approx(120.0, rel=1e-12)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_task1_out_of_reach_names_the_range():
     with pytest.raises(CamcadError, match="swing runs"):
         solve_task1(LINKAGE, SWING, (math.radians(10.0), math.radians(60.0)), count=3, mu_min=math.radians(30.0))
 
 
+@pytest.mark.reference("closed form", "the swing relation of a known arc, approached to 0.05 deg by the fit")
 def test_fitted_task6_approaches_a_swing_relation_an_arc_can_give():
     """Task 6 (the swing a given function of the setting): the swing relation of a known arc at settings
     x(u) = x₀ + (x₁ − x₀)u on u ∈ [0, 1] is approached to 0.05 deg by the local fit started from task 1's
@@ -69,6 +73,7 @@ def test_fitted_task6_approaches_a_swing_relation_an_arc_can_give():
     assert result.monotone and all(r.branch_continuous for r in result.rows)
 
 
+@pytest.mark.reference("second method", "the crank's extremes from a sampled full turn")
 def test_crank_extremes_against_a_sampled_full_turn():
     loop = Loop((0.0, 0.0), (3.0, 0.5), 1.0, 3.0, 2.5, 1)
     ext = crank_extremes(loop)
@@ -79,6 +84,7 @@ def test_crank_extremes_against_a_sampled_full_turn():
     assert found == pytest.approx(sampled, abs=1e-8)
 
 
+@pytest.mark.reference("property", "requirements met and unmet on hand-made rows; bad ones refused")
 def test_requirement_checks():
     rows = [{"psi1_deg": 0.0, "psi2_deg": 10.0, "swing_deg": 10.0}, {"psi1_deg": 1e-12, "psi2_deg": 9.0,
                                                                       "swing_deg": 9.0}]
@@ -98,6 +104,8 @@ def _family_members(centre, radius, settings, phi0, span):
     return members
 
 
+@pytest.mark.reference("closed form", "three members made by a known four-bar (F = (100, 10) mm, R = 15 mm): F, R and "
+                                      "the settings within 1e-7")
 def test_family_generated_by_one_adjustable_fourbar_is_recovered():
     """Three members made by one four-bar whose output pivot sits on an arc (F = (100, 10) mm, R = 15 mm, at
     200, 240, 280 deg): stage 1 reaches Q < 1e-9, stage 2 gives F, R and the settings within 1e-7."""
@@ -113,6 +121,8 @@ def test_family_generated_by_one_adjustable_fourbar_is_recovered():
     assert max(result.max_error) < 1e-9 and all(result.branch_ok)
 
 
+@pytest.mark.reference("property", "settings -> analysis gives the requested psi1, psi2 within 1e-10 rad for every "
+                                   "root")
 def test_tuning_round_trip_and_every_root():
     """Settings → analysis → the requested ψ₁, ψ₂ within 1e-10 rad, for every root; the nominal
     mechanism's own extremes are found at its own settings."""
@@ -128,6 +138,7 @@ def test_tuning_round_trip_and_every_root():
     assert any(abs(r.x1 - base_setting(LINKAGE, arc)) < 1e-9 and abs(r.x2) < 1e-9 for r in nominal.roots)
 
 
+@pytest.mark.reference("property", "every pair of settings listed, each within 1e-8 deg of its target")
 def test_settings_table_rows():
     arc = Adjustment("pivot", "C", "arc", complex(100.0, 5.0))
     rows = settings_table(LINKAGE, arc, SWING, np.radians([0.0, 2.0]), np.radians([12.0, 15.0]), points=181)
@@ -136,6 +147,8 @@ def test_settings_table_rows():
     assert all(r["error_deg"] is None or r["error_deg"] < 1e-8 for r in rows)
 
 
+@pytest.mark.reference("property", "at its nominal setting an adjusted element gives the nominal position function to "
+                                   "1e-12")
 def test_adjusted_elements_keep_the_nominal_geometry_at_their_nominal_setting():
     psi = np.linspace(0.0, SWING, 7)
     for adj in (Adjustment("pivot", "C", "arc", complex(90.0, 20.0)), Adjustment("joint", "A", "arc", 10 + 5j),

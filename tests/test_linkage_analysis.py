@@ -67,6 +67,7 @@ def _fsolve_output(linkage: Linkage, psi: np.ndarray) -> np.ndarray:
     return out
 
 
+@pytest.mark.reference("second method", "scipy fsolve of the loop closure and spectral differentiation of its solution")
 @pytest.mark.parametrize("sense", [1, -1])
 def test_fourbar_derivatives_against_fsolve_and_spectral_differentiation(sense):
     lk = Linkage((LOOP,), theta0=math.radians(80.0), input_sense=sense)
@@ -78,6 +79,7 @@ def test_fourbar_derivatives_against_fsolve_and_spectral_differentiation(sense):
         assert np.max(np.abs(spectral(k, at) - mine[k])) <= tol * scale, k
 
 
+@pytest.mark.reference("second method", "scipy fsolve of the six-bar's loops and spectral differentiation")
 def test_sixbar_derivatives_against_fsolve_and_spectral_differentiation():
     second = Loop((100.0, 20.0), (180.0, -30.0), 50.0, 110.0, 70.0, -1)
     lk = Linkage((LOOP, second), theta0=math.radians(80.0), input_sense=-1, couplings=(math.radians(150.0),))
@@ -91,6 +93,7 @@ def test_sixbar_derivatives_against_fsolve_and_spectral_differentiation():
         assert np.max(np.abs(spectral(k, at) - mine[k])) <= tol * scale, k
 
 
+@pytest.mark.reference("closed form", "derivatives of exp(sin x) written out")
 def test_faa_di_bruno_against_a_closed_form():
     # exp(sin x): f' = cos x e^s, f'' = (cos² − sin) e^s, f''' = (cos³ − 3 sin cos − cos) e^s
     x = 0.37
@@ -102,6 +105,7 @@ def test_faa_di_bruno_against_a_closed_form():
     assert d[3] == pytest.approx((c ** 3 - 3 * s * c - c) * e, rel=1e-14)
 
 
+@pytest.mark.reference("closed form", "a parallelogram's output follows its input: Pi = psi, Pi' = 1")
 def test_parallelogram_position_function_is_the_identity():
     lk = Linkage((Loop((0.0, 0.0), (300.0, 0.0), 80.0, 300.0, 80.0, -1),), theta0=1.0, input_sense=1)
     psi = np.linspace(0.0, 0.8, 11)
@@ -110,6 +114,7 @@ def test_parallelogram_position_function_is_the_identity():
     assert np.max(np.abs(d1 - 1)) < 1e-12 and np.max(np.abs(d2)) < 1e-12 and np.max(np.abs(d3)) < 1e-11
 
 
+@pytest.mark.reference("closed form", "the diagonal reaches b + c = 2.5 at cos theta = (1 + 9 - 6.25)/6")
 def test_dead_point_in_closed_form_and_branch_broken():
     # crank 1 at P, frame 3: the diagonal reaches b + c = 2.5 at cos θ = (1 + 9 − 6.25)/6
     loop = Loop((0.0, 0.0), (3.0, 0.0), 1.0, 1.5, 1.0, 1)
@@ -125,6 +130,7 @@ def test_dead_point_in_closed_form_and_branch_broken():
     assert any(abs(x - 0.3) < 1e-9 for x in res.dead_points)
 
 
+@pytest.mark.reference("closed form", "Pi' = 0 where |PB| = a + b, B on the circles (P, a + b) and (Q, c)")
 def test_limit_position_is_where_input_and_coupler_align():
     # a crank-rocker turned through its output's limit position: Π' = 0 where |PB| = a + b
     loop = Loop((0.0, 0.0), (3.0, 0.0), 1.0, 3.0, 2.5, 1)
@@ -141,6 +147,7 @@ def test_limit_position_is_where_input_and_coupler_align():
     assert psi == pytest.approx(0.3, abs=1e-12)
 
 
+@pytest.mark.reference("second method", "the transmission angle sampled densely")
 def test_worst_transmission_angle_matches_the_sampled_one():
     lk = Linkage((LOOP,), theta0=math.radians(80.0), input_sense=-1)
     res = analyse(lk, PSI_MAX, points=20001)
@@ -148,12 +155,14 @@ def test_worst_transmission_angle_matches_the_sampled_one():
     assert res.mu_min[0] == pytest.approx(sampled, abs=1e-7)
 
 
+@pytest.mark.reference("closed form", "the coupler's midpoint is (A + B)/2")
 def test_coupler_point_path():
     lk = Linkage((LOOP,), theta0=math.radians(80.0), coupler_point=(0, 60.0, 0.0))
     j = lk.joints(np.linspace(0, 0.4, 5))
     assert np.max(np.abs(j["P"] - (j["A"] + j["B"]) / 2)) < 1e-12
 
 
+@pytest.mark.reference("property", "scaling every length leaves the position function unchanged to 1e-12")
 @pytest.mark.parametrize("scale", [1e-3, 1e4])
 def test_tiny_and_huge_scales_give_the_same_position_function(scale):
     lk = Linkage((LOOP,), theta0=math.radians(80.0))
@@ -164,6 +173,7 @@ def test_tiny_and_huge_scales_give_the_same_position_function(scale):
         assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, float(np.max(np.abs(a))))
 
 
+@pytest.mark.reference("property", "a linkage that cannot close is reported so; bad input refused")
 def test_a_linkage_that_does_not_close():
     lk = Linkage((Loop((0.0, 0.0), (300.0, 0.0), 40.0, 100.0, 90.0, 1),), theta0=0.0)
     res = analyse(lk, 0.3)
@@ -172,6 +182,7 @@ def test_a_linkage_that_does_not_close():
         analyse(lk, 0.0)
 
 
+@pytest.mark.reference("property", "the modules' docstring examples run and print what they say")
 def test_docstring_examples_of_part_two_run():
     import doctest
     import importlib

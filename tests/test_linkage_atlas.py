@@ -105,6 +105,7 @@ def _ordinary(links, dof):
     return _CACHE[(links, dof)]
 
 
+@pytest.mark.reference("published", "Tsai 2001, Mechanism Design: 1, 2, 16, 230 one-DOF chains with 4/6/8/10 links")
 @pytest.mark.parametrize("links, dof, published", [(4, 1, 1), (6, 1, 2), (8, 1, 16), (5, 2, 1), (7, 2, 4),
                                                    (9, 2, 40), (10, 1, 230)])
 def test_ordinary_counts_match_the_published_ones(links, dof, published):
@@ -117,12 +118,15 @@ def test_ordinary_counts_match_the_published_ones(links, dof, published):
             assert _is_chain(chain.n, chain.edges, dof)        # the rules written out again (numpy only)
 
 
+@pytest.mark.reference("second method", "brute force over every edge set, isomorphism classes by the test's own "
+                                        "routine")
 @needs_nx
 @pytest.mark.parametrize("links, dof", [(4, 1), (6, 1), (5, 2)])
 def test_ordinary_counts_by_brute_force_over_all_edge_sets(links, dof):
     assert len(_brute_force_chains(links, dof)) == len(ordinary_chains(links, dof).chains)
 
 
+@pytest.mark.reference("second method", "networkx's isomorphism test on the 230 ten-link chains")
 @needs_nx
 def test_the_ten_link_chains_are_pairwise_non_isomorphic_for_networkx():
     chains = _ordinary(10, 1).chains
@@ -130,6 +134,7 @@ def test_the_ten_link_chains_are_pairwise_non_isomorphic_for_networkx():
     assert len(_dedup(graphs)) == 230
 
 
+@pytest.mark.reference("closed form", "sum (i - 2) n_i = 2p - 2n: the five partitions of 4 for eight-link chains")
 def test_pairs_and_parity():
     assert pairs_for(4, 1) == 4 and pairs_for(10, 1) == 13 and pairs_for(9, 2) == 11
     with pytest.raises(CamcadError, match="odd"):
@@ -141,6 +146,7 @@ def test_pairs_and_parity():
                                              {2: 7, 6: 1}], key=lambda a: sorted(a.items()))
 
 
+@pytest.mark.reference("second method", "networkx.is_isomorphic on random graphs")
 @needs_nx
 def test_canonical_form_agrees_with_networkx_on_random_graphs():
     rng = random.Random(7)
@@ -163,6 +169,7 @@ def test_canonical_form_agrees_with_networkx_on_random_graphs():
         assert same == nx.is_isomorphic(g1, g3)
 
 
+@pytest.mark.reference("second method", "every subset of links tried with itertools")
 @needs_nx
 def test_rigid_subchain_against_itertools():
     rng = random.Random(3)
@@ -250,6 +257,8 @@ def _expand(g, split):
             yield h
 
 
+@pytest.mark.reference("published", "Sunkuev 1984 Table 1: 1, 3, 4, 7, 38 adjustable structures; 285 for n' = 8 not "
+                                    "reproduced (137 and 287)")
 def test_table1_rows_and_the_eight_link_discrepancy():
     counts = {key: len(adjustable_chains(*key).chains) for key in SEED_TABLE1 if key[0] <= 6}
     assert counts == {key: SEED_TABLE1[key] for key in counts}          # 1, 3, 4, 7, 38 as printed in the seed
@@ -258,6 +267,7 @@ def test_table1_rows_and_the_eight_link_discrepancy():
     assert "not recoverable" in payload["discrepancy"]
 
 
+@pytest.mark.reference("published", "Sunkuev 1984 Table 1, and a second route by splitting links")
 @needs_nx
 @pytest.mark.parametrize("n_prime, m", [(4, 1), (4, 2), (4, 3), (6, 1), (6, 2)])
 def test_table1_rows_reproduced_and_checked_by_splitting_links(n_prime, m):
@@ -266,6 +276,8 @@ def test_table1_rows_reproduced_and_checked_by_splitting_links(n_prime, m):
     assert len(_split_route(n_prime, 1, m)) == len(result.chains)        # a second, independent route
 
 
+@pytest.mark.reference("second method", "splitting the 16 eight-link chains, validity and isomorphism by the test's "
+                                        "own routines")
 @needs_nx
 def test_eight_link_row_by_splitting_the_sixteen_eight_link_chains():
     # the 16 eight-link chains are camcad's (their count is checked against the published 16 above);
@@ -274,6 +286,7 @@ def test_eight_link_row_by_splitting_the_sixteen_eight_link_chains():
     assert len(_split_route(8, 1, 1, base=base)) == len(adjustable_chains(8, 1, 1).chains) == 137
 
 
+@pytest.mark.reference("second method", "edge orbits of the 40 nine-link chains' automorphism groups (networkx): 287")
 @needs_nx
 def test_eight_link_row_without_conditions_counts_edge_orbits():
     # every one-pair colouring up to isomorphism = number of edge orbits of the automorphism group of each of
@@ -290,6 +303,7 @@ def test_eight_link_row_without_conditions_counts_edge_orbits():
     assert "285" in atlas(8, 1, 1).payload["discrepancy"]
 
 
+@pytest.mark.reference("property", "the adjustable-chain rule refuses folded pairs and locked loops, with the reason")
 def test_adjustable_rule_rejects_what_it_should():
     from camcad.linkage.atlas import adjustable_problems
     from camcad.linkage.graphs import Chain

@@ -61,6 +61,8 @@ def _loop_closure_beta(a, b, c, d, theta, guess):
 
 # ---- four-bar kinematics --------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "Freudenstein's equation k1 cos beta - k2 cos theta + k3 = cos(theta - beta); "
+                                      "link lengths from the joints")
 def test_output_angle_closes_the_loop_on_both_branches():
     checked = 0
     for _ in range(200):
@@ -81,6 +83,7 @@ def test_output_angle_closes_the_loop_on_both_branches():
     assert checked > 150
 
 
+@pytest.mark.reference("second method", "scipy's root of the vector loop closure")
 def test_output_angle_against_scipy_root_of_the_loop_closure():
     a, b, c, d = 1.0, 3.2, 2.4, 3.0
     for theta in np.linspace(0, 2 * math.pi, 37):
@@ -89,6 +92,7 @@ def test_output_angle_against_scipy_root_of_the_loop_closure():
         assert ref is not None and beta == pytest.approx(ref, abs=1e-11)
 
 
+@pytest.mark.reference("second method", "high-order finite differences of the output angle")
 def test_exact_derivatives_against_high_order_differences():
     a, b, c, d = 1.0, 3.2, 2.4, 3.0
     h = 1e-3
@@ -102,6 +106,7 @@ def test_exact_derivatives_against_high_order_differences():
             assert d2 == pytest.approx(fd2, abs=1e-6)
 
 
+@pytest.mark.reference("second method", "the transmission angle sampled densely")
 def test_worst_transmission_angle_against_dense_sampling():
     for _ in range(40):
         a, b, c, d = RNG.uniform(0.5, 3.0, 4)
@@ -115,6 +120,7 @@ def test_worst_transmission_angle_against_dense_sampling():
             assert worst == pytest.approx(np.min(np.minimum(dense, math.pi - dense)), abs=1e-8)
 
 
+@pytest.mark.reference("second method", "turning the input through a full turn: it rotates exactly when Grashof says")
 def test_grashof_class_agrees_with_turning_the_input():
     theta = np.linspace(0, 2 * math.pi, 20_001)
     seen = set()
@@ -141,6 +147,7 @@ def _four_bar_target(a, b, c, d, theta0_deg, span_deg, branch):
     return make_target(f, 0.0, span_deg, span_deg, swing, "four-bar"), output_angle(a, b, c, d, theta0, branch)
 
 
+@pytest.mark.reference("closed form", "three precision points of a known four-bar give back its links")
 def test_three_point_closed_form_finds_the_generating_four_bar():
     done = 0
     while done < 10:
@@ -155,6 +162,8 @@ def test_three_point_closed_form_finds_the_generating_four_bar():
         done += 1
 
 
+@pytest.mark.reference("closed form", "the Q method on a known four-bar's function recovers its links to 1e-7 (Q < "
+                                      "1e-10)")
 def test_q_method_recovers_a_known_four_bar():
     a, b, c, d = 40.0, 120.0, 90.0, 100.0
     target, beta0 = _four_bar_target(a, b, c, d, 50.0, 70.0, 1)
@@ -168,6 +177,7 @@ def test_q_method_recovers_a_known_four_bar():
     assert result.evaluation.max_error_deg < 1e-8
 
 
+@pytest.mark.reference("published", "Sunkuev 1984: the node subsets (1, 2, 3), (1, 4, 5), ...")
 def test_node_subsets_follow_the_seed():
     assert node_subsets(5) == [(1, 2, 3), (1, 4, 5)]
     assert node_subsets(9) == [(1, 2, 3), (1, 4, 5), (1, 6, 7), (1, 8, 9)]
@@ -175,6 +185,7 @@ def test_node_subsets_follow_the_seed():
         node_subsets(6)
 
 
+@pytest.mark.reference("property", "one Q evaluation costs S positions; a deviation N")
 def test_one_value_of_q_costs_s_positions_and_a_deviation_n():
     target = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
     work = Work()
@@ -199,6 +210,8 @@ def q_runs(log10_target):
     return [synthesize(log10_target, FgenOptions(method="q", seed=seed)) for seed in (0, 1, 2)]
 
 
+@pytest.mark.reference("property", "every random start reaches the same mechanism; the transmission limit holds on a "
+                                   "dense grid")
 def test_q_result_is_the_same_from_every_random_start(q_runs):
     ref = np.array(q_runs[0].mechanism.links())
     for run in q_runs[1:]:
@@ -209,6 +222,8 @@ def test_q_result_is_the_same_from_every_random_start(q_runs):
         assert run.evaluation.branch_continuous
 
 
+@pytest.mark.reference("property", "Chebyshev alternation: S + 1 equal alternating extrema, errors from scipy's loop "
+                                   "closure")
 def test_minimax_shows_s_plus_one_equal_alternating_extrema(log10_target):
     result = synthesize(log10_target, FgenOptions(method="minimax"))
     fg = result.mechanism
@@ -231,6 +246,8 @@ def test_minimax_shows_s_plus_one_equal_alternating_extrema(log10_target):
 
 # ---- hard cases -------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "a parallelogram folds at theta = 0; a non-Grashof linkage past its limit does "
+                                      "not close")
 def test_a_dead_point_inside_the_range_is_not_a_continuous_branch():
     target = make_target(lambda x: x, 0.0, 1.0, 60.0, 60.0, "x")
     # parallelogram a = c, b = d folds at theta = 0: a change point inside [-30, 30] deg
@@ -243,6 +260,7 @@ def test_a_dead_point_inside_the_range_is_not_a_continuous_branch():
     assert not ev.branch_continuous and math.isinf(ev.max_error_deg)
 
 
+@pytest.mark.reference("closed form", "node angles taken from two assembly branches of one four-bar admit no mechanism")
 def test_three_nodes_on_different_branches_give_no_mechanism():
     # node angles of one four-bar, but the third output angle taken from its other assembly branch
     from types import SimpleNamespace
@@ -259,6 +277,7 @@ def test_three_nodes_on_different_branches_give_no_mechanism():
     assert three_point(same, phis, theta0, betas[0]).links() == pytest.approx((a, b, c, d), rel=1e-9)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_function_checks():
     with pytest.raises(CamcadError, match="not defined"):
         make_target(np.log10, -1.0, 1.0, 60.0, 90.0, "log10(x)")
@@ -270,6 +289,7 @@ def test_function_checks():
 
 # ---- the expression parser --------------------------------------------------------------------------------
 
+@pytest.mark.reference("second method", "the same expressions written as numpy lambdas")
 @pytest.mark.parametrize("text, reference", [
     ("log10(x)", np.log10), ("x^2 + 3*x - 1", lambda x: x ** 2 + 3 * x - 1), ("-x^2", lambda x: -(x ** 2)),
     ("2^x^2", lambda x: 2 ** (x ** 2)), ("sin(pi*x/2)/(1+e^x)", lambda x: np.sin(np.pi * x / 2) / (1 + np.e ** x)),
@@ -280,6 +300,7 @@ def test_expressions_evaluate_like_numpy(text, reference):
     assert parse_expression(text)(x) == pytest.approx(reference(x), rel=1e-14)
 
 
+@pytest.mark.reference("closed form", "d/dx log10 x = 1/(x ln 10)")
 def test_expression_derivative_against_the_closed_form():
     f = parse_expression("log10(x)")
     x = np.linspace(1.0, 2.0, 7)
@@ -288,6 +309,7 @@ def test_expression_derivative_against_the_closed_form():
     assert g.derivative(np.array([1.0])) == pytest.approx([0.75], rel=1e-6)   # central difference fallback
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("text, where", [
     ("__import__('os').system('x')", "position 1"), ("x.real", "position 2"), ("log10(x", "position 8"),
     ("[x for x in ()]", "position 1"), ("x; import os", "position 2"), ("lambda: 1", "position 1"),
@@ -300,6 +322,7 @@ def test_unsafe_or_malformed_expressions_are_refused_with_the_position(text, whe
     assert err.value.message().startswith("--function")
 
 
+@pytest.mark.reference("property", "the modules' docstring examples run and print what they say")
 def test_docstring_examples_run():
     import doctest
     import importlib

@@ -44,6 +44,7 @@ def _compare(a, b, path=""):
     return extra
 
 
+@pytest.mark.reference("second method", "the same scene with [stops] ratio = 1.5: every figure within 1e-12")
 def test_a_table_of_k_psi_gives_the_report_of_ratio_k(tmp_path):
     """[stops] ratio = 1.5 against [linkage] type = "table" with Π = 1.5ψ (and [stops] ratio left at its
     default 1): the same report — every figure within 1e-12 relative — plus the linkage's own entries."""
@@ -74,6 +75,8 @@ def _light_batten(tmp_path: Path, settings: str | None = None) -> Path:
     return path
 
 
+@pytest.mark.reference("property", "the round trip through Pi within 1e-12 rad; the stroke 24.12 deg; psi2 constant "
+                                   "over the settings")
 def test_law_of_output_designs_the_cam_for_the_working_member(tmp_path):
     """The [law] is the batten's: the profile's follower law is Π⁻¹(y), and y through Π comes back to the law
     (round trip ≤ 1e-12 rad over the cycle); the settings are reported with ψ₂ (beat-up) constant."""
@@ -91,6 +94,7 @@ def test_law_of_output_designs_the_cam_for_the_working_member(tmp_path):
     assert result.report["checks_by_model"]["linkage"] is True
 
 
+@pytest.mark.reference("second method", "the plain law in rad through the dynamics: the same figures to 1e-9")
 def test_dynamics_runs_on_the_working_member(tmp_path):
     """With law_of = output the dynamics sees y = Π(Π⁻¹(y_law)): the same figures as the plain law in rad."""
     from camcad.dynamics.runs import run_dynamics
@@ -112,6 +116,7 @@ def test_dynamics_runs_on_the_working_member(tmp_path):
         assert np.allclose(report[key], direct[key], rtol=1e-9, atol=0)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("edit, message", [
     (lambda t: t.replace('law_of = "output"', 'law_of = "output"').replace("[linkage]", "[linkagex]"),
      "unknown section"),
@@ -138,6 +143,7 @@ def test_bad_linkage_sections_are_one_line_errors(tmp_path, edit, message):
     assert "\n" not in text and len(_one_line(text)) < 300
 
 
+@pytest.mark.reference("closed form", "the table turns back at swing 45 deg (Pi' = 0): refused naming it")
 def test_a_non_monotone_position_function_is_refused_with_the_dead_point_angle(tmp_path):
     """A table that turns back inside the needed swing: law_of = output refuses it, naming the swing angle
     of the limit position (Π' = 0)."""

@@ -48,6 +48,7 @@ def _spectral_derivatives(fn, a: float, b: float, at, n: int = 40):
     return [cheb.chebval(xx, cheb.chebder(coef, k)) * (2 / (b - a)) ** k for k in (1, 2, 3)]
 
 
+@pytest.mark.reference("second method", "spectral differentiation of theta -> Pi(psi(theta))")
 def test_chain_rule_against_the_composed_function():
     """y'' = Π''ψ'² + Π'ψ'' (and y', y''') equal the derivatives of θ ↦ Π(ψ(θ)) taken by spectral
     differentiation of the composed function on the rise (smooth there): relative 1e-9 for y'' (measured 5e-12)."""
@@ -61,6 +62,7 @@ def test_chain_rule_against_the_composed_function():
         assert np.max(np.abs(mine - other)) <= tol * np.max(np.abs(mine))
 
 
+@pytest.mark.reference("property", "the round trip Pi(Pi^-1(y)) gives the law within 1e-9 mm")
 def test_inverse_design_then_forward_kinematics_reproduces_the_law_within_1e_9_mm():
     """A working member's law → the follower's law by Π⁻¹ → forward through Π: the law again. For the
     four-bar, y is the angle of an output arm of 150 mm (1e-9 mm is 6.7e-12 rad there); for a table in mm
@@ -82,6 +84,8 @@ def test_inverse_design_then_forward_kinematics_reproduces_the_law_within_1e_9_m
     assert np.max(np.abs(WorkingLaw(psi_mm, table).kinematics(theta).s - mm_law.kinematics(theta).s)) <= 1e-9
 
 
+@pytest.mark.reference("property", "energy balance: the follower's work equals the change of T = J Pi'^2 psi'^2/2, "
+                                   "Gauss-Legendre")
 def test_rigid_model_energy_balance_with_a_nonlinear_position_function():
     """No damping, rigid: the follower's power (the force along the roller's path from ``linkage_load`` times
     the roller's speed) integrated over the cycle equals the change of T = ½ J Π'² ψ̇² at every panel end
@@ -116,6 +120,7 @@ def test_rigid_model_energy_balance_with_a_nonlinear_position_function():
             assert error > 1e-3 * np.max(energy)
 
 
+@pytest.mark.reference("closed form", "Pi = k psi: M = J k^2 psi'' + k Q, no velocity-squared term")
 def test_constant_ratio_is_the_special_case():
     """Π = kψ: M_ψ = J k² ψ̈ + k Q and no velocity-squared term; the ratio and a table of kψ agree."""
     k, inertia = 2.5, 3.0
@@ -128,6 +133,7 @@ def test_constant_ratio_is_the_special_case():
         assert np.max(np.abs(a - b)) <= 1e-12
 
 
+@pytest.mark.reference("closed form", "a constant load Q through ratio k adds k Q / cos phi to the normal force")
 def test_the_contact_hook_adds_the_reduced_load():
     """contact_stress with a LinkageLoad of zero is the contact without it; with a constant load Q through a
     ratio k on a translating follower, the normal force grows by k Q / cos φ."""
@@ -152,6 +158,7 @@ def test_the_contact_hook_adds_the_reduced_load():
     assert np.max(np.abs(more.normal_force - plain.normal_force - 60.0 / math.cos(0.3))) < 1e-9
 
 
+@pytest.mark.reference("closed form", "separation at w^2 = F0/|m a/1000 + A|")
 def test_separation_speed_with_the_linkage_inertia():
     """F = F0 + ω²(m a/1000 + A): the follower leaves the cam at ω² = F0/|m a/1000 + A| (closed form)."""
     from camcad.contact import ContactParams, separation_speed_rpm
@@ -166,6 +173,8 @@ def test_separation_speed_with_the_linkage_inertia():
                                                                                     rel=1e-14)
 
 
+@pytest.mark.reference("property", "unsorted and duplicated rows accepted, a vertical step and a turning table "
+                                   "refused with the dead point")
 def test_tables_with_hard_rows():
     # unsorted and duplicated rows are accepted; a vertical step (two y at one psi) is refused
     t = TableTransfer([3.0, 0.0, 1.0, 1.0, 2.0], [6.0, 0.0, 2.0, 2.0, 4.0], "mm", "mm")

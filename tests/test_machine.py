@@ -227,6 +227,7 @@ GOOD_NETWORK = ('[[network.operations]]\nfrom = "s"\nto = "a:1"\nbounds_deg = [0
                 '[[network.operations]]\nfrom = "a:8"\nto = "e"\nbounds_deg = [10.0, inf]\nname = "L"\n')
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("network, extra, pattern", [
     (GOOD_NETWORK.replace('"a:1"', '"b:1"'), "", "names unknown group 'b'"),
     (GOOD_NETWORK.replace('"a:1"', '"a:11"'), "", "group 'a' has no event '11'"),
@@ -242,12 +243,14 @@ def test_bad_machine_scenes_are_one_line_errors(tmp_path, network, extra, patter
         analyse_machine(path, PipelineOptions(plots=()))
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_machine_without_limiting_operation_refuses_the_limiting_objective(tmp_path):
     path = _machine_text(tmp_path, GOOD_NETWORK, objective="limiting")
     with pytest.raises(CamcadError, match="needs a limiting operation"):
         analyse_machine(path, PipelineOptions(plots=()))
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_group_both_file_and_inline_is_refused(tmp_path):
     path = _machine_text(tmp_path, GOOD_NETWORK)
     path.write_text(path.read_text().replace('scene = "g.toml"', 'scene = "g.toml"\n[groups.a.cyclogram]\nx = 1'))
@@ -255,6 +258,8 @@ def test_a_group_both_file_and_inline_is_refused(tmp_path):
         analyse_machine(path, PipelineOptions(plots=()))
 
 
+@pytest.mark.reference("property", "the limiting objective gives the limiting operation more than least-cycle does; "
+                                   "infeasible: exit 1; bad: exit 2")
 def test_cli_machine_json_outputs_and_exit_codes(tmp_path, cli):
     done = cli("machine", SAMPLE, "--json", "-o", tmp_path / "out", "--no-plots")
     assert done.code == 0, done.err

@@ -173,6 +173,7 @@ def test_the_second_smoothing_removes_the_oscillation_of_a_nearly_interpolating_
     assert err_smooth < err_raw
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("text,expected", [
     ("theta_deg,torque_Nm\n0,1\n90,2\n", "the header names the columns 'theta_deg', 'torque_Nm'"),
     ("time_s,a\n0,1\n90,2\n", "the header names the columns 'time_s', 'a'"),
@@ -186,6 +187,7 @@ def test_a_header_camcad_does_not_know_is_refused(cli, tmp_path, text, expected)
     assert result.code == 2 and expected in result.err and len(result.err.strip().splitlines()) == 1
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_tables_that_cannot_be_a_motion_are_refused_with_one_line(tmp_path):
     theta = np.arange(0.0, 360.0, 1.0)
     s = law_s(np.radians(theta))

@@ -20,6 +20,7 @@ ROOTS = [  # (f, a, b, closed-form root)
 ]
 
 
+@pytest.mark.reference("second method", "scipy.optimize.brentq and the closed-form roots")
 @pytest.mark.parametrize("f, a, b, exact", ROOTS)
 def test_brent_root_against_closed_form_and_scipy(f, a, b, exact):
     x = brent_root(f, a, b, xtol=1e-14)
@@ -29,6 +30,7 @@ def test_brent_root_against_closed_form_and_scipy(f, a, b, exact):
         assert abs(x - exact) <= 1e-12
 
 
+@pytest.mark.reference("property", "no sign change: ValueError; a root at an end is returned exactly")
 def test_brent_root_needs_a_bracket_and_returns_exact_ends():
     with pytest.raises(ValueError):
         brent_root(lambda x: x * x + 1.0, -1.0, 1.0)
@@ -44,6 +46,7 @@ MINIMA = [  # (f, a, b, closed-form minimiser, tolerance on f at the minimum)
 ]
 
 
+@pytest.mark.reference("second method", "scipy.optimize.minimize_scalar (bounded) and the closed-form minima")
 @pytest.mark.parametrize("f, a, b, exact, f_tol", MINIMA)
 def test_bounded_minimum_against_closed_form_and_scipy(f, a, b, exact, f_tol):
     x, fx = bounded_minimum(f, a, b, xatol=1e-12)
@@ -54,6 +57,8 @@ def test_bounded_minimum_against_closed_form_and_scipy(f, a, b, exact, f_tol):
     assert fx == pytest.approx(f(exact), abs=f_tol)
 
 
+@pytest.mark.reference("property", "a minimum at the interval's end is returned inside it; an empty interval is "
+                                   "refused")
 def test_bounded_minimum_at_the_end_of_the_interval_stays_inside():
     x, _ = bounded_minimum(lambda t: t, 2.0, 3.0)
     assert 2.0 <= x < 2.0 + 1e-6
@@ -61,6 +66,7 @@ def test_bounded_minimum_at_the_end_of_the_interval_stays_inside():
         bounded_minimum(lambda t: t, 1.0, 1.0)
 
 
+@pytest.mark.reference("closed form", "random quadratics: minimum and root at c, known exactly")
 def test_many_random_quadratics_match_scipy():
     rng = np.random.default_rng(7)
     for _ in range(50):

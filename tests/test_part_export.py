@@ -376,6 +376,7 @@ def test_groove_cam_has_both_flanks_and_a_finishing_pass_on_each(cli, tmp_path):
     assert refused.code == 2 and "wider than the groove" in refused.err
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_what_the_part_needs_is_asked_for(cli, tmp_path):
     for args, needle in ((["--export", "gcode", "--feed", "100"], "--cutter-radius"),
                          (["--export", "gcode", "--cutter-radius", "5", "--depth", "3"], "--feed"),
@@ -392,6 +393,7 @@ def test_what_the_part_needs_is_asked_for(cli, tmp_path):
         assert not (tmp_path / "x").exists()
 
 
+@pytest.mark.reference("property", "without Open CASCADE the solids are refused in one line naming camcad[solid]")
 def test_the_solids_say_what_to_install_without_the_kernel(cli, tmp_path, monkeypatch):
     import builtins
 
@@ -408,6 +410,8 @@ def test_the_solids_say_what_to_install_without_the_kernel(cli, tmp_path, monkey
     assert len(result.err.strip().splitlines()) == 1 and not (tmp_path / "x").exists()
 
 
+@pytest.mark.reference("property", "a scene's [export] and the command line give G20 (in) and G21 (mm) programs, the "
+                                   "option over the scene")
 def test_scene_export_section(tmp_path, cli):
     scene = tmp_path / "cam.toml"
     scene.write_text('name = "plate"\n[law]\nstandard = "cycloidal"\n'
@@ -609,6 +613,8 @@ def test_keyway_volume(cli, tmp_path):
     assert refused.code == 2 and "--bore" in refused.err
 
 
+@pytest.mark.reference("second method", "FreeCAD (an independent kernel) reads the STEP file: one valid solid of the "
+                                        "plate's volume")
 @needs_kernel
 def test_freecad_opens_the_step_file(cli, tmp_path):
     freecad = shutil.which("freecadcmd")
@@ -694,6 +700,7 @@ def test_libreoffice_draws_the_arcs_as_chords_as_the_note_says(cli, tmp_path):
     assert measured == pytest.approx(stated, rel=0.01)
 
 
+@pytest.mark.reference("property", "an output named as an input is refused; the input is unchanged")
 def test_a_part_file_is_never_written_over_an_input(cli, tmp_path):
     folder = tmp_path / "out"
     folder.mkdir()

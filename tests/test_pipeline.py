@@ -31,6 +31,8 @@ def group_run(tmp_path_factory):
     return run_scene(SCENES / "loom_group1.toml", PipelineOptions(output=out, plots=False)), out
 
 
+@pytest.mark.reference("published", "Podgorny et al. 2018: a = -0.003 t + 0.208 <= 0.1 mm gives t >= 36 deg; the "
+                                    "retimed law has v = 0 on every new dwell")
 def test_group_scene_writes_every_output_and_feeds_the_cyclogram_back(group_run):
     result, out = group_run
     report = result.report
@@ -69,6 +71,7 @@ def test_group_scene_writes_every_output_and_feeds_the_cyclogram_back(group_run)
         assert (out / path.split(str(out) + "/", 1)[-1]).exists() or __import__("pathlib").Path(path).exists()
 
 
+@pytest.mark.reference("property", "every phase angle is at least its least admissible value, from each kind of limit")
 def test_group_scene_limits_come_from_every_source(group_run):
     result, _ = group_run
     bounds = result.report["cyclogram"]["lower_bounds_deg"]
@@ -80,6 +83,7 @@ def test_group_scene_limits_come_from_every_source(group_run):
         assert angles[label] >= least["deg"] - 1e-7, label
 
 
+@pytest.mark.reference("property", "a scene runs the models its sections ask for and says which it skipped and why")
 def test_a_scene_runs_only_what_it_has(tmp_path):
     shuttle = run_scene(SCENES / "shuttle_lift.toml", PipelineOptions(output=tmp_path / "s", plots=False)).report
     assert shuttle["models_run"] == ["law", "profile", "dynamics", "impact"]
@@ -94,6 +98,8 @@ def test_a_scene_runs_only_what_it_has(tmp_path):
     assert batten["dynamics"]["passed"] is True
 
 
+@pytest.mark.reference("property", "no speed in the scene: dynamics and impact skipped with the reason, never "
+                                   "defaulted")
 def test_elastic_data_without_speeds_is_skipped_not_defaulted(tmp_path):
     text = (SCENES / "shuttle_lift.toml").read_text()
     text = re.sub(r"\[machine\]\nrpm = .*\n", "", text)
@@ -104,6 +110,8 @@ def test_elastic_data_without_speeds_is_skipped_not_defaulted(tmp_path):
     assert report["skipped"]["impact"] == "no [machine] rpm in scene"
 
 
+@pytest.mark.reference("property", "an unbalanced drawn law, fixed on request: balanced after, the profile closes "
+                                   "(gap < 1e-9 mm)")
 def test_a_drawn_law_scene_is_balanced_when_asked(tmp_path):
     scene = tmp_path / "drawn.toml"
     scene.write_text(f"""
@@ -143,6 +151,7 @@ BAD_SCENES = [
 ]
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("text,expected", BAD_SCENES)
 def test_bad_scene_files_get_one_clear_line(cli, tmp_path, text, expected):
     scene = tmp_path / "bad.toml"
@@ -155,6 +164,7 @@ def test_bad_scene_files_get_one_clear_line(cli, tmp_path, text, expected):
     assert "bad.toml" in lines[0]
 
 
+@pytest.mark.reference("property", "profile on a scene prints one JSON object with its documented keys")
 def test_profile_command_on_a_scene_prints_json(cli, tmp_path):
     result = cli("profile", SCENES / "batten.toml", "-o", tmp_path, "--json", "--no-plots")
     assert result.code == 0, result.err
@@ -165,6 +175,7 @@ def test_profile_command_on_a_scene_prints_json(cli, tmp_path):
     assert math.isfinite(payload["pressure_angle_max_deg"])
 
 
+@pytest.mark.reference("property", "docs/SCENE.md holds the tables generated from the parsers")
 def test_scene_doc_lists_every_key_of_every_section():
     # docs/SCENE.md is generated from the parsers; regenerate it with docs/make_scene_doc.py when this fails
     import sys
@@ -175,6 +186,8 @@ def test_scene_doc_lists_every_key_of_every_section():
     assert tables() in (SAMPLES.parent / "docs" / "SCENE.md").read_text()
 
 
+@pytest.mark.reference("regression", "fuzz campaign seed 11 case 490: a law file name with a NUL byte ended in an "
+                                     "internal error")
 @pytest.mark.parametrize("command", ["profile", "contact", "dynamics"])
 def test_a_law_file_name_with_a_nul_byte_is_one_clear_line(cli, tmp_path, command):
     # found by the fuzz campaign (case 490, seed 11): the output folder's input guard resolved the name
@@ -189,6 +202,7 @@ def test_a_law_file_name_with_a_nul_byte_is_one_clear_line(cli, tmp_path, comman
     assert len(lines) == 1 and lines[0].startswith("camcad: error: ") and "internal error" not in lines[0], result.err
 
 
+@pytest.mark.reference("property", "a pass with warnings says how many warnings, never a clean pass")
 def test_the_verdict_line_counts_the_warnings_a_signer_must_weigh(cli, tmp_path):
     # loom group 1 passes every check, but a profile radius of 1.43 mm and a contact safety factor of 1
     # are warned of: the last line must not read as a clean pass
@@ -199,6 +213,8 @@ def test_the_verdict_line_counts_the_warnings_a_signer_must_weigh(cli, tmp_path)
     assert last == f"verdict: all checks passed; {len(warned)} warnings (WARN above) to weigh before signing", last
 
 
+@pytest.mark.reference("property", "every PNG on disk is listed in the report's outputs and is a name the writer "
+                                   "checks")
 def test_a_group_s_plots_are_drawn_in_parallel_and_every_one_is_listed(tmp_path):
     # the loom group's default plots: a summary page per mechanism and the cyclogram's two pages, drawn by
     # forked workers; every PNG on disk is listed in the report's outputs and is one of the names the

@@ -131,6 +131,8 @@ damping_ratio = 0.05
 """
 
 
+@pytest.mark.reference("property", "the residual after polydyne design is below 1e-6 of the lift, before it above "
+                                   "1e-3; the option over the key")
 def test_profile_polydyne_from_the_scene_and_the_option(cli, tmp_path):
     scene = tmp_path / "poly.toml"
     scene.write_text(scene_text(extra="polydyne_rpm = 300"))
@@ -150,6 +152,7 @@ def test_profile_polydyne_from_the_scene_and_the_option(cli, tmp_path):
     assert abs(rows[at, 1] - 10.0) > 1e-3        # the cam (y + K y'' + ...) is not the wanted law (10 mm at 50 deg)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_polydyne_bad_input_is_one_line_exit_2(cli, tmp_path):
     scene = tmp_path / "poly.toml"
     for text, words in ((scene_text("cycloidal", "polydyne_rpm = 300"), "velocity would jump"),

@@ -70,6 +70,8 @@ def circumradius(points_at, theta: np.ndarray, h: float, sigma: float) -> np.nda
     return (4 * radius(h / 2) - radius(h)) / 3
 
 
+@pytest.mark.reference("second method", "circumradii of triples of generated points, and the normal from differences "
+                                        "of generated points")
 @pytest.mark.parametrize("key", list(FOLLOWERS))
 def test_pressure_angle_and_curvature_match_numerical_methods(key):
     follower = FOLLOWERS[key]
@@ -108,6 +110,8 @@ def test_pressure_angle_and_curvature_match_numerical_methods(key):
         assert np.max(np.abs(numeric_phi - analytic)[moving] / analytic[moving]) < 1e-6
 
 
+@pytest.mark.reference("closed form", "phi = atan((v - e)/(d + s)), d = sqrt(Rp^2 - e^2); Norton's rho for the offset "
+                                      "roller")
 @pytest.mark.parametrize("offset", [0.0, 12.0, -12.0])
 def test_translating_roller_matches_the_textbook_formulas(offset):
     # SPEC.md: φ = atan((v − e)/(d + s)), d = √(Rp² − e²) for the CCW cam; Norton's
@@ -124,6 +128,7 @@ def test_translating_roller_matches_the_textbook_formulas(offset):
     assert np.allclose(cam.pitch(theta).rho, rho, rtol=1e-12)
 
 
+@pytest.mark.reference("property", "the CW cam with offset e is the CCW cam with offset -e mirrored in the y axis")
 def test_clockwise_cam_is_the_mirror_image():
     # Turning the cam the other way mirrors the mechanism: the CW profile with offset e is the CCW
     # profile with offset −e reflected in the y axis, point for point.
@@ -133,6 +138,7 @@ def test_clockwise_cam_is_the_mirror_image():
     assert np.allclose(cw, ccw * np.array([-1.0, 1.0]), atol=1e-12)
 
 
+@pytest.mark.reference("closed form", "phi = atan((L(1 + psi') - C cos g)/(C sin g)), g0 by the law of cosines")
 def test_oscillating_pressure_angle_formula():
     # Derived in geometry.py: φ = atan((L(1 + ψ') − C cos γ)/(C sin γ)), γ = γ0 + ψ, CCW; γ0 by the
     # law of cosines (Rb + Rr)² = C² + L² − 2CL cos γ0.
@@ -155,6 +161,8 @@ def roller_clearance(cam: CamGeometry, polygon_points: np.ndarray, theta: np.nda
     return shapely.distance(shapely.points(centres), ring)
 
 
+@pytest.mark.reference("second method", "the roller's distance from the written polygon at every angle (shapely), "
+                                        "within the chord tolerance")
 @pytest.mark.parametrize("follower", [Follower("roller", 50.0, 10.0, 8.0, groove=True, pair_distance=150.0),
                                       Follower("oscillating", 40.0, 10.0, pivot=120.0, arm=100.0,
                                                pair_angle_deg=60.0)])
@@ -176,6 +184,8 @@ def test_rollers_touch_but_never_cut_their_cams(follower):
     assert counter["closed"] and counter["simple"]
 
 
+@pytest.mark.reference("closed form", "hand geometry: a second roller D below comes within Rr of the axis for 50 <= D "
+                                      "<= 95")
 @pytest.mark.parametrize("distance", [60.0, 65.0, 85.0])
 def test_pair_whose_second_roller_crosses_the_shaft_is_refused(distance):
     # Rb 50, Rr 10, lift 25: the first roller centre runs from 60 to 85 mm above the axis, so a second
@@ -193,6 +203,8 @@ def pitch_radius_min_numeric(cam: CamGeometry) -> float:
     return float(np.min(rho[rho > 0]))
 
 
+@pytest.mark.reference("closed form", "the pitch curve's smallest convex radius rho_min: Rr = rho_min/1.01 passes, "
+                                      "rho_min/0.99 is flagged")
 def test_undercut_threshold_at_one_percent():
     # A steep rise on a small pitch circle: the pitch curve (which depends on Rp = Rb + Rr only) has a
     # smallest convex radius ρ_min. Rr = ρ_min/1.01 must pass; Rr = ρ_min/0.99 must be flagged.
@@ -209,6 +221,7 @@ def test_undercut_threshold_at_one_percent():
     assert not bad.passed
 
 
+@pytest.mark.reference("second method", "shapely finds the offset ring not simple")
 def test_case_built_to_undercut_is_flagged_and_loops():
     # 25 mm in 40° on Rp = 35 mm with Rr = 15 mm: the convex pitch radius falls far below Rr, the
     # offset curve crosses itself, and shapely sees a polygon that is not simple.
@@ -220,6 +233,7 @@ def test_case_built_to_undercut_is_flagged_and_loops():
     assert any("not simple" in reason for reason in result.undercut_reasons)
 
 
+@pytest.mark.reference("closed form", "flat face: rho = Rb + s + a < 0 is a cusp")
 def test_flat_face_cusp_is_flagged():
     # ρ = Rb + s + a < 0 where the deceleration is large on a small base circle.
     law = compose([("rise", 60), ("dwell", 120), ("return", 60), ("dwell", 120)], 25.0, "cycloidal")
@@ -229,6 +243,7 @@ def test_flat_face_cusp_is_flagged():
     assert result.undercut and not result.profile.simple
 
 
+@pytest.mark.reference("closed form", "d_min = max over theta of |v - e|/tan(limit) - s, Rb = sqrt(d_min^2 + e^2) - Rr")
 @pytest.mark.parametrize("offset, cw, reversible", [(0.0, False, False), (8.0, False, False),
                                                      (-8.0, False, True), (8.0, True, False)])
 def test_smallest_base_radius_equals_the_per_angle_closed_form(offset, cw, reversible):
@@ -252,6 +267,8 @@ def test_smallest_base_radius_equals_the_per_angle_closed_form(offset, cw, rever
     assert abs(result.pressure_angle.worst_margin.value) < 1e-8
 
 
+@pytest.mark.reference("property", "the designed Rb gives the smallest convex radius exactly at the 30 mm limit; a "
+                                   "smaller Rb fails")
 def test_smallest_base_radius_for_a_curvature_limit():
     # With ρ_min = 30 mm the design's Rb makes the smallest convex profile radius exactly 30 mm.
     steep = compose([("rise", 60), ("dwell", 120), ("return", 60), ("dwell", 120)], 20.0, "poly345")
@@ -266,6 +283,7 @@ def test_smallest_base_radius_for_a_curvature_limit():
     assert not smaller.curvature_passed
 
 
+@pytest.mark.reference("property", "the designed Rb sits on the pressure-angle limit (margin < 1e-7); below it fails")
 def test_oscillating_design_sits_on_the_limit():
     follower = Follower("oscillating", 40.0, 10.0, pivot=120.0, arm=100.0)
     law = law_for(follower)
@@ -277,6 +295,8 @@ def test_oscillating_design_sits_on_the_limit():
     assert not below.pressure_angle.passed
 
 
+@pytest.mark.reference("property", "a limit between the rise's and the return's peaks fails exactly the phase with "
+                                   "the higher peak")
 def test_pressure_angle_limits_per_phase_and_reversible():
     # On Rb = 25 mm the default law peaks at different |φ| on the rise (cycloidal) and on the return
     # (3-4-5). A limit halfway between the two peaks fails exactly the phase with the higher peak;
@@ -299,6 +319,8 @@ def test_pressure_angle_limits_per_phase_and_reversible():
     assert synthesize(LAW, not_reversible, FAST).pressure_angle.passed is bool(rise < back)
 
 
+@pytest.mark.reference("closed form", "a return 10 % short leaves s(360) = 0.1 h: the profile opens by that along the "
+                                      "axis")
 def test_unbalanced_drawn_law_does_not_close():
     # A drawn acceleration whose return is 10 % short: s(360°) = 0.1·h, so the pitch curve and the
     # profile (translating, e = 0) open by exactly that amount along the follower axis.
@@ -316,6 +338,7 @@ def test_unbalanced_drawn_law_does_not_close():
     assert not result.passed and any("does not close" in note for note in result.notes)
 
 
+@pytest.mark.reference("property", "a balanced polyline law closes (gap < 1e-12) within the chord tolerance")
 def test_balanced_drawn_law_closes_and_meets_the_tolerance():
     # Constant-acceleration rise and return drawn as a polyline (jumps of a at the knots).
     beta, h = math.pi / 2, 20.0
@@ -329,6 +352,7 @@ def test_balanced_drawn_law_closes_and_meets_the_tolerance():
     assert result.profile.polyline.max_deviation <= FAST.tol_mm
 
 
+@pytest.mark.reference("property", "a 180 deg law makes a two-lobe cam unchanged by a half turn (shapely distance)")
 def test_two_lobe_cam_is_symmetric():
     # A law over 180° makes a cam with two lobes: the profile is unchanged by a half turn.
     law = compose([("rise", 60), ("dwell", 30), ("return", 60), ("dwell", 30)], 10.0, "cycloidal", cycle_deg=180.0)
@@ -340,12 +364,14 @@ def test_two_lobe_cam_is_symmetric():
     assert np.max(shapely.distance(shapely.points(turned), ring)) < FAST.tol_mm
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_law_cycle_must_divide_a_turn():
     law = compose([("rise", 100), ("return", 100), ("dwell", 50)], 10.0, cycle_deg=250.0)
     with pytest.raises(CamcadError, match="does not divide"):
         synthesize(law, Follower("roller", 40.0, 8.0), FAST)
 
 
+@pytest.mark.reference("closed form", "oscillating follower: Rb + Rr = sqrt(C^2 + L^2 - 2CL cos g0)")
 def test_parse_follower_table():
     follower = parse_follower({"type": "roller", "base_radius": 40, "roller_radius": 8, "offset": 5,
                                "pressure_angle_limit_rise": 28, "reversible": True, "cw": True}, "s.toml [follower]")
@@ -361,6 +387,8 @@ def test_parse_follower_table():
         "pressure_angle_limit_rise", "pressure_angle_limit_return", "reversible", "cw"}
 
 
+@pytest.mark.reference("closed form", "tan phi = (v - e)/(sqrt(Rp^2 - e^2) + s) reaches the 30 deg limit at the sized "
+                                      "base radius")
 @pytest.mark.parametrize("table", [
     {"type": "oscillating", "roller_radius": 10, "pivot": 120, "arm": 100, "pressure_angle_limit_rise": 30,
      "pressure_angle_limit_return": 40},
@@ -385,6 +413,7 @@ def test_auto_base_radius_for_every_follower(table):
         assert phi.max() == pytest.approx(30.0, abs=1e-6)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("table, message", [
     ({"type": "roller", "base_radius": 40, "roler_radius": 8}, "did you mean 'roller_radius'"),
     ({"type": "roller", "base_radius": 40}, "roller_radius"),
@@ -400,6 +429,8 @@ def test_parse_follower_errors(table, message):
         parse_follower(table, "scene.toml [follower]")
 
 
+@pytest.mark.reference("closed form", "law.csv: s at 60 deg of the cycloidal rise is h/2; the files written as "
+                                      "documented")
 def test_cli_default_run_in_a_fresh_directory(cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     run = cli("profile")
@@ -428,6 +459,7 @@ def test_cli_default_run_in_a_fresh_directory(cli, tmp_path, monkeypatch):
     assert float(row["s_mm"]) == pytest.approx(12.5, rel=1e-11)
 
 
+@pytest.mark.reference("property", "a base radius too small fails the pressure angle (exit 1); --auto-rb passes")
 def test_cli_json_failures_and_errors(cli, tmp_path):
     good = cli("profile", "--json", "--no-plots", "-o", tmp_path / "a", "--arcs")
     assert good.code == 0
@@ -448,6 +480,7 @@ def test_cli_json_failures_and_errors(cli, tmp_path):
     assert osc.code == 0 and osc.json()["swing_deg"] == pytest.approx(15.0, rel=1e-9)
 
 
+@pytest.mark.reference("second method", "shapely's is_simple and is_valid on random star-shaped and broken rings")
 def test_the_star_shaped_shortcut_never_calls_a_self_intersecting_ring_simple():
     # synth._is_simple skips shapely for rings that turn once about the cam axis; shapely (an
     # independent implementation) must find every such ring simple and valid, also when the axis is

@@ -508,12 +508,14 @@ def test_committed_drawing_reads_as_meant(case, cli):
     assert_read_as_meant(case, _check(cli, path))
 
 
+@pytest.mark.reference("property", "the committed byte-level files are what this module writes")
 def test_byte_level_files_are_what_the_fixtures_hold():
     for name, data in (("openscad_2019", openscad_2019(openscad_rings())),
                        ("openscad_2021", openscad_2021(openscad_rings()))):
         assert (FIXTURES / f"{name}.dxf").read_bytes() == data, name
 
 
+@pytest.mark.reference("property", "the reading notes are printed and in the JSON")
 def test_notes_are_printed_and_in_the_json(made, cli):
     path = made("ezdxf_no_dwell")
     payload = _check(cli, path)
@@ -614,6 +616,7 @@ def test_no_zero_between_the_lobes_uses_the_velocity_and_says_how_to_state_it():
     assert math.degrees(reading.phases[0].end) == pytest.approx(180.0, abs=1e-6)
 
 
+@pytest.mark.reference("closed form", "lobe areas 50 - 30 - 20: the velocity changes sign at 200 deg, nearer 220")
 def test_several_zeros_between_the_lobes_are_named():
     # the decelerating and accelerating lobes between rise and return drawn as three lobes touching zero twice
     spec = ((0, 50, PEAK), (50, 80, -PEAK), (80, 110, -PEAK), (110, 140, -PEAK), (140, 180, PEAK))
@@ -656,6 +659,7 @@ def _one_line(result) -> str:
     return lines[0]
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_gap_larger_than_a_missed_snap_is_refused_naming_it(cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)   # the one line names the file: a short name keeps it whole
     twin = polyline(DWELL_RISE_RETURN_TWIN)
@@ -664,6 +668,7 @@ def test_a_gap_larger_than_a_missed_snap_is_refused_naming_it(cli, tmp_path, mon
     assert "close that gap" in line and "0.5 drawing units short of LWPOLYLINE" in line
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_plateaus_that_no_jump_can_join_are_refused_naming_the_place(cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     lines = plateau_lines(PLATEAUS) + [((45.0, 5.0), (60.0, 5.0))]    # a third loose end where two plateaus meet
@@ -671,6 +676,7 @@ def test_plateaus_that_no_jump_can_join_are_refused_naming_the_place(cli, tmp_pa
     assert "plateaus drawn without risers cannot be joined: 3 loose ends meet at x = 85" in line
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_horizontal_lines_that_do_not_meet_get_advice_that_helps(cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     lines = [((0.0, 0.0), (30.0, 0.0)), ((35.0, 10.0), (90.0, 10.0)), ((95.0, -10.0), (150.0, -10.0))]
@@ -679,12 +685,14 @@ def test_horizontal_lines_that_do_not_meet_get_advice_that_helps(cli, tmp_path, 
     assert "draw the jumps between them" in line
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_closed_curve_that_is_not_a_band_is_still_refused(cli, tmp_path):
     circle = np.column_stack((50 * np.cos(np.linspace(0, 2 * np.pi, 181)), 50 * np.sin(np.linspace(0, 2 * np.pi, 181))))
     line = _one_line(cli("check", ezdxf_law(tmp_path / "cam.dxf", None, pieces=[circle], axis=False)))
     assert "it is closed" in line
 
 
+@pytest.mark.reference("property", "a drawing with entities is never called empty; its contents are listed")
 def test_no_entities_is_never_said_of_a_drawing_that_holds_some(cli, tmp_path):
     import ezdxf
 
@@ -698,6 +706,8 @@ def test_no_entities_is_never_said_of_a_drawing_that_holds_some(cli, tmp_path):
     assert "no entities in the model space or any layout" in _one_line(cli("check", tmp_path / "empty.dxf"))
 
 
+@pytest.mark.reference("property", "a model space of block references without curves: the law read from the sheet, "
+                                   "said so")
 def test_a_model_space_of_block_references_without_curves_sends_the_reader_to_the_sheet(cli, tmp_path):
     import ezdxf
 
@@ -714,6 +724,7 @@ def test_a_model_space_of_block_references_without_curves_sends_the_reader_to_th
                                    "paper-space layout 'Layout1'")
 
 
+@pytest.mark.reference("property", "a paper-space law is corrected in its layout, the model space untouched")
 def test_a_paper_space_law_is_corrected_in_its_layout(made, cli, tmp_path):
     import ezdxf
 
@@ -777,6 +788,7 @@ def test_freecad_interpolated_bspline_keeps_its_phases(cli):
                                         ("return", 210, 330), ("dwell", 330, 360)], 1e-6)
 
 
+@pytest.mark.reference("property", "Bezier lobes are not taken for an interpolating spline; fitted splines are")
 def test_a_designers_bezier_lobes_are_not_taken_for_an_interpolating_spline():
     import ezdxf
 
@@ -816,6 +828,8 @@ def test_the_editors_table_reads_back_to_the_same_law(cli, tmp_path, options):
         assert again["areas"][name] == pytest.approx(value, rel=1e-9), name
 
 
+@pytest.mark.reference("property", "the fixed table is in cam degrees, the note says how to read it back; it checks "
+                                   "balanced")
 def test_fix_writes_a_table_in_cam_degrees_and_says_how_to_read_it(cli, tmp_path):
     source = ezdxf_law(tmp_path / "law.dxf", polyline(DWELL_RISE_RETURN))
     out = tmp_path / "law.fixed.csv"

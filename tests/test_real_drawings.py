@@ -515,12 +515,16 @@ def _assert_case(case: str, payload: dict) -> None:
 # Tests
 # --------------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "the law's areas and closures from its own points: lines exactly, Beziers by "
+                                      "Gauss-Legendre (within 1e-3 of the peak)")
 @pytest.mark.parametrize("case", ["inkscape_r12", "inkscape_r12_bezier", "inkscape_r14", "gdal", "freecad_wire",
                                   "freecad_bspline"])
 def test_made_now_by_the_program_reads_with_no_options(case, generated, cli):
     _assert_case(case, _check(cli, generated(case)))
 
 
+@pytest.mark.reference("closed form", "the law's areas and closures from its own points: lines exactly, Beziers by "
+                                      "Gauss-Legendre (within 1e-3 of the peak)")
 @pytest.mark.parametrize("case", list(CASES))
 def test_committed_drawing_reads_with_no_options(case, cli):
     path = FIXTURES / f"{case}.dxf"
@@ -528,6 +532,7 @@ def test_committed_drawing_reads_with_no_options(case, cli):
     _assert_case(case, _check(cli, path))
 
 
+@pytest.mark.reference("property", "the committed byte-level files are what this module writes")
 def test_byte_level_files_are_what_the_fixtures_hold():
     # the committed AutoCAD/LibreCAD-style files are exactly what this module writes
     for name, data in (("autocad_r12_entities", autocad_r12_entities_only()),
@@ -535,6 +540,7 @@ def test_byte_level_files_are_what_the_fixtures_hold():
         assert (FIXTURES / f"{name}.dxf").read_bytes() == data, name
 
 
+@pytest.mark.reference("second method", "Bezier moments by a dense trapezoid rule, arc areas by a polygon of the arc")
 def test_the_references_are_right():
     # the Bézier moments against a dense trapezoid rule, the arc areas against a polygon of the arc
     fine = np.linspace(0, 1, 200_001)
@@ -550,11 +556,13 @@ def test_the_references_are_right():
     assert abs(ref["v_rise"]) > 0  # unbalanced on purpose
 
 
+@pytest.mark.reference("property", "an interpolating spline through dwell points is warned of")
 def test_interpolating_spline_through_dwell_points_is_warned_of(generated, cli):
     payload = _check(cli, generated("freecad_interpolated"))
     assert any("overshoots through the dwell points" in n for n in payload["notes"]), payload["notes"]
 
 
+@pytest.mark.reference("property", "the committed FreeCAD interpolating spline is warned of")
 def test_committed_interpolating_spline_is_warned_of(cli):
     payload = _check(cli, FIXTURES / "freecad_interpolated.dxf")
     warning = [n for n in payload["notes"] if "overshoots" in n]
@@ -562,6 +570,7 @@ def test_committed_interpolating_spline_is_warned_of(cli):
     assert "leaves the zero between the dwell points" in warning[0]
 
 
+@pytest.mark.reference("property", "GDAL writes $INSUNITS 1: the law is read and reported in inches, as the file says")
 def test_gdal_inches_are_reported_in_inches(cli):
     # GDAL writes $INSUNITS 1 whatever the data are: the law is read (and checked) in inches, as the file says
     payload = _check(cli, FIXTURES / "gdal.dxf")

@@ -180,6 +180,7 @@ def test_no_one_calibration_variant_reproduces_the_177_rpm_point():
     assert study.implied_preload_mm[177.0] == pytest.approx(0.0845, abs=0.001)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_published_and_beam_errors():
     with pytest.raises(CamcadError, match="not \\[rpm, value\\]"):
         parse_published({"rebound_mm": [[177, -1.0]]}, "w")

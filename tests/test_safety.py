@@ -44,6 +44,7 @@ def tree(root: Path) -> dict[str, str]:
     return {str(p.relative_to(root)): file_digest(p) for p in sorted(root.rglob("*")) if p.is_file()}
 
 
+@pytest.mark.reference("property", "an output that would replace the input is refused; its digest unchanged")
 @pytest.mark.parametrize("how", ["plain", "dotdot", "symlinked folder", "hard link"])
 def test_profile_never_replaces_its_input(cli, tmp_path, how):
     folder = tmp_path / "p1"
@@ -67,6 +68,7 @@ def test_profile_never_replaces_its_input(cli, tmp_path, how):
     assert file_digest(law) == before
 
 
+@pytest.mark.reference("property", "hostile names stay inside the output folder")
 def test_scene_and_mechanism_names_cannot_leave_the_output_folder(cli, tmp_path, monkeypatch):
     work = tmp_path / "work"
     work.mkdir()
@@ -105,6 +107,8 @@ roller_radius = 10.0
     assert not Path("/abs").exists()
 
 
+@pytest.mark.reference("property", "safe_name maps hostile names to safe ones (.., absolute, device names, 500 "
+                                   "characters)")
 def test_safe_name_rule():
     assert safe_name("../../etc/passwd") == "etc_passwd"
     assert safe_name("/abs/y") == "abs_y"
@@ -114,6 +118,7 @@ def test_safe_name_rule():
     assert all(c.isalnum() or c in "_.-" for c in safe_name("weft returner (1) / Ø 30"))
 
 
+@pytest.mark.reference("property", "a planted symlink is replaced, the file it points at unchanged")
 def test_the_atomic_writer_replaces_a_planted_symlink_instead_of_writing_through_it(tmp_path):
     victim = tmp_path / "victim.txt"
     victim.write_text("precious")
@@ -128,6 +133,7 @@ def test_the_atomic_writer_replaces_a_planted_symlink_instead_of_writing_through
     assert not [p for p in out.iterdir() if p.name.startswith(".report.json.") and not p.is_symlink()]
 
 
+@pytest.mark.reference("property", "a symlink leading outside the output folder is refused")
 def test_a_symlink_in_the_output_folder_cannot_lead_outside(tmp_path):
     outside = tmp_path / "outside"
     outside.mkdir()
@@ -138,6 +144,7 @@ def test_a_symlink_in_the_output_folder_cannot_lead_outside(tmp_path):
         folder.path("mech", "profile.dxf")
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_output_that_is_an_existing_file_or_unwritable_is_one_line(cli, tmp_path):
     existing = tmp_path / "file.txt"
     existing.write_text("x")
@@ -146,6 +153,7 @@ def test_output_that_is_an_existing_file_or_unwritable_is_one_line(cli, tmp_path
     one_line_error(cli("profile", "--no-plots", "-o", existing / "below"))
 
 
+@pytest.mark.reference("property", "a second run into a locked folder is refused")
 def test_a_second_run_into_the_same_folder_waits_for_the_first(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
@@ -161,6 +169,7 @@ def test_a_second_run_into_the_same_folder_waits_for_the_first(tmp_path):
         assert folder.path("a.txt").parent == out
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_huge_value_in_a_scene_gives_a_short_line(cli, tmp_path):
     scene = tmp_path / "s.toml"
     scene.write_text(DEFAULT_SCENE.format(name="big").replace("base_radius = 50.0",
@@ -173,6 +182,7 @@ def test_a_huge_value_in_a_scene_gives_a_short_line(cli, tmp_path):
     assert {k: v for k, v in after.items() if not k.startswith("o/")} == before
 
 
+@pytest.mark.reference("property", "the original kept by fix reads back vertex for vertex with --layer CAMCAD_ORIGINAL")
 def test_the_original_kept_by_fix_is_read_back_exactly(cli, tmp_path):
     # nothing the user drew is lost: the fixed copy keeps the original curve (in a block no reader draws),
     # and --layer CAMCAD_ORIGINAL reads it back, vertex for vertex

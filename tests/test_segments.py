@@ -79,6 +79,8 @@ def test_several_lifts_to_intermediate_stops():
     assert all(j.class_ == "C2" or j.class_ == "C3" for j in law.joints)
 
 
+@pytest.mark.reference("closed form", "v_end = match takes the next segment's start velocity (0.3 rad/rad here), else "
+                                      "rest")
 def test_match_resolves_to_the_next_segments_start_and_defaults_to_rest():
     law = solve_segments(FILLING)
     poly_in, cv, poly_out = law.segments[1:4]
@@ -88,6 +90,7 @@ def test_match_resolves_to_the_next_segments_start_and_defaults_to_rest():
     assert poly_out.motion_class(1e-9, 1e-9) == "G-R"
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("specs, match", [
     ([SegmentSpec(60, "dwell"), SegmentSpec(180, "poly5", 20.0, v_end=0.2), SegmentSpec(200, "dwell"),
       SegmentSpec(360, "poly5", 0.0)], r"segment 3 \(dwell\) rests but segment 2 \(poly5\) arrives"),
@@ -114,6 +117,7 @@ def test_impossible_specifications_are_refused_in_one_line_naming_the_segment(sp
     assert "\n" not in message and "segment" in caught.value.where
 
 
+@pytest.mark.reference("property", "parse(format(specs)) == specs; malformed text refused with the reason")
 def test_text_form_round_trips():
     text = "0:60:dwell,60:140:poly5:12:v_end=match,140:200:constant_velocity:30,200:240:poly5:36,240:330:" \
            "modified_sine:0:lambda=0.4,330:360:dwell"
@@ -141,6 +145,8 @@ def test_retimed_segment_keeps_its_end_values():
         math.degrees(0.3), rel=1e-13)
 
 
+@pytest.mark.reference("property", "a segment law through the scene pipeline: its phases as written, the profile "
+                                   "closed, the limits noted")
 def test_scene_with_segments_runs_the_pipeline(cli, tmp_path):
     result = cli("profile", "samples/scenes/filling_stroke.toml", "-o", tmp_path / "out", "--no-plots", "--json")
     assert result.code == 0, result.err
@@ -152,6 +158,7 @@ def test_scene_with_segments_runs_the_pipeline(cli, tmp_path):
     assert any("no neighbouring dwell" in note for note in report["phase_limit_notes"])
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("segment, match", [
     ('v_end = "fast"', "'v_end' must be \"match\" or a number"),
     ("speed = 3", "unknown key 'speed'"),
@@ -166,6 +173,8 @@ def test_scene_segment_errors(cli, tmp_path, segment, match):
     assert len(result.err.strip().splitlines()) == 1
 
 
+@pytest.mark.reference("property", "stated end positions and velocities parsed as written; a dwell with a velocity "
+                                   "refused")
 def test_stated_phases_parse_with_positions_and_velocities():
     phases = parse_phases("0:60:rise:12:0.3,60:100:rise:20,100:300:return:0,300:360:dwell", 360.0)
     assert phases[0].s_end == 12.0 and phases[0].v_end == pytest.approx(math.degrees(0.3))
@@ -203,6 +212,7 @@ def test_segments_in_a_cyclogram_scene_retime_like_the_standard_law(cli, tmp_pat
             assert mine[source] == pytest.approx(other[source], abs=1e-8), (label, source)
 
 
+@pytest.mark.reference("property", "profile --segments gives the law described; with --phases it is refused")
 def test_profile_takes_segments_on_the_command_line(cli, tmp_path):
     text = ",".join(f"{start:g}:{spec.to_deg:g}:{spec.shape}" + (f":{spec.to_mm:g}" if spec.to_mm is not None else "")
                     + (":v_end=match" if spec.v_end == "match" else "")

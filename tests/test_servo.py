@@ -177,6 +177,8 @@ def test_twincat_motion_function_parses_and_interpolates_the_law(cli, tmp_path):
     assert worst <= 1e-9 * LIFT
 
 
+@pytest.mark.reference("property", "a normalised table runs 0 to 1 over the 18 deg stroke; bad options refused in one "
+                                   "line")
 def test_normalised_oscillating_table_and_bad_options(cli, tmp_path):
     scene = tmp_path / "osc.toml"
     scene.write_text(f"""

@@ -121,6 +121,8 @@ def test_twist_scales_with_the_shaft_compliance(sample_machine):
         assert np.max(np.abs(hard.twist_distortion(k))) < 0.02 * np.max(np.abs(base.twist_distortion(k)))
 
 
+@pytest.mark.reference("property", "each cam on the shaft gets the machine's retimed law (rise at event 10.2); twist "
+                                   "and distortion reported per cam")
 def test_sample_reports_each_followers_distortion(sample_machine):
     report = sample_machine.report["shaft"]
     assert [c["mechanism"] for c in report["cams"]] == ["group2:heald", "group2:batten"]
@@ -134,6 +136,7 @@ def test_sample_reports_each_followers_distortion(sample_machine):
     assert math.degrees(rise.start) == pytest.approx(sample_machine.result.result.event_times_deg["10.2"], abs=1e-7)
 
 
+@pytest.mark.reference("property", "no [shaft]: no shaft model, the report says the shaft is taken as rigid")
 def test_the_shaft_is_modelled_only_when_the_scene_gives_it(tmp_path):
     from camcad.scene.machine import analyse_machine
     from camcad.scene.pipeline import PipelineOptions
@@ -149,6 +152,7 @@ def test_the_shaft_is_modelled_only_when_the_scene_gives_it(tmp_path):
     assert "rigid" in found.report["skipped"]["shaft"]
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("edit, pattern", [
     (lambda s: s.replace('cams = ["group2:heald", "group2:batten"]', 'cams = ["group2:heald", "group3:batten"]'),
      "is not \"GROUP:MECHANISM\" of a group"),

@@ -169,6 +169,7 @@ def test_leximin_on_a_hand_worked_network():
     assert found.margins["a->x"] == pytest.approx(3.0, abs=1e-12)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_unknown_schedule_is_refused():
     from camcad.errors import CamcadError
 

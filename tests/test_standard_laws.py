@@ -58,6 +58,7 @@ def numeric_peak(shape, order: int) -> float:
     return max(best, -float(res.fun))
 
 
+@pytest.mark.reference("second method", "the peaks of each shape's f', f'', f''' found numerically on a dense grid")
 @pytest.mark.parametrize("name", sorted(standard.SHAPES))
 def test_peak_coefficients_are_the_true_peaks(name):
     # Every shape's closed-form Cv, Ca, Cj equal the peaks of its own f', f'', f''' found numerically.
@@ -67,6 +68,7 @@ def test_peak_coefficients_are_the_true_peaks(name):
         assert numeric_peak(shape, order) == pytest.approx(closed, rel=1e-9, abs=1e-12)
 
 
+@pytest.mark.reference("closed form", "Cv, Ca, Cj derived by hand for each standard shape (Norton 2009 ch. 3)")
 @pytest.mark.parametrize("name", sorted(CLOSED_FORMS))
 def test_peak_coefficients_equal_hand_derived_closed_forms(name):
     peaks = peak_coefficients(shape_named(name))
@@ -76,6 +78,8 @@ def test_peak_coefficients_equal_hand_derived_closed_forms(name):
     assert peaks.cj == pytest.approx(cj, rel=1e-9, abs=1e-12)
 
 
+@pytest.mark.reference("published", "Norton 2009, Cam Design and Manufacturing Handbook, table of Cv, Ca, Cj (4-5 "
+                                    "significant figures)")
 @pytest.mark.parametrize("name", sorted(NORTON_TABLE))
 def test_modified_laws_match_nortons_table(name):
     # Published to 4–5 significant figures, so compared at 5e-5 relative.
@@ -84,6 +88,8 @@ def test_modified_laws_match_nortons_table(name):
         assert ours == pytest.approx(published, rel=5e-5)
 
 
+@pytest.mark.reference("closed form", "which shapes' f'' jumps against a dwell (harmonic, constant acceleration) or "
+                                      "mid-rise")
 def test_acceleration_jumps_flag():
     # f'' jumps against a dwell (harmonic, constant acceleration: b = 0) or mid-rise (d = 0).
     jumps = {name: peak_coefficients(shape).acceleration_jumps for name, shape in standard.SHAPES.items()}
@@ -91,6 +97,7 @@ def test_acceleration_jumps_flag():
                      "modified_trapezoid": False, "modified_sine": False, "constant_acceleration": True}
 
 
+@pytest.mark.reference("closed form", "Norton's SCCA family: b = d = 1/2 is the cycloid, d = 1 the simple harmonic")
 @pytest.mark.parametrize("members", [((0.5, 0.0, 0.5), standard.Cycloidal()),
                                      ((0.0, 0.0, 1.0), standard.SimpleHarmonic())])
 def test_scca_members_equal_the_named_laws(members):
@@ -102,6 +109,8 @@ def test_scca_members_equal_the_named_laws(members):
         assert np.allclose(member.evaluate(u, order), named.evaluate(u, order), rtol=0, atol=1e-12)
 
 
+@pytest.mark.reference("second method", "Cauchy's formula f(x) = int_0^x (x - u) f''(u) du by scipy quad, piece by "
+                                        "piece")
 @settings(max_examples=80, deadline=None)
 @given(st.one_of(st.just(0.0), st.floats(1e-6, 1.0)), st.floats(0.0, 1.0))
 def test_scca_integrates_to_a_unit_rise(b, fraction):
@@ -126,6 +135,7 @@ def test_scca_integrates_to_a_unit_rise(b, fraction):
     assert np.allclose(ends, [0.0, 0.5, 1.0], atol=1e-13)
 
 
+@pytest.mark.reference("second method", "central differences of f^(k) against f^(k+1), to 1e-6")
 @pytest.mark.parametrize("name", sorted(standard.SHAPES))
 def test_derivative_orders_are_consistent(name):
     # Central differences of f^(k) reproduce f^(k+1) (away from the pieces' edges), to 1e-6.
@@ -142,6 +152,7 @@ def test_derivative_orders_are_consistent(name):
         assert np.max(np.abs(difference - exact)) <= 1e-6 * scale
 
 
+@pytest.mark.reference("closed form", "peak acceleration Ca h / beta^2; s and v back to 0 at every phase end")
 def test_compose_with_modified_sine_closes_and_peaks():
     # A dwell-rise-dwell-return cycle: s returns to 0, v is 0 at every phase end, and the peak
     # acceleration is Ca h / β² (β = 90° for both moving phases).
@@ -155,6 +166,7 @@ def test_compose_with_modified_sine_closes_and_peaks():
     assert np.max(kin.a) == pytest.approx(standard.MODIFIED_SINE.ca * 20.0 / beta**2, rel=1e-6)
 
 
+@pytest.mark.reference("property", "a shape named by its parameters b:c:d; bad names refused with the reason")
 def test_scca_by_name_and_bad_names():
     shape = shape_named("scca:0.2:0.3:0.5")
     assert (shape.b, shape.c, shape.d) == (0.2, 0.3, 0.5)
@@ -169,6 +181,7 @@ def test_scca_by_name_and_bad_names():
         scca(1e-12, 0.5, 0.5 - 1e-12)
 
 
+@pytest.mark.reference("closed form", "the modified trapezoid's pieces meet at u = 1/8, 3/8, 1/2, 5/8, 7/8")
 def test_composite_breakpoints_include_the_inner_pieces():
     # modified trapezoid over [0°, 120°]: its pieces meet at u = 1/8, 3/8, 1/2, 5/8, 7/8.
     law = compose([("rise", 120), ("dwell", 60), ("return", 120), ("dwell", 60)], 10.0, "modified_trapezoid")
@@ -178,6 +191,8 @@ def test_composite_breakpoints_include_the_inner_pieces():
     assert law.describe().startswith("rise modified_trapezoid 0-120, dwell 120-180")
 
 
+@pytest.mark.reference("closed form", "harmonic rise: a jumps to pi^2 h/(2 beta^2) (infinite jerk), cycloid's jerk "
+                                      "peak 4 pi^2")
 def test_laws_with_acceleration_jumps_have_an_infinite_peak_jerk():
     # the acceleration of a simple harmonic rise jumps from 0 (dwell) to π²h/(2β²): its jerk has a Dirac there
     harmonic = peak_coefficients(standard.SHAPES["harmonic"])
@@ -188,6 +203,8 @@ def test_laws_with_acceleration_jumps_have_an_infinite_peak_jerk():
     assert cycloidal.jerk == pytest.approx(4 * math.pi**2, rel=1e-12) and cycloidal.to_dict()["cj"] is not None
 
 
+@pytest.mark.reference("second method", "the array route kinematics(theta) against the scalar fast path, angle by "
+                                        "angle")
 def test_the_scalar_acceleration_equals_the_array_one_at_every_angle():
     # acceleration_at (the ODE right-hand side's fast path) against kinematics(...).a, composed and drawn
     # laws, angles inside and outside the cycle, at segment starts and at a jump

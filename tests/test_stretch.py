@@ -35,6 +35,7 @@ PARAMS = ContactParams(cam_modulus=2.1e5, cam_poisson=0.3, follower_modulus=2.1e
 SPEEDS = [280.0, 300.0, 330.0, 360.0, 390.0, 420.0]
 
 
+@pytest.mark.reference("second method", "the direct route: the law retimed and the cam rebuilt at each width")
 @pytest.mark.parametrize("name", sorted(FOLLOWERS))
 @pytest.mark.parametrize("index", [1, 3])
 def test_pressure_relation_equals_the_direct_route(name, index):
@@ -45,6 +46,7 @@ def test_pressure_relation_equals_the_direct_route(name, index):
     np.testing.assert_allclose(fast, direct, rtol=1e-9)
 
 
+@pytest.mark.reference("second method", "the direct route's contact stress, infinite where it is inadmissible")
 @pytest.mark.parametrize("name", ["roller", "offset roller, cw"])
 @pytest.mark.parametrize("index", [1, 3])
 def test_stress_relation_equals_the_direct_route_including_inadmissible_widths(name, index):
@@ -58,6 +60,8 @@ def test_stress_relation_equals_the_direct_route_including_inadmissible_widths(n
     np.testing.assert_allclose(fast[finite], direct[finite], rtol=1e-9)
 
 
+@pytest.mark.reference("second method", "the scalar root finder (camcad.cyclogram.limits.least_phase_angle) on the "
+                                        "same relation")
 def test_least_angle_equals_the_scalar_root_finder():
     table = FOLLOWERS["roller"]
     for index in (1, 3):
@@ -71,6 +75,7 @@ def test_least_angle_equals_the_scalar_root_finder():
         assert fast.value <= 900.0 + 1e-6
 
 
+@pytest.mark.reference("closed form", "hand-made relations with known crossings at 50 and 20 deg")
 def test_least_angle_bounds_behave_like_the_scalar_root_finder():
     def relation(widths):   # a falling stress with an inadmissible region below 20 deg
         widths = np.asarray(widths, dtype=float)
@@ -86,6 +91,7 @@ def test_least_angle_bounds_behave_like_the_scalar_root_finder():
     assert math.isfinite(at_jump.value)
 
 
+@pytest.mark.reference("closed form", "centred roller: tan phi_max(t) = (beta/t) tan phi_max(beta)")
 @pytest.mark.parametrize("index", [1, 3])
 def test_closed_form_least_width_of_a_centred_roller_equals_root_finding_and_the_direct_route(index):
     # tan φ_max(t) = (β/t) tan φ_max(β) for a translating roller without offset: the closed form must give

@@ -19,6 +19,7 @@ def cluster():
         yield found
 
 
+@pytest.mark.reference("second method", "the same sweep on the local process pool: byte-identical Parquet files")
 def test_a_local_cluster_gives_the_local_pool_s_parquet(tmp_path, cli, cluster):
     from camcad.sweep.store import read_results
 

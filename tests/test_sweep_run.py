@@ -48,6 +48,8 @@ def read(folder: Path):
 # a design's row against independent routes
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("second method", "the same design written by hand as a scene and run by camcad profile; tan "
+                                        "phi = v/(Rb + Rr + s) in closed form")
 def test_a_row_holds_the_figures_of_the_scene_written_by_hand(tmp_path, cli):
     result = cli("sweep", "--vary", "law.phases.rise=75", "--vary", "follower.base_radius=44.5", "--workers", "1",
                  "-o", tmp_path, "--no-plots", "--no-best", "--json")
@@ -81,6 +83,7 @@ def without_least_phase_angles(figures):
     return [f for f in figures if not f.name.endswith(" phase angle")]
 
 
+@pytest.mark.reference("second method", "the full pipeline on the same design: the same checks")
 def test_checks_only_gives_the_same_checks_as_the_full_pipeline():
     tables = default_tables()
     weft = tomllib.loads((SCENES / "loom_group1.toml").read_text())["mechanisms"]["weft_returner"]
@@ -107,6 +110,7 @@ def test_checks_only_gives_the_same_checks_as_the_full_pipeline():
         assert "design" not in quick and "phase_limits" not in quick
 
 
+@pytest.mark.reference("second method", "the full pipeline on the same group: the same retimed laws and figures")
 def test_checks_only_gives_the_same_figures_for_a_group_with_a_cyclogram():
     # the cyclogram retimes the laws: its least phase angles are solved as in the full pipeline (same memo),
     # so the retimed laws, and every figure after them, are the same to the last bit
@@ -123,6 +127,8 @@ def test_checks_only_gives_the_same_figures_for_a_group_with_a_cyclogram():
 # the feasible boundary
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "the least base radius meeting the pressure-angle limit (the per-angle closed "
+                                      "form) and profile --auto-rb")
 def test_the_boundary_agrees_with_the_closed_form_and_with_auto_rb(tmp_path, cli):
     step = 2.0
     rises = (60.0, 66.0, 80.0, 100.0)   # least Rb above the grid (61 mm), inside it (53.5, 40.5), below it (28.4)
@@ -165,6 +171,8 @@ def test_the_boundary_agrees_with_the_closed_form_and_with_auto_rb(tmp_path, cli
 VARY = ["--vary", "follower.base_radius=30:50:4", "--vary", "law.phases.rise=60,90,120,200"]   # 200: refused
 
 
+@pytest.mark.reference("property", "a stopped sweep resumes from its chunks and computes each design once; mixing "
+                                   "sweeps refused")
 def test_a_stopped_sweep_resumes_where_it_stopped_and_computes_each_design_once(tmp_path, cli):
     stopped = tmp_path / "stopped"
     first = cli("sweep", *VARY, "--chunk", "4", "--workers", "1", "-o", stopped, "--stop-after-chunks", "2",
@@ -195,6 +203,8 @@ def test_a_stopped_sweep_resumes_where_it_stopped_and_computes_each_design_once(
     assert all(r["law.phases.rise"] == 200 and not r["feasible"] for r in refused)
 
 
+@pytest.mark.reference("second method", "the best design recomputed here: the least feasible radius of the grid, then "
+                                        "the widest rise")
 def test_outputs_best_scene_and_report(tmp_path, cli):
     result = cli("sweep", "--vary", "follower.base_radius=30:46:8", "--vary", "law.phases.rise=60,90,120",
                  "--objective", "min:follower.base_radius", "--objective", "max:pressure angle, rise",
@@ -235,6 +245,8 @@ def test_outputs_best_scene_and_report(tmp_path, cli):
     assert not any("time" in name for name in schema.names)     # timings are in report.json only
 
 
+@pytest.mark.reference("property", "every grid point sees the same draws; feasible-in-every-draw counted per grid "
+                                   "point")
 def test_a_monte_carlo_sweep_is_judged_per_grid_point(tmp_path, cli):
     result = cli("sweep", "--vary", "follower.base_radius=36,60", "--vary", "law.phases.rise=80",
                  "--vary", "follower.roller_radius=normal(10,2)", "--samples", "3", "--seed", "5",
@@ -249,6 +261,7 @@ def test_a_monte_carlo_sweep_is_judged_per_grid_point(tmp_path, cli):
     assert report["counts"]["grid_points_feasible_in_every_draw"] == sum(robust)
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("args, words", [
     (["--vary", "follower.base_radus=30:40:1"], "did you mean 'follower.base_radius'?"),
     (["--vary", "follower.base_radius=40:30:1"], "runs backwards"),
@@ -269,6 +282,7 @@ def test_bad_input_is_one_line(tmp_path, cli, args, words):
     assert words in line and "\n" not in line and len(line) < 300 and "Traceback" not in line
 
 
+@pytest.mark.reference("property", "without the sweep extra: one line naming pip install 'camcad[sweep]'")
 def test_a_missing_extra_is_one_line(tmp_path, cli, monkeypatch):
     import sys
 
@@ -281,6 +295,7 @@ def test_a_missing_extra_is_one_line(tmp_path, cli, monkeypatch):
     assert result.code == 2 and "dask.distributed" in result.err and "camcad[sweep]" in result.err
 
 
+@pytest.mark.reference("property", "an output folder that would replace the input is refused; the scene unchanged")
 def test_an_output_never_replaces_an_input(tmp_path, cli):
     scene = tmp_path / "best.toml"
     scene.write_text((SCENES / "shuttle_lift.toml").read_text())

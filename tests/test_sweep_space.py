@@ -39,6 +39,7 @@ def loom() -> dict:
 # keys
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "keys resolve to their tables, kinds and units")
 def test_keys_of_a_single_mechanism_and_of_a_group():
     t = default_tables()
     key = resolve_key("follower.base_radius", t)
@@ -53,6 +54,7 @@ def test_keys_of_a_single_mechanism_and_of_a_group():
     assert resolve_key("cyclogram.start_deg", loom()).unit == "deg"
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("path, words", [
     ("follower.base_radus", "did you mean 'follower.base_radius'?"),
     ("contact.width", "the scene has no [contact] section"),
@@ -68,6 +70,7 @@ def test_a_key_the_scene_does_not_have_is_one_line(path, words):
     assert words in message and "\n" not in message and len(message) < 300
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_a_drawn_law_s_phase_angles_are_not_varied():
     t = {"law": {"file": "x.dxf", "phases": "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"},
          "follower": {"base_radius": 50.0, "roller_radius": 10.0}}
@@ -79,6 +82,7 @@ def test_a_drawn_law_s_phase_angles_are_not_varied():
 # specs
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "A:B:S gives A + i S rounded, B included only on the grid")
 def test_a_range_is_a_plus_i_step_without_accumulated_round_off():
     key = resolve_key("follower.base_radius", default_tables())
     values = parse_spec(key, "30:80:0.5").values
@@ -89,6 +93,7 @@ def test_a_range_is_a_plus_i_step_without_accumulated_round_off():
     assert parse_spec(key, "30:31:0.3").values == (30.0, 30.3, 30.6, 30.9)   # B off the grid: not included
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("key, spec, words", [
     ("follower.base_radius", "30:20:1", "runs backwards"),
     ("follower.base_radius", "30:40:0", "step must be positive"),
@@ -113,6 +118,7 @@ def test_a_bad_spec_is_one_line(key, spec, words):
     assert words in message and "\n" not in message and len(message) < 300
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_samples_go_with_distributions():
     t = default_tables()
     with pytest.raises(CamcadError, match="--samples"):
@@ -129,6 +135,8 @@ def test_samples_go_with_distributions():
 # design ids and draws
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("property", "design ids enumerate the grid (last key fastest) then the draws; common random "
+                                   "numbers")
 def test_design_ids_enumerate_the_grid_last_key_fastest_then_the_draws():
     t = default_tables()
     space = build_space(t, ["follower.base_radius=30:34:2", "law.standard=cycloidal,harmonic",
@@ -153,6 +161,7 @@ def test_design_ids_enumerate_the_grid_last_key_fastest_then_the_draws():
     assert build_space(t, ["follower.roller_radius=uniform(9,11)"], samples=4, seed=8).values(0) != space.values(0)
 
 
+@pytest.mark.reference("property", "the sample mean and s.d. within 4 standard errors of the asked 50 and 0.2")
 def test_normal_draws_have_the_asked_mean_and_spread():
     # reference: the distribution's own parameters; tolerance 4 standard errors of the mean and of the s.d.
     space = build_space(default_tables(), ["follower.base_radius=normal(50,0.2)"], samples=4000, seed=1)
@@ -166,6 +175,7 @@ def test_normal_draws_have_the_asked_mean_and_spread():
 # a design's scene
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.reference("closed form", "phases stretched by hand: the next dwell takes up the change")
 def test_a_phase_angle_keeps_its_start_and_the_next_dwell_takes_up_the_change():
     t = default_tables()   # 0:120:rise,120:180:dwell,180:300:return,300:360:dwell
     assert stretched_phases(t["law"]["phases"], "rise", 75.5) == \
@@ -178,6 +188,7 @@ def test_a_phase_angle_keeps_its_start_and_the_next_dwell_takes_up_the_change():
         stretched_phases(t["law"]["phases"], "rise", 200)
 
 
+@pytest.mark.reference("property", "values written into a copy; the scene itself untouched")
 def test_values_are_written_into_a_copy_of_the_scene():
     t = default_tables()
     space = build_space(t, ["law.phases.rise=90", "follower.base_radius=41", "machine.rpm=300"])
@@ -203,6 +214,7 @@ def _dominated(costs: np.ndarray, i: int) -> bool:
     return bool(np.any(np.all(costs <= costs[i], axis=1) & np.any(costs < costs[i], axis=1)))
 
 
+@pytest.mark.reference("second method", "the Pareto front by brute-force pairwise domination")
 @pytest.mark.parametrize("k", [2, 3])
 def test_pareto_front_equals_brute_force(k):
     rng = np.random.default_rng(3)
@@ -221,6 +233,8 @@ def test_pareto_front_equals_brute_force(k):
     assert pareto_front(values, senses).tolist() == unique
 
 
+@pytest.mark.reference("closed form", "hand-made rows: the lexicographic best is row 3 (then 4), none when nothing is "
+                                      "feasible")
 def test_best_design_is_lexicographic_over_feasible_rows():
     points = {"design": np.arange(6), "feasible": np.array([False, True, True, True, True, True]),
               "r": np.array([10.0, 30.0, 20.0, 20.0, 25.0, 20.0]), "m": np.array([9.0, 0.1, 0.2, 0.5, 0.9, 0.5])}
@@ -229,6 +243,7 @@ def test_best_design_is_lexicographic_over_feasible_rows():
     assert best_index({**points, "feasible": np.zeros(6, bool)}, [Objective("min", "r")]) is None
 
 
+@pytest.mark.reference("property", "boundaries and objectives parsed as written; bad ones refused with the reason")
 def test_boundary_and_objective_parsing():
     x = np.repeat([60.0, 90.0, 120.0], 4)
     y = np.tile([30.0, 31.0, 32.0, 33.0], 3)
@@ -244,6 +259,7 @@ def test_boundary_and_objective_parsing():
         parse_objective("smallest:follower.base_radius", names)
 
 
+@pytest.mark.reference("property", "tomllib reads back every sample scene as written")
 def test_scene_toml_round_trips_every_sample_scene():
     from camcad.report.sweep import scene_toml
 
@@ -254,6 +270,7 @@ def test_scene_toml_round_trips_every_sample_scene():
     assert tomllib.loads(scene_toml(odd)) == odd
 
 
+@pytest.mark.reference("property", "one design: size 1, its values; no second design")
 def test_a_design_space_of_one_design():
     space = DesignSpace((parse_spec(resolve_key("follower.base_radius", default_tables()), "50"),))
     assert space.size == 1 and space.values(0) == {"follower.base_radius": 50.0}
@@ -261,6 +278,7 @@ def test_a_design_space_of_one_design():
         space.values(1)
 
 
+@pytest.mark.reference("property", "the module's docstring examples run and print what they say")
 @pytest.mark.parametrize("module", ["camcad.sweep.space", "camcad.sweep.analysis", "camcad.sweep.run",
                                     "camcad.sweep.evaluate", "camcad.report.sweep"])
 def test_the_docstring_examples_run(module):
@@ -271,6 +289,7 @@ def test_the_docstring_examples_run(module):
     assert result.failed == 0 and result.attempted > 0
 
 
+@pytest.mark.reference("property", "each model's checks become columns named by the model, margins and units kept")
 def test_a_model_s_own_checks_become_columns_named_by_the_model():
     # the JSON form of camcad.verdict.Check (value, limit, margin, ...) as a model's report carries it
     from camcad.sweep.evaluate import design_checks

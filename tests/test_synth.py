@@ -71,6 +71,7 @@ def test_synth_meets_the_rms_error_with_the_least_harmonics(cli, tmp_path, kind,
     assert [r["amplitude_mm"] for r in data["series"]] == pytest.approx(list(spectrum.amplitudes[:n]), rel=1e-8)
 
 
+@pytest.mark.reference("property", "the written law checks (exit 0) and carries the phases it was synthesised with")
 def test_the_synthesised_law_reads_back_with_its_phases(cli, tmp_path):
     run = cli("synth", "--lift", 0.421, "--unit", "rad", "--tachogram", "DRTD", "--rise", 64, "--return", 64,
               "--start", 100, "--shape", "harmonic", "--tol", 4e-5, "-o", tmp_path / "out", "--json")
@@ -104,6 +105,7 @@ def test_a_drawn_law_joins_the_database(cli, tmp_path):
     assert data["patterns"]["balanced_drdr_cycloidal_rise"] == "quadrature"
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("args,expected", [
     (("--lift", "1", "--tachogram", "RT", "--rise", "100", "--return", "100"), "fills the cycle"),
     (("--lift", "1", "--tachogram", "XYZ", "--rise", "100", "--return", "100"), "unknown tachogram"),
@@ -117,6 +119,7 @@ def test_what_synth_cannot_do_says_why(cli, tmp_path, args, expected):
     assert result.code == 2 and expected in result.err and len(result.err.strip().splitlines()) == 1
 
 
+@pytest.mark.reference("property", "a tachogram's phases add up to 360 deg")
 def test_tachogram_phases_add_up_to_the_cycle():
     for kind in ("DRTD", "DRDTD", "RDTD"):
         phases = tachogram_phases(kind, 80.0, 90.0, start_deg=20.0, far_dwell_deg=30.0)

@@ -19,6 +19,7 @@ def _text(sep: str, decimal: str = ".", quote: str = "", header: str | None = "t
     return "\n".join(lines) + "\n"
 
 
+@pytest.mark.reference("property", "every table dialect gives back the rows written")
 @pytest.mark.parametrize("name,text,encoding", [
     ("comma", _text(","), "utf-8"),
     ("semicolon_decimal_comma", _text(";", ","), "utf-8"),
@@ -39,6 +40,7 @@ def test_every_dialect_gives_the_rows_written(tmp_path, name, text, encoding):
     assert table.accel.tolist() == [a for _, a in ROWS]
 
 
+@pytest.mark.reference("property", "rows sorted by angle, the rows of a jump kept in file order")
 def test_rows_out_of_order_are_sorted_keeping_jumps(tmp_path):
     path = tmp_path / "t.csv"
     path.write_text("90,1\n0,0\n90,-1\n45,1\n")
@@ -48,6 +50,7 @@ def test_rows_out_of_order_are_sorted_keeping_jumps(tmp_path):
     assert any("sorted" in n for n in table.notes)
 
 
+@pytest.mark.reference("property", "a header names the law's column; without one the first two columns")
 def test_a_header_names_the_law_column_and_no_header_keeps_the_first_two(tmp_path):
     path = tmp_path / "law.csv"
     path.write_text("theta_deg,s_mm,a\n0,0,0\n90,1.5,2\n")
@@ -57,6 +60,7 @@ def test_a_header_names_the_law_column_and_no_header_keeps_the_first_two(tmp_pat
     assert read_table(headerless).accel.tolist() == [0.0, 1.5]
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 @pytest.mark.parametrize("text,expected", [
     ("theta,a\n0,0\n90,1,5\n", "line 3 has 3 comma-separated fields"),
     ("0,0\n90,1,5\n180,0\n", "decimal commas and comma separators cannot be told apart"),
@@ -74,6 +78,7 @@ def test_what_cannot_be_read_says_why_in_one_line(tmp_path, text, expected):
     assert expected in message and "\n" not in message and len(message) < 300
 
 
+@pytest.mark.reference("property", "bad input: refused in one line naming the part at fault (docs/INTERFACE.md)")
 def test_binary_data_is_not_a_table(tmp_path):
     path = tmp_path / "bin.csv"
     path.write_bytes(bytes(range(256)) * 8)
@@ -81,6 +86,7 @@ def test_binary_data_is_not_a_table(tmp_path):
         read_table(path)
 
 
+@pytest.mark.reference("property", "a table written by numpy in each dialect reads back to 1e-12")
 @pytest.mark.parametrize("delimiter,decimal_comma", [(",", False), (";", True), ("\t", True)])
 def test_written_tables_read_back(tmp_path, delimiter, decimal_comma):
     theta = np.array([0.0, 12.5, 90.0, 360.0])

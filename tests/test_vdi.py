@@ -218,6 +218,8 @@ def test_laws_into_a_reversal_end_at_rest_with_acceleration():
         assert back[-1].end_values()[0] == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.reference("property", "VDI 2143 catalogue names resolve to their laws; a law without a rest-to-rest "
+                                   "member refused with the reason")
 def test_catalogue_names_reach_compose_and_refuse_what_has_no_rest_member():
     assert shape_named("inclined_sine").name == "inclined_sine"
     assert shape_named("modified_sine:0.4").param == pytest.approx(0.4)
@@ -229,6 +231,7 @@ def test_catalogue_names_reach_compose_and_refuse_what_has_no_rest_member():
         shape_named("bestehorn")
 
 
+@pytest.mark.reference("published", "VDI 2143 Blatt 1 (1980): the motion classes (R-R, R-G, G-R, G-G) each law serves")
 def test_catalogue_table_lists_every_law_with_its_classes():
     rows = {row["name"]: row for row in catalogue_table()}
     assert set(rows) == set(CATALOGUE)
