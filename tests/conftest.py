@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import resource
+from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -27,28 +30,8 @@ REFERENCE_KINDS = ("closed form", "second method", "published", "property", "reg
 #: the test folders of the analysis packages and the readers (tests/README.md): every test there names its reference
 REFERENCE_FOLDERS = ("law", "balance", "fourier", "profile", "dynamics", "contact", "cyclogram", "linkage", "scene",
                      "sweep", "io")
-#: test file -> its folder, for the files still at the top of tests/ (issue 33 item 6 moves them)
-PLANNED_FOLDER = {
-    **dict.fromkeys(("test_law_integration.py", "test_standard_laws.py", "test_vdi.py", "test_segments.py",
-                     "test_phases.py", "test_motion_table.py", "test_arrays.py", "test_extrema.py",
-                     "test_numerics.py", "test_hard_cases.py"), "law"),
-    **dict.fromkeys(("test_balance.py", "test_balance_fix.py", "test_balance_stops.py"), "balance"),
-    **dict.fromkeys(("test_fourier.py", "test_synth.py"), "fourier"),
-    **dict.fromkeys(("test_profile.py", "test_servo.py", "test_least_angles.py", "test_part_export.py"), "profile"),
-    **dict.fromkeys(("test_dynamics.py", "test_impact.py", "test_rebound.py", "test_polydyne.py", "test_shaft.py",
-                     "test_drive.py", "test_drive_beats.py"), "dynamics"),
-    "test_contact.py": "contact",
-    **dict.fromkeys(("test_cyclogram.py", "test_slack.py", "test_machine.py"), "cyclogram"),
-    **dict.fromkeys(("test_linkage_adjust.py", "test_linkage_analysis.py", "test_linkage_atlas.py",
-                     "test_linkage_fgen.py", "test_linkage_transfer.py", "test_linkage_scene.py"), "linkage"),
-    **dict.fromkeys(("test_pipeline.py", "test_stretch.py", "test_one_machine.py", "test_analysis_commands.py",
-                     "test_compare.py", "test_batten_study.py"), "scene"),
-    **dict.fromkeys(("test_sweep_dask.py", "test_sweep_run.py", "test_sweep_space.py"), "sweep"),
-    **dict.fromkeys(("test_dxf_read.py", "test_dxf_read_hardening.py", "test_dxf_read_rules.py", "test_table_read.py",
-                     "test_law_write.py", "test_law_write_render.py", "test_law_record.py", "test_real_drawings.py",
-                     "test_reading_intent.py", "test_interop.py", "test_dxf_write.py", "test_determinism.py",
-                     "test_safety.py", "test_fuzz.py"), "io"),
-}
+#: every folder of tests/ and what it tests (tests/README.md)
+TEST_FOLDERS = REFERENCE_FOLDERS + ("edit", "report", "cli", "project")
 
 
 def pytest_configure(config):
@@ -68,12 +51,25 @@ def pytest_configure(config):
     compileall.compile_dir(str(ROOT / "camcad"), quiet=1)
 
 
-def test_folder(path: Path) -> str:
-    """The package folder a test file belongs to (tests/<folder>/test_x.py), "" for none."""
-    path = Path(path)
-    if path.parent.name != "tests":
-        return path.parent.name
-    return PLANNED_FOLDER.get(path.name, "")
+@dataclass(frozen=True)
+class CosineLaw:
+    """s = (h/2)(1 − cos θ) (mm, θ rad): a single harmonic, whose steady-state response is a closed form."""
+
+    lift: float = 25.0
+    cycle: float = 2 * math.pi
+    phases: tuple = ()
+
+    def kinematics(self, theta):
+        from camcad.law.law import Kinematics
+
+        theta = np.asarray(theta, dtype=float)
+        h = self.lift / 2
+        return Kinematics(theta, h * (1 - np.cos(theta)), h * np.sin(theta), h * np.cos(theta), -h * np.sin(theta))
+
+
+def folder_of(path: Path) -> str:
+    """The package folder a test file belongs to: <folder> of tests/<folder>/test_x.py."""
+    return Path(path).parent.name
 
 
 def pytest_collection_modifyitems(config, items):
@@ -85,7 +81,7 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         marker = item.get_closest_marker("reference")
         if marker is None:
-            if test_folder(item.path) in REFERENCE_FOLDERS:
+            if folder_of(item.path) in REFERENCE_FOLDERS:
                 problems[item.nodeid] = "names no reference"
             continue
         kind, source = (tuple(marker.args) + (None, None))[:2]

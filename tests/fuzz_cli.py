@@ -29,7 +29,7 @@ One case:   python tests/fuzz_cli.py --seed 1 --replay 4711      (prints its com
 Pin a case: python tests/fuzz_cli.py --seed 1 --pin 4711 --finding "what it found"
             (writes its input files and argv to tests/fixtures/fuzz/seed1-case4711/: a regression case that
             stays the same when the corpus or the generator changes, where a case number would not)
-The test suite runs a short fixed-seed slice and every pinned case (tests/test_fuzz_cli.py).
+The test suite runs a short fixed-seed slice and every pinned case (tests/cli/test_fuzz_cli.py).
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ process (a 120 s wall-clock alarm interrupts a hang; the case may use 10 s of CP
              changed input).
 
 Long run:  python tests/fuzz_dxf.py --cases 2000 --seed 1
-The test suite runs a short, fixed-seed run (tests/test_fuzz.py).
+The test suite runs a short, fixed-seed run (tests/io/test_fuzz.py).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ upper bounds as backward arcs, the cycle). The least makespan and the earliest s
 longest-path distances from the first event (Bellman–Ford), and the bounds are infeasible exactly when
 the constraint graph has a positive cycle. This is the linear programme of the source (minimise
 p(N) − p(1)) solved exactly by its combinatorial structure, without scipy.optimize (0.6 s of CPU to
-import, which a scene run otherwise does not need); tests/test_cyclogram.py checks it against scipy's
+import, which a scene run otherwise does not need); tests/cyclogram/test_cyclogram.py checks it against scipy's
 LP (HiGHS) and against a dynamic programme over a topological order.
 """
 

@@ -13,7 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import ROOT, file_digest
-from test_interop import INKSCAPE_DXF, _ezdxf_counts, _gdal, _reader
+from dxf_readers import INKSCAPE_DXF
+from dxf_readers import ezdxf_counts as _ezdxf_counts
+from dxf_readers import gdal_features as _gdal
+from dxf_readers import require_reader as _reader
 
 LOG10 = ["--function", "log10(x)", "--x", "1:2", "--input-range", "60", "--output-range", "90"]
 

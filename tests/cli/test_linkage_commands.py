@@ -1,6 +1,6 @@
 """`camcad linkage analyse|adjust|family|tune`: outputs, JSON keys, exit codes, one-line errors, and the
 kinematic diagrams read by independent CAD readers (GDAL, LibreCAD, Inkscape; required in CI like
-tests/test_interop.py, skipped on a machine without them)."""
+tests/io/test_interop.py, skipped on a machine without them)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ import pytest
 from camcad.cli import app, register_all
 from camcad.cli.common import run_app
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "scenes" / "batten_linkage.toml"
 FOURBAR = ["--links", "40,120,90", "--output-pivot", "100,20", "--input-angle", "80", "--swing", "30",
            "--sense", "-1"]

@@ -272,7 +272,7 @@ def test_groove_outer_wall_carries_negative_forces():
 
 # ------------------------------------------------------------------ the command on the sample scene
 
-ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 
 

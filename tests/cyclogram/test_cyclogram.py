@@ -29,7 +29,7 @@ from camcad.cyclogram.retime import format_phases, operation_timing, retime_phas
 from camcad.errors import CamcadError
 from camcad.scene.sections.cyclogram import parse_cyclogram
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 
 

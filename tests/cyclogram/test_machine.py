@@ -25,7 +25,7 @@ from camcad.errors import CamcadError
 from camcad.scene.machine import analyse_machine
 from camcad.scene.pipeline import PipelineOptions
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_machine.toml"
 
 

@@ -24,7 +24,7 @@ from camcad.cyclogram.lp import optimise
 from camcad.cyclogram.network import Operation, make_network
 from camcad.verdict import AT_LIMIT, Check
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / "samples" / "scenes" / "loom_group1.toml"
 
 

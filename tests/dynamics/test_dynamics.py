@@ -4,23 +4,22 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import cpu_seconds
+from conftest import CosineLaw, cpu_seconds
 
 from camcad import dynamics
 from camcad.dynamics import multimass
 from camcad.dynamics.model import ElasticFollower, StiffnessTable, rpm_to_rad_s
 from camcad.errors import CamcadError
-from camcad.law.law import Kinematics, Phase, PiecewiseLinearLaw
+from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.standard import compose
 from camcad.scene.sections import dynamics as scene_dynamics
 
 LIFT = 25.0
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 
 
 def dwell_rise_dwell_return(shape="cycloidal", lift=LIFT):
@@ -113,20 +112,6 @@ def test_damped_residual_agrees_between_duhamel_and_time_marching(make_law):
 
 
 # ------------------------------------------------------------------------------------ periodic steady state
-
-@dataclass(frozen=True)
-class CosineLaw:
-    """s = (h/2)(1 − cos θ): a single harmonic, whose steady-state response is a closed form."""
-
-    lift: float = LIFT
-    cycle: float = 2 * math.pi
-    phases: tuple = ()
-
-    def kinematics(self, theta):
-        theta = np.asarray(theta, dtype=float)
-        h = self.lift / 2
-        return Kinematics(theta, h * (1 - np.cos(theta)), h * np.sin(theta), h * np.cos(theta), -h * np.sin(theta))
-
 
 @pytest.mark.reference("closed form", "x = Re[X e^(iwt)], X = -(h/2) w^2/(wn^2 - w^2 + 2i zeta wn w)")
 @pytest.mark.parametrize("zeta", [0.0, 0.05, 0.3])

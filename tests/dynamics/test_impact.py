@@ -18,7 +18,7 @@ from camcad.errors import CamcadError
 from camcad.law.standard import compose
 from camcad.scene.sections import stops as scene_stops
 
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 SHUTTLE = SAMPLES / "scenes" / "shuttle_lift.toml"
 K_STEEL = 5.0 / 9.0
 
@@ -236,7 +236,7 @@ def test_linearised_relation_and_least_phase_angle():
     limit = relation.least_phase(0.1)
     assert limit == pytest.approx(brentq(lambda t: float(relation(t)) - 0.1, 20.0, 60.0, xtol=1e-14), abs=1e-10)
     # closed form: A0 t0/t = 0.1 mm at t = 0.105 · 35 / 0.1 = 36.75 deg (the published line's 36 deg is what
-    # camcad's cyclogram finds from it: tests/test_cyclogram.py)
+    # camcad's cyclogram finds from it: tests/cyclogram/test_cyclogram.py)
     assert limit == pytest.approx(0.105 * 35.0 / 0.1, abs=1e-9)
     lo_slope, _lo_intercept = relation.fit(30.0, 40.0)
     assert lo_slope == pytest.approx(slope, rel=0.05)

@@ -31,7 +31,7 @@ from camcad.scene.laws import mechanism_law
 from camcad.scene.sections.published import parse_published
 from camcad.scene.sections.stops import parse_stops
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SHUTTLE = ROOT / "samples" / "scenes" / "shuttle_lift.toml"
 #: Podgorny et al. (2018): first rebound (mm) against speed (rpm), computed; force (N); frequencies (Hz)
 PUBLISHED_REBOUND = {177.0: 0.022, 280.0: 0.07, 320.0: 0.078, 370.0: 0.092, 420.0: 0.105}

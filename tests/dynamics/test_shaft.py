@@ -23,7 +23,7 @@ from camcad.dynamics.multimass import MultiMassModel, SpeedDrive, simulate
 from camcad.dynamics.shaft import ElasticShaft, ShaftCam, simulate_shaft
 from camcad.errors import CamcadError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 MACHINE = ROOT / "samples" / "scenes" / "loom_machine.toml"
 
 

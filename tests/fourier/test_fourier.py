@@ -764,7 +764,7 @@ def test_a_compensation_past_its_bound_is_left_out_and_said():
 @pytest.mark.reference("property", "a swing in rad: the filter's notes say rad, never mm")
 def test_the_filter_notes_speak_the_law_s_unit(capsys, tmp_path):
     # the batten's law is a swing in rad: its filter notes say rad, not mm (they said mm before this stop)
-    scene = Path(__file__).resolve().parents[1] / "samples" / "scenes" / "batten.toml"
+    scene = Path(__file__).resolve().parents[2] / "samples" / "scenes" / "batten.toml"
     code, stdout, _ = _run(["spectrum", str(scene), "-N", "20", "--filter", "--no-plots", "-o", str(tmp_path),
                             "--json"], capsys)
     notes = json.loads(stdout)["spectrum"]["filter"]["notes"]

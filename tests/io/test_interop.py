@@ -10,31 +10,19 @@ page with ink on it; Inkscape — every layer with entities becomes a layer with
 
 from __future__ import annotations
 
-import json
 import os
-import shutil
 import subprocess
 from collections import Counter
-from pathlib import Path
 
-import ezdxf
 import numpy as np
 import pytest
 from conftest import SAMPLES
+from dxf_readers import INKSCAPE_DXF
+from dxf_readers import ezdxf_counts as _ezdxf_counts
+from dxf_readers import gdal_features as _gdal
+from dxf_readers import require_reader as _reader
 
-INKSCAPE_DXF = Path("/usr/share/inkscape/extensions/dxf_input.py")
-REQUIRED = os.environ.get("CAMCAD_REQUIRE_READERS") == "1"
 TOL_MM = 1e-3
-
-
-def _reader(name: str) -> None:
-    available = {"gdal": shutil.which("ogr2ogr") is not None,
-                 "librecad": shutil.which("librecad") is not None and shutil.which("pdftoppm") is not None,
-                 "inkscape": INKSCAPE_DXF.exists() and Path("/usr/bin/python3").exists()}[name]
-    if not available:
-        if REQUIRED:
-            pytest.fail(f"DXF reader {name} is not installed but CAMCAD_REQUIRE_READERS=1")
-        pytest.skip(f"DXF reader {name} is not installed")
 
 
 @pytest.fixture(scope="module")
@@ -87,27 +75,8 @@ KINDS = ["profile_r2000", "profile_r12", "profile_arcs", "profile_r12_arcs", "pr
          "law_r2000", "law_r12", "fixed_drawing"]
 
 
-def _ezdxf_counts(path: Path) -> Counter:
-    doc = ezdxf.readfile(path)
-    counts = Counter()
-    for entity in doc.modelspace():
-        kind = entity.dxftype()
-        if kind == "DIMENSION":  # GDAL explodes a dimension into its lines, arrows and text
-            continue
-        counts[(entity.dxf.layer, kind)] += 1
-    return counts
-
-
 GDAL_KIND = {"AcDbPolyline": "LWPOLYLINE", "AcDb2dPolyline": "POLYLINE", "AcDbLine": "LINE", "AcDbCircle": "CIRCLE",
              "AcDbText": "TEXT", "AcDbSpline": "SPLINE", "AcDbMText": "MTEXT", "AcDbArc": "ARC"}
-
-
-def _gdal(path: Path) -> list[dict]:
-    done = subprocess.run(["ogr2ogr", "-f", "GeoJSON", "/vsistdout/", str(path)], capture_output=True, text=True,
-                          timeout=60)
-    assert done.returncode == 0, done.stderr
-    assert "ERROR" not in done.stderr, done.stderr
-    return json.loads(done.stdout)["features"]
 
 
 def _gdal_kind(feature: dict) -> str:

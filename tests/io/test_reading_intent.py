@@ -11,7 +11,7 @@ splines), byte-level files written the way OpenSCAD 2019.05 (one LINE per outlin
 2021.01 (a closed LWPOLYLINE under an AC1006 header, 6 significant digits) write them (openscad/src/io/
 export_dxf.cc), and — when installed — Inkscape 1.2 (stroke to path; separate subpaths; the R12 exporter)
 and FreeCAD 0.20 (Draft wires; Part.Wire.makeOffset2D outlines). Copies made by the programs are committed
-in tests/fixtures/reading/ and are read always (``python tests/test_reading_intent.py`` regenerates them).
+in tests/fixtures/reading/ and are read always (``python tests/io/test_reading_intent.py`` regenerates them).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import pytest
 
 from camcad.law.phases import parse_phases, read_phases
 
-FIXTURES = Path(__file__).resolve().parent / "fixtures" / "reading"
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "reading"
 REQUIRED = os.environ.get("CAMCAD_REQUIRE_READERS") == "1"
 REQUIRE_FREECAD = os.environ.get("CAMCAD_REQUIRE_FREECAD") == "1"
 TIMEOUT_S = 120
@@ -504,7 +504,7 @@ def test_made_now_reads_as_meant(case, made, cli):
 @pytest.mark.parametrize("case", [c for c in CASES if _program(c) or c.startswith("openscad")])
 def test_committed_drawing_reads_as_meant(case, cli):
     path = FIXTURES / f"{case}.dxf"
-    assert path.exists(), f"{path} is missing: run python tests/test_reading_intent.py"
+    assert path.exists(), f"{path} is missing: run python tests/io/test_reading_intent.py"
     assert_read_as_meant(case, _check(cli, path))
 
 
@@ -781,9 +781,9 @@ def test_interpolating_spline_phases_come_from_its_drawn_points(cli, tmp_path, n
 
 
 @pytest.mark.reference("closed form", "FreeCAD's interpolated B-spline through the fit points of "
-                                      "tests/test_real_drawings.py: dwells at u 0..30, 90..105, 165..180")
+                                      "tests/io/test_real_drawings.py: dwells at u 0..30, 90..105, 165..180")
 def test_freecad_interpolated_bspline_keeps_its_phases(cli):
-    payload = _check(cli, Path(__file__).resolve().parent / "fixtures" / "real" / "freecad_interpolated.dxf")
+    payload = _check(cli, Path(__file__).resolve().parents[1] / "fixtures" / "real" / "freecad_interpolated.dxf")
     assert_phases(phases_deg(payload), [("dwell", 0, 60), ("rise", 60, 180), ("dwell", 180, 210),
                                         ("return", 210, 330), ("dwell", 330, 360)], 1e-6)
 
@@ -794,7 +794,7 @@ def test_a_designers_bezier_lobes_are_not_taken_for_an_interpolating_spline():
 
     from camcad.io.dxf_read import is_interpolating_cubic
 
-    real = Path(__file__).resolve().parent / "fixtures" / "real"
+    real = Path(__file__).resolve().parents[1] / "fixtures" / "real"
     splines = [e for e in ezdxf.readfile(real / "freecad_bspline.dxf").modelspace() if e.dxftype() == "SPLINE"]
     assert splines and not any(is_interpolating_cubic(e) for e in splines)
     fitted = [e for e in ezdxf.readfile(real / "freecad_interpolated.dxf").modelspace() if e.dxftype() == "SPLINE"]

@@ -13,7 +13,7 @@ the law's peak.
 The files are generated at test time by the programs themselves when they are installed (required
 when CAMCAD_REQUIRE_READERS=1, as in CI; FreeCAD only when CAMCAD_REQUIRE_FREECAD=1); copies made by
 the programs are committed in tests/fixtures/real/ and are read always
-(``python tests/test_real_drawings.py`` regenerates them).
+(``python tests/io/test_real_drawings.py`` regenerates them).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-FIXTURES = Path(__file__).resolve().parent / "fixtures" / "real"
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "real"
 REQUIRED = os.environ.get("CAMCAD_REQUIRE_READERS") == "1"
 REQUIRE_FREECAD = os.environ.get("CAMCAD_REQUIRE_FREECAD") == "1"
 TIMEOUT_S = 120
@@ -528,7 +528,7 @@ def test_made_now_by_the_program_reads_with_no_options(case, generated, cli):
 @pytest.mark.parametrize("case", list(CASES))
 def test_committed_drawing_reads_with_no_options(case, cli):
     path = FIXTURES / f"{case}.dxf"
-    assert path.exists(), f"{path} is missing: run python tests/test_real_drawings.py"
+    assert path.exists(), f"{path} is missing: run python tests/io/test_real_drawings.py"
     _assert_case(case, _check(cli, path))
 
 

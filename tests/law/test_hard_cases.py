@@ -19,9 +19,9 @@ from pathlib import Path
 import ezdxf
 import numpy as np
 import pytest
+from conftest import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
-from test_dynamics import CosineLaw  # one harmonic, lift 25 mm: its steady state is a closed form
 
 from camcad import balance, dynamics
 from camcad.dynamics import impact
@@ -36,7 +36,7 @@ from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 from camcad.scene.sections import stops as scene_stops
 
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 EPS = np.finfo(float).eps
 FAST = ProfileSettings(plots=False, design=False)
 

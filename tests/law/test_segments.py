@@ -22,7 +22,7 @@ NODES, RADIUS = 64, 0.02
 
 
 def _cauchy(piece, theta: float, order: int) -> float:
-    """order-th derivative of a piece's s at θ by Cauchy's integral formula (s alone; see tests/test_vdi.py)."""
+    """order-th derivative of a piece's s at θ by Cauchy's integral formula (s alone; see tests/law/test_vdi.py)."""
     w = np.exp(2j * math.pi * np.arange(NODES) / NODES)
     values = piece.evaluate_tau(theta - piece.start + RADIUS * w, 0)
     return float(np.real(math.factorial(order) / (NODES * RADIUS**order) * np.sum(values * w ** (-order))))

@@ -4,7 +4,7 @@ Sources of the published values (each test row names its own):
 - R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009): eq. 3.5 (simple harmonic: C_v = π/2,
   C_a = π²/2, C_j = π³/2), eq. 3.8 (cycloid = inclined sine: 2, 2π, 4π²), §3.9 (3-4-5 polynomial: 1.875,
   5.7735, 60), table 3-2 (modified trapezoid 2.0000, 4.8881, 61.426; modified sine 1.7596, 5.5280, 69.466;
-  constant acceleration 2.000, 4.000), as tests/test_standard_laws.py quotes them.
+  constant acceleration 2.000, 4.000), as tests/law/test_standard_laws.py quotes them.
 - PSMotion Ltd, MechDesigner/MotionDesigner help, "Modified-Sinusoid Motion-Law" (mechdesigner.support,
   motion-cam-law-modified-sinusoid.htm): C_v = 1.76, C_a = 5.53, C_j = 69.47; "Cubic Motion-Law"
   (motion-cam-law-cubic.htm): C_v = 1.5, C_a = 6, C_j = 12.

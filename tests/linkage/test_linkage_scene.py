@@ -13,7 +13,7 @@ import pytest
 from camcad.errors import CamcadError
 from camcad.scene.pipeline import analyse_scene
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SHUTTLE = (ROOT / "samples" / "scenes" / "shuttle_lift.toml").read_text()
 
 

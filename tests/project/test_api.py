@@ -11,7 +11,7 @@ import ezdxf
 
 import camcad
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_workflow_script_runs_with_only_import_camcad(tmp_path):

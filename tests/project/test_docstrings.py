@@ -10,7 +10,7 @@ imported by users from there), the docstring is parsed with numpydoc's own parse
 - every number-valued parameter (typed float or array) states its unit in its type or description, or
   says it has none ("dimensionless", "no unit", a fraction, a ratio); the Returns section of a function
   states units too;
-- every function and every class users build has an Examples section (run by ``tests/test_doctests.py``).
+- every function and every class users build has an Examples section (run by ``tests/project/test_doctests.py``).
 
 The names whose module another engineer owns (``OWNED_ELSEWHERE``) are expected to fail until their
 docstrings land; the test turns green for them without a change here (non-strict xfail).

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "camcad"
+PACKAGE = Path(__file__).resolve().parents[2] / "camcad"
 
 #: layer of each top-level part of the package; a module imports only from layers <= its own
 LAYERS = {

@@ -20,7 +20,7 @@ from camcad.profile.geometry import CamGeometry
 from camcad.profile.summary import profile_report as report
 from camcad.profile.synth import ProfileSettings, synthesize
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_peer.py"
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_peer.py"
 
 
 @pytest.fixture(scope="module")

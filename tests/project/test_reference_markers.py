@@ -42,17 +42,11 @@ def test_in_an_xdist_worker_each_unmarked_test_errors_instead():
     assert "names no reference" in item.stash[conftest._REFERENCE_PROBLEM]
 
 
-def test_every_test_file_has_its_folder():
-    # a test file at the top of tests/ that no folder claims would escape the rule
+def test_every_test_file_sits_in_a_package_folder():
+    # a test file at the top of tests/, or in a folder tests/README.md does not list, would escape the rule
     tests = Path(conftest.__file__).resolve().parent
-    loose = [p.name for p in tests.glob("test_*.py") if not conftest.test_folder(p)]
-    assert set(loose) <= {"test_reference_markers.py"} | PROJECT_AND_OTHERS, sorted(set(loose) - PROJECT_AND_OTHERS)
-
-
-#: the files of the folders the rule does not cover (cli, edit, report, project)
-PROJECT_AND_OTHERS = {
-    "test_cli_check_fix.py", "test_law_command.py", "test_linkage_cli.py", "test_linkage_commands.py",
-    "test_fuzz_cli.py", "test_edit_browser.py", "test_edit_cli.py", "test_edit_session.py", "test_edit_view.py",
-    "test_bench_cli.py", "test_layering.py", "test_lint.py", "test_docs_build.py", "test_docstrings.py",
-    "test_doctests.py", "test_api.py", "test_api_walkthrough.py", "test_interface_doc.py", "test_startup.py",
-    "test_readme_example.py", "test_peer_reference.py"}
+    assert not list(tests.glob("test_*.py"))
+    folders = {p.parent.name for p in tests.glob("*/test_*.py")}
+    assert folders == set(conftest.TEST_FOLDERS), folders ^ set(conftest.TEST_FOLDERS)
+    readme = (tests / "README.md").read_text(encoding="utf-8")
+    assert all(f"`{folder}/`" in readme for folder in conftest.TEST_FOLDERS)

@@ -18,7 +18,7 @@ import pytest
 
 from camcad.law.standard import compose
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = ROOT / "samples"
 LOOM = SAMPLES / "scenes" / "loom_group1.toml"
 BATTEN = SAMPLES / "scenes" / "batten.toml"

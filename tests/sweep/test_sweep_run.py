@@ -22,7 +22,7 @@ from camcad.sweep.evaluate import design_checks
 
 pytest.importorskip("pyarrow")
 
-SCENES = Path(__file__).resolve().parents[1] / "samples" / "scenes"
+SCENES = Path(__file__).resolve().parents[2] / "samples" / "scenes"
 LIFT, RR, LIMIT_RISE = 25.0, 10.0, 30.0   # the default design (camcad.scene.default)
 
 

@@ -28,7 +28,7 @@ from camcad.sweep.space import (
     stretched_phases,
 )
 
-SCENES = Path(__file__).resolve().parents[1] / "samples" / "scenes"
+SCENES = Path(__file__).resolve().parents[2] / "samples" / "scenes"
 
 
 def loom() -> dict:
