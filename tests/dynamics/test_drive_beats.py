@@ -6,13 +6,13 @@ import math
 
 import numpy as np
 import pytest
+from conftest import SAMPLES
 from scipy.integrate import solve_ivp
 
 import camcad
 from camcad.dynamics.beats import harmonic_beats
 from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
 from camcad.dynamics.multimass import MotorCurve
-from tests.conftest import SAMPLES
 
 LAW = camcad.compose([("dwell", 100), ("rise", 64), ("return", 64), ("dwell", 132)], 0.421, "harmonic")
 

@@ -11,12 +11,12 @@ import math
 
 import numpy as np
 import pytest
+from conftest import SAMPLES
 from scipy.integrate import quad
 
 import camcad
 from camcad.fourier.synth import full_database, numeric_pattern, tachogram_phases
 from camcad.law.standard import SHAPES
-from tests.conftest import SAMPLES
 
 
 @pytest.mark.reference("second method", "the cycloidal pattern in closed form (MotionPattern) against quadrature")

@@ -15,12 +15,12 @@ import shutil
 import ezdxf
 import numpy as np
 import pytest
+from conftest import SAMPLES
 
 import camcad
 from camcad.io.law_record import APPID, LawRecord
 from camcad.io.law_write import write_corrected, write_law_csv, write_law_dxf
 from camcad.law.law import PiecewiseLinearLaw
-from tests.conftest import SAMPLES
 
 PHASES = "0:60:dwell,60:150:rise,150:210:dwell,210:330:return,330:360:dwell"
 

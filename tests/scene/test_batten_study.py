@@ -12,11 +12,11 @@ import math
 
 import numpy as np
 import pytest
+from conftest import SAMPLES
 
 import camcad
 from camcad.scene.file import read_scene
 from camcad.scene.laws import mechanism_law
-from tests.conftest import SAMPLES
 
 SCENE = SAMPLES / "scenes" / "batten_study.toml"
 SWING = 0.421
