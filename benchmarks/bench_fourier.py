@@ -1,7 +1,7 @@
 """Fourier analysis and resonance filtering: time against coefficient error, a law sampled at 2^16 points.
 
 Law: dwell 65°, cycloidal rise 110°, dwell 115°, cycloidal return 70° (lift 25 mm). Reference: the
-closed-form coefficients derived in tests/test_fourier.py (c_k(a) of each cycloidal motion is
+closed-form coefficients derived in tests/fourier/test_fourier.py (c_k(a) of each cycloidal motion is
 (h/T)·4π² e^{−ikθ1}(1 − e^{−ikβ})/(β(4π² − k²β²)), c_k(s) = −c_k(a)/k²), written out again here, for
 k = 1..32 (none of them makes kβ a whole turn for either motion). Error: max_k |A_k − A_k,ref| (mm).
 

@@ -4,7 +4,7 @@
 lookup imports the masked-array package: 15–20 ms of a command whose whole run is a few hundred
 milliseconds (measured with ``python -X importtime``). camcad only needs the sorted distinct values
 of a 1-D float array, which a sort and a comparison of neighbours give. NaN sorts last and is kept
-once, as ``numpy.unique`` does (``equal_nan=True``); ``tests/test_arrays.py`` compares the two.
+once, as ``numpy.unique`` does (``equal_nan=True``); ``tests/law/test_arrays.py`` compares the two.
 """
 
 from __future__ import annotations

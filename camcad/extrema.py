@@ -8,7 +8,7 @@ of f over all rows, so refining an extremum costs ``ZOOM_LEVELS`` + 1 calls wher
 spacing is h/512 (h the first grid's step); for a smooth peak the parabola takes the abscissa well
 within it and the value to round-off. Every value returned is one f
 took (never the parabola's own, which overshoots across a jump); a peak at a kink or a jump is found to
-within the last spacing. tests/test_extrema.py compares it with Brent's bounded search (``camcad.numerics``) and
+within the last spacing. tests/law/test_extrema.py compares it with Brent's bounded search (``camcad.numerics``) and
 with closed forms.
 """
 

@@ -12,7 +12,7 @@ pay. These are the classical algorithms, written from their published descriptio
   successive parabolic interpolation on [a, b]; the result is within ``xatol + √ε·|x|`` of a local
   minimum.
 
-tests/test_numerics.py checks both against closed forms and against scipy's independent implementations.
+tests/law/test_numerics.py checks both against closed forms and against scipy's independent implementations.
 """
 
 from __future__ import annotations

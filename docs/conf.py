@@ -1,6 +1,6 @@
 """Sphinx configuration of camcad's documentation.
 
-Build (tests/test_docs_build.py runs exactly this, warnings as errors):
+Build (tests/project/test_docs_build.py runs exactly this, warnings as errors):
     sphinx-build -W -b html docs docs/_build/html
 The API reference is autodoc + numpydoc on the public API (``camcad.__all__``); the guides are the Markdown
 pages beside this file (MyST); the tutorial and the API walkthrough run their scripts at build time and show

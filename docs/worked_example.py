@@ -3,7 +3,7 @@
 The README holds the example between ``<!-- worked-example -->`` and ``<!-- /worked-example -->``: each
 ```sh block is one command, run in a fresh folder that holds a copy of the sample it names; the ```text
 block after it is what the command prints (stdout, then stderr), a line ``...`` standing for any number of
-lines. tests/test_readme_example.py runs it; ``python docs/worked_example.py`` runs it too and refreshes
+lines. tests/project/test_readme_example.py runs it; ``python docs/worked_example.py`` runs it too and refreshes
 the example's pictures in docs/img/ (the fix plot, the summary plot and LibreCAD's render of the
 profile), so that every figure and picture in that section comes from these commands.
 """

@@ -31,7 +31,10 @@ The parent classifies the outcome:
 
 Long run:   python tests/fuzz_cli.py --cases 100000 --seed 1 --workers 2
 One case:   python tests/fuzz_cli.py --seed 1 --replay 4711      (prints its command and outcome)
-The test suite runs a short fixed-seed slice (tests/test_fuzz_cli.py).
+Pin a case: python tests/fuzz_cli.py --seed 1 --pin 4711 --finding "what it found"
+            (writes its input files and argv to tests/fixtures/fuzz/seed1-case4711/: a regression case that
+            stays the same when the corpus or the generator changes, where a case number would not)
+The test suite runs a short fixed-seed slice and every pinned case (tests/cli/test_fuzz_cli.py).
 """
 
 from __future__ import annotations
@@ -56,7 +59,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
-REAL_DXF = ROOT.parent / "shared" / "dxf-real"
+REAL_DXF = ROOT / "tests" / "fixtures" / "dxf-real"
+PINNED = ROOT / "tests" / "fixtures" / "fuzz"
 TIME_LIMIT_S = 10                  # CPU seconds a case may use (the machine may be shared: CPU, not wall time)
 WALL_LIMIT_S = 600                 # a backstop for a case that waits instead of computing (a loaded machine
                                    # gives a niced child a small share of a core: keep this generous)
@@ -68,9 +72,9 @@ COMMANDS = ("check", "fix", "profile-law", "profile-scene", "spectrum", "dynamic
 NEW_SURFACES = ("edit-script", "minsert", "fgen", "sweep")
 ALL_COMMANDS = COMMANDS + NEW_SURFACES
 #: small real drawings (fast to read) that join the samples as law inputs
-REAL_LAWS = ("libredwg__sample_2018.dxf", "libredwg__sample_r14.dxf", "ezdxf__duplicate_handles.dxf",
-             "libredwg__2000_entities-2d.dxf", "libredwg__r11_entities-2d.dxf", "ezdxf__POLI-ALL210_12.DXF",
-             "dxfparser__splines.dxf", "gdal__closed_polyline_with_bulge.dxf", "libredwg__2007_Polyline.dxf")
+REAL_LAWS = ("camcad__sample_2018.dxf", "camcad__sample_r14.dxf", "ezdxf__duplicate_handles.dxf",
+             "camcad__entities_r2000.dxf", "camcad__entities_r12.dxf", "ezdxf__POLI-ALL210_12.DXF",
+             "dxfparser__splines.dxf", "gdal__closed_polyline_with_bulge.dxf", "camcad__crlf_inch_polyline.dxf")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -79,7 +83,7 @@ REAL_LAWS = ("libredwg__sample_2018.dxf", "libredwg__sample_r14.dxf", "ezdxf__du
 
 def law_corpus() -> list[Path]:
     files = sorted((SAMPLES / "dxf").glob("*.dxf")) + sorted(SAMPLES.glob("law_table*"))
-    files += [REAL_DXF / name for name in REAL_LAWS if (REAL_DXF / name).exists()]
+    files += [REAL_DXF / name for name in REAL_LAWS]
     return files
 
 
@@ -423,6 +427,32 @@ def make_case(seed: int, number: int, laws: list[Path], scenes: list[Path],
     if rng.random() < 0.85:
         argv.append("--json")
     return Case(number, command, argv, files, mutation)
+
+
+def pin(case: Case, folder: Path, finding: str, seed: int | None = None) -> Path:
+    """Write ``case`` as a pinned regression case: its input files as they are and ``case.json`` (argv, the
+    campaign it came from, what it found). ``load_pinned`` reads it back."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, data in case.files.items():
+        (folder / name).write_bytes(data)
+    record = {"campaign": None if seed is None else {"seed": seed, "case": case.number}, "command": case.command,
+              "argv": case.argv, "files": sorted(case.files), "mutation": case.mutation, "finding": finding}
+    (folder / "case.json").write_text(json.dumps(record, indent=1, ensure_ascii=True) + "\n", encoding="utf-8")
+    return folder
+
+
+def load_pinned(folder: Path) -> tuple[Case, dict]:
+    """The pinned case in ``folder`` (see ``pin``) and its record (``case.json``: argv, files, the finding, and
+    the outcome expected now, ``expect``: status and a part of its detail)."""
+    record = json.loads((folder / "case.json").read_text(encoding="utf-8"))
+    files = {name: (folder / name).read_bytes() for name in record["files"]}
+    number = (record.get("campaign") or {}).get("case", 0)
+    return Case(number, record["command"], list(record["argv"]), files, record["mutation"]), record
+
+
+def pinned_cases() -> list[Path]:
+    """The folders of the pinned regression cases (tests/fixtures/fuzz/*/case.json)."""
+    return sorted(path.parent for path in PINNED.glob("*/case.json"))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1020,7 +1050,14 @@ def main() -> int:
     parser.add_argument("--commands", default=",".join(ALL_COMMANDS), help="comma-separated subset of the commands")
     parser.add_argument("--errors", action="store_true", help="also list the most frequent error lines")
     parser.add_argument("--log", type=Path, default=None, help="append each finding to this file (JSON lines)")
+    parser.add_argument("--pin", type=int, default=None,
+                        help="write this case's inputs and argv to tests/fixtures/fuzz/seedS-caseN/ (a regression)")
+    parser.add_argument("--finding", default="", help="with --pin: what the case found, for its record")
     args = parser.parse_args()
+    if args.pin is not None:
+        case = make_case(args.seed, args.pin, law_corpus(), scene_corpus())
+        print(pin(case, PINNED / f"seed{args.seed}-case{args.pin}", args.finding, args.seed))
+        return 0
     if args.replay is not None:
         args.cases, args.start, args.workers = 1, args.replay, 1
     began = time.perf_counter()

@@ -60,6 +60,35 @@ class Condition:
     ``quantity`` is "v" (velocity, mm/rad), "s" (displacement, mm, from s(0) = 0) or "rise"
     (s(theta) − s(start), mm: the displacement over a phase). The balance conditions have target 0;
     a lift condition has the drawn rise as its target.
+
+    Parameters
+    ----------
+    name : str
+        How the condition is named in reports.
+    quantity : str
+        "v", "s" or "rise".
+    theta : float
+        Where it holds, rad.
+    phase_index : int, optional
+        The phase it belongs to (its index in ``law.phases``), or None.
+    start : float
+        For "rise": where the phase starts, rad.
+    target : float
+        The value required, mm/rad for "v", mm for "s" and "rise".
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.law.law import PiecewiseLinearLaw
+    >>> from camcad.law.phases import detect_phases
+    >>> x = np.radians([0.0, 45, 90, 135, 180, 225, 270, 315, 360])
+    >>> a = np.array([0.0, 1, 0, -1, 0, -1, 0, 1.2, 0])          # the return's last lobe 20 % high, mm/rad²
+    >>> law = PiecewiseLinearLaw(x, a, 2 * np.pi, detect_phases(x, a, 2 * np.pi))
+    >>> from camcad.balance import Condition, functional_rows
+    >>> end_of_return = Condition("v at the end of the return", "v", 2 * np.pi)
+    >>> row = functional_rows(law.x, (end_of_return,))
+    >>> round(float((row @ law.a)[0]), 9), round(0.2 * np.pi / 4, 9)   # the extra lobe's area: 0.2 x (pi/2)/2
+    (0.157079633, 0.157079633)
     """
 
     name: str
@@ -75,13 +104,14 @@ class Condition:
 
 
 def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
-    """The balance conditions: the velocity at the end of every rise and return back to its stated value (rest
-    unless the phase states one), the displacement at every stated position, and s(cycle) = s(0).
+    """The balance conditions: every motion ends at its stated velocity (rest), stated positions are met, s closes.
 
+    The velocity at the end of every rise and return comes back to its stated value (rest unless the phase
+    states one), the displacement reaches every stated position, and s(cycle) = s(0).
     A phase that states where it ends (``Phase.s_end``, mm from s(0) = 0; a rise to an intermediate stop)
     adds a displacement condition there; one that blends into the next motion (``Phase.v_end`` ≠ 0, mm/rad)
     has that velocity as its target instead of rest. Without stated values these are the source's
-    conditions (Dupliak & Kotsiyba 2018, seed 003, eqs. 1–3).
+    conditions (Dupliak & Kotsiyba 2018, eqs. 1–3).
 
     Parameters
     ----------
@@ -91,8 +121,8 @@ def conditions(law: PiecewiseLinearLaw) -> tuple[Condition, ...]:
     Returns
     -------
     tuple of Condition
-        One velocity condition per motion phase, in order, then one displacement condition per stated
-        position (before the cycle's end), then the displacement closure (always last).
+        One velocity condition per motion phase, in order (mm/rad), then one displacement condition per stated
+        position (before the cycle's end, mm), then the displacement closure (always last, mm).
 
     Examples
     --------
@@ -128,8 +158,9 @@ def stated_ends(law) -> bool:
 
 
 def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None = None) -> tuple[Condition, ...]:
-    """The lift conditions: the displacement over each rise phase equals its drawn value (a rise whose start and
-    end positions are both stated is held by those instead, ``conditions``).
+    """The lift conditions: the displacement over each rise phase equals its drawn value.
+
+    A rise whose start and end positions are both stated is held by those instead (``conditions``).
 
     Parameters
     ----------
@@ -142,7 +173,7 @@ def lift_conditions(law: PiecewiseLinearLaw, targets: tuple[float, ...] | None =
     Returns
     -------
     tuple of Condition
-        One "rise" condition per rise phase.
+        One "rise" condition per rise phase (its target in mm).
 
     Examples
     --------
@@ -199,10 +230,22 @@ def functional_rows(x: np.ndarray, conds: tuple[Condition, ...]) -> np.ndarray:
     x : ndarray
         Knots (rad), non-decreasing (a repeated knot is a jump).
     conds : tuple of Condition
+        The conditions, one row each.
 
     Returns
     -------
     ndarray, shape (len(conds), len(x))
+        C, in rad for a velocity row (v in mm/rad from a in mm/rad²) and rad² for a displacement row.
+
+    Examples
+    --------
+    A constant a = 1 mm/rad² from rest: v(2) = 2 mm/rad and s(2) = 2 mm.
+
+    >>> import numpy as np
+    >>> from camcad.balance import Condition, functional_rows
+    >>> rows = functional_rows(np.array([0.0, 2.0]), (Condition("v", "v", 2.0), Condition("s", "s", 2.0)))
+    >>> (rows @ np.array([1.0, 1.0])).tolist()
+    [2.0, 2.0]
     """
     x = np.asarray(x, dtype=float)
     rows = np.zeros((len(conds), len(x)))
@@ -304,8 +347,18 @@ def mass_matrix(x: np.ndarray):
     Returns
     -------
     scipy.sparse.csc_matrix
-        Tridiagonal, (len(x), len(x)); a vertex both of whose segments have zero length has a
+        Tridiagonal, (len(x), len(x)), in rad; a vertex both of whose segments have zero length has a
         zero row (its ordinate does not change the function).
+
+    Examples
+    --------
+    A constant δ = 1 over 2 rad: ∫ δ² dθ = 2.
+
+    >>> import numpy as np
+    >>> from camcad.balance import mass_matrix
+    >>> ones = np.ones(3)
+    >>> float(ones @ (mass_matrix(np.array([0.0, 1.0, 2.0])) @ ones))
+    2.0
     """
     from scipy import sparse
 

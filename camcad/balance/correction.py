@@ -43,6 +43,24 @@ class Move:
 
     ``status`` is "honoured" (vertex ``vertex`` was set from ``old_value`` to ``value`` and held while
     the rest was rebalanced) or "refused" (``reason`` says why; nothing was changed for it).
+    ``camcad.correct`` returns them in ``Correction.moves``; its example shows one.
+
+    Attributes
+    ----------
+    theta_deg : float
+        The angle asked for, deg.
+    value : float
+        The value asked for, mm/rad².
+    status : str
+        "honoured" or "refused".
+    reason : str
+        Why it was refused ("" when honoured).
+    vertex : int, optional
+        The vertex moved (its index), None when refused.
+    vertex_deg : float, optional
+        That vertex's angle, deg.
+    old_value : float, optional
+        Its value before, mm/rad².
     """
 
     theta_deg: float
@@ -345,7 +363,31 @@ def _zero_dwells(law: PiecewiseLinearLaw, notes: list[str]) -> PiecewiseLinearLa
 # ---------------------------------------------------------------------------------------------
 
 def difference_norms(first: PiecewiseLinearLaw, second: PiecewiseLinearLaw) -> tuple[float, float]:
-    """(max |Δa|, RMS of Δa over the cycle) between two piecewise-linear laws, exact (mm/rad²)."""
+    """(max |Δa|, RMS of Δa over the cycle) between two piecewise-linear laws, exactly.
+
+    Parameters
+    ----------
+    first, second : PiecewiseLinearLaw
+        The two laws (θ in rad, a in mm/rad²) over the same cycle.
+
+    Returns
+    -------
+    tuple of float
+        The largest difference of their accelerations and its root mean square over the cycle, mm/rad².
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.law.law import PiecewiseLinearLaw
+    >>> from camcad.law.phases import detect_phases
+    >>> x = np.radians([0.0, 45, 90, 135, 180, 225, 270, 315, 360])
+    >>> a = np.array([0.0, 1, 0, -1, 0, -1, 0, 1.2, 0])          # the return's last lobe 20 % high, mm/rad²
+    >>> law = PiecewiseLinearLaw(x, a, 2 * np.pi, detect_phases(x, a, 2 * np.pi))
+    >>> from camcad.balance import difference_norms
+    >>> shifted = law.with_ordinates(law.a + 0.5)
+    >>> difference_norms(law, shifted)
+    (0.5, 0.5)
+    """
     if len(first.x) == len(second.x) and np.array_equal(first.x, second.x):
         # the same knots (and the same jumps): Δa is the polyline of the vertex differences
         d = second.a - first.a

@@ -63,7 +63,7 @@ def jump_nodes(x: np.ndarray) -> np.ndarray:
     Returns
     -------
     ndarray of int
-        Non-decreasing node numbers from 0.
+        Non-decreasing node numbers from 0 (no unit).
 
     Examples
     --------
@@ -241,14 +241,14 @@ def lobes(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
     Parameters
     ----------
     a : ndarray
-        Ordinates.
+        Ordinates, mm/rad².
     free : ndarray of bool
-        Vertices that may move.
+        Vertices that may move (no unit).
 
     Returns
     -------
     list of ndarray of int
-        Vertex indices of each run, in order.
+        Vertex indices of each run, in order (no unit).
 
     Examples
     --------
@@ -273,7 +273,27 @@ def lobes(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
 
 
 def lobe_groups(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
-    """The groups of mode extrema-resample: one per lobe (see ``lobes``)."""
+    """The groups of mode extrema-resample: one per lobe (see ``lobes``).
+
+    Parameters
+    ----------
+    a : ndarray
+        Ordinates, mm/rad².
+    free : ndarray of bool
+        Vertices that may move (no unit).
+
+    Returns
+    -------
+    list of ndarray of int
+        Vertex indices of each lobe, in order (no unit).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.balance import lobe_groups
+    >>> [g.tolist() for g in lobe_groups(np.array([0.0, 1.0, 2.0, -1.0, 0.0]), np.array([0, 1, 1, 1, 0], bool))]
+    [[1, 2], [3]]
+    """
     return lobes(a, free)
 
 
@@ -283,14 +303,22 @@ def extremum_groups(a: np.ndarray, free: np.ndarray) -> list[np.ndarray]:
     Parameters
     ----------
     a : ndarray
-        Ordinates.
+        Ordinates, mm/rad².
     free : ndarray of bool
-        Vertices that may move.
+        Vertices that may move (no unit).
 
     Returns
     -------
     list of ndarray of int
-        Vertex indices of each extremum (a plateau of equal values is one group).
+        Vertex indices of each extremum, a plateau of equal values one group (no unit).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.balance import extremum_groups
+    >>> a = np.array([0.0, 1.0, 1.0, 0.5, 0.0, -2.0, 0.0])
+    >>> [g.tolist() for g in extremum_groups(a, np.ones(7, bool))]
+    [[1, 2], [5]]
     """
     groups = []
     for lobe in lobes(a, free):
@@ -355,10 +383,12 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
     Parameters
     ----------
     law : PiecewiseLinearLaw
+        The law (θ in rad, a in mm/rad²).
     conds : tuple of Condition
+        The conditions to meet (targets in mm/rad and mm).
     basis : NodeBasis or scipy.sparse matrix (n_vertices, k)
-        The allowed changes; node columns (min-change, keypoints, segment) are solved as a tridiagonal
-        system by cyclic reduction, any other basis by a sparse LU.
+        B: the shapes the change is made of (dimensionless); node columns (min-change, keypoints, segment) are
+        solved as a tridiagonal system by cyclic reduction, any other basis by a sparse LU.
     use_mass : bool
         Measure the change as a function (True) or vertex by vertex (False).
     mode, where : str
@@ -368,6 +398,23 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
     -------
     ndarray
         δ, one value per vertex (mm/rad²).
+
+    Examples
+    --------
+    Every vertex free (B = I), the function norm: the least change that balances the example law.
+
+    >>> import numpy as np
+    >>> from camcad.law.law import PiecewiseLinearLaw
+    >>> from camcad.law.phases import detect_phases
+    >>> x = np.radians([0.0, 45, 90, 135, 180, 225, 270, 315, 360])
+    >>> a = np.array([0.0, 1, 0, -1, 0, -1, 0, 1.2, 0])          # the return's last lobe 20 % high, mm/rad²
+    >>> law = PiecewiseLinearLaw(x, a, 2 * np.pi, detect_phases(x, a, 2 * np.pi))
+    >>> import scipy.sparse
+    >>> from camcad.balance import conditions, functional_rows, least_change
+    >>> delta = least_change(law, conditions(law), scipy.sparse.identity(len(law.x), format="csc"), True)
+    >>> residual = functional_rows(law.x, conditions(law)) @ (law.a + delta)
+    >>> bool(np.max(np.abs(residual)) < 1e-12)
+    True
     """
     rows = functional_rows(law.x, conds)
     goal = targets(conds)

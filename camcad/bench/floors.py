@@ -2,7 +2,7 @@
 
 A floor computes the same figures as the camcad kernel it stands beside, from the same input, by the
 shortest numpy route its author could write; ``camcad bench`` times both in one run and checks that the
-floor reproduces camcad's figures. Nothing here imports camcad (tests/test_bench_floors.py checks it), so
+floor reproduces camcad's figures. Nothing here imports camcad (tests/report/test_bench_floors.py checks it), so
 a floor is a second implementation, not camcad's code timed twice.
 
 - ``profile_floor``: a translating roller follower without offset on a cam of cycloidal and 3-4-5 motions

@@ -1,6 +1,6 @@
 """Independent references for ``camcad bench``: what every error in the kernel table is measured against.
 
-None of these uses camcad's code (tests/test_bench_floors.py checks the imports); each is a closed form or
+None of these uses camcad's code (tests/report/test_bench_floors.py checks the imports); each is a closed form or
 another method, named in the ``reference`` column of the rows it serves:
 
 - ``RollerCam``: a translating roller follower (no offset, counter-clockwise cam) on cycloidal and 3-4-5

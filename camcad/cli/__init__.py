@@ -3,7 +3,7 @@
 Each command lives in a module of this package and registers itself on ``app``. Commands load lazily:
 ``camcad --help`` and ``camcad --version`` import only typer, and ``camcad COMMAND`` imports only the
 module of that command (``COMMANDS``), which in turn imports the library it needs inside the command
-function — so a command's start-up costs what that command uses (tests/test_startup.py).
+function — so a command's start-up costs what that command uses (tests/project/test_startup.py).
 """
 
 from __future__ import annotations

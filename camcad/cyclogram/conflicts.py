@@ -19,6 +19,34 @@ def find_conflict(events: Iterable[str], constraints: list[Constraint], tol_deg:
     which is a simple cycle (a shorter positive cycle would have shown up earlier). O(n⁴) time,
     O(n³) memory, so above ``dense_limit`` events Bellman–Ford finds some positive simple cycle
     instead (still irreducible, perhaps not the shortest).
+
+    Parameters
+    ----------
+    events : iterable of str
+        The events (the graph's nodes).
+    constraints : list of Constraint
+        The difference constraints (deg).
+    tol_deg : float
+        A cycle heavier than this is positive, deg.
+    dense_limit : int
+        Above this many events, Bellman–Ford instead (a count).
+
+    Returns
+    -------
+    list of Constraint
+        The constraints of the cycle (deg), in order around it; [] when the constraints can all hold.
+
+    Examples
+    --------
+    S->Y at least 40 deg cannot fit in a cycle of 50 deg with Y->E at least 15:
+
+    >>> import camcad
+    >>> network = camcad.make_network([camcad.Operation("S", "X", 30.0), camcad.Operation("S", "Y", 40.0),
+    ...                                camcad.Operation("X", "E", 10.0), camcad.Operation("Y", "E", 15.0)])
+    >>> from camcad.cyclogram import constraints_of, find_conflict
+    >>> short = camcad.make_network(network.operations, cycle_deg=50.0)
+    >>> sorted((c.kind, c.label) for c in find_conflict(short.events, constraints_of(short)))
+    [('cycle', 'makespan'), ('min', 'S->Y'), ('min', 'Y->E')]
     """
     names = list(events)
     index = {e: k for k, e in enumerate(names)}

@@ -25,6 +25,20 @@ class LinearRelation:
 
     Podgorny et al. (2018) linearise the first rebound amplitude of the shuttle lift against the
     phase angle of operation (3, 7): a = −0.003 t + 0.208 (a mm, t deg).
+
+    Parameters
+    ----------
+    slope : float
+        The relation's unit per deg (mm/deg for an amplitude).
+    intercept : float
+        The value at t = 0, in the relation's unit (mm).
+
+    Examples
+    --------
+    >>> from camcad.cyclogram import LinearRelation
+    >>> relation = LinearRelation(-0.003, 0.208)
+    >>> round(relation(36.0), 12), round(relation.solve(0.1), 9)       # (0.208 - 0.1)/0.003 = 36 deg
+    (0.1, 36.0)
     """
 
     slope: float
@@ -46,11 +60,25 @@ INADMISSIBLE = 1e30
 class PhaseLimit:
     """The least admissible phase angle of one operation from one relation.
 
-    ``angle_deg``: least t; ``value`` the relation there; ``limit`` the allowed value; ``binding``
-    False when the lower end of the search interval already meets the limit (then angle_deg is
-    that end); ``source`` ("contact", "vibration", ...) names the relation; ``evaluations`` counts
-    its evaluations. ``note`` says when the angle is set by a jump to inadmissible values (the
-    relation is +inf below it, e.g. the profile undercuts) rather than by reaching the limit.
+    ``least_phase_angle`` returns it; the example is there.
+
+    Attributes
+    ----------
+    angle_deg : float
+        The least t, deg.
+    value : float
+        The relation there, in its unit (MPa, mm, ...).
+    limit : float
+        The allowed value, in the relation's unit (MPa, mm, ...).
+    binding : bool
+        False when the lower end of the search interval already meets the limit (angle_deg is that end).
+    source : str
+        The relation ("contact", "vibration", ...).
+    evaluations : int
+        The relation's evaluations (a count).
+    note : str
+        Says when the angle is set by a jump to inadmissible values (the relation is +inf below it, e.g.
+        the profile undercuts) rather than by reaching the limit.
     """
 
     angle_deg: float
@@ -65,19 +93,55 @@ class PhaseLimit:
 def least_phase_angle(relation: Callable[[float], float], limit: float, lower_deg: float,
                       upper_deg: float, *, source: str = "limit", what: str = "",
                       xtol_deg: float = 1e-10, max_iter: int = 200, reason=None) -> PhaseLimit:
-    """Least phase angle t in [lower, upper] (deg) with relation(t) ≤ limit, for a non-increasing
-    relation (a stress or an amplitude that falls as the operation gets longer).
+    """Least phase angle t in [lower, upper] (deg) with relation(t) ≤ limit, for a non-increasing relation.
 
-    Bracket check: if relation(lower) ≤ limit the lower end is returned (not binding); if
-    relation(upper) > limit no phase angle in the interval is admissible and a CamcadError says so.
-    Otherwise Brent's method (``camcad.numerics.brent_root``: no scipy import for this) finds the
-    crossing relation(t) = limit to ``xtol_deg`` (absolute, deg),
-    in a handful of evaluations — no scan. For a monotone relation the crossing is the least
-    admissible t; for a non-monotone one it is *a* crossing inside the bracket.
+    The relation is a stress or an amplitude that falls as the operation gets longer. Bracket check: if
+    relation(lower) ≤ limit the lower end is returned (not binding); if relation(upper) > limit no phase angle
+    in the interval is admissible and a CamcadError says so. Otherwise Brent's method
+    (``camcad.numerics.brent_root``: no scipy import for this) finds the crossing relation(t) = limit to
+    ``xtol_deg`` (absolute, deg), in a handful of evaluations — no scan. For a monotone relation the crossing is
+    the least admissible t; for a non-monotone one it is *a* crossing inside the bracket.
 
     The relation may return +inf for an inadmissible t (e.g. the profile undercuts); NaN is an error.
     ``reason`` (t → text, "" where admissible) names what makes a t inadmissible, for the note.
-    Units: t deg; relation and limit in the same unit (MPa, mm, ...).
+
+    Parameters
+    ----------
+    relation : callable
+        t (deg) → the stress or amplitude there (MPa, mm, ...).
+    limit : float
+        The allowed value, in the relation's unit.
+    lower_deg, upper_deg : float
+        The interval searched, deg.
+    source : str
+        Names the relation ("contact", "vibration", ...).
+    what : str
+        Names the operation in messages.
+    xtol_deg : float
+        The root's tolerance, deg.
+    max_iter : int
+        Brent's iterations at most (a count).
+    reason : callable, optional
+        t (deg) → why t is inadmissible ("" where it is admissible).
+
+    Returns
+    -------
+    PhaseLimit
+        The least angle (deg), the relation there and the limit (its unit), whether it binds.
+
+    Raises
+    ------
+    CamcadError
+        No phase angle in the interval meets the limit, or the relation is NaN.
+
+    Examples
+    --------
+    The published vibration relation of the shuttle lift, a = −0.003 t + 0.208 mm, against 0.1 mm:
+
+    >>> from camcad.cyclogram import least_phase_angle
+    >>> limit = least_phase_angle(lambda t: -0.003 * t + 0.208, 0.1, 20.0, 70.0, source="vibration")
+    >>> round(limit.angle_deg, 9), limit.binding                        # (0.208 - 0.1)/0.003 = 36 deg
+    (36.0, True)
     """
     count = 0
 
@@ -125,8 +189,31 @@ def least_phase_angle(relation: Callable[[float], float], limit: float, lower_de
 
 
 def vibration_limits(network: Network, xtol_deg: float = 1e-10) -> dict[str, list[PhaseLimit]]:
-    """{label: [PhaseLimit]} for every operation with a vibration relation: the least t in
-    [min_deg, max_deg (or cycle_deg)] with amplitude(t) ≤ amplitude_limit_mm (``least_phase_angle``)."""
+    """The least phase angle of every operation with a vibration relation, against its amplitude limit.
+
+    For each: the least t in [min_deg, max_deg (or cycle_deg)] with amplitude(t) ≤ amplitude_limit_mm
+    (``least_phase_angle``).
+
+    Parameters
+    ----------
+    network : Network
+        The cyclogram network; operations with ``amplitude`` and ``amplitude_limit_mm`` are limited.
+    xtol_deg : float
+        The root's tolerance, deg.
+
+    Returns
+    -------
+    dict
+        {label: [PhaseLimit]}, angles in deg.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> from camcad.cyclogram import LinearRelation, vibration_limits
+    >>> lift = camcad.Operation("3", "7", 25.0, 70.0, amplitude=LinearRelation(-0.003, 0.208), amplitude_limit_mm=0.1)
+    >>> round(vibration_limits(camcad.make_network([lift]))["3->7"][0].angle_deg, 9)
+    36.0
+    """
     limits: dict[str, list[PhaseLimit]] = {}
     for op in network.operations:
         if op.amplitude is None or op.amplitude_limit_mm is None:

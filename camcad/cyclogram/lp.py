@@ -5,7 +5,7 @@ upper bounds as backward arcs, the cycle). The least makespan and the earliest s
 longest-path distances from the first event (Bellman–Ford), and the bounds are infeasible exactly when
 the constraint graph has a positive cycle. This is the linear programme of the source (minimise
 p(N) − p(1)) solved exactly by its combinatorial structure, without scipy.optimize (0.6 s of CPU to
-import, which a scene run otherwise does not need); tests/test_cyclogram.py checks it against scipy's
+import, which a scene run otherwise does not need); tests/cyclogram/test_cyclogram.py checks it against scipy's
 LP (HiGHS) and against a dynamic programme over a topological order.
 """
 
@@ -36,12 +36,42 @@ SCHEDULES = ("earliest", "leximin")
 class CyclogramResult:
     """The optimal cyclogram, or why there is none.
 
-    Times in deg on the machine's cycle (the first event at ``network.start_deg``). ``event_times_deg``
-    is the earliest schedule with the least makespan (unique); ``phase_angles_deg`` t(x, y) = p(y) − p(x);
-    ``critical_path`` events along one longest (zero-slack) path from first to last event, which
-    may step back along an upper bound; ``active`` the bounds on some longest path (tightening
-    one lengthens the makespan). When infeasible: ``conflict`` a smallest set of constraints that
-    cannot hold together (a positive cycle) and ``explanation`` in words.
+    Times in deg on the machine's cycle (the first event at ``network.start_deg``). ``camcad.optimise`` returns
+    it; the example is there and at ``effective_lower_bounds``.
+
+    Attributes
+    ----------
+    network : Network
+        The network solved.
+    feasible : bool
+        Whether every constraint can hold.
+    makespan_deg : float, optional
+        The least makespan, deg (None when infeasible).
+    event_times_deg : dict
+        {event: time, deg}: the earliest schedule with the least makespan (unique), or the leximin one.
+    phase_angles_deg : dict
+        {label: t(x, y) = p(y) − p(x), deg}.
+    critical_path : tuple of str
+        Events along one longest (zero-slack) path from first to last event, which may step back along an
+        upper bound.
+    active : tuple of Constraint
+        The bounds on some longest path (tightening one lengthens the makespan).
+    lower_bounds_deg : dict
+        {label: (least admissible angle deg, its source)}.
+    conflict : tuple of Constraint
+        When infeasible: a smallest set of constraints that cannot hold together (a positive cycle).
+    explanation : str
+        The conflict in words.
+    cycle_slack_deg : float, optional
+        The cycle minus the makespan, deg.
+    solver_message : str
+        What the solver said.
+    schedule : str
+        "earliest" or "leximin".
+    margins : dict
+        {label: relative margin (t − [φ])/[φ], dimensionless} under the leximin schedule.
+    critical_operations : tuple of str
+        The operations held at their least angle.
     """
 
     network: Network

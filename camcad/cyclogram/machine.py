@@ -81,12 +81,34 @@ class Group:
 
 @dataclass(frozen=True)
 class Machine:
-    """A machine of groups joined into one network (``make_machine``).
+    """A machine of groups joined into one network (``camcad.make_machine``, where the example is).
 
-    ``network`` holds every event and operation (a group's events as "GROUP:EVENT", merged where shared);
-    ``limits`` the groups' phase limits under the machine's labels; ``extra`` the groups' own cycles;
-    ``event_of`` {name as written: machine event}; ``origin`` {machine label: (group or "", label there)};
-    ``limiting`` the limiting operation's machine label (or None).
+    Parameters
+    ----------
+    groups : tuple of Group
+        The groups, as given.
+    network : Network
+        Every event and operation, a group's events as "GROUP:EVENT", merged where shared.
+    limits : dict
+        The groups' phase limits under the machine's labels ({label: [PhaseLimit]}).
+    extra : tuple of Constraint
+        The groups' own cycles (deg).
+    event_of : dict
+        {name as written: machine event}.
+    origin : dict
+        {machine label: (group or "", label there)}.
+    limiting : str, optional
+        The limiting operation's machine label (or None).
+
+    Examples
+    --------
+    >>> import camcad
+    >>> a = camcad.Group("a", camcad.make_network([camcad.Operation("1", "2", 40.0)]))
+    >>> b = camcad.Group("b", camcad.make_network([camcad.Operation("1", "2", 60.0)]))
+    >>> machine = camcad.make_machine([a, b], [camcad.Operation("0", "a:1"), camcad.Operation("a:2", "b:1", 10.0),
+    ...                                        camcad.Operation("b:2", "360")])
+    >>> machine.event_of["a:1"], [g.name for g in machine.groups]
+    ('a:1', ['a', 'b'])
     """
 
     groups: tuple[Group, ...]
@@ -272,13 +294,26 @@ def _check_ref(name: str, groups: Mapping[str, Group], where: str) -> None:
 
 @dataclass(frozen=True)
 class MachineResult:
-    """The machine's optimal cyclogram under one objective.
+    """The machine's optimal cyclogram under one objective (``camcad.optimise_machine`` returns it).
 
-    ``result``: the CyclogramResult of the joined network (event times on the main shaft, deg);
-    ``least_cycle_deg``: the least makespan of the machine (whatever the objective);
-    ``limiting_deg``: t(L) in ``result``; ``limiting_at_least_cycle_deg``: t(L) in the least-cycle schedule;
-    ``limiting_longest_deg``: the longest t(L) the cycle allows; ``groups``: {group: CyclogramResult of its
-    own network with the machine's event times}.
+    Attributes
+    ----------
+    machine : Machine
+        The machine solved.
+    objective : str
+        "least_cycle" or "limiting".
+    result : CyclogramResult
+        The joined network's cyclogram (event times on the main shaft, deg).
+    least_cycle_deg : float, optional
+        The least makespan of the machine whatever the objective, deg.
+    limiting_deg : float, optional
+        t(L) in ``result``, deg.
+    limiting_at_least_cycle_deg : float, optional
+        t(L) in the least-cycle schedule, deg.
+    limiting_longest_deg : float, optional
+        The longest t(L) the cycle allows, deg.
+    groups : dict
+        {group: CyclogramResult of its own network with the machine's event times}.
     """
 
     machine: Machine

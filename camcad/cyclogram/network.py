@@ -74,8 +74,31 @@ class Operation:
 
 @dataclass(frozen=True)
 class Network:
-    """Events, operations, the first and last event, the cycle (deg) and where the first event sits
-    on the machine's cycle (``start_deg``). Build it with ``make_network`` (validates it)."""
+    """A cyclogram's events and operations, its first and last event, the cycle and where it starts.
+
+    Build it with ``camcad.make_network`` (which validates it).
+
+    Parameters
+    ----------
+    events : tuple of str
+        The events.
+    operations : tuple of Operation
+        The operations between them (bounds in deg).
+    start, end : str
+        The first and last events.
+    cycle_deg : float
+        The machine's cycle, deg.
+    start_deg : float
+        Where the first event sits on the machine's cycle, deg.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> network = camcad.make_network([camcad.Operation("S", "X", 30.0), camcad.Operation("S", "Y", 40.0),
+    ...                                camcad.Operation("X", "E", 10.0), camcad.Operation("Y", "E", 15.0)])
+    >>> network.events, network.start, network.end, network.operation("S->Y").min_deg
+    (('S', 'X', 'Y', 'E'), 'S', 'E', 40.0)
+    """
 
     events: tuple[str, ...]
     operations: tuple[Operation, ...]
@@ -225,7 +248,26 @@ def _reachable(origin: str, neighbours: Mapping[str, list[str]]) -> set[str]:
 
 
 def find_cycle(nodes: Iterable[str], arcs: Iterable[tuple[str, str]]) -> list[str]:
-    """A directed cycle of the graph as [a, b, ..., a], or [] when it is acyclic (iterative DFS)."""
+    """A directed cycle of the graph as [a, b, ..., a], or [] when it is acyclic (iterative DFS).
+
+    Parameters
+    ----------
+    nodes : iterable of str
+        The nodes.
+    arcs : iterable of (str, str)
+        The arcs (tail, head).
+
+    Returns
+    -------
+    list of str
+        The nodes of one cycle, the first repeated at the end; [] for an acyclic graph (no unit).
+
+    Examples
+    --------
+    >>> from camcad.cyclogram import find_cycle
+    >>> find_cycle("abc", [("a", "b"), ("b", "c"), ("c", "a")]), find_cycle("abc", [("a", "b"), ("b", "c")])
+    (['a', 'b', 'c', 'a'], [])
+    """
     successors: dict[str, list[str]] = {n: [] for n in nodes}
     for tail, head in arcs:
         successors.setdefault(tail, []).append(head)

@@ -18,11 +18,37 @@ if TYPE_CHECKING:    # the LP (scipy.optimize) is not imported by a profile that
 
 def stretch_phase(phases_deg: list[tuple[float, float, str]], index: int, width_deg: float,
                   cycle_deg: float = 360.0) -> list[tuple[float, float, str]]:
-    """The phases with phase ``index`` (0-based) made ``width_deg`` wide, keeping its start; the
-    next dwell (else the previous one) takes up the difference so the cycle still adds up.
+    """The phases with phase ``index`` made ``width_deg`` wide, keeping its start.
 
-    Phases are (start_deg, end_deg, kind) covering [0, cycle_deg]. Raises CamcadError when no
-    neighbouring dwell is wide enough.
+    The next dwell (else the previous one) takes up the difference so the cycle still adds up.
+
+    Parameters
+    ----------
+    phases_deg : list of (float, float, str)
+        (start_deg, end_deg, kind) covering [0, cycle_deg], deg.
+    index : int
+        The phase to stretch (0-based).
+    width_deg : float
+        Its new width, deg.
+    cycle_deg : float
+        The cycle, deg.
+
+    Returns
+    -------
+    list of (float, float, str)
+        The new phases, deg.
+
+    Raises
+    ------
+    CamcadError
+        No neighbouring dwell is wide enough.
+
+    Examples
+    --------
+    >>> from camcad.cyclogram import format_phases, stretch_phase
+    >>> phases = [(0.0, 90.0, "rise"), (90.0, 180.0, "dwell"), (180.0, 270.0, "return"), (270.0, 360.0, "dwell")]
+    >>> format_phases(stretch_phase(phases, 0, 120.0))
+    '0:120:rise,120:180:dwell,180:270:return,270:360:dwell'
     """
     phases: list[list[Any]] = [list(p) for p in phases_deg]
     change = width_deg - (phases[index][1] - phases[index][0])
@@ -50,7 +76,35 @@ def retime_phases(phases_deg: list[tuple[float, float, str]],
     ``assignments`` maps (kind, occurrence) — e.g. ("rise", 1), the first rise — to its new
     (start_deg, width_deg). Rises and returns not assigned keep their place; dwells become the gaps
     between the motions, and a motion that crosses 0/cycle is rejected (shift ``start_deg``).
-    Returns (start_deg, end_deg, kind) covering [0, cycle_deg]; ``format_phases`` writes them as text.
+
+    Parameters
+    ----------
+    phases_deg : list of (float, float, str)
+        The law's phases: start and end in deg, and kind.
+    assignments : dict
+        {(kind, occurrence): (start_deg, width_deg)}, deg.
+    cycle_deg : float
+        The cycle, deg.
+    where : str
+        Named in errors.
+
+    Returns
+    -------
+    list of (float, float, str)
+        (start_deg, end_deg, kind) covering [0, cycle_deg], deg; ``format_phases`` writes them as text.
+
+    Raises
+    ------
+    CamcadError
+        Motions that overlap, an occurrence the law does not have, a motion across the cycle's end.
+
+    Examples
+    --------
+    >>> from camcad.cyclogram import format_phases, retime_phases
+    >>> phases = [(0.0, 30.0, "dwell"), (30.0, 90.0, "rise"), (90.0, 200.0, "dwell"), (200.0, 260.0, "return"),
+    ...           (260.0, 360.0, "dwell")]
+    >>> format_phases(retime_phases(phases, {("rise", 1): (40.0, 50.0)}))
+    '0:40:dwell,40:90:rise,90:200:dwell,200:260:return,260:360:dwell'
     """
     occurrences: dict[str, int] = {}
     motions = []
@@ -101,13 +155,57 @@ def retime_phases(phases_deg: list[tuple[float, float, str]],
 
 
 def format_phases(phases_deg: list[tuple[float, float, str]]) -> str:
-    """"0:90:dwell,90:180:rise,..." (the scene's ``phases`` text) from (start, end, kind) in deg."""
+    """The scene's ``phases`` text ("0:90:dwell,90:180:rise,...") from (start, end, kind) in deg.
+
+    Parameters
+    ----------
+    phases_deg : list of (float, float, str)
+        The phases: start and end in deg, and kind.
+
+    Returns
+    -------
+    str
+        The text, angles in deg.
+
+    Examples
+    --------
+    >>> from camcad.cyclogram import format_phases
+    >>> format_phases([(0.0, 90.0, "rise"), (90.0, 180.0, "dwell"), (180.0, 270.0, "return"), (270.0, 360.0, "dwell")])
+    '0:90:rise,90:180:dwell,180:270:return,270:360:dwell'
+    """
     return ",".join(f"{start:.10g}:{end:.10g}:{kind}" for start, end, kind in phases_deg)
 
 
 def operation_timing(result: CyclogramResult) -> dict[str, dict[tuple[str, int], tuple[float, float]]]:
-    """{mechanism: {(phase kind, occurrence): (start_deg, width_deg)}} from an optimal cyclogram,
-    wrapped into [0, cycle): what ``retime_phases`` needs for each mechanism."""
+    """What ``retime_phases`` needs for each mechanism, from an optimal cyclogram.
+
+    Each operation that names a mechanism and a phase gives that phase's new start and width, wrapped into
+    [0, cycle).
+
+    Parameters
+    ----------
+    result : CyclogramResult
+        A feasible cyclogram.
+
+    Returns
+    -------
+    dict
+        {mechanism: {(phase kind, occurrence): (start_deg, width_deg)}}, deg.
+
+    Raises
+    ------
+    CamcadError
+        An infeasible cyclogram.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> from camcad.cyclogram import operation_timing
+    >>> network = camcad.make_network([camcad.Operation("0", "1", 20.0),
+    ...                                camcad.Operation("1", "2", 35.0, mechanism="lift", phase="rise")])
+    >>> operation_timing(camcad.optimise(network))
+    {'lift': {('rise', 1): (20.0, 35.0)}}
+    """
     if not result.feasible:
         raise CamcadError("the cyclogram is infeasible; there are no phase angles to feed back",
                           "[cyclogram]", "resolve the conflict first")

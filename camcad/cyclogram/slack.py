@@ -86,12 +86,21 @@ def largest_phase_angles(events: list[str], constraints: list[Constraint], label
 
 @dataclass(frozen=True)
 class SlackPlan:
-    """How the slack of a least makespan was spread (``spread_slack``).
+    """How the slack of a least makespan was spread (``spread_slack`` returns it; the example is there).
 
-    ``margins``: {label: relative margin (t − [φ])/[φ]} of every operation with [φ] > 0 (0 for the critical
-    ones); ``critical``: the labels that cannot be longer than [φ] at this makespan; ``rounds``: (z, labels
-    held at z) per max–min round; ``raised``: the constraints with the raised bounds, from which the schedule
-    is the earliest; ``newton_steps``: cycles visited (a count).
+    Attributes
+    ----------
+    margins : dict
+        {label: relative margin (t − [φ])/[φ], dimensionless} of every operation with [φ] > 0 (0 for the
+        critical ones).
+    critical : tuple of str
+        The labels that cannot be longer than [φ] at this makespan.
+    rounds : tuple
+        (z, labels held at z) per max–min round, z dimensionless.
+    raised : tuple of Constraint
+        The constraints with the raised bounds (deg), from which the schedule is the earliest.
+    newton_steps : int
+        Cycles visited (a count).
     """
 
     margins: dict[str, float]
@@ -130,6 +139,21 @@ def spread_slack(events: list[str], constraints: list[Constraint], labels: dict[
     Returns
     -------
     SlackPlan
+        The operations' relative margins (dimensionless), the critical ones, the raised bounds (deg).
+
+    Examples
+    --------
+    At the least makespan of 55 deg the path S-Y-E is critical; S-X-E (30 + 10 deg) has 15 deg to share, and
+    max-min gives both of its operations the same relative margin z: 30(1 + z) + 10(1 + z) = 55, z = 3/8.
+
+    >>> import camcad
+    >>> network = camcad.make_network([camcad.Operation("S", "X", 30.0), camcad.Operation("S", "Y", 40.0),
+    ...                                camcad.Operation("X", "E", 10.0), camcad.Operation("Y", "E", 15.0)])
+    >>> from camcad.cyclogram import constraints_of, spread_slack
+    >>> labels = {op.label: (op.tail, op.head) for op in network.operations}
+    >>> plan = spread_slack(list(network.events), constraints_of(network), labels, "S", "E", 55.0)
+    >>> sorted(plan.critical), {k: round(v, 9) for k, v in sorted(plan.margins.items())}
+    (['S->Y', 'Y->E'], {'S->X': 0.375, 'S->Y': 0.0, 'X->E': 0.375, 'Y->E': 0.0})
     """
     base = [c for c in constraints if c.kind != "cycle"]
     base.append(Constraint("cycle", "makespan", float(makespan_deg), "least makespan", end, start))

@@ -71,7 +71,27 @@ def lever_stiffness(youngs_modulus_mpa: float, second_moment_mm4: float, arm_a_m
 
     E in MPa (N/mm²), J the second moment of the lever's section in mm⁴, a and b the arm lengths
     in mm (a between the supports, b the overhang to the contact point). E·J/mm³ is N/mm, × 1000 → N/m.
-    Source: seed 000 (Podgorny et al. 2018), eq. for c_пр; the tip deflection of an overhanging beam.
+    Source: Podgorny et al. (2018), their reduced stiffness c_пр: the tip deflection of an overhanging beam.
+
+    Parameters
+    ----------
+    youngs_modulus_mpa : float
+        E, MPa.
+    second_moment_mm4 : float
+        J, the section's second moment, in mm to the fourth power (mm⁴).
+    arm_a_mm, arm_b_mm : float
+        a and b, mm.
+
+    Returns
+    -------
+    float
+        c, N/m.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import lever_stiffness
+    >>> lever_stiffness(2.1e5, 100.0, 50.0, 100.0)         # 3 x 2.1e5 x 100 / (150 x 100²) = 42 N/mm
+    42000.0
     """
     return 3.0 * youngs_modulus_mpa * second_moment_mm4 / ((arm_a_mm + arm_b_mm) * arm_b_mm**2) * 1e3
 
@@ -179,7 +199,26 @@ class LeverBeam:
 
 
 def reduced_mass(lever_inertia_kg_m2: float, lever_length_mm: float) -> float:
-    """Mass at the lever's end equivalent to its moment of inertia about the pivot, m = J_A/l² (kg)."""
+    """Mass at the lever's end equivalent to its moment of inertia about the pivot, m = J_A/l² (kg).
+
+    Parameters
+    ----------
+    lever_inertia_kg_m2 : float
+        J_A, kg·m².
+    lever_length_mm : float
+        l, mm.
+
+    Returns
+    -------
+    float
+        m, kg.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import reduced_mass
+    >>> round(reduced_mass(1.708e-4, 150.0), 12)                   # 1.708e-4 / 0.15², the source's lever
+    0.007591111111
+    """
     length = lever_length_mm * 1e-3
     return lever_inertia_kg_m2 / length**2
 
@@ -192,13 +231,52 @@ def natural_frequency_hz(stiffness_n_per_m: float, mass_kg: float) -> float:
 def impact_impulse(mass_kg: float, approach_velocity_m_s: float, restitution: float) -> float:
     """S = m v0 (1 + k) = J_A ω0 (1 + k)/l, N·s (the velocity goes from v0 to −k v0).
 
-    Source: seed 000, S_C = J_A (ω1 − ω0)(1 + k)/l with ω1 = 0 (after Panovko 1990); sign dropped.
+    Source: Podgorny et al. (2018), S_C = J_A (ω1 − ω0)(1 + k)/l with ω1 = 0 (after Panovko 1990); sign dropped.
+
+    Parameters
+    ----------
+    mass_kg : float
+        m, the reduced mass at the contact point, kg.
+    approach_velocity_m_s : float
+        v0, m/s.
+    restitution : float
+        k, the coefficient of restitution (dimensionless; 5/9 for steel on steel in the source).
+
+    Returns
+    -------
+    float
+        S, N·s.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import impact_impulse
+    >>> round(impact_impulse(0.0076, 0.5, 5 / 9), 12)         # 0.0076 x 0.5 x 14/9
+    0.005911111111
     """
     return mass_kg * approach_velocity_m_s * (1.0 + restitution)
 
 
 def impact_force(impulse_ns: float, pulse_s: float) -> float:
-    """Mean impact force F = S/τ, N (τ the interaction time, s). Source: seed 000."""
+    """Mean impact force F = S/τ, N (τ the interaction time, s). Source: Podgorny et al. (2018).
+
+    Parameters
+    ----------
+    impulse_ns : float
+        S, N·s.
+    pulse_s : float
+        τ, s.
+
+    Returns
+    -------
+    float
+        F, N.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import impact_force
+    >>> impact_force(0.002, 0.0005)
+    4.0
+    """
     return impulse_ns / pulse_s
 
 
@@ -239,16 +317,48 @@ def triangular_pulse_response(t, *, omega: float, damping_ratio: float, mass: fl
     """Closed-form Duhamel solution of q̈ + 2n q̇ + ω² q = Q(t)/m from q(0) = q0, q̇(0) = v0.
 
     Q is a triangle: peak_force · t/τ for 0 ≤ t ≤ τ, peak_force · (2τ − t)/τ for τ ≤ t ≤ 2τ, then 0
-    (τ = rise_time, s). n = ζω, k1 = √(ω² − n²) (underdamped, ζ < 1). Units: t, τ in s; ω rad/s;
-    m kg; force N; q m; q̇ m/s. Returns (q, q̇) at t.
+    (τ = rise_time). n = ζω, k1 = √(ω² − n²) (underdamped, ζ < 1).
 
         q = q0 e^{−nt}(cos k1t + (n/k1) sin k1t) + (v0/k1) e^{−nt} sin k1t
-            + (1/(m k1)) ∫₀ᵗ Q(t1) e^{−n(t−t1)} sin k1(t − t1) dt1          (seed 000, eq. 2)
+            + (1/(m k1)) ∫₀ᵗ Q(t1) e^{−n(t−t1)} sin k1(t − t1) dt1          (Podgorny et al. 2018, eq. 2)
 
     The triangle is (F/τ)[r(t) − 2r(t − τ) + r(t − 2τ)] with r the unit ramp, so the integral is
     (F/τ)[R(t) − 2R(t − τ) + R(t − 2τ)] with R from ``_ramp``. After the pulse the motion is the free
     vibration from the state at 2τ (evaluated that way to avoid cancelling large ramp terms).
     Loses relative accuracy when ω τ ≪ 1 (terms of order 1/(ωτ)² cancel).
+
+    Parameters
+    ----------
+    t : array_like
+        Instants, s.
+    omega : float
+        ω, rad/s.
+    damping_ratio : float
+        ζ < 1 (dimensionless).
+    mass : float
+        m, kg.
+    peak_force : float
+        F, N.
+    rise_time : float
+        τ, s.
+    q0, v0 : float
+        The start, m (1000 mm) and m/s.
+
+    Returns
+    -------
+    q, qdot : ndarray
+        At ``t``: m (1000 mm) and m/s.
+
+    Examples
+    --------
+    Undamped, no force: the free vibration q = (v0/ω) sin ωt.
+
+    >>> import math
+    >>> from camcad.dynamics import triangular_pulse_response
+    >>> q, qdot = triangular_pulse_response([math.pi / 20], omega=10.0, damping_ratio=0.0, mass=1.0, peak_force=0.0,
+    ...                                     rise_time=0.01, v0=1.0)
+    >>> round(float(q[0]), 12), round(float(qdot[0]), 12)
+    (0.1, 0.0)
     """
     if not 0.0 <= damping_ratio < 1.0:
         raise ValueError("damping ratio must be in [0, 1)")
@@ -274,7 +384,28 @@ def triangular_pulse_response(t, *, omega: float, damping_ratio: float, mass: fl
 
 
 def triangular_pulse(t, peak_force: float, rise_time: float) -> np.ndarray:
-    """The triangular force Q(t) of ``triangular_pulse_response`` (N)."""
+    """The triangular force Q(t) of ``triangular_pulse_response`` (N).
+
+    Parameters
+    ----------
+    t : array_like
+        Instants, s.
+    peak_force : float
+        The peak, N.
+    rise_time : float
+        τ, s (the triangle rises over τ and falls over τ).
+
+    Returns
+    -------
+    ndarray
+        Q at ``t``, N.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import triangular_pulse
+    >>> triangular_pulse([0.0, 0.5, 1.0, 1.5, 2.0, 3.0], 4.0, 1.0).tolist()
+    [0.0, 2.0, 4.0, 2.0, 0.0, 0.0]
+    """
     t = np.asarray(t, dtype=float)
     return peak_force * np.clip(np.minimum(t, 2.0 * rise_time - t) / rise_time, 0.0, None)
 
@@ -384,6 +515,39 @@ def find_contact(law: MotionLaw, stop: str, preload_mm: float, ratio: float = 1.
     The preload is measured at the contact point C (mm); in the law's units it is preload/ratio.
     The approach phase is the rise ending at the highest displacement (upper stop) or the return
     ending at the lowest (lower stop). θc is found by brentq on s(θ) − target inside that phase.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm or rad).
+    stop : str
+        "upper" or "lower".
+    preload_mm : float
+        The preload at the contact point, mm.
+    ratio : float
+        Contact-point units per unit of the law (dimensionless for mm to mm).
+    where : str
+        Named in errors.
+
+    Returns
+    -------
+    Contact
+        ``phase`` the approach phase, ``theta`` θc (rad) and ``velocity_analog`` v(θc) (law units per rad).
+
+    Raises
+    ------
+    CamcadError
+        A preload the law never reaches.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> import numpy as np
+    >>> from camcad.dynamics import find_contact
+    >>> contact = find_contact(law, "upper", 0.25)
+    >>> contact.phase.kind, round(float(law.kinematics(np.array([contact.theta])).s[0]), 9)   # 20 - 0.25 mm
+    ('rise', 19.75)
     """
     from scipy.optimize import brentq
 
@@ -414,10 +578,32 @@ def find_contact(law: MotionLaw, stop: str, preload_mm: float, ratio: float = 1.
 
 @dataclass(frozen=True)
 class Impact:
-    """The impact at one speed.
+    """The impact at one speed (``camcad.impact_sweep`` gives one per speed; the example is there).
 
-    approach_velocity_mm_s v0; impulse_ns S; force_n F; pulse_s τ; rebound_mm (first rebound
-    amplitude) at rebound_at_s after contact; the response q (mm) at ``time`` (s) when kept.
+    Attributes
+    ----------
+    rpm : float
+        The cam speed, rpm.
+    contact_deg : float
+        The cam angle of contact, deg.
+    approach_velocity_mm_s : float
+        v0, the velocity at which the follower meets the stop, mm/s.
+    impulse_ns : float
+        S = m v0 (1 + k), N·s.
+    force_n : float
+        The mean force F = S/τ, N.
+    pulse_s : float
+        τ, the interaction time, s.
+    rebound_mm : float
+        The first rebound's amplitude, mm.
+    rebound_at_s : float
+        When it peaks after contact, s.
+    preload_mm : float
+        The preload, mm (inf: none).
+    time : ndarray
+        The response's instants after contact when kept, s.
+    q_mm : ndarray
+        The response q at ``time``, mm.
     """
 
     rpm: float
@@ -439,7 +625,32 @@ class Impact:
 
 
 def response_after_impact(stop: StopModel, approach_velocity_m_s: float, time) -> tuple[np.ndarray, np.ndarray]:
-    """(q m, q̇ m/s) at ``time`` (s) after contact: v0 towards the stop, the stop's triangle pushing back."""
+    """The motion after contact: v0 towards the stop, the stop's triangular pulse pushing back.
+
+    Parameters
+    ----------
+    stop : StopModel
+        The lever and its stop (kg, N/m).
+    approach_velocity_m_s : float
+        v0, m/s.
+    time : array_like
+        The instants after contact, s.
+
+    Returns
+    -------
+    q, qdot : ndarray
+        The displacement (m, 1000 mm) and its rate (m/s) at ``time``.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> stop = camcad.StopModel(mass_kg=0.5, stiffness_n_per_m=2e5, stop_stiffness_n_per_m=1e6,
+    ...                         restitution=5 / 9, damping_ratio=0.05, preload_mm=0.25)
+    >>> from camcad.dynamics import response_after_impact
+    >>> q, qdot = response_after_impact(stop, 0.1, [0.0])
+    >>> float(q[0]), float(qdot[0])
+    (0.0, 0.1)
+    """
     force = impact_force(impact_impulse(stop.mass_kg, approach_velocity_m_s, stop.restitution), stop.pulse_s)
     return triangular_pulse_response(time, omega=stop.omega_stop, damping_ratio=stop.damping_ratio,
                                      mass=stop.mass_kg, peak_force=-force, rise_time=stop.pulse_s,
@@ -447,9 +658,33 @@ def response_after_impact(stop: StopModel, approach_velocity_m_s: float, time) -
 
 
 def first_rebound(stop: StopModel, approach_velocity_m_s: float, samples: int = 4001) -> tuple[float, float]:
-    """Largest excursion away from the stop, max(−q) (m), within the pulse and one period after it; and its time (s).
+    """Largest excursion away from the stop, max(−q), within the pulse and one period after it; and its time.
 
     Found on ``samples`` points, then refined where q̇ changes sign (brentq on the closed-form q̇).
+
+    Parameters
+    ----------
+    stop : StopModel
+        The lever and its stop (kg, N/m).
+    approach_velocity_m_s : float
+        v0, m/s.
+    samples : int
+        Points of the first search (a count).
+
+    Returns
+    -------
+    tuple of float
+        The rebound, m (1000 mm), and when it peaks after contact, s.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> stop = camcad.StopModel(mass_kg=0.5, stiffness_n_per_m=2e5, stop_stiffness_n_per_m=1e6,
+    ...                         restitution=5 / 9, damping_ratio=0.05, preload_mm=0.25)
+    >>> from camcad.dynamics import first_rebound
+    >>> rebound, at = first_rebound(stop, 0.1)
+    >>> rebound > 0 and 0 < at < 1 / stop.f_free_hz
+    True
     """
     from scipy.optimize import brentq
 
@@ -470,7 +705,44 @@ def first_rebound(stop: StopModel, approach_velocity_m_s: float, samples: int = 
 
 def impact_at(law: MotionLaw, stop: StopModel, rpm: float, *, contact: Contact | None = None,
               keep_response: bool = False, samples: int = 4001) -> Impact:
-    """The impact on the stop at ``rpm``: approach velocity, impulse, force, first rebound (module docstring)."""
+    """The impact on the stop at ``rpm``: approach velocity, impulse, force, first rebound (module docstring).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm or rad).
+    stop : StopModel
+        The lever and its stop (kg, N/m, mm).
+    rpm : float
+        The cam speed, rpm.
+    contact : Contact, optional
+        Where the follower meets the stop (``find_contact``; found when None).
+    keep_response : bool
+        Keep q(t) in the result (for plots).
+    samples : int
+        Points of the rebound's search (a count).
+
+    Returns
+    -------
+    Impact
+        v0 (mm/s), S (N·s), F (N), τ (s), the first rebound (mm) and when it peaks (s).
+
+    Examples
+    --------
+    The impulse is m v0 (1 + k), and v0 = |v(θc)| ω:
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> import numpy as np
+    >>> from camcad.dynamics import find_contact, impact_at, rpm_to_rad_s
+    >>> stop = camcad.StopModel(mass_kg=0.5, stiffness_n_per_m=2e5, stop_stiffness_n_per_m=1e6,
+    ...                         restitution=5 / 9, damping_ratio=0.05, preload_mm=0.25)
+    >>> hit = impact_at(law, stop, 300.0)
+    >>> contact = find_contact(law, "upper", 0.25)
+    >>> v0 = abs(contact.velocity_analog) * rpm_to_rad_s(300.0)          # mm/s
+    >>> round(hit.approach_velocity_mm_s / v0, 12), round(hit.impulse_ns / (0.5 * v0 * 1e-3 * (1 + 5 / 9)), 12)
+    (1.0, 1.0)
+    """
     contact = contact or find_contact(law, stop.stop, stop.preload_mm, stop.ratio)
     v0 = abs(contact.velocity_analog) * rpm_to_rad_s(rpm) * stop.ratio * 1e-3   # m/s
     impulse = impact_impulse(stop.mass_kg, v0, stop.restitution)
@@ -486,7 +758,21 @@ def impact_at(law: MotionLaw, stop: StopModel, rpm: float, *, contact: Contact |
 
 @dataclass(frozen=True)
 class ImpactSweep:
-    """Impacts over speeds, and the phase-angle relation at the fastest speed (the worst case)."""
+    """Impacts over speeds, and the phase-angle relation at the fastest speed (the worst case).
+
+    ``camcad.impact_sweep`` returns it; the example is there.
+
+    Attributes
+    ----------
+    impacts : tuple of Impact
+        One per speed (``speeds_rpm``, ``rebound_mm``, ``force_n`` gather their figures: rpm, mm, N).
+    contact : Contact
+        Where the follower meets the stop (θ in rad).
+    phase_deg : float
+        The approach phase's angle, deg.
+    relation : ReboundRelation
+        The rebound against that angle at the fastest speed (mm, deg).
+    """
 
     impacts: tuple[Impact, ...]
     contact: Contact
@@ -511,7 +797,23 @@ class ReboundRelation:
     """Rebound amplitude against the approach phase angle at one speed: A(t) = A0 t0/t (mm, t in deg).
 
     ``tangent`` gives the linearised relation a = slope·t + intercept at t0 (slope = −A0/t0,
-    intercept = 2A0), the form of the source's cyclogram constraint a = −0.003 t + 0.208.
+    intercept = 2A0), the form of Podgorny et al.'s (2018) cyclogram constraint a = −0.003 t + 0.208.
+
+    Parameters
+    ----------
+    amplitude_mm : float
+        A0, the rebound at the nominal angle, mm.
+    phase_deg : float
+        t0, the nominal approach phase angle, deg.
+    rpm : float
+        The speed it holds at, rpm.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import ReboundRelation
+    >>> relation = ReboundRelation(amplitude_mm=0.105, phase_deg=35.0, rpm=420.0)
+    >>> [round(v, 12) for v in relation.tangent], round(relation.least_phase(0.1), 9)   # 0.105 x 35 / 0.1
+    ([-0.003, 0.21], 36.75)
     """
 
     amplitude_mm: float

@@ -81,7 +81,25 @@ RESONANCE_GAP_PER_RTOL = 100.0
 
 
 def rpm_to_rad_s(rpm: float) -> float:
-    """Angular speed ω = 2πn/60 (rad/s) of a shaft turning at n rpm."""
+    """Angular speed ω = 2πn/60 (rad/s) of a shaft turning at n rpm.
+
+    Parameters
+    ----------
+    rpm : float
+        n, rpm.
+
+    Returns
+    -------
+    float
+        ω, rad/s.
+
+    Examples
+    --------
+    >>> import math
+    >>> from camcad.dynamics import rpm_to_rad_s
+    >>> round(rpm_to_rad_s(60.0), 12) == round(2 * math.pi, 12)
+    True
+    """
     return 2.0 * math.pi * float(rpm) / 60.0
 
 
@@ -90,6 +108,23 @@ def damping_ratio_from_psi(psi: float) -> float:
 
     ψ is the energy dissipated per cycle over the peak elastic energy; for viscous damping at
     resonance ψ = πbωnX² / (cX²/2) = 4πζ. Source: Vulfson (2015), §1.4.
+
+    Parameters
+    ----------
+    psi : float
+        ψ, dimensionless.
+
+    Returns
+    -------
+    float
+        ζ, dimensionless.
+
+    Examples
+    --------
+    >>> import math
+    >>> from camcad.dynamics import damping_ratio_from_psi
+    >>> round(damping_ratio_from_psi(0.3), 12) == round(0.3 / (4 * math.pi), 12)
+    True
     """
     return psi / (4.0 * math.pi)
 
@@ -144,8 +179,25 @@ def unit_key(key: str, unit: str) -> str:
 class StiffnessTable:
     """Relative stiffness φ(θ) = c(θ)/c0 of the driven chain, a periodic polyline in θ.
 
-    ``theta`` (rad, increasing, within one cycle) and ``factor`` (dimensionless, > 0); linear
-    interpolation, periodic with ``cycle`` (rad). ``derivative`` is dφ/dθ (per rad).
+    Linear interpolation, periodic with ``cycle``; ``derivative`` is dφ/dθ (per rad).
+
+    Parameters
+    ----------
+    theta : ndarray
+        The knots, rad, increasing, within one cycle.
+    factor : ndarray
+        φ at the knots (dimensionless, > 0).
+    cycle : float
+        The period, rad.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.dynamics import StiffnessTable
+    >>> table = StiffnessTable(np.array([0.0, math.pi]), np.array([1.0, 2.0]))
+    >>> [round(float(v), 9) for v in table(np.array([math.pi / 2, 3 * math.pi / 2]))]   # half-way up, half-way back
+    [1.5, 1.5]
     """
 
     theta: np.ndarray
@@ -286,9 +338,25 @@ class ElasticFollower:
 class HalfSinePulse:
     """External load per unit mass F/m = amplitude · sin(π (θ − start)/width) for start ≤ θ ≤ start + width.
 
-    ``start`` and ``width`` in rad of cam angle, ``amplitude`` in mm/s² (signed), periodic with
-    ``cycle``. The source's "summary dynamic load" at the start of motion (seed 001): a load that
-    varies sinusoidally and lasts about half the free-vibration period.
+    The batten study's "summary dynamic load" at the start of motion: a load that varies sinusoidally and lasts
+    about half the free-vibration period (``start_pulse`` makes it).
+
+    Parameters
+    ----------
+    start, width : float
+        Where the pulse starts and how long it lasts, rad of cam angle.
+    amplitude : float
+        Its peak per unit mass, mm/s² (signed).
+    cycle : float
+        Its period, rad.
+
+    Examples
+    --------
+    >>> import math
+    >>> from camcad.dynamics import HalfSinePulse
+    >>> pulse = HalfSinePulse(start=1.0, width=0.5, amplitude=-200.0)
+    >>> [round(float(x), 9) for x in pulse([1.25, 2.0, 1.25 + 2 * math.pi])]   # the peak, after it, a cycle later
+    [-200.0, 0.0, -200.0]
     """
 
     start: float

@@ -37,7 +37,23 @@ RESONANCE_GAP_PER_RTOL = 100.0
 
 @dataclass(frozen=True)
 class Residual:
-    """Residual vibration after one motion phase started from rest: amplitude (mm) and the state at its end."""
+    """Residual vibration after one motion phase started from rest: amplitude (mm) and the state at its end.
+
+    ``camcad.residual_vibration`` returns one per motion; the example is there.
+
+    Attributes
+    ----------
+    phase : Phase
+        The motion (rad).
+    amplitude : float
+        The free vibration's amplitude after it, mm (rad for a swing).
+    x_end : float
+        The dynamic error at the phase's end, mm.
+    xdot_end : float
+        Its rate there, mm/s.
+    rpm : float
+        The speed, rpm.
+    """
 
     phase: Phase
     amplitude: float
@@ -175,6 +191,26 @@ def cycloidal_residual_amplitude(lift: float, rise_time_s: float, natural_freque
     Vanishes when r is an integer ≥ 2. Derivation: with s̈ = (2πh/T²) sin(2πt/T) on [0, T],
     A = |∫₀ᵀ s̈ e^{iωnτ} dτ| / ωn and ∫₀ᵀ sin(Ωτ) e^{iωnτ} dτ = Ω (e^{iωnT} − 1)/(ωn² − Ω²), Ω = 2π/T.
     Source: derived here; the same result is tabulated by Norton (2009) §9 for the cycloidal rise.
+
+    Parameters
+    ----------
+    lift : float
+        h, mm.
+    rise_time_s : float
+        T, the rise's duration, s.
+    natural_frequency_hz : float
+        fn, Hz.
+
+    Returns
+    -------
+    float
+        The amplitude A, mm.
+
+    Examples
+    --------
+    >>> from camcad.dynamics import cycloidal_residual_amplitude
+    >>> round(cycloidal_residual_amplitude(20.0, 0.25, 10.0), 9), cycloidal_residual_amplitude(20.0, 0.1, 10.0)
+    (0.485043636, 10.0)
     """
     r = rise_time_s * natural_frequency_hz
     if abs(r - 1.0) < 1e-9:

@@ -34,11 +34,27 @@ RESONANCE_GAP_PER_RTOL = 100.0
 
 @dataclass(frozen=True)
 class LawSpectrum:
-    """A law sampled at ``samples`` uniform points over its cycle, and the rfft of its displacement.
+    """A law sampled at uniform points over its cycle, and the rfft of its displacement.
 
-    theta (rad, [0, cycle) without the end), s (mm), a (mm/rad², exact at the samples);
-    coefficients S_k (mm), k = 0 … N/2, with s(θ) = Σ_k S_k e^{ikνθ} over k = −N/2 … N/2,
-    S_{−k} = conj(S_k), ν = 2π/cycle (harmonic orders per rad).
+    ``law_spectrum`` returns it; the example is there.
+
+    Attributes
+    ----------
+    cycle : float
+        The law's cycle, rad.
+    theta : ndarray
+        The samples, rad, in [0, cycle) without the end.
+    s : ndarray
+        The displacement there, mm.
+    a : ndarray
+        The acceleration analog there, mm/rad² (exact at the samples).
+    coefficients : ndarray
+        S_k (mm), k = 0 … N/2, with s(θ) = Σ_k S_k e^{ikνθ} over k = −N/2 … N/2, S_{−k} = conj(S_k),
+        ν = 2π/cycle (harmonic orders per rad).
+    lift : float
+        The law's lift, mm.
+    phases : tuple of Phase
+        The law's phases (rad).
     """
 
     cycle: float
@@ -60,9 +76,34 @@ class LawSpectrum:
 
 
 def check_closure(law: MotionLaw, where: str = "law", tolerance: float = CLOSURE_TOLERANCE) -> float:
-    """Lift of the law (mm); CamcadError when s or v at the end of the cycle differ from the start.
+    """Lift of the law (mm); a CamcadError when s or v at the end of the cycle differ from the start.
 
-    Tolerance: ``tolerance`` × lift (mm) for s, and × lift per rad for v.
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    where : str
+        Named in errors.
+    tolerance : float
+        A fraction of the lift (dimensionless): s may differ by that × lift (mm), v by that × lift per rad.
+
+    Returns
+    -------
+    float
+        The lift max(s) − min(s), mm.
+
+    Raises
+    ------
+    CamcadError
+        A law that does not close.
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> from camcad.dynamics import check_closure
+    >>> round(check_closure(law), 9)
+    20.0
     """
     theta = np.linspace(0.0, law.cycle, 4097)
     kin = law.kinematics(theta)
@@ -79,7 +120,33 @@ def check_closure(law: MotionLaw, where: str = "law", tolerance: float = CLOSURE
 
 
 def law_spectrum(law: MotionLaw, samples: int = DEFAULT_SAMPLES, where: str = "law") -> LawSpectrum:
-    """Sample the law at ``samples`` points per cycle and take the rfft of its displacement."""
+    """Sample the law at ``samples`` points per cycle and take the rfft of its displacement.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm); it must close (``check_closure``).
+    samples : int
+        Points per cycle (a count).
+    where : str
+        Named in errors.
+
+    Returns
+    -------
+    LawSpectrum
+        The samples (rad, mm, mm/rad²) and the coefficients S_k (mm).
+
+    Examples
+    --------
+    The harmonic law s = 10 − 10 cos θ: S_0 = 10 mm and S_1 = −5 mm (the cosine split over ±1):
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.dynamics import law_spectrum
+    >>> spectrum = law_spectrum(law, samples=64)
+    >>> [round(complex(c).real, 9) for c in spectrum.coefficients[:3]]
+    [10.0, -5.0, 0.0]
+    """
     if samples < 8 or samples % 2:
         raise ValueError("samples must be an even number >= 8")
     lift = check_closure(law, where)

@@ -37,11 +37,20 @@ RESONANCE_GAP_PER_RTOL = 100.0
 
 @dataclass(frozen=True)
 class StartLoad:
-    """Peak force in the elastic link within one free period after a motion phase starts.
+    """Peak force in the elastic link within one free period after a motion phase starts (``start_loads``).
 
-    peak_link_accel (law units/s², mm/s² or rad/s²; × mass = force), at_deg (cam angle of the
-    peak), peak_rigid_accel (the law's own peak in the same window), force_n (N, or N·m for a rad
-    output; None when the mass is unknown).
+    Attributes
+    ----------
+    phase : Phase
+        The motion (rad).
+    peak_link_accel : float
+        The peak, law units/s² (mm/s² or rad/s²; × mass = force).
+    at_deg : float
+        The cam angle of the peak, deg.
+    peak_rigid_accel : float
+        The law's own peak in the same window, law units/s².
+    force_n : float, optional
+        The force, N (N·m for a rad output); None when the mass is unknown.
     """
 
     phase: Phase
@@ -55,8 +64,38 @@ def start_pulse(law: MotionLaw, follower: ElasticFollower, rpm: float, phase: Ph
     """The summary dynamic load at the start of ``phase``: a half-sine lasting half the free period.
 
     Applied as an external load opposing the motion's initial acceleration, of amplitude
-    ``ratio`` × the phase's peak rigid acceleration (mm/s²). Source: seed 001 (batten: a jump of
+    ``ratio`` × the phase's peak rigid acceleration (mm/s²). Source: the batten study (a jump of
     acceleration at the start of motion, varying sinusoidally, lasting about half the free period).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    follower : ElasticFollower
+        The follower (Hz).
+    rpm : float
+        The speed, rpm.
+    phase : Phase
+        The motion (rad).
+    ratio : float
+        The pulse over the phase's peak rigid acceleration (dimensionless).
+
+    Returns
+    -------
+    HalfSinePulse
+        Start and width in rad, amplitude in mm/s².
+
+    Examples
+    --------
+    At 60 rpm (1 rev/s) half the free period of a 10 Hz follower is 0.05 s, 18 deg of cam angle:
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> import math
+    >>> from camcad.dynamics import start_pulse
+    >>> pulse = start_pulse(law, camcad.ElasticFollower(10.0), 60.0, law.phases[0], 0.3)
+    >>> round(math.degrees(pulse.start), 9), round(math.degrees(pulse.width), 9), pulse.amplitude < 0
+    (0.0, 18.0, True)
     """
     omega = rpm_to_rad_s(rpm)
     theta = np.linspace(phase.start, phase.end, 513)
@@ -73,6 +112,32 @@ def start_loads(response: Response, law: MotionLaw, follower: ElasticFollower, u
 
     ``unit_scale`` turns the law's unit into SI (1e-3 for mm → m, 1 for rad), so the force is
     mass × peak × unit_scale in N (N·m for a rad output with the mass in kg·m²).
+
+    Parameters
+    ----------
+    response : Response
+        A steady state (``camcad.steady_state``).
+    law : MotionLaw
+        Its law (θ in rad).
+    follower : ElasticFollower
+        Its follower (Hz, kg).
+    unit_scale : float
+        SI units per law unit (1e-3 for mm; dimensionless ratio).
+
+    Returns
+    -------
+    list of StartLoad
+        One per motion: the peak link acceleration (law units/s²), its angle (deg), the force (N).
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> from camcad.dynamics import start_loads
+    >>> follower = camcad.ElasticFollower(40.0, damping_ratio=0.1, mass_kg=1.0)
+    >>> loads = start_loads(camcad.steady_state(law, follower, 120.0), law, follower)
+    >>> [load.phase.kind for load in loads], all(load.force_n > 0 for load in loads)
+    (['rise', 'return'], True)
     """
     omega = rpm_to_rad_s(response.rpm)
     window = omega / follower.natural_frequency_hz   # one free period, in rad of cam angle

@@ -41,8 +41,20 @@ RESONANCE_GAP_PER_RTOL = 100.0
 class ResonanceError(CamcadError):
     """No bounded periodic steady state at one speed: exact resonance with a harmonic that is not zero.
 
-    ``rpm`` the speed; ``harmonic`` the order k in resonance (None on the time path, which cannot tell);
-    ``amplitude`` the displacement amplitude of that harmonic's forcing (law units; None on the time path).
+    A CamcadError: ``camcad.steady_state`` raises it; ``sweep`` lists the speed in ``Sweep.unbounded``.
+
+    Attributes
+    ----------
+    what : str
+        What happened, in words.
+    rpm : float
+        The speed, rpm.
+    harmonic : int, optional
+        The order k in resonance (None on the time path, which cannot tell).
+    amplitude : float, optional
+        The displacement amplitude of that harmonic's forcing, law units (mm or rad; None on the time path).
+    fix : str
+        What to do about it.
     """
 
     def __init__(self, what: str, rpm: float, harmonic: int | None = None, amplitude: float | None = None,
@@ -59,10 +71,26 @@ class ResonanceError(CamcadError):
 
 @dataclass(frozen=True)
 class Response:
-    """Periodic response at one speed, sampled at ``theta`` (rad).
+    """Periodic response at one speed, sampled at ``theta`` (rad); ``camcad.steady_state`` returns it.
 
-    displacement_rigid s (mm); dynamic_error x = y − s (mm); accel_rigid s̈ and accel_elastic ÿ
-    (mm/s²); link_accel = ÿ − F/m, the force in the elastic link per unit mass (mm/s²).
+    Attributes
+    ----------
+    rpm : float
+        The speed, rpm.
+    theta : ndarray
+        The cam angles sampled, rad.
+    displacement_rigid : ndarray
+        s, mm.
+    dynamic_error : ndarray
+        x = y − s, mm.
+    accel_rigid, accel_elastic : ndarray
+        s̈ and ÿ, mm/s².
+    link_accel : ndarray
+        ÿ − F/m, the force in the elastic link per unit mass, mm/s².
+    method : str
+        "frequency" or "time".
+    notes : tuple of str
+        What the solution assumed (e.g. the ζ → 0 limit at an exact resonance with a zero harmonic).
     """
 
     rpm: float
@@ -270,9 +298,44 @@ def steady_state_time(law: MotionLaw, follower: ElasticFollower, rpm: float, *, 
                       external=None) -> Response:
     """Periodic steady state at ``rpm`` by time marching and shooting (module docstring).
 
-    Works with variable stiffness. Knobs: ``method`` (a solve_ivp method), ``rtol``, ``atol``
-    (default rtol × 1e-3 × lift, in mm and mm/rad: the dynamic error is a small fraction of the lift,
-    so a looser atol would dominate). Output at ``samples`` uniform points per cycle.
+    Works with variable stiffness. Output at ``samples`` uniform points per cycle.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    follower : ElasticFollower
+        The follower (Hz; its stiffness table, dimensionless).
+    rpm : float
+        The speed, rpm.
+    samples : int
+        Points per cycle (a count).
+    method : str
+        A solve_ivp method.
+    rtol : float
+        Relative tolerance (dimensionless).
+    atol : float, optional
+        Absolute tolerance, mm and mm/rad (default rtol × 1e-3 × lift: the dynamic error is a small
+        fraction of the lift, so a looser atol would dominate).
+    external : callable, optional
+        θ (rad) → external load per unit mass, mm/s².
+
+    Returns
+    -------
+    Response
+        The periodic response (rad, mm, mm/s²).
+
+    Examples
+    --------
+    The harmonic law at r = 0.4 (``camcad.steady_state``'s example): the elastic peak is 1/(1 − r²) times the
+    rigid one.
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.dynamics import steady_state_time
+    >>> response = steady_state_time(law, camcad.ElasticFollower(10.0), 240.0, samples=256)
+    >>> round(response.peak_accel_ratio, 6), round(1 / (1 - 0.4 ** 2), 6)
+    (1.190476, 1.190476)
     """
     lift = check_closure(law)
     model = _TimeModel(law, follower, rpm, external)
@@ -315,9 +378,54 @@ def transient_time(law: MotionLaw, follower: ElasticFollower, rpm: float, theta_
                    theta_start: float = 0.0, x0: float = 0.0, xdot0: float = 0.0, samples: int = 2001,
                    method: str = "RK45", rtol: float = 1e-8, atol: float | None = None,
                    external=None) -> Transient:
-    """Start-up: march from θ_start (rad) with x = x0 (mm), ẋ = xdot0 (mm/s) to θ_end (rad).
+    """Start-up: march from θ_start with x = x0, ẋ = xdot0 to θ_end.
 
     Knobs as ``steady_state_time``; output at ``samples`` points from θ_start to θ_end.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    follower : ElasticFollower
+        The follower (Hz).
+    rpm : float
+        The speed, rpm.
+    theta_end : float
+        Where to stop, rad of cam angle.
+    theta_start : float
+        Where to start, rad.
+    x0 : float
+        The dynamic error at the start, mm.
+    xdot0 : float
+        Its rate, mm/s.
+    samples : int
+        Points returned (a count).
+    method : str
+        A solve_ivp method.
+    rtol : float
+        Relative tolerance (dimensionless).
+    atol : float, optional
+        Absolute tolerance, mm.
+    external : callable, optional
+        θ (rad) → external load per unit mass, mm/s².
+
+    Returns
+    -------
+    Transient
+        theta (rad), the dynamic error x (mm) and its rate dx/dθ (mm/rad), the accelerations (mm/s²).
+
+    Examples
+    --------
+    From rest on a dwell nothing moves:
+
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> import math
+    >>> from camcad.dynamics import transient_time
+    >>> start = transient_time(law, camcad.ElasticFollower(10.0), 60.0, math.radians(360.0),
+    ...                        theta_start=math.radians(270.0), samples=11)
+    >>> float(abs(start.dynamic_error).max())
+    0.0
     """
     lift = check_closure(law)
     model = _TimeModel(law, follower, rpm, external)
@@ -415,13 +523,27 @@ def steady_state(law: MotionLaw, follower: ElasticFollower, rpm: float, *, metho
 
 @dataclass(frozen=True)
 class Sweep:
-    """Figures of the steady state over a list of speeds (rpm).
+    """Figures of the steady state over a list of speeds (rpm); ``sweep`` returns it.
 
-    peak_accel_ratio (elastic / rigid), dynamic_error_max (law units), peak_accel_rigid and
-    peak_accel_elastic (law units/s²), one per speed; ``responses`` keeps the full responses asked for.
-    ``unbounded`` maps each speed without a bounded steady state (``ResonanceError``) to the reason; its
-    ratio, error and elastic peak are +inf. ``notes`` maps speeds to the notes of their responses (e.g.
-    the ζ → 0 limit at an exact resonance with a zero harmonic).
+    Attributes
+    ----------
+    speeds_rpm : ndarray
+        The speeds, rpm.
+    peak_accel_ratio : ndarray
+        Elastic over rigid peak acceleration, one per speed (dimensionless).
+    dynamic_error_max : ndarray
+        The largest dynamic error, law units (mm or rad).
+    peak_accel_rigid, peak_accel_elastic : ndarray
+        The rigid and elastic peak accelerations, law units/s² (mm/s² or rad/s²).
+    method : str
+        "frequency" or "time".
+    responses : dict
+        {rpm: Response} for the speeds asked for.
+    unbounded : dict
+        {rpm: reason} of each speed without a bounded steady state (``ResonanceError``); its ratio, error and
+        elastic peak are +inf.
+    notes : dict
+        {rpm: notes of its response} (e.g. the ζ → 0 limit at an exact resonance with a zero harmonic).
     """
 
     speeds_rpm: np.ndarray
@@ -438,10 +560,48 @@ class Sweep:
 def sweep(law: MotionLaw, follower: ElasticFollower, speeds_rpm, *, method: str = "auto",
           samples: int = DEFAULT_SAMPLES, solver: str = "RK45", rtol: float = 1e-8, external_at=None,
           keep=(), progress: Callable[[int, int], None] | None = None) -> Sweep:
-    """Steady state at every speed. ``external_at(rpm)`` gives the external load at that speed
-    (or None); ``keep`` lists speeds whose full Response is kept; ``progress(done, total)`` is
-    called after each speed. A speed without a bounded steady state (exact resonance with a harmonic
-    that is not zero) does not stop the sweep: it is listed in ``Sweep.unbounded`` with +inf figures."""
+    """Steady state at every speed.
+
+    A speed without a bounded steady state (exact resonance with a harmonic that is not zero) does not stop the
+    sweep: it is listed in ``Sweep.unbounded`` with +inf figures.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm or rad).
+    follower : ElasticFollower
+        The follower (Hz, dimensionless damping).
+    speeds_rpm : sequence of float
+        The speeds, rpm.
+    method : str
+        "auto", "frequency" or "time" (as ``camcad.steady_state``).
+    samples : int
+        Points per cycle (a count).
+    solver : str
+        The solve_ivp method of the time path.
+    rtol : float
+        Relative tolerance of the time path (dimensionless).
+    external_at : callable, optional
+        rpm → the external load at that speed (θ in rad → mm/s²), or None.
+    keep : sequence of float
+        Speeds (rpm) whose full Response is kept.
+    progress : callable, optional
+        Called as progress(done, total) after each speed (counts).
+
+    Returns
+    -------
+    Sweep
+        One figure per speed: ratios (dimensionless), errors (law units), peaks (law units/s²).
+
+    Examples
+    --------
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.dynamics import sweep
+    >>> result = sweep(law, camcad.ElasticFollower(10.0), [240.0, 360.0])
+    >>> [round(float(x), 6) for x in result.peak_accel_ratio], [round(1 / (1 - r * r), 6) for r in (0.4, 0.6)]
+    ([1.190476, 1.5625], [1.190476, 1.5625])
+    """
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     if method == "auto":
         method = "frequency" if follower.constant_stiffness else "time"

@@ -111,19 +111,30 @@ def normalize_operation(op: Any, index: int | None = None, where: str = "edit") 
 
     Parameters
     ----------
-    op : the operation, a mapping with ``"op"`` and its fields.
-    index : its position in the script (named in errors).
-    where : the script (or the window) named in errors.
+    op : dict
+        The operation, a mapping with ``"op"`` and its fields (angles ``*_deg`` in deg, ``y`` in the
+        drawing's y units).
+    index : int, optional
+        Its position in the script (named in errors).
+    where : str
+        The script (or the window) named in errors.
 
     Returns
     -------
     dict
-        ``{"op": name, field: value, ...}``: numbers as float, ``segment`` as a list of two floats.
+        ``{"op": name, field: value, ...}``: numbers as float (deg for angles, no unit conversion),
+        ``segment`` as a list of two floats.
 
     Raises
     ------
     CamcadError
         A missing, unknown or mistyped key, or an unknown operation, naming the index and the key.
+
+    Examples
+    --------
+    >>> from camcad.edit import normalize_operation
+    >>> normalize_operation({"op": "correct", "mode": "segment", "segment": [60, 180]})
+    {'op': 'correct', 'mode': 'segment', 'segment': [60.0, 180.0]}
     """
     at = f"{where}, operation {index}" if index is not None else where
     if not isinstance(op, dict):
@@ -180,7 +191,31 @@ def _kind_text(kind: str) -> str:
 
 def validate_script(ops: Any, where: str) -> list[dict]:
     """A whole script: a JSON list of at most ``MAX_OPERATIONS`` operations, each checked by
-    ``normalize_operation``."""
+    ``normalize_operation``.
+
+    Parameters
+    ----------
+    ops : list of dict
+        The operations as read from JSON.
+    where : str
+        The script, named in errors.
+
+    Returns
+    -------
+    list of dict
+        The operations, each as ``normalize_operation`` returns it (no unit conversion).
+
+    Raises
+    ------
+    CamcadError
+        Not a list, longer than ``MAX_OPERATIONS``, or an operation ``normalize_operation`` refuses (naming its index).
+
+    Examples
+    --------
+    >>> from camcad.edit import validate_script
+    >>> validate_script([{"op": "delete", "x_deg": 45}, {"op": "redo"}], "edits.json")
+    [{'op': 'delete', 'x_deg': 45.0}, {'op': 'redo'}]
+    """
     if not isinstance(ops, list):
         raise CamcadError(f"the script is a JSON {type(ops).__name__}, not a list of operations", where,
                           'write [{"op": "move", "x_deg": 75, "y": 1.2}, {"op": "save", "path": "out.dxf"}]')
@@ -191,8 +226,34 @@ def validate_script(ops: Any, where: str) -> list[dict]:
 
 
 def load_script(path: str | Path) -> list[dict]:
-    """Read and check an edit script (a JSON list of operations): a regular file of at most
-    ``MAX_SCRIPT_BYTES``, nested at most ``input_file.MAX_NESTING`` deep, at most ``MAX_OPERATIONS`` long."""
+    """Read and check an edit script (a JSON list of operations, as ``camcad edit --script`` replays it): a regular
+    file of at most ``MAX_SCRIPT_BYTES``, nested at most ``input_file.MAX_NESTING`` deep, at most ``MAX_OPERATIONS``
+    long.
+
+    Parameters
+    ----------
+    path : str or Path
+        The script file (JSON).
+
+    Returns
+    -------
+    list of dict
+        The operations checked by ``normalize_operation`` (angles in deg, ordinates in the drawing's y units).
+
+    Raises
+    ------
+    CamcadError
+        A file that cannot be read or is not JSON, or an operation that ``normalize_operation`` refuses.
+
+    Examples
+    --------
+    >>> import json, tempfile, pathlib
+    >>> from camcad.edit import load_script
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "edits.json"
+    >>> _ = path.write_text(json.dumps([{"op": "move", "x_deg": 90, "y": 2}, {"op": "undo"}]))
+    >>> load_script(path)
+    [{'op': 'move', 'x_deg': 90.0, 'y': 2.0}, {'op': 'undo'}]
+    """
     path = Path(path)
     where = str(path)
     raw = read_input(path, "an edit script (a JSON list of operations)", MAX_SCRIPT_BYTES)
@@ -211,9 +272,34 @@ def load_script(path: str | Path) -> list[dict]:
 # ---------------------------------------------------------------------------------------------
 
 def sampled_law(law, step_deg: float = 0.5) -> PiecewiseLinearLaw:
-    """A closed-form law (``law.standard``) as a drawn polyline: a sampled every ``step_deg`` and at
-    every phase boundary; where a jumps (left and right values differ by more than 1e-9 of the peak)
-    the boundary gets two vertices, so the jump stays vertical."""
+    """A closed-form law (``camcad.compose``) as a drawn polyline, to edit it.
+
+    a is sampled every ``step_deg`` and at every phase boundary; where a jumps (left and right values differ by
+    more than 1e-9 of the peak) the boundary gets two vertices, so the jump stays vertical.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, a in mm/rad²).
+    step_deg : float
+        The sampling step, deg.
+
+    Returns
+    -------
+    PiecewiseLinearLaw
+        The polyline: knots in rad, a in mm/rad², the law's phases.
+
+    Examples
+    --------
+    The simple harmonic rise jumps in acceleration at its ends: two vertices there.
+
+    >>> import camcad
+    >>> from camcad.edit import sampled_law
+    >>> law = camcad.compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 10.0, "harmonic")
+    >>> drawn = sampled_law(law, step_deg=1.0)
+    >>> len(drawn.x), int((drawn.x[1:] == drawn.x[:-1]).sum())   # 361 samples, jumps at 90, 180, 270 deg
+    (364, 3)
+    """
     if not (math.isfinite(step_deg) and 0 < step_deg <= 10):
         raise CamcadError(f"step {step_deg!r} deg is out of range", "--step", "give a step between 0 and 10 deg")
     cycle = float(law.cycle)
@@ -355,15 +441,38 @@ class ModeRow:
 
 
 class EditSession:
-    """A law being edited: operations, undo/redo, the balance report, corrections, saving.
+    r"""A law being edited: operations, undo/redo, the balance report, corrections, saving.
 
     Parameters
     ----------
-    loaded : the law as read (``law.source.load_law``): its curve, drawing and scales are what a
-        saved drawing is built from.
-    tol : closure tolerance, a fraction of the rise (as ``camcad check --tol``).
-    input_path : the input file, never overwritten (None for a law that has no file).
-    where : how errors name the input.
+    loaded : LoadedLaw
+        The law as read (``camcad.load_law``): its curve, drawing and scales are what a saved drawing is
+        built from.
+    tol : float
+        Closure tolerance, a fraction of the rise (as ``camcad check --tol``).
+    input_path : Path, optional
+        The input file, never overwritten (None for a law that has no file).
+    where : str
+        How errors name the input.
+
+    Examples
+    --------
+    Raise the return's last lobe of a law drawn 20 % high back to its size, then undo:
+
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> from camcad.edit import EditSession
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> rows = [(0, 0), (45, 1), (90, 0), (135, -1), (180, 0), (225, -1), (270, 0), (315, 1.2), (360, 0)]
+    >>> _ = (folder / "law.csv").write_text("".join(f"{t},{a}\n" for t, a in rows))
+    >>> session = EditSession(camcad.load_law(folder / "law.csv"))
+    >>> session.report.balanced
+    False
+    >>> session.apply({"op": "move", "x_deg": 315, "y": 1.0})
+    >>> session.report.balanced, session.can_undo
+    (True, True)
+    >>> session.undo(); session.report.balanced
+    False
     """
 
     def __init__(self, loaded: LoadedLaw, *, tol: float = DEFAULT_TOL, input_path: Path | None = None,

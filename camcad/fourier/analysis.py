@@ -17,7 +17,27 @@ from camcad.law.law import MotionLaw, PiecewiseLinearLaw
 # =============================================================================================
 
 def exact_available(law) -> bool:
-    """True when ``analyse`` can integrate the law exactly (drawn polyline, known composite, series)."""
+    """True when ``camcad.analyse`` can integrate the law exactly (drawn polyline, known composite, series).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad).
+
+    Returns
+    -------
+    bool
+        Whether the exact method applies (no unit).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.fourier import exact_available
+    >>> exact_available(law)
+    True
+    """
     from camcad.law.standard import CompositeLaw
 
     if isinstance(law, (PiecewiseLinearLaw, FourierLaw)):
@@ -182,6 +202,32 @@ def analyse_samples(s: np.ndarray, cycle: float, harmonics: int, a: np.ndarray |
 
     The trapezoidal rule: exact for harmonics below M/2 of a band-limited law; otherwise aliasing,
     Σ_{j≠0} c_{k+jM}, is the error (estimated from the discarded upper half of the spectrum).
+
+    Parameters
+    ----------
+    s : ndarray
+        The samples, mm.
+    cycle : float
+        T, rad.
+    harmonics : int
+        N (below M/2).
+    a : ndarray, optional
+        The acceleration samples, mm/rad².
+
+    Returns
+    -------
+    Spectrum
+        Harmonics 1..N (mm, mm/rad²).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import analyse_samples
+    >>> theta = 2 * math.pi * np.arange(64) / 64
+    >>> spectrum = analyse_samples(10 - 10 * np.cos(theta), 2 * math.pi, 4)
+    >>> round(spectrum.mean, 12), [round(float(x), 12) for x in spectrum.amplitudes]
+    (10.0, [10.0, 0.0, 0.0, 0.0])
     """
     s = np.asarray(s, dtype=float)
     samples = len(s)
@@ -207,6 +253,31 @@ def max_errors(law: MotionLaw, spectrum: Spectrum, ns, samples: int | None = Non
 
     The default grid has at least 64 points per period of the highest harmonic kept, so the sampled
     maximum is within ~0.1 % of the true one for the smooth part of the error.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    spectrum : Spectrum
+        Its spectrum (``camcad.analyse``).
+    ns : sequence of int
+        The truncations.
+    samples : int, optional
+        The grid's size.
+
+    Returns
+    -------
+    ndarray
+        One maximum per n, mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.fourier import max_errors
+    >>> [round(float(e), 9) for e in max_errors(law, camcad.analyse(law, 4), [0, 1])]    # |10 cos|, then nothing
+    [10.0, 0.0]
     """
     ns = np.atleast_1d(np.asarray(ns, dtype=int))
     if samples is None:
@@ -230,6 +301,33 @@ def least_harmonics(law: MotionLaw, tol: float, *, max_harmonics: int = 1 << 14,
     """Least n whose truncated series has RMS error ≤ tol (mm), and the spectrum it was read from.
 
     The spectrum is grown until it holds at least HEADROOM·n harmonics (or ``max_harmonics``).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    tol : float
+        The RMS error allowed, mm.
+    max_harmonics : int
+        At most this many harmonics.
+    start : int
+        The first spectrum's size.
+
+    Returns
+    -------
+    tuple
+        n (None when ``max_harmonics`` do not reach ``tol``) and the Spectrum (mm).
+
+    Examples
+    --------
+    One harmonic is s = 10 − 10 cos θ exactly:
+
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.fourier import least_harmonics
+    >>> least_harmonics(law, 1e-6)[0]
+    1
     """
     return _grow_until_found(lambda count: analyse(law, count), tol, start, max_harmonics)
 

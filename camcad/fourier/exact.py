@@ -44,6 +44,27 @@ def monomial_moments(z: np.ndarray, degree: int) -> np.ndarray:
     |z| < 8: 48-point Gauss–Legendre (exact for the polynomial, the exponential's Taylor series is
     below round-off past degree 45). |z| ≥ 8: E_0 = e^{−iz/2} sin(z/2)/(z/2) and upward recurrence
     E_m = (m E_{m−1} − e^{−iz})/(iz), whose error grows by m/|z| ≤ 1 per step for m ≤ 8.
+
+    Parameters
+    ----------
+    z : ndarray
+        The arguments (dimensionless).
+    degree : int
+        The highest m.
+
+    Returns
+    -------
+    ndarray
+        E_m(z), complex, dimensionless.
+
+    Examples
+    --------
+    At z = 0, E_m = 1/(m + 1):
+
+    >>> import numpy as np
+    >>> from camcad.fourier import monomial_moments
+    >>> [round(float(e.real), 12) for e in monomial_moments(np.array([0.0]), 2)[:, 0]]
+    [1.0, 0.5, 0.333333333333]
     """
     z = np.asarray(z, dtype=float)
     out = np.empty((degree + 1, len(z)), dtype=complex)
@@ -67,7 +88,21 @@ def monomial_moments(z: np.ndarray, degree: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Piece:
-    """f(θ) = Σ_m poly[m] t^m + Σ_j amps[j] e^{i rates[j] t} (real part), t = θ − start ∈ [0, length]."""
+    """f(θ) = Σ_m poly[m] t^m + Σ_j amps[j] e^{i rates[j] t} (real part), t = θ − start ∈ [0, length].
+
+    ``composite_pieces`` makes them from a standard law; the example is there.
+
+    Attributes
+    ----------
+    start, length : float
+        Where the piece starts and how long it is, rad.
+    poly : ndarray
+        The polynomial's coefficients, mm per rad^m.
+    rates : ndarray
+        The exponentials' rates, per rad.
+    amps : ndarray
+        Their complex amplitudes, mm.
+    """
 
     start: float
     length: float
@@ -137,6 +172,24 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
 
     Cycloidal f = u − sin(2πu)/(2π); harmonic f = (1 − cos πu)/2; polynomials as they are. The
     decomposition is checked against ``shape.evaluate`` (orders 0 and 2) before it is trusted.
+
+    Parameters
+    ----------
+    shape : object
+        A shape of ``camcad.law.standard``.
+
+    Returns
+    -------
+    tuple of ndarray, optional
+        p, λ and c (dimensionless: unit lift over unit width), or None.
+
+    Examples
+    --------
+    >>> from camcad.law.standard import SHAPES
+    >>> from camcad.fourier import shape_terms
+    >>> p, rates, amps = shape_terms(SHAPES["harmonic"])       # (1 - cos(pi u))/2
+    >>> [round(float(x), 12) for x in p], sorted(round(float(r), 12) for r in rates)   # cos as two exponentials
+    ([0.5], [-3.14159265359, 3.14159265359])
     """
     from camcad.law import standard
 
@@ -160,8 +213,29 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
 
 
 def composite_pieces(law) -> list[Piece] | None:
-    """The displacement of a ``standard.CompositeLaw`` as elementary pieces, or None if a shape is unknown
-    (made once per law: a law is immutable and hashable; an unhashable one is decomposed each time)."""
+    """The displacement of a standard law (``camcad.compose``) as elementary pieces, or None if a shape is unknown
+    (made once per law: a law is immutable and hashable; an unhashable one is decomposed each time).
+
+    Parameters
+    ----------
+    law : CompositeLaw
+        A law made by ``camcad.compose`` (θ in rad, s in mm).
+
+    Returns
+    -------
+    list of Piece, optional
+        One piece per phase (rad, mm), or None.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("dwell", 70), ("rise", 100), ("dwell", 110), ("return", 80)], 25.0)
+    >>> from camcad.fourier import composite_pieces
+    >>> pieces = composite_pieces(law)
+    >>> [round(float(np.degrees(p.length)), 9) for p in pieces]
+    [70.0, 100.0, 110.0, 80.0]
+    """
     try:
         found = _cached_pieces(law)
     except TypeError:
@@ -322,7 +396,30 @@ def _polyline_jumps(law: PiecewiseLinearLaw) -> tuple[np.ndarray, np.ndarray]:
 
 
 def uniform_grid_size(positions: np.ndarray, cycle: float, limit: int = 1 << 22) -> int | None:
-    """M when every position is a multiple of cycle/M (to 1e-12·cycle), with M ≤ limit; else None."""
+    """M when every position is a multiple of cycle/M (to 1e-12·cycle), with M ≤ limit; else None.
+
+    Parameters
+    ----------
+    positions : ndarray
+        The knots, rad.
+    cycle : float
+        T, rad.
+    limit : int
+        The largest M tried.
+
+    Returns
+    -------
+    int, optional
+        M, or None (a count, no unit).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import uniform_grid_size
+    >>> uniform_grid_size(np.radians([0.0, 90.0, 270.0]), 2 * math.pi), uniform_grid_size(np.array([1.0]), 2 * math.pi)
+    (4, None)
+    """
     if len(positions) < 2:
         return None
     gaps = np.diff(np.sort(positions))
@@ -337,7 +434,33 @@ def uniform_grid_size(positions: np.ndarray, cycle: float, limit: int = 1 << 22)
 
 
 def knot_sums(positions: np.ndarray, deltas: np.ndarray, w: np.ndarray, cycle: float) -> np.ndarray:
-    """S_m(w) = Σ_j Δ_{m,j} e^{−i w x_j} for each row m: one FFT on uniform knots, else blockwise sums."""
+    """S_m(w) = Σ_j Δ_{m,j} e^{−i w x_j} for each row m: one FFT on uniform knots, else blockwise sums.
+
+    Parameters
+    ----------
+    positions : ndarray
+        The knots x_j, rad.
+    deltas : ndarray
+        Δ_{m,j}, one row per derivative order m (mm per rad^m).
+    w : ndarray
+        The frequencies k ω0, per rad.
+    cycle : float
+        T, rad.
+
+    Returns
+    -------
+    ndarray
+        S_m(w), one row per m, complex (mm per rad^m).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import knot_sums
+    >>> sums = knot_sums(np.array([0.0, math.pi]), np.array([[1.0, 1.0]]), np.array([1.0, 2.0]), 2 * math.pi)
+    >>> [round(float(abs(x)), 12) for x in sums[0]]                     # 1 + e^{-i k pi}: 0 for odd k, 2 for even
+    [0.0, 2.0]
+    """
     deltas = np.atleast_2d(deltas)
     size = uniform_grid_size(positions, cycle)
     k = np.rint(w * cycle / (2.0 * np.pi)).astype(np.int64)
@@ -398,6 +521,34 @@ def tail_mean_square(positions: np.ndarray, deltas: np.ndarray, cycle: float, ha
 
     The cross terms between knots and orders average out over k (they oscillate in k), so this is
     the asymptotic mean of the remainder; jumps at coincident knots are merged first.
+
+    Parameters
+    ----------
+    positions : ndarray
+        The knots, rad.
+    deltas : ndarray
+        The jumps Δ_{m,j} of s and its derivatives, one row per order m (mm per rad^m).
+    cycle : float
+        T, rad.
+    harmonics : int
+        N.
+
+    Returns
+    -------
+    float
+        The remainder's mean square, mm².
+
+    Examples
+    --------
+    A unit jump of s at 0 (a sawtooth): |c_k| = 1/(2πk), so Σ_{k>N} A_k²/2 = (2/(4π²)) ζ(2, N+1):
+
+    >>> import math
+    >>> import numpy as np
+    >>> from scipy.special import zeta
+    >>> from camcad.fourier import tail_mean_square
+    >>> got = tail_mean_square(np.array([0.0]), np.array([[1.0]]), 2 * math.pi, 10)
+    >>> round(float(got / (2 / (4 * math.pi ** 2) * zeta(2, 11))), 12)
+    1.0
     """
     if len(positions) == 0:
         return 0.0

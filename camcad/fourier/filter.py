@@ -30,7 +30,27 @@ MAX_COMPENSATION_HARMONICS = 400
 
 
 def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
-    """θ (rad) where a rise or return begins after a dwell."""
+    """θ (rad) where a rise or return begins after a dwell.
+
+    Parameters
+    ----------
+    phases : tuple of Phase
+        The law's phases (rad).
+
+    Returns
+    -------
+    list of float
+        The starts, rad.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("dwell", 70), ("rise", 100), ("dwell", 110), ("return", 80)], 25.0)
+    >>> from camcad.fourier import motion_starts
+    >>> [round(float(np.degrees(t)), 9) for t in motion_starts(law.phases)]
+    [70.0, 280.0]
+    """
     starts = []
     for index, phase in enumerate(phases):
         if phase.kind != "dwell" and phases[index - 1].kind == "dwell":
@@ -39,7 +59,30 @@ def motion_starts(phases: tuple[Phase, ...]) -> list[float]:
 
 
 def dwell_grid(phases: tuple[Phase, ...], spacing: float) -> np.ndarray:
-    """Points (rad) on every dwell, ends included, at most ``spacing`` apart."""
+    """Points (rad) on every dwell, ends included, at most ``spacing`` apart.
+
+    Parameters
+    ----------
+    phases : tuple of Phase
+        The law's phases (rad).
+    spacing : float
+        The largest spacing, rad.
+
+    Returns
+    -------
+    ndarray
+        The points, rad.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("dwell", 70), ("rise", 100), ("dwell", 110), ("return", 80)], 25.0)
+    >>> from camcad.fourier import dwell_grid
+    >>> grid = dwell_grid(law.phases, np.radians(10.0))
+    >>> round(float(np.degrees(grid.min())), 9), round(float(np.degrees(grid.max())), 9), len(grid)
+    (0.0, 280.0, 20)
+    """
     parts = [np.linspace(p.start, p.end, math.ceil(p.width / spacing) + 1)
              for p in phases if p.kind == "dwell"]
     return np.concatenate(parts) if parts else np.zeros(0)
@@ -97,7 +140,34 @@ def series_on_evaluation_grid(series: FourierLaw, grid: np.ndarray, samples: int
 
 
 def start_accelerations(law, window: float, samples: int = 512) -> list[float]:
-    """max |a| (mm/rad²) over [θs, θs + window] after each motion start θs."""
+    """max |a| (mm/rad²) over [θs, θs + window] after each motion start θs.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, a in mm/rad²).
+    window : float
+        The window, rad.
+    samples : int
+        Points per window.
+
+    Returns
+    -------
+    list of float
+        One maximum per motion start, mm/rad².
+
+    Examples
+    --------
+    The cycloid's a = (2πh/β²) sin(2πu) reaches its peak a quarter into the rise:
+
+    >>> import math
+    >>> import camcad
+    >>> from camcad.fourier import start_accelerations
+    >>> law = camcad.compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 20.0)
+    >>> peak = 2 * math.pi * 20.0 / math.radians(90.0) ** 2
+    >>> [round(a / peak, 9) for a in start_accelerations(law, math.radians(22.5))]
+    [1.0, 1.0]
+    """
     values = []
     for start in motion_starts(tuple(law.phases)):
         theta = start + np.linspace(0.0, window, samples + 1)
@@ -107,7 +177,47 @@ def start_accelerations(law, window: float, samples: int = 512) -> list[float]:
 
 @dataclass(frozen=True)
 class FilterResult:
-    """A filtered law and the figures the source and SPEC.md ask for (mm, mm/rad², rad)."""
+    """A filtered law and the figures the batten study and SPEC.md ask for (mm, mm/rad², rad).
+
+    ``camcad.filter_law`` returns it; the example is there.
+
+    Attributes
+    ----------
+    law : CorrectedLaw
+        The filtered law (rad, mm).
+    original : MotionLaw
+        The law filtered.
+    band : ResonanceBand
+        The harmonics removed and their gains.
+    spectrum : Spectrum
+        The original's spectrum (mm).
+    removal : FourierLaw
+        What was taken out (mm).
+    compensation : FourierLaw, optional
+        What was added back to keep the dwells (mm), or None.
+    max_deviation : float
+        The largest |s_filtered − s_original|, mm.
+    dwell_deviation : float, optional
+        The largest deviation on the dwells, mm.
+    removal_bound : float
+        Σ (1 − g_k) A_k, mm: what the removal can move s at most.
+    lift_original, lift_filtered : float
+        The lifts, mm.
+    peak_accel_original, peak_accel_filtered, peak_accel_removed_only : float
+        The peak |a|, mm/rad² (the last without the compensation).
+    start_accel_original, start_accel_filtered : float, optional
+        The largest |a| over the window after each motion start, mm/rad².
+    start_window : float
+        That window, rad.
+    dwell_tol : float
+        The dwell tolerance, mm.
+    dwells_kept : bool
+        Whether the dwells stay within it.
+    lambda_used : float, optional
+        The compensation's regularisation (dimensionless), or None.
+    notes : tuple of str
+        What was done, in words.
+    """
 
     law: CorrectedLaw
     original: Any

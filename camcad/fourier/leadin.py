@@ -17,11 +17,40 @@ from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 @dataclass(frozen=True)
 class LeadInResult:
-    """Lead-in segments before each motion, rebalanced (mm/rad², rad, mm).
+    """Lead-in segments before each motion, rebalanced (mm/rad², rad, mm); ``add_lead_in`` returns it.
 
-    ``segments``: (start, end, a) of each plateau. ``start_jump_*``: the acceleration jump at the start
-    of each motion before, and the largest jump there after (at the start of the lead-in, or at the old
-    start). ``max_change``/``rms_change``: what the balance corrector changed elsewhere in the law.
+    Attributes
+    ----------
+    law : PiecewiseLinearLaw
+        The law with its lead-ins, balanced (rad, mm/rad²).
+    unbalanced : PiecewiseLinearLaw
+        The same before balancing.
+    segments : tuple of (float, float, float)
+        (start rad, end rad, a mm/rad²) of each plateau.
+    angle : float
+        The lead-in's angle, rad.
+    fraction : float
+        Its plateau as a fraction of the peak |a| (dimensionless).
+    peak_accel : float
+        The original's peak |a|, mm/rad².
+    start_jump_original : tuple of float
+        The acceleration jump at the start of each motion before, mm/rad².
+    start_jump_new : tuple of float
+        The largest jump there after (at the start of the lead-in, or at the old start), mm/rad².
+    velocity_added : tuple of float
+        The velocity each lead-in brings the follower to, mm/rad.
+    lift_original, lift_new : float
+        The lifts, mm.
+    peak_accel_new : float
+        The new peak |a|, mm/rad².
+    max_change, rms_change : float
+        What the balance corrector changed elsewhere in the law, mm/rad².
+    scale : float
+        The factor that brought the lift back (dimensionless).
+    balanced : bool
+        Whether the result balances.
+    notes : tuple of str
+        What was done, in words.
     """
 
     law: PiecewiseLinearLaw
@@ -63,17 +92,58 @@ class LeadInResult:
 
 def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, *, step_deg: float = 0.1,
                 tol: float | None = None, keep_lift: bool = True, where: str = "lead-in") -> LeadInResult:
-    """The source's remedy for the load at the start of motion: before every motion that follows a dwell,
-    a plateau of acceleration fraction × max|a| (sign of the motion's first acceleration) over
-    ``angle_deg``, so the follower is brought up to the cam at low speed; then the law is rebalanced with
-    ``camcad.balance.correct`` (min-change, the plateaus and the dwells held) so it still closes. The dwells
-    are set to rest (a = 0): a filtered law's residue on them would keep the follower moving after its last
-    motion, and the law would not close over the cycle.
+    """The batten study's remedy for the load at the start of motion: lead-in plateaus of acceleration, rebalanced.
 
-    The plateau becomes part of the motion's phase (the dwell before it is shortened). ``tol`` is the
-    balance tolerance (fraction of the rise; default the corrector's own). The lead-in adds travel, so
-    the balanced law rises further; ``keep_lift`` scales the whole law back to the original lift
-    (the balance conditions are linear in a, so the scaled law stays balanced; the plateaus scale too).
+    Before every motion that follows a dwell, a plateau of acceleration fraction × max|a| (sign of the motion's
+    first acceleration) over ``angle_deg``, so the follower is brought up to the cam at low speed; then the law
+    is rebalanced with ``camcad.correct`` (min-change, the plateaus and the dwells held) so it still closes. The
+    dwells are set to rest (a = 0): a filtered law's residue on them would keep the follower moving after its
+    last motion, and the law would not close over the cycle.
+
+    The plateau becomes part of the motion's phase (the dwell before it is shortened). The lead-in adds travel,
+    so the balanced law rises further; ``keep_lift`` scales the whole law back to the original lift (the
+    balance conditions are linear in a, so the scaled law stays balanced; the plateaus scale too).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law (θ in rad, s in mm).
+    angle_deg : float
+        The lead-in's angle, deg (the batten study: 14).
+    fraction : float
+        The plateau over the peak |a| (a fraction; the batten study: 0.1).
+    step_deg : float
+        The polyline's step, deg.
+    tol : float, optional
+        The balance tolerance, a fraction of the rise (default the corrector's own).
+    keep_lift : bool
+        Scale back to the original lift.
+    where : str
+        Named in errors.
+
+    Returns
+    -------
+    LeadInResult
+        The law with its lead-ins (rad, mm/rad²), the plateaus, the jumps before and after (mm/rad²).
+
+    Examples
+    --------
+    The plateau of 0.1 of the peak over 14 deg: the follower leaves it at v = 0.1 peak × 14 deg (rad), times the
+    scale that brings the lift back:
+
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("dwell", 70), ("rise", 100), ("dwell", 110), ("return", 80)], 25.0)
+    >>> import math
+    >>> from camcad.fourier import add_lead_in
+    >>> result = add_lead_in(law)
+    >>> start, end, a = result.segments[0]
+    >>> round(math.degrees(start), 6), round(math.degrees(end), 6), result.balanced
+    (56.0, 70.0, True)
+    >>> round(result.velocity_added[0] / (0.1 * result.peak_accel * math.radians(14.0) * result.scale), 9)
+    1.0
+    >>> round(result.lift_new, 9)                               # scaled back to the 25 mm lift
+    25.0
     """
     from camcad import balance
 

@@ -20,9 +20,29 @@ class ResonanceBand:
 
     k is *resonant* when |k n/60 − fn| ≤ band·fn for some n ∈ [n1, n2] rpm, i.e.
         60 fn (1 − band)/n2 ≤ k ≤ 60 fn (1 + band)/n1     (both ends included, to 1e-9 relative).
-    ``removed`` adds ``neighbours`` harmonics on each side. ``gains`` multiply the harmonics: 0 for the
-    removed ones, and with ``taper`` > 0 a raised-cosine ramp g = sin²(π d / (2(taper + 1))) over the
-    next ``taper`` harmonics at distance d from the removed set.
+    ``camcad.resonant_harmonics`` returns it; the example is there.
+
+    Attributes
+    ----------
+    fn_hz : float
+        The natural frequency, Hz.
+    rpm : tuple of float
+        (n1, n2), rpm.
+    band : float
+        The relative half-width of the band around fn (a fraction).
+    neighbours : int
+        Harmonics added on each side.
+    taper : int
+        Harmonics of raised-cosine ramp beyond those.
+    k_low, k_high : float
+        The band's ends in harmonic order (dimensionless).
+    core : tuple of int
+        The resonant harmonics.
+    removed : tuple of int
+        ``core`` with ``neighbours`` on each side.
+    gains : dict
+        {k: g} multiplying the harmonics: 0 for the removed ones, sin²(π d / (2(taper + 1))) over the
+        next ``taper`` at distance d (dimensionless).
     """
 
     fn_hz: float
@@ -49,7 +69,31 @@ MAX_HARMONICS = 100_000
 
 
 def speed_range(rpm, where: str = "rpm") -> tuple[float, float]:
-    """(n1, n2) in rpm from one speed or a sequence of speeds; CamcadError unless positive and finite."""
+    """(n1, n2) in rpm from one speed or a sequence of speeds; CamcadError unless positive and finite.
+
+    Parameters
+    ----------
+    rpm : float or sequence of float
+        The speeds, rpm.
+    where : str
+        Named in errors.
+
+    Returns
+    -------
+    tuple of float
+        The slowest and the fastest, rpm.
+
+    Raises
+    ------
+    CamcadError
+        A speed that is not positive and finite.
+
+    Examples
+    --------
+    >>> from camcad.fourier import speed_range
+    >>> speed_range([420, 280, 330]), speed_range(300)
+    ((280.0, 420.0), (300.0, 300.0))
+    """
     values = [rpm] if isinstance(rpm, (int, float)) and not isinstance(rpm, bool) else list(rpm)
     if not values or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0
                          for v in values):

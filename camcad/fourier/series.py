@@ -18,23 +18,111 @@ from camcad.law.law import Kinematics, Phase
 # =============================================================================================
 
 def amplitudes_of(coefficients: np.ndarray) -> np.ndarray:
-    """A_k = 2|c_k| (units of the analysed function)."""
+    """A_k = 2|c_k| (units of the analysed function).
+
+    Parameters
+    ----------
+    coefficients : ndarray
+        c_k, complex, in the function's units (mm for s).
+
+    Returns
+    -------
+    ndarray
+        A_k, same units (mm for s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.fourier import amplitudes_of
+    >>> amplitudes_of(np.array([3 + 4j, -5.0])).tolist()
+    [10.0, 10.0]
+    """
     return 2.0 * np.abs(np.asarray(coefficients))
 
 
 def initial_phases_of(coefficients: np.ndarray) -> np.ndarray:
-    """φ_k = arg c_k + π/2 wrapped to (−π, π] (rad): the sine form s = Σ A_k sin(kω0θ + φ_k)."""
+    """φ_k = arg c_k + π/2 wrapped to (−π, π] (rad): the sine form s = Σ A_k sin(kω0θ + φ_k).
+
+    Parameters
+    ----------
+    coefficients : ndarray
+        c_k, complex, mm.
+
+    Returns
+    -------
+    ndarray
+        φ_k, rad.
+
+    Examples
+    --------
+    −10 cos θ = 10 sin(θ − π/2): c_1 = −5, φ_1 = −π/2.
+
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import initial_phases_of
+    >>> round(float(initial_phases_of(np.array([-5.0 + 0j]))[0]) / math.pi, 12)
+    -0.5
+    """
     phase = np.angle(np.asarray(coefficients)) + np.pi / 2.0
     return np.pi - np.mod(np.pi - phase, 2.0 * np.pi)
 
 
 def coefficients_from(amplitudes, phases_rad) -> np.ndarray:
-    """c_k from the sine form: c_k = (A_k/2) e^{i(φ_k − π/2)}."""
+    """c_k from the sine form: c_k = (A_k/2) e^{i(φ_k − π/2)}.
+
+    Parameters
+    ----------
+    amplitudes : array_like
+        A_k, mm.
+    phases_rad : array_like
+        φ_k, rad.
+
+    Returns
+    -------
+    ndarray
+        c_k, complex, mm.
+
+    Examples
+    --------
+    sin θ (A = 1, φ = 0) is c_1 = −i/2:
+
+    >>> from camcad.fourier import coefficients_from
+    >>> c = coefficients_from([1.0], [0.0])
+    >>> round(float(c[0].real), 12), round(float(c[0].imag), 12)
+    (0.0, -0.5)
+    """
     return 0.5 * np.asarray(amplitudes, dtype=float) * np.exp(1j * (np.asarray(phases_rad, dtype=float) - np.pi / 2))
 
 
 def evaluate_series(mean: float, coefficients: np.ndarray, cycle: float, theta, order: int = 0) -> np.ndarray:
-    """d^order/dθ^order of mean + 2 Re Σ_k c_k e^{ikω0θ} at θ (rad); units of s per rad^order."""
+    """d^order/dθ^order of mean + 2 Re Σ_k c_k e^{ikω0θ} at θ (rad); units of s per rad^order.
+
+    Parameters
+    ----------
+    mean : float
+        The mean, mm.
+    coefficients : ndarray
+        c_1 … c_N, complex, mm.
+    cycle : float
+        T, rad.
+    theta : array_like
+        The angles, rad.
+    order : int
+        The derivative's order.
+
+    Returns
+    -------
+    ndarray
+        The values, mm per rad^order.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import evaluate_series
+    >>> [round(float(x), 12) for x in evaluate_series(10.0, np.array([-5.0 + 0j]), 2 * math.pi, [0.0, math.pi], 2)]
+    [10.0, -10.0]
+    """
     return evaluate_series_orders(mean, coefficients, cycle, theta, (order,))[0]
 
 
@@ -47,6 +135,33 @@ def evaluate_series_orders(mean: float, coefficients: np.ndarray, cycle: float, 
     table only for each distinct gap k_{i+1} − k_i > 1 (a filter's removal is a few harmonics high
     up in a long, mostly zero, coefficient vector); |z| = 1, so the round-off grows at most like
     m·eps·Σ|c_k|.
+
+    Parameters
+    ----------
+    mean : float
+        The mean, mm.
+    coefficients : ndarray
+        c_1 … c_N, complex, mm.
+    cycle : float
+        T, rad.
+    theta : array_like
+        The angles, rad.
+    orders : sequence of int
+        The derivatives' orders.
+
+    Returns
+    -------
+    list of ndarray
+        One array per order, mm per rad^order.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import evaluate_series_orders
+    >>> s, v = evaluate_series_orders(10.0, np.array([-5.0 + 0j]), 2 * math.pi, [math.pi / 2], (0, 1))
+    >>> round(float(s[0]), 12), round(float(v[0]), 12)             # 10 - 10 cos, its slope 10 sin
+    (10.0, 10.0)
     """
     theta = np.asarray(theta, dtype=float)
     flat = theta.ravel()
@@ -78,7 +193,33 @@ def evaluate_series_orders(mean: float, coefficients: np.ndarray, cycle: float, 
 
 def series_on_grid(mean: float, coefficients: np.ndarray, samples: int, order: int = 0,
                    cycle: float = 2 * np.pi) -> np.ndarray:
-    """The series' order-th derivative at θ_j = j T/M, j = 0..M−1, by one inverse FFT (needs N < M/2)."""
+    """The series' order-th derivative at θ_j = j T/M, j = 0..M−1, by one inverse FFT (needs N < M/2).
+
+    Parameters
+    ----------
+    mean : float
+        The mean, mm.
+    coefficients : ndarray
+        c_1 … c_N, complex, mm.
+    samples : int
+        M.
+    order : int
+        The derivative's order.
+    cycle : float
+        T, rad.
+
+    Returns
+    -------
+    ndarray
+        The values at the M points, mm per rad^order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from camcad.fourier import series_on_grid
+    >>> [round(float(x), 12) for x in series_on_grid(10.0, np.array([-5.0 + 0j]), 4)]   # at 0, 90, 180, 270 deg
+    [0.0, 10.0, 20.0, 10.0]
+    """
     coefficients = np.asarray(coefficients, dtype=complex)
     n = len(coefficients)
     if 2 * n >= samples:
@@ -96,6 +237,29 @@ class FourierLaw:
 
     Satisfies the ``MotionLaw`` protocol; v, a, j are the exact term-by-term derivatives (mm/rad,
     mm/rad², mm/rad³). Periodic by construction, so it always closes.
+
+    Parameters
+    ----------
+    cycle : float
+        T, rad.
+    mean : float
+        The mean displacement, mm.
+    coefficients : ndarray
+        c_1 … c_N, complex, mm.
+    phases : tuple of Phase
+        The phases it is said to have (rad).
+
+    Examples
+    --------
+    s = 10 − 10 cos θ is mean 10 and c_1 = −5 (mm):
+
+    >>> import math
+    >>> import numpy as np
+    >>> from camcad.fourier import FourierLaw
+    >>> law = FourierLaw(2 * math.pi, 10.0, np.array([-5.0 + 0j]))
+    >>> kin = law.kinematics(np.array([math.pi]))
+    >>> round(float(kin.s[0]), 12), round(float(kin.a[0]), 12)          # s(pi) = 20 mm, a(pi) = -10 mm/rad²
+    (20.0, -10.0)
     """
 
     cycle: float
@@ -130,6 +294,25 @@ class CorrectedLaw:
 
     Removing harmonics R from the infinite series of ``base`` is exactly base − Σ_{k∈R} (term k),
     so nothing else of the law changes: no truncation, no Gibbs ripple.
+
+    Parameters
+    ----------
+    base : MotionLaw
+        The law (θ in rad, s in mm).
+    correction : FourierLaw
+        What is added to it (mm), over the same cycle.
+
+    Examples
+    --------
+    Taking the first harmonic out of s = 10 − 10 cos θ leaves its mean, 10 mm:
+
+    >>> import numpy as np
+    >>> import camcad
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0, "harmonic")       # s = 10 - 10 cos(theta), mm
+    >>> from camcad.fourier import CorrectedLaw, FourierLaw
+    >>> flat = CorrectedLaw(law, FourierLaw(law.cycle, 0.0, np.array([5.0 + 0j])))
+    >>> [round(float(s), 9) for s in flat.kinematics(np.radians([0.0, 90.0, 180.0])).s]
+    [10.0, 10.0, 10.0]
     """
 
     base: Any
@@ -154,11 +337,36 @@ class CorrectedLaw:
 class Spectrum:
     """Harmonics 1..N of the displacement (mm) and of the acceleration analog (mm/rad²) of a law.
 
-    ``tail_mean_square`` is Σ_{k>N} A_k²/2 (mm²): exact for a FourierLaw, the jump-asymptotic estimate
-    for the exact methods, the discrete remainder for FFT. ``mean_square`` is (1/T)∫(s − mean)² dθ
-    when computed independently of the coefficients (NaN otherwise). ``coefficient_error`` bounds the
-    error of each amplitude A_k (mm): round-off for the exact methods, the difference between the two
-    finest samplings for FFT.
+    ``camcad.analyse`` returns it; the example is there.
+
+    Attributes
+    ----------
+    cycle : float
+        T, rad.
+    mean : float
+        The mean displacement, mm.
+    coefficients : ndarray
+        c_1 … c_N of s, complex, mm (``amplitudes`` A_k = 2|c_k|, ``phases`` φ_k in rad).
+    accel_mean : float
+        The mean of a, mm/rad².
+    accel_coefficients : ndarray
+        c_k of a, mm/rad².
+    tail_mean_square : float
+        Σ_{k>N} A_k²/2, mm²: exact for a FourierLaw, the jump-asymptotic estimate for the exact methods,
+        the discrete remainder for FFT.
+    mean_square : float
+        (1/T)∫(s − mean)² dθ when computed independently of the coefficients (NaN otherwise), mm².
+    coefficient_error : float
+        A bound on the error of each amplitude A_k, mm: round-off for the exact methods, the difference
+        between the two finest samplings for FFT.
+    accel_coefficient_error : float
+        The same for a, mm/rad².
+    method : str
+        "exact" or "fft".
+    samples : int
+        The FFT's samples (0 for exact).
+    converged : bool
+        Whether the FFT met its tolerance.
     """
 
     cycle: float

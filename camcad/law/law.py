@@ -24,6 +24,25 @@ class Phase:
     stated) and ``v_end`` the velocity there (mm/rad; 0, the default, for a motion that ends at rest). A
     rise to an intermediate stop states its position; a motion that blends into the next one (a rise
     into a constant-velocity stretch) states its velocity. The balance check holds every phase to them.
+
+    Parameters
+    ----------
+    kind : str
+        "rise", "return" or "dwell".
+    start, end : float
+        Where the phase starts and ends, rad of cam angle (end > start).
+    s_end : float, optional
+        The displacement stated at the end, mm from s(0) = 0 (None: not stated).
+    v_end : float
+        The velocity stated at the end, mm/rad (0: the motion ends at rest).
+
+    Examples
+    --------
+    >>> import math
+    >>> from camcad.law import Phase
+    >>> rise = Phase("rise", math.radians(60), math.radians(150), s_end=12.0)
+    >>> round(math.degrees(rise.width), 6), rise.states_end, rise.as_deg()["s_end_mm"]
+    (90.0, True, 12.0)
     """
 
     kind: str
@@ -62,7 +81,23 @@ class Phase:
 
 @dataclass(frozen=True)
 class Kinematics:
-    """s, v, a, j of a law sampled at ``theta`` (rad); units mm, mm/rad, mm/rad², mm/rad³."""
+    """s, v, a, j of a law sampled at ``theta`` (rad); units mm, mm/rad, mm/rad², mm/rad³.
+
+    What ``MotionLaw.kinematics`` returns; the example is there.
+
+    Attributes
+    ----------
+    theta : ndarray
+        The cam angles sampled, rad.
+    s : ndarray
+        Displacement, mm (rad for a swing).
+    v : ndarray
+        Velocity analog ds/dθ, mm/rad.
+    a : ndarray
+        Acceleration analog d²s/dθ², mm/rad².
+    j : ndarray
+        Jerk analog d³s/dθ³, mm/rad³.
+    """
 
     theta: np.ndarray
     s: np.ndarray
@@ -73,7 +108,25 @@ class Kinematics:
 
 @runtime_checkable
 class MotionLaw(Protocol):
-    """What every law offers: periodic s, v, a, j at any θ (rad), its cycle and its phases."""
+    """What every law offers: periodic s, v, a, j at any θ (rad), its cycle and its phases.
+
+    A protocol: ``cycle`` (rad), ``phases`` (a tuple of ``Phase``) and ``kinematics(theta)`` (a
+    ``Kinematics`` at the angles θ in rad, mm and its derivatives per rad). Standard laws
+    (``camcad.compose``), drawn laws (``PiecewiseLinearLaw``), Fourier series and filtered laws all offer it;
+    every analysis takes any of them.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import camcad
+    >>> from camcad.law import MotionLaw
+    >>> law = camcad.compose([("dwell", 90), ("rise", 90), ("dwell", 90), ("return", 90)], 20.0)
+    >>> isinstance(law, MotionLaw), round(law.cycle, 12) == round(2 * math.pi, 12)
+    (True, True)
+    >>> round(float(law.kinematics(np.radians([180.0])).s[0]), 9)     # the top of the 20 mm rise, mm
+    20.0
+    """
 
     @property
     def cycle(self) -> float: ...
@@ -118,13 +171,27 @@ def integrate_exact(x: np.ndarray, a: np.ndarray, v0: float = 0.0, s0: float = 0
 
     Parameters
     ----------
-    x : knots (rad), non-decreasing; a repeated x is a jump of acceleration.
-    a : acceleration analog at the knots (mm/rad²).
-    v0, s0 : velocity (mm/rad) and displacement (mm) at x[0].
+    x : ndarray
+        Knots, rad, non-decreasing; a repeated x is a jump of acceleration.
+    a : ndarray
+        Acceleration analog at the knots, mm/rad².
+    v0, s0 : float
+        Velocity (mm/rad) and displacement (mm) at x[0].
 
     Returns
     -------
-    v, s : arrays like x.
+    v, s : ndarray
+        Velocity (mm/rad) and displacement (mm) at the knots, arrays like x.
+
+    Examples
+    --------
+    a rises 0 → 2 mm/rad² over 1 rad, then jumps to −1 and rises to 1 over 2 rad:
+
+    >>> import numpy as np
+    >>> from camcad.law import integrate_exact
+    >>> v, s = integrate_exact(np.array([0.0, 1.0, 1.0, 3.0]), np.array([0.0, 2.0, -1.0, 1.0]))
+    >>> v.tolist(), [round(float(x), 12) for x in s]
+    ([0.0, 1.0, 1.0, 1.0], [0.0, 0.333333333333, 0.333333333333, 1.666666666667])
     """
     x = np.asarray(x, dtype=float)
     a = np.asarray(a, dtype=float)
@@ -140,8 +207,8 @@ def integrate_trapezoid(x: np.ndarray, a: np.ndarray, step: float, v0: float = 0
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The source's method: resample a at a uniform step, then integrate twice with the trapezoidal rule.
 
-    Dupliak & Kotsiyba (2018), seed 003: "recompute all points of the graph with a step
-    (default 0.1), then integrate again with the trapezoid method". The grid covers
+    Dupliak & Kotsiyba (2018, *Methods for optimization of the cam mechanisms modeling*): "recompute all points
+    of the graph with a step (default 0.1), then integrate again with the trapezoid method". The grid covers
     [x0, x_end] with the last interval shortened to end exactly at x_end. A jump of the
     acceleration (a repeated knot) keeps both its values at its own angle, so a vertical
     segment stays vertical instead of becoming a one-step ramp.
@@ -151,9 +218,31 @@ def integrate_trapezoid(x: np.ndarray, a: np.ndarray, step: float, v0: float = 0
     quadratic v adds at most step²/12 · max|a'| · (x_end − x0) to s. Both are measured
     against ``integrate_exact`` in the tests and the benchmark.
 
+    Parameters
+    ----------
+    x : ndarray
+        Knots, rad, non-decreasing; a repeated x is a jump of acceleration.
+    a : ndarray
+        Acceleration analog at the knots, mm/rad².
+    step : float
+        The resampling step, rad.
+    v0, s0 : float
+        Velocity (mm/rad) and displacement (mm) at x[0].
+
     Returns
     -------
-    grid, a_grid, v_grid, s_grid
+    grid, a_grid, v_grid, s_grid : ndarray
+        The grid (rad), and a (mm/rad²), v (mm/rad) and s (mm) on it.
+
+    Examples
+    --------
+    A linear a is integrated exactly for v on any grid; s carries the rule's error h²/12 per unit slope:
+
+    >>> import numpy as np
+    >>> from camcad.law import integrate_trapezoid
+    >>> grid, a, v, s = integrate_trapezoid(np.array([0.0, 1.0]), np.array([0.0, 1.0]), 0.25)
+    >>> grid.tolist(), float(v[-1]), round(float(s[-1]), 6)          # exact: v(1) = 1/2, s(1) = 1/6
+    ([0.0, 0.25, 0.5, 0.75, 1.0], 0.5, 0.171875)
     """
     x = np.asarray(x, dtype=float)
     a = np.asarray(a, dtype=float)
@@ -220,6 +309,30 @@ class PiecewiseLinearLaw:
     Velocity and displacement are the exact piecewise-quadratic and -cubic integrals
     (see ``integrate_exact``), starting from rest at s = 0 at x[0] = 0 unless v0/s0 say otherwise.
     The jerk is the slope of each segment (the Dirac part at a jump is not represented).
+
+    Parameters
+    ----------
+    x : ndarray
+        The knots, rad of cam angle, non-decreasing from 0; a repeated knot is a jump of a.
+    a : ndarray
+        The acceleration analog at the knots, mm/rad².
+    cycle : float
+        The cycle, rad (2π for one cam turn).
+    phases : tuple of Phase
+        The law's phases (``camcad.law.phases.detect_phases`` finds them in a drawn law).
+    v0, s0 : float
+        Velocity (mm/rad) and displacement (mm) at x[0].
+
+    Examples
+    --------
+    A constant acceleration of 1 mm/rad² for 2 rad from rest: v = θ, s = θ²/2.
+
+    >>> import numpy as np
+    >>> from camcad.law import PiecewiseLinearLaw
+    >>> law = PiecewiseLinearLaw(np.array([0.0, 2.0]), np.array([1.0, 1.0]), 2.0)
+    >>> kin = law.kinematics(np.array([1.0, 2.0]))
+    >>> kin.v.tolist(), kin.s.tolist()
+    ([1.0, 2.0], [0.5, 2.0])
     """
 
     x: np.ndarray

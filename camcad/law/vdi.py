@@ -27,7 +27,7 @@ on [0, 1/4], [1/4, 3/4], [3/4, 1]; constant acceleration 1. The decelerating lob
 one read backwards. For λ = 1/2 and rest at both ends these are the classical laws, whose peak
 coefficients C_v = max|f'|, C_a = max|f''|, C_j = max|f'''| (f the normalised rise) are published:
 inclined sine 2, 2π, 4π²; modified sine 1.76, 5.53, 69.47; modified trapezoid 2, 4.8881, 61.43;
-3-4-5 polynomial 1.875, 5.7735, 60 (tests/test_vdi.py lists each value with its source).
+3-4-5 polynomial 1.875, 5.7735, 60 (tests/law/test_vdi.py lists each value with its source).
 
 References
 ----------

@@ -49,7 +49,20 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 def default_design():
-    """The built-in design of ``defaults``: (name, law, follower)."""
+    """The built-in design ``camcad profile`` runs without a law: (name, law, follower).
+
+    Returns
+    -------
+    tuple
+        The design's name (str), its law (a MotionLaw: θ in rad, s in mm) and its Follower (mm).
+
+    Examples
+    --------
+    >>> from camcad.profile import default_design
+    >>> name, law, follower = default_design()
+    >>> [p.kind for p in law.phases], follower.kind
+    (['rise', 'dwell', 'return', 'dwell'], 'roller')
+    """
     from camcad.law.standard import compose
     from camcad.profile import defaults
     from camcad.profile.followers import Follower

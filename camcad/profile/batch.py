@@ -6,7 +6,7 @@ pressure angle and radius of curvature are arrays over (followers × angles); th
 refined together by the same zooming grids (``camcad.extrema.zoom_max``, one evaluation per level for all of
 them), the profiles' chords are placed and checked together, and each follower ends in the same
 ``assemble_result`` as ``synthesize``. Every figure is the one ``synthesize`` gives the follower alone: the same
-arithmetic in the same order on the same angles (tests/test_profile_batch.py compares them exactly).
+arithmetic in the same order on the same angles (tests/profile/test_profile_batch.py compares them exactly).
 
 Supported: translating roller (or knife-edge) followers without groove or conjugate pair, turning the same way,
 with checks only (``ProfileSettings.checks_only``: the pitch curve's chords are not placed). ``supports`` says

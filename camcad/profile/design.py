@@ -43,11 +43,21 @@ from camcad.profile.followers import Follower
 class BaseRadiusDesign:
     """Smallest base radii (mm); None where a limit is not given or cannot be met.
 
-    rb_pressure_angle: the smallest Rb meeting the pressure-angle limits.
-    rb_curvature:      the smallest Rb whose profile has no convex radius below ρ_min
-                       (below 0, i.e. no undercut, when no ρ_min is given).
-    rb_min:            the larger of the two; ``limited_by`` names which one.
-    notes:             why a figure is missing, in words.
+    What ``camcad.min_base_radius`` returns; the example is there.
+
+    Attributes
+    ----------
+    rb_pressure_angle : float, optional
+        The smallest Rb meeting the pressure-angle limits, mm.
+    rb_curvature : float, optional
+        The smallest Rb whose profile has no convex radius below ρ_min (below 0, i.e. no undercut, when no
+        ρ_min is given), mm.
+    rb_min : float, optional
+        The larger of the two, mm; ``limited_by`` names which one.
+    limited_by : str
+        "pressure angle" or "curvature".
+    notes : tuple of str
+        Why a figure is missing, in words.
     """
 
     rb_pressure_angle: float | None

@@ -238,7 +238,30 @@ class CamGeometry:
     """One cam mechanism: a law in follower units and a follower; every curve at any θ (rad).
 
     The law's s is in mm for translating followers and in rad (swing ψ) for the oscillating
-    one (see ``followers.swing_law``). A law whose cycle is 2π/k gives a cam with k lobes.
+    one (see ``swing_law``). A law whose cycle is 2π/k gives a cam with k lobes.
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The follower's law: θ in rad, s in mm (rad of swing for an oscillating follower).
+    follower : Follower
+        The follower and its limits (mm, deg).
+
+    Examples
+    --------
+    A translating roller without offset: the pressure angle is atan(v/(Rb + Rr + s)).
+
+    >>> import math
+    >>> import numpy as np
+    >>> import camcad
+    >>> from camcad.profile import CamGeometry
+    >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
+    >>> cam = CamGeometry(law, camcad.Follower("roller", 40.0, 10.0))
+    >>> theta = np.radians([45.0])
+    >>> kin = law.kinematics(theta)
+    >>> expected = math.atan(kin.v[0] / (50.0 + kin.s[0]))
+    >>> cam.lobes, bool(abs(cam.pressure_angle(theta)[0] - expected) < 1e-12)
+    (1, True)
     """
 
     law: MotionLaw

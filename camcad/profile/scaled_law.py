@@ -17,7 +17,25 @@ from camcad.law.law import Kinematics, MotionLaw, Phase, PiecewiseLinearLaw
 
 @dataclass(frozen=True)
 class ScaledLaw:
-    """``law`` with s, v, a, j multiplied by ``factor`` (e.g. mm of lift → rad of swing)."""
+    """``law`` with s, v, a, j multiplied by ``factor`` (e.g. mm of lift → rad of swing).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The law scaled (θ in rad).
+    factor : float
+        The scale, in the new unit per unit of the law (rad per mm for a swing; dimensionless for mm to mm).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import camcad
+    >>> from camcad.profile import ScaledLaw
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0)
+    >>> half = ScaledLaw(law, 0.5)
+    >>> float(half.kinematics(np.radians([180.0])).s[0])          # the 20 mm rise halved, mm
+    10.0
+    """
 
     law: MotionLaw
     factor: float
@@ -48,6 +66,39 @@ def swing_law(law: MotionLaw, *, arm_mm: float | None = None, swing_deg: float |
 
     With ``swing_deg`` the law is scaled so that its stroke max(s) − min(s) equals the swing;
     otherwise s is the arc travelled by the roller centre, ψ = s / L (``arm_mm``).
+
+    Parameters
+    ----------
+    law : MotionLaw
+        The lift law, s in mm, θ in rad.
+    arm_mm : float, optional
+        L, the arm from the pivot to the roller centre, mm (ψ = s/L).
+    swing_deg : float, optional
+        The stroke to scale the law to, deg (taken before ``arm_mm``).
+    samples : int
+        Points sampled over the cycle to find the law's stroke (a count).
+
+    Returns
+    -------
+    ScaledLaw
+        ψ(θ) in rad (its v, a, j in rad/rad, rad/rad², rad/rad³).
+
+    Raises
+    ------
+    CamcadError
+        Neither a swing nor a positive arm, or a law without stroke.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import camcad
+    >>> from camcad.profile import swing_law
+    >>> law = camcad.compose([("rise", 180), ("return", 180)], 20.0)
+    >>> round(math.degrees(swing_law(law, swing_deg=24.0).kinematics(np.radians([180.0])).s[0]), 9)
+    24.0
+    >>> round(float(swing_law(law, arm_mm=100.0).kinematics(np.radians([180.0])).s[0]), 12)    # 20 mm / 100 mm
+    0.2
     """
     if swing_deg is not None:
         theta = np.linspace(0.0, law.cycle, samples)

@@ -1,6 +1,6 @@
 """Scenes: a machine's mechanisms described in a TOML file, and the pipeline that analyses them.
 
-Three tiers, data flowing one way (tests/test_layering.py forbids cycles between modules):
+Three tiers, data flowing one way (tests/project/test_layering.py forbids cycles between modules):
 
 - **reading**: ``file`` (the scene, its mechanisms, the machine's speeds), ``fields`` (the validated reading
   of a section's keys) and ``sections/`` — one module per ``[section]``, each turning its TOML table into a

@@ -26,7 +26,40 @@ MACHINE_KEYS = ("rpm",)
 
 @dataclass(frozen=True)
 class Mechanism:
-    """One mechanism of a scene: its name and its raw (not yet parsed) sections."""
+    """One mechanism of a scene: its name and its raw (not yet parsed) sections.
+
+    ``read_scene`` makes them; each section is parsed by its own module when the pipeline uses it.
+
+    Attributes
+    ----------
+    name : str
+        The mechanism's name (the scene's own name for a single-mechanism scene).
+    sections : dict
+        Its raw TOML tables by section name ("law", "follower", "dynamics", ...), values in the units of
+        ``docs/SCENE.md``.
+    prefix : str
+        How its sections are written in the file ("mechanisms.lift." in a group scene, "" otherwise), for
+        messages.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [machine]
+    ... rpm = [300.0, 400.0]
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... ''')
+    >>> scene = camcad.read_scene(folder / "cam.toml")
+    >>> mechanism = scene.mechanisms[0]
+    >>> mechanism.name, sorted(mechanism.sections), mechanism.prefix
+    ('cam', ['law'], '')
+    """
 
     name: str
     sections: dict
@@ -41,6 +74,29 @@ class Mechanism:
 
 @dataclass(frozen=True)
 class Scene:
+    """A scene as read: its mechanisms, the machine's speeds and the cyclogram, each section raw until parsed.
+
+    ``read_scene`` makes it; the example is there.
+
+    Attributes
+    ----------
+    path : Path
+        The scene file (relative law files in it are found beside it).
+    name, description : str
+        The scene's name and its one-line description.
+    speeds_rpm : tuple of float, optional
+        The machine's speeds, rpm (None when the scene gives none).
+    mechanisms : tuple of Mechanism
+        Its mechanisms, in file order.
+    cyclogram : dict, optional
+        The raw [cyclogram] section, or None.
+    raw : dict
+        The whole TOML document as read.
+    built_laws : dict
+        The laws built so far, by mechanism name (``mechanism_law``'s cache).
+    from_file : bool
+        False for a scene a command built from its options (``path`` then only names it).
+    """
     path: Path
     name: str
     description: str

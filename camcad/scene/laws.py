@@ -82,7 +82,56 @@ def build_law(spec: LawSpec, follower_table=None, follower_where: str = "[follow
 
 
 def mechanism_law(scene: Scene, mech: Mechanism, phases=None):
-    """The BuiltLaw of a mechanism's [law] section (balanced when it asks), optionally retimed to ``phases``."""
+    """The law a mechanism's [law] section describes, balanced when it asks, optionally retimed to ``phases``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (``read_scene``); the law is built once and cached in it.
+    mech : Mechanism
+        One of ``scene.mechanisms``.
+    phases : tuple of Phase, optional
+        New phases (start and end in rad) to retime the law to, as a cyclogram gives them; None: as
+        written.
+
+    Returns
+    -------
+    BuiltLaw
+        ``law`` (a MotionLaw: θ in rad, s in mm, or rad for a swing), ``notes`` (how it was made, in words),
+        and for a drawn law ``loaded``, ``balance`` (its check) and ``correction`` (when fixed).
+
+    Raises
+    ------
+    CamcadError
+        A scene without [law], or a [law] section that cannot be built (naming the key).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import camcad
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "cam.toml").write_text('''
+    ... name = "cam"
+    ... [machine]
+    ... rpm = [300.0, 400.0]
+    ... [law]
+    ... standard = "cycloidal"
+    ... phases = "0:90:rise,90:180:dwell,180:270:return,270:360:dwell"
+    ... lift = 20.0
+    ... ''')
+    >>> scene = camcad.read_scene(folder / "cam.toml")
+    >>> from camcad.scene import mechanism_law
+    >>> built = mechanism_law(scene, scene.mechanisms[0])
+    >>> [p.kind for p in built.law.phases]
+    ['rise', 'dwell', 'return', 'dwell']
+    >>> import math
+    >>> from camcad.law import Phase
+    >>> edges = [math.radians(d) for d in (0, 120, 180, 270, 360)]
+    >>> phases = [Phase(k, a, b) for k, a, b in zip(["rise", "dwell", "return", "dwell"], edges, edges[1:])]
+    >>> retimed = mechanism_law(scene, scene.mechanisms[0], tuple(phases))
+    >>> round(math.degrees(retimed.law.phases[0].end), 9)
+    120.0
+    """
     if phases is None and mech.name in scene.built_laws:
         return scene.built_laws[mech.name]
     if not mech.has("law"):

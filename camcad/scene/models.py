@@ -2,7 +2,7 @@
 elastic dynamics (5), the stop impact (6), the contact stress (7) and the cyclogram (9).
 
 ``camcad.scene.pipeline`` imports this module when a mechanism has one of those sections, so that
-``camcad profile`` of a plain cam imports no model (numpy's FFT, scipy's optimisers; tests/test_startup.py).
+``camcad profile`` of a plain cam imports no model (numpy's FFT, scipy's optimisers; tests/project/test_startup.py).
 The stand-alone commands (``camcad.scene.commands``) import it directly.
 """
 

@@ -458,8 +458,8 @@ def _analyse(scene: Scene, mech: Mechanism, built, options: PipelineOptions, say
 
 
 def _models():
-    """``camcad.scene.models``, imported when a scene has a model (a start-up case of tests/test_layering.py:
-    ``camcad profile`` of a plain cam imports no model, tests/test_startup.py)."""
+    """``camcad.scene.models``, imported when a scene has a model (a start-up case of tests/project/test_layering.py:
+    ``camcad profile`` of a plain cam imports no model, tests/project/test_startup.py)."""
     from camcad.scene import models
 
     return models

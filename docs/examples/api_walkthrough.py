@@ -1,7 +1,7 @@
 """A walk through the public API, one group at a time, with only ``import camcad`` (and numpy).
 
 Each group shows its functions in a few lines and prints a figure the reader can check by hand (a closed
-form, a published value, or a simple fact). tests/test_api_walkthrough.py runs it and checks those
+form, a published value, or a simple fact). tests/project/test_api_walkthrough.py runs it and checks those
 figures independently; the documentation (docs/walkthrough.rst) shows it with its output.
 Run: python docs/examples/api_walkthrough.py [OUTPUT_FOLDER]
 """

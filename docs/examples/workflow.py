@@ -2,7 +2,7 @@
 
 A drawn acceleration law (a DXF from the samples, unbalanced: its rise area is too large) is read,
 checked, corrected with the least change, turned into a cam for a translating roller follower, plotted,
-and written as DXF. Run: python docs/examples/workflow.py [OUTPUT_FOLDER]   (tests/test_api.py runs it)
+and written as DXF. Run: python docs/examples/workflow.py [OUTPUT_FOLDER]   (tests/project/test_api.py runs it)
 """
 
 import sys

@@ -2,5 +2,5 @@
 object (unknown keys, missing values, wrong types and units are one-line errors naming the file and section).
 
 A section module imports only the analysis layer below it and ``camcad.scene.fields``: never the pipeline,
-never a command (tests/test_layering.py).
+never a command (tests/project/test_layering.py).
 """
