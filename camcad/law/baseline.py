@@ -27,6 +27,7 @@ spline overshoots there: draw the dwells as lines or use a polyline).
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass
 
 import numpy as np
@@ -153,14 +154,18 @@ def _horizontal_runs(pieces: tuple[Piece, ...], candidates: list[int],
             lines.append((float(pts[:, 1].mean()), float(pts[:, 0].min()), float(pts[:, 0].max()), i))
     lines.sort()
     runs: list[list] = []
+    levels: list[float] = []   # each run's level; lines come by level, so runs are made in order of level
     for level, x_lo, x_hi, i in lines:
-        for run in runs:
+        # only runs within tol of this level can take the line: from the first of them on (10,000 horizontal
+        # lines at as many levels took 5e7 comparisons when every run was tried)
+        for run in runs[bisect.bisect_left(levels, level - tol):]:
             if abs(run[0] - level) <= tol and x_lo <= run[2] + tol and x_hi >= run[1] - tol:
                 run[1], run[2] = min(run[1], x_lo), max(run[2], x_hi)
                 run[3].append(i)
                 break
         else:
             runs.append([level, x_lo, x_hi, [i]])
+            levels.append(level)
     return [(r[0], r[1], r[2], r[3]) for r in runs]
 
 

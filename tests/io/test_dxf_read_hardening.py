@@ -88,11 +88,28 @@ def test_8192_coincident_lines(cli, tmp_path):
     run(cli, path, expected="straight line")
 
 
+def _horizontal_lines(tmp_path, count: int = 10_000) -> Path:
+    """``count`` horizontal LINEs at as many levels, overlapping in x (every chain of them is flat)."""
+    rng = np.random.default_rng(1)
+    lines = []
+    for _ in range(count):
+        x0, x1 = np.sort(rng.uniform(0.0, 360.0, 2))
+        y = rng.uniform(-1.0, 1.0)
+        lines += ["0", "LINE", "8", "0", "10", f"{x0!r}", "20", f"{y!r}", "11", f"{x1!r}", "21", f"{y!r}"]
+    path = tmp_path / "horizontal.dxf"
+    path.write_bytes(_r12(lines))
+    return path
+
+
 @pytest.mark.timing
 def test_the_hang_reproducers_take_little_cpu(cli, tmp_path):
     # 8192 coincident LINEs once hung the join: now under 10 s of CPU
     _, cpu = guarded(cli, "check", _coincident(tmp_path), "--json")
     assert cpu < LIMIT_S
+    # 10,000 flat LINEs at as many levels: 200 rounds of leaving out straight chains and 5e7 comparisons of
+    # axis runs took 8-9 s of CPU; now a bounded number of rounds and runs compared within their level only
+    result, cpu = guarded(cli, "check", _horizontal_lines(tmp_path), "--json")
+    assert result.code in (0, 1, 2) and cpu < LIMIT_S / 2
 
 
 @pytest.mark.reference("closed form", "the law drawn fifty times over is the law once: the return closes to 1e-12")
