@@ -71,8 +71,10 @@ def command_line() -> str:
         return ""
     words = ["camcad", *ctx.command_path.split()[1:]]
     for param in ctx.command.params:
+        if not param.name:
+            continue
         value = ctx.params.get(param.name)
-        source = ctx.get_parameter_source(param.name) if param.name else None
+        source = ctx.get_parameter_source(param.name)
         if source is None or source.name != "COMMANDLINE" or value is None:
             continue
         if param.param_type_name == "argument":

@@ -207,8 +207,8 @@ class EditorView:
         self.table = fig.text(0.695, 0.465, "", fontsize=8.0, va="top", fontdict=mono)
         self.readout = fig.text(0.055, 0.148, "", fontsize=9.2, va="center", fontdict=mono)
         self.msg_text = fig.text(0.985, 0.148, "", fontsize=9.2, va="center", ha="right")
-        self.rule = fig.add_artist(Line2D([0.04, 0.985], [0.133, 0.133], transform=fig.transFigure, color="0.8",
-                                          lw=0.8))
+        self.rule = Line2D([0.04, 0.985], [0.133, 0.133], transform=fig.transFigure, color="0.8", lw=0.8)
+        fig.add_artist(self.rule)
         # the shortcut list never changes: it is drawn once into an image (text is most of a full draw)
         self.help_block = _StaticBlock(fig, (0.03, 0.005, 0.995, 0.13), _draw_help)
         fig.add_artist(self.help_block)

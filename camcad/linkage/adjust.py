@@ -837,7 +837,7 @@ def synthesise_table2(linkage: Linkage, task: int, u_range: tuple[float, float] 
     best = fits[0]
     adj, x0, x1 = unpack(best.x)
     xs = [x0 + (x1 - x0) * (uk - u[0]) / (u[-1] - u[0]) for uk in u]
-    deviation = {}
+    deviation: dict[str, float] = {}
     for k, x in enumerate(xs):
         rel = _relative(linkage, adj, x, nominal)
         for c in targets:

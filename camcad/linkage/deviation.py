@@ -81,7 +81,7 @@ def least_squares_synthesis(target: Target, start: FunctionGenerator, limits: Li
     return fg
 
 
-def parameter_bounds(limits: Limits) -> list[tuple[float, float]]:
+def parameter_bounds(limits: Limits) -> list[tuple[float | None, float | None]]:
     """Bounds of the ``pack`` parameters for the constrained optimisers: each log link ratio within
     ± (log R_max + 1) (the link-ratio limit itself is a constraint; the bounds keep SLSQP's trial steps from
     overflowing), the offsets free."""

@@ -248,7 +248,9 @@ def synthesize_family(members: list[Member], nodes: int = 5, crank: float = 1.0,
     spans = [(phi0 + m.phi_start, phi0 + m.phi_end) for m in members]
 
     def worst_mu(st: MemberState, b: float, j: int) -> float:
-        loop = Loop((0.0, 0.0), (st.centre.real, st.centre.imag), 1.0, b, st.c)
+        centre = st.centre
+        assert centre is not None     # its callers pass members with pivots only
+        loop = Loop((0.0, 0.0), (centre.real, centre.imag), 1.0, b, st.c)
         worst = loop.worst_transmission(*spans[j])
         return worst if math.isfinite(worst) else -1.0
 

@@ -313,6 +313,11 @@ def _box(points: np.ndarray) -> tuple[float, complex]:
             complex((xs.max() + xs.min()) / 2, (ys.max() + ys.min()) / 2))
 
 
+def _nearest(pair: tuple[complex, complex], ref: complex) -> complex:
+    """The one of ``pair`` nearest ``ref`` (the first on a tie)."""
+    return min(pair, key=lambda z: abs(z - ref))
+
+
 def subsets(count: int, nodes: int) -> list[tuple[int, ...]]:
     """The seed's node subsets (0-based): node 1 in each, every other node once — {1, i} for two-node
     interpolation, {1,2,3}, {1,4,5}, … for three-node (an even count repeats the last node).
@@ -324,7 +329,7 @@ def subsets(count: int, nodes: int) -> list[tuple[int, ...]]:
     """
     if nodes == 2:
         return [(0, i) for i in range(1, count)]
-    out = [(0, i, i + 1) for i in range(1, count - 1, 2)]
+    out: list[tuple[int, ...]] = [(0, i, i + 1) for i in range(1, count - 1, 2)]
     if (count - 1) % 2:
         out.append((0, count - 2, count - 1))
     return out
@@ -542,8 +547,8 @@ def polish(target: PathTarget, mech: GuidingFourBar, limits: Limits, work: PathW
     x = fit.x
     if not np.all(np.isfinite(x)) or margins(x).min() < 0:
         res = minimize(lambda z: float(np.sum(residuals(z) ** 2)), x, method="SLSQP",
-                       bounds=list(zip(np.where(np.isfinite(lower), lower, None), np.where(np.isfinite(upper), upper,
-                                                                                             None))),
+                       bounds=[(float(lo) if math.isfinite(lo) else None, float(hi) if math.isfinite(hi) else None)
+                               for lo, hi in zip(lower, upper)],
                        constraints=[{"type": "ineq", "fun": margins}], options={"maxiter": 300, "ftol": 1e-20})
         x = res.x if np.all(np.isfinite(res.x)) and margins(res.x).min() >= -INSIDE else x0
     out = _unpack(x, branch)
@@ -641,7 +646,7 @@ def _from_poses(o: complex, a_pts: np.ndarray, b_pts: np.ndarray, pivot: complex
     return from_dyads(o, complex(a_pts[0]), complex(b_pts[0]), pivot, complex(m_pts[0]), theta_1)
 
 
-def _implicit(x: np.ndarray, m: np.ndarray) -> np.ndarray:
+def _implicit(x: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The coupler curve's implicit equation at points ``m`` for parameter rows ``x`` (S, 9): o, C, log a, log c,
     log e1 = |AM|, log e2 = |BM|, γ = the angle AMB. With A = M + e1 e^{iα}, B = M + e2 e^{i(α+γ)}, the crank and
     rocker conditions are linear in (cos α, sin α); the curve is where their solution has cos² + sin² = 1."""
@@ -736,12 +741,15 @@ def _dyad_starts(target: PathTarget, seed: int, work: PathWork, every: bool = Fa
     return out
 
 
-def _random_distance_starts(target: PathTarget, seed: int, count: int) -> list[tuple[GuidingFourBar, None]]:
-    """Random mechanisms around the fixed point (the distance task has no points to fit dyads to)."""
+def _random_distance_starts(target: PathTarget, seed: int, count: int
+                            ) -> list[tuple[GuidingFourBar, np.ndarray | None]]:
+    """Random mechanisms around the fixed point (the distance task has no points to fit dyads to); no start
+    angles (None)."""
     rng = np.random.default_rng(seed)
     size = target.size
     x = target.fixed
-    out = []
+    assert x is not None            # make_target gives every distance task its fixed point
+    out: list[tuple[GuidingFourBar, np.ndarray | None]] = []
     for _ in range(count):
         o = x + complex(*rng.uniform(-1.5, 1.5, 2)) * size
         pivot = o + complex(*rng.uniform(-1.5, 1.5, 2)) * size
@@ -833,7 +841,7 @@ class PathQ:
             cands.append((complex(p1), complex(p2)))
         best, best_q = None, math.inf
         for ref in cands[0]:
-            chosen = np.array([min(pair, key=lambda z, ref=ref: abs(z - ref)) for pair in cands])
+            chosen = np.array([_nearest(pair, ref) for pair in cands])
             q, _ = _box(chosen)
             if q < best_q:
                 best, best_q = chosen, q
@@ -853,6 +861,7 @@ class PathQ:
             q += float(np.sum(gap)) / self.size
             if best is None or q < best[0]:
                 best = (q, found, centre, a_pts, b_pts)
+        assert best is not None         # _side_patterns gives two or more patterns
         q, found, centre, a_pts, b_pts = best
         if not math.isfinite(q):
             return QPath(q, found, None, None)
@@ -871,11 +880,12 @@ class PathQ:
         pairs = [(complex(cands[2 * k]), complex(cands[2 * k + 1])) for k in range(len(pts) - 1)]
         best, best_q = None, math.inf
         for ref in pairs[0]:
-            chosen = np.array([min(p, key=lambda z, ref=ref: abs(z - ref)) for p in pairs])
+            chosen = np.array([_nearest(p, ref) for p in pairs])
             q, _ = _box(chosen)
             if q < best_q:
                 best, best_q = chosen, q
         q1, a_1 = _box(np.asarray(best))
+        assert best is not None         # _box(np.asarray(None)) raised TypeError above
         a_pts = o + (a_1 - o) * np.exp(1j * phi)
         g = (pts - a_pts) / np.abs(pts - a_pts)
         w = complex(x[3], x[4])
@@ -906,6 +916,7 @@ class PathQ:
             q += float(np.sum(gap)) / self.size
             if best is None or q < best[0]:
                 best = (q, found, pivot, m_pts, b_pts)
+        assert best is not None         # two sides tried
         q, found, pivot, m_pts, b_pts = best
         if not math.isfinite(q):
             return QPath(q, found, None, None)
@@ -1051,6 +1062,7 @@ def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 
     rng = np.random.default_rng(seed)
     xs = [problem.start_of(m) for m in (starts or [])]
     size, centre = target.size, complex(np.mean(target.points)) if target.task != "distance" else target.fixed
+    assert centre is not None       # make_target gives every distance task its fixed point
     for _ in range(random_starts):
         if target.task == "points":
             x = [centre.real + rng.uniform(-2, 2) * size, centre.imag + rng.uniform(-2, 2) * size,
@@ -1086,8 +1098,10 @@ def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 
         raise CamcadError("the Q method found no pivots for this path (the circles never meet)", target.source,
                           "check the table, or try --method deviation")
     st = best[1]
-    chk = check(st.mechanism, target)
-    return PathResult("q", st.mechanism, chk, work, st.q, st.pivots, len(xs),
+    mech = st.mechanism
+    assert mech is not None         # only states with a mechanism are kept
+    chk = check(mech, target)
+    return PathResult("q", mech, chk, work, st.q, st.pivots, len(xs),
                       [] if best[0][0] is False else ["the least Q found violates a limit"])
 
 
@@ -1211,16 +1225,16 @@ def path_family(targets: list[PathTarget], limits: Limits, seed: int = 0, random
         raise CamcadError("no adjustable four-bar was found for this family", "linkage path",
                           "check the members (curves of one kind, points in order)")
     states = _family_states(problems, best.x)
-    if any(st.mechanism is None for st in states):
+    mechs = [st.mechanism for st in states if st.mechanism is not None]
+    if len(mechs) != len(states):
         raise CamcadError("the family's Q construction has no pivot for a member", "linkage path",
                           "check the members, or give more rows")
     if task == "points":
-        moved = [st.mechanism.o for st in states]
+        moved = [m.o for m in mechs]
     else:
-        moved = [st.mechanism.pivot for st in states]
+        moved = [m.pivot for m in mechs]
     centre, rad, residual = fit_circle(moved)
     settings = np.array([cmath.phase(p - centre) for p in moved])
-    mechs = [st.mechanism for st in states]
     checks = [check(m, t) for m, t in zip(mechs, targets)]
     q_members = [st.q for st in states]
     return PathFamilyResult(targets, mechs, checks, centre, rad, settings, residual, float(sum(q_members)), q_members,

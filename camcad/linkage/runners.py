@@ -18,7 +18,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -50,6 +50,18 @@ from camcad.linkage.variator import VariatorResult, synthesise_variator
 # Options as the command line writes them, or as values
 # --------------------------------------------------------------------------------------------
 
+@overload
+def numbers(value: Any, option: str, count: Literal[2], example: str = ...) -> tuple[float, float] | None: ...
+
+
+@overload
+def numbers(value: Any, option: str, count: Literal[3], example: str = ...) -> tuple[float, float, float] | None: ...
+
+
+@overload
+def numbers(value: Any, option: str, count: int | None = None, example: str = ...) -> tuple[float, ...] | None: ...
+
+
 def numbers(value: Any, option: str, count: int | None = None, example: str = "1:2") -> tuple[float, ...] | None:
     """A list of numbers from a sequence or from text ("1:2", "40,120,90", "10;20"); None stays None.
 
@@ -60,6 +72,7 @@ def numbers(value: Any, option: str, count: int | None = None, example: str = "1
     """
     if value is None:
         return None
+    parts: list[Any]
     if isinstance(value, str):
         parts = [p for p in value.replace(";", ",").replace(":", ",").split(",") if p.strip()]
     elif isinstance(value, (int, float)):
@@ -748,7 +761,8 @@ def _path_row(result: PathResult, target: PathTarget, limits: Limits, tolerance:
            "deviations_mm": [float(d) for d in chk.deviations],
            "checks": checks, "passed": all(c["passed"] for c in checks.values()), "notes": list(result.notes)}
     if result.q is not None:
-        pivots = [] if result.q_pivots is None else np.atleast_1d(np.asarray(result.q_pivots))
+        pivots: list[complex] | np.ndarray = ([] if result.q_pivots is None
+                                              else np.atleast_1d(np.asarray(result.q_pivots)))
         row["q"] = {"value_mm": result.q, "pivots_mm": [[p.real, p.imag] for p in pivots]}
     return row
 

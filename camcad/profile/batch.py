@@ -113,6 +113,7 @@ class _Batch:
                  "ny": ny, "speed": speed, "roller": rr, "pick": pick}
         if points_only:
             return found
+        assert a is not None and j is not None   # left None only when ``points_only``
         t2x = 0.0 - 2.0 * sigma * -v - qx
         t2y = a - 2.0 * sigma * np.zeros(np.shape(a)) - qy
         bend = t1x * t2y - t1y * t2x
@@ -259,7 +260,8 @@ def _block(law: MotionLaw, followers: list[Follower], settings: ProfileSettings,
     table = _tables(batch, settings.csv_step_deg)
     results: list[ProfileResult | None] = []
     for i, geometry in enumerate(geometries):
-        if polylines[i] is None:
+        one = polylines[i]
+        if one is None:
             results.append(None)
             continue
         notes: list[str] = []
@@ -267,7 +269,7 @@ def _block(law: MotionLaw, followers: list[Follower], settings: ProfileSettings,
         gap, kink = gap_and_kink(end["profile"], geometry)
         pitch_gap, _ = gap_and_kink(end["pitch"], geometry)
         empty = Polyline(np.empty(0), np.empty((0, 2)), 0.0)
-        curves = {"profile": written_curve("profile", polylines[i], geometry.profile, geometry, settings, gap,
+        curves = {"profile": written_curve("profile", one, geometry.profile, geometry, settings, gap,
                                            extrema[i], False, False, notes),
                   "pitch": CurveResult("pitch", empty, None, None, extrema[i]["pitch:convex"],
                                        extrema[i]["pitch:concave"], None, pitch_gap, pitch_gap <= settings.tol_mm)}

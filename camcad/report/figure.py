@@ -88,7 +88,9 @@ def fix_label_positions(fig) -> None:
         for axis in (ax.xaxis, ax.yaxis):
             if not axis.label.get_text():
                 continue
-            size = FontProperties(size=matplotlib.rcParams[f"{axis.axis_name}tick.labelsize"]).get_size_in_points()
+            labelsize = (matplotlib.rcParams["xtick.labelsize"] if axis is ax.xaxis
+                         else matplotlib.rcParams["ytick.labelsize"])
+            size = FontProperties(size=labelsize).get_size_in_points()
             far = axis.get_label_position() in ("top", "right")
             if axis is ax.xaxis:
                 offset = gap + size                               # one line of tick labels (1 em)

@@ -47,6 +47,11 @@ def _save_png(fig, path: Path, dpi: int = 130) -> Path:
 # Atlas
 # --------------------------------------------------------------------------------------------
 
+def _xy(point) -> tuple[float, float]:
+    """A plane point (a pair of numbers) as two floats, mm."""
+    return float(point[0]), float(point[1])
+
+
 def _grid(count: int) -> tuple[int, int]:
     cols = max(1, min(count, math.ceil(math.sqrt(count * 1.4))))
     rows = math.ceil(count / cols)
@@ -297,7 +302,7 @@ def schemes_drawing(report, title: str, cell_mm: float = 40.0) -> Drawing:
                      else "SCHEME_LINK")
             ring = list(poly) + ([poly[0]] if len(poly) > 2 else [])
             for a, b in pairwise(ring):
-                lines.append(DxfLine(layer, tuple(map(float, pts[a])), tuple(map(float, pts[b]))))
+                lines.append(DxfLine(layer, _xy(pts[a]), _xy(pts[b])))
             if link == sch.frame:
                 base = pts[list(poly)].mean(axis=0)
                 for j in range(4):
@@ -307,9 +312,9 @@ def schemes_drawing(report, title: str, cell_mm: float = 40.0) -> Drawing:
             if link == sch.input:
                 mid = pts[list(poly)].mean(axis=0)
                 tip = mid + np.array([3 * r, 3 * r])
-                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, mid)), tuple(map(float, tip))))
-                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, tip)), (float(tip[0] - r), float(tip[1]))))
-                lines.append(DxfLine("SCHEME_INPUT", tuple(map(float, tip)), (float(tip[0]), float(tip[1] - r))))
+                lines.append(DxfLine("SCHEME_INPUT", _xy(mid), _xy(tip)))
+                lines.append(DxfLine("SCHEME_INPUT", _xy(tip), (float(tip[0] - r), float(tip[1]))))
+                lines.append(DxfLine("SCHEME_INPUT", _xy(tip), (float(tip[0]), float(tip[1] - r))))
         for j, e in enumerate(chain.edges):
             x, y = map(float, pts[j])
             if e in locked:

@@ -10,7 +10,9 @@ report's files (JSON, CSV, DXF, PNG) and returns a ``CommandRun``: the CLI print
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from camcad.io.atomic import write_text_atomic
 from camcad.io.jsonout import write_json
@@ -120,9 +122,11 @@ def write_report(report: LinkageReport, out, plots: bool) -> list[Path]:
         return write_atlas_outputs(out.folder, report.atlas, plots)
     if isinstance(report, FgenReport):
         return _write_fgen(report, out, plots)
-    writer = {FamilyReport: _family_files, AnalyseReport: _analyse_files, AdjustReport: _adjust_files,
-              TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files}[type(report)]
-    texts, figures, drawing = writer(report, plots)
+    # (texts, figures, drawing) of each report type
+    writers: dict[type, Callable[[Any, bool], Any]] = {
+        FamilyReport: _family_files, AnalyseReport: _analyse_files, AdjustReport: _adjust_files,
+        TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files}
+    texts, figures, drawing = writers[type(report)](report, plots)
     out.plan([(name,) for name in [*texts, *figures, f"{report.command}.dxf", f"{report.command}.json"]])
     return write_linkage_outputs(out.folder, report.command, report.payload, texts, figures, drawing)
 

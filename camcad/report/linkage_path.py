@@ -100,6 +100,7 @@ def path_drawing(report: PathReport) -> Drawing:
             start = k + 1
     if target.task == "distance":
         x = target.fixed
+        assert x is not None  # make_target gives every distance task its fixed point
         circles.append(DxfCircle("TARGET", (x.real, x.imag), r))
         texts.append(DxfText("TARGET", "X", (x.real + 1.5 * r, x.imag - 2.5 * r), h))
         for length in target.distance:
@@ -143,6 +144,7 @@ def path_figure(report: PathReport):
     ax.plot(used.real, used.imag, color="#1f4e9c", lw=1.8, label="over the crank's range through the rows")
     if target.task == "distance":
         x = target.fixed
+        assert x is not None  # make_target gives every distance task its fixed point
         ax.plot([x.real], [x.imag], "k*", ms=10, label="fixed point X")
         for k, length in enumerate(target.distance):
             arc = x + length * np.exp(1j * np.linspace(0, 2 * math.pi, 181))

@@ -11,6 +11,7 @@ writes the files. Lengths mm, angles deg.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
@@ -522,6 +523,7 @@ def _adjust_table2(request: AdjustRequest, command: CommandLinkage) -> AdjustRep
     if task not in adj_mod.TABLE2:
         raise CamcadError(f"Table 2 has no task {task}", "--task", "tasks are 1 to 17")
     extra: dict[str, Any] = {}
+    values: Sequence[float] | None          # the settings, deg or mm
     if request.synthesise:
         span = numbers(request.x, "--x", 2, "0:1") or (0.0, 1.0)
         var = numbers(request.var_range, "--var-range", 2, "0:8")
