@@ -316,14 +316,17 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
 
 
 def _scale(law: PiecewiseLinearLaw) -> float:
-    """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
+    """The rise displacement (mm), the yardstick of every closure; the range of s if there is no rise or the rise
+    is round-off (below 1e-9 of max |a|·T²: a rise with no return, corrected to end where it began, is judged
+    against the range of its motion, not against a net rise of 1e-14 mm), and never below that round-off."""
     from camcad.law.source import rise_displacement
 
     rise = rise_displacement(law)
-    if rise > 0:
+    roundoff = 1e-9 * float(np.max(np.abs(law.a), initial=0.0)) * float(law.cycle) ** 2
+    if rise > roundoff:
         return rise
     theta = np.linspace(0, law.cycle, 2049)
-    return max(float(np.ptp(law.kinematics(theta).s)), 1e-300)
+    return max(float(np.ptp(law.kinematics(theta).s)), roundoff, 1e-300)
 
 
 

@@ -37,7 +37,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "machine": ("camcad.cli.machine", "Optimise a machine of groups: least cycle or the longest limiting operation."),
     "drive": ("camcad.cli.drive", "Camshaft torque and power, flywheel and motor sizing."),
     "linkage": ("camcad.cli.linkage",
-                "Linkages after the cam (Sunkuev 1984): atlas, function generators, analysis, adjustment."),
+                "Linkages (Sunkuev 1984): atlas of adjustable chains, function generators, guiding mechanisms, "
+                "adjustable mechanisms."),
     "edit": ("camcad.cli.edit", "Edit a drawn law by hand: drag points and lobes, watch the areas balance, save."),
     "sweep": ("camcad.cli.sweep", "Explore a design space: a scene's keys over ranges and draws, on a pool or Dask."),
     "bench": ("camcad.cli.bench", "Time and error of every kernel (median of repeats), as a table and a plot."),

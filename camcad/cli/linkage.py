@@ -24,7 +24,7 @@ def _opt(name: str, text: str):
 
 MuOpt = Annotated[float, _opt("--mu-min", "Transmission-angle limit (deg).")]
 RatioOpt = Annotated[float, _opt("--ratio-max", "Largest link-length ratio.")]
-SeedOpt = Annotated[int, _opt("--seed", "Seed of the random starts.")]
+SeedOpt = Annotated[int, _opt("--seed", "The random-number seed of the random starts.")]
 SceneOptArg = Annotated[Path | None, typer.Argument(help="A scene (.toml) with a [linkage]; or give the linkage by "
                                                          "options.", show_default=False)]
 MechOpt = Annotated[str | None, _opt("--mechanism", "The mechanism of a group scene.")]

@@ -190,8 +190,7 @@ def _kind_text(kind: str) -> str:
 
 
 def validate_script(ops: Any, where: str) -> list[dict]:
-    """A whole script: a JSON list of at most ``MAX_OPERATIONS`` operations, each checked by
-    ``normalize_operation``.
+    """A whole script: a JSON list of at most ``MAX_OPERATIONS`` operations, each ``normalize_operation``'s.
 
     Parameters
     ----------
@@ -226,9 +225,10 @@ def validate_script(ops: Any, where: str) -> list[dict]:
 
 
 def load_script(path: str | Path) -> list[dict]:
-    """Read and check an edit script (a JSON list of operations, as ``camcad edit --script`` replays it): a regular
-    file of at most ``MAX_SCRIPT_BYTES``, nested at most ``input_file.MAX_NESTING`` deep, at most ``MAX_OPERATIONS``
-    long.
+    """Read and check an edit script (a JSON list of operations, as ``camcad edit --script`` replays it).
+
+    The script is a regular file of at most ``MAX_SCRIPT_BYTES``, nested at most ``input_file.MAX_NESTING``
+    deep, at most ``MAX_OPERATIONS`` long.
 
     Parameters
     ----------

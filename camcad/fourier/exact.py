@@ -213,8 +213,9 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
 
 
 def composite_pieces(law) -> list[Piece] | None:
-    """The displacement of a standard law (``camcad.compose``) as elementary pieces, or None if a shape is unknown
-    (made once per law: a law is immutable and hashable; an unhashable one is decomposed each time).
+    """The displacement of a standard law (``camcad.compose``) as elementary pieces, or None for an unknown shape.
+
+    Made once per law (a law is immutable and hashable; an unhashable one is decomposed each time).
 
     Parameters
     ----------

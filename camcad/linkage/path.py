@@ -845,6 +845,8 @@ class PathQ:
             q, _ = _box(chosen)
             if q < best_q:
                 best, best_q = chosen, q
+        if best is None:   # no finite meeting point: the caller's finiteness check rejects it
+            return np.full(len(cands), complex(math.nan))
         return np.asarray(best)
 
     def _points(self, x) -> QPath:
@@ -884,8 +886,9 @@ class PathQ:
             q, _ = _box(chosen)
             if q < best_q:
                 best, best_q = chosen, q
+        if best is None:   # no finite crank pin (e.g. a crank so long its square overflows): a degenerate start
+            return QPath(math.inf, np.array([complex(math.nan)]), None, None)
         q1, a_1 = _box(np.asarray(best))
-        assert best is not None         # _box(np.asarray(None)) raised TypeError above
         a_pts = o + (a_1 - o) * np.exp(1j * phi)
         g = (pts - a_pts) / np.abs(pts - a_pts)
         w = complex(x[3], x[4])

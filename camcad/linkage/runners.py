@@ -972,7 +972,7 @@ def run_linkage_variator(request: VariatorRequest) -> VariatorReport:
 
     Examples
     --------
-    >>> r = run_linkage_variator(VariatorRequest(u_mean="0.05:0.15", interval=90.0, starts=2))
+    >>> r = run_linkage_variator(VariatorRequest(u_mean="0.05:0.15", interval=180.0, starts=6))
     >>> [round(row["u_mean"], 6) for row in r.to_dict()["rows"]]
     [0.05, 0.1, 0.15]
     """

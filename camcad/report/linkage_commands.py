@@ -104,7 +104,7 @@ def linkage_command(request, output: Path | None = None, plots: bool = True) -> 
     >>> from camcad.linkage.runners import AtlasRequest
     >>> run = linkage_command(AtlasRequest(4, 1), Path(tempfile.mkdtemp()), plots=False)
     >>> run.payload["count"], run.exit_code, sorted(Path(p).name for p in run.outputs)
-    (1, 0, ['atlas.csv', 'atlas.dxf', 'atlas.json'])
+    (1, 0, ['atlas.csv', 'atlas.dxf', 'atlas.json', 'schemes.dxf'])
     """
     report = _run(request)
     with open_folder(output, report.name, report.inputs) as out:

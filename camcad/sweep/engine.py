@@ -150,10 +150,8 @@ class DaskCluster(Engine):
         self.address = address
         self.timeout_s = float(timeout_s)
         where = "--scheduler"
-        import logging
-
         # the client logs its reconnection attempts on stderr; what went wrong is said in one line instead
-        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        _quiet_distributed()
         is_file = os.path.isfile(address)
         if not is_file and "://" not in address:
             raise CamcadError(f"{address[:60]!r} is neither tcp://HOST:PORT nor a scheduler file", where,
@@ -168,6 +166,7 @@ class DaskCluster(Engine):
             raise CamcadError(f"cannot reach the Dask scheduler at {address[:80]} ({text})", where,
                               "start it (dask scheduler; dask worker ADDRESS) or check the address and the network") \
                 from None
+        _quiet_distributed()   # the loggers the client made (distributed.client keeps its own level)
         try:
             self.client.wait_for_workers(1, timeout=timeout_s)
         except Exception:  # noqa: BLE001 - a timeout
@@ -317,3 +316,13 @@ def make_engine(workers: int | None = None, scheduler: str | None = None,
     if count < 1:
         raise CamcadError(f"--workers must be at least 1, got {count}", "--workers", "give --workers N, N >= 1")
     return InProcess() if count == 1 else LocalPool(count)
+
+
+def _quiet_distributed() -> None:
+    """Silence every ``distributed`` logger (dask's configuration gives ``distributed.client`` and others their
+    own levels, so the parent's level is not enough): a lost worker or scheduler is said in camcad's one line."""
+    import logging
+
+    names = [name for name in logging.root.manager.loggerDict if name.split(".")[0] == "distributed"]
+    for name in ["distributed", *names]:
+        logging.getLogger(name).setLevel(logging.CRITICAL)
