@@ -128,7 +128,7 @@ def read_table(path: str | Path) -> Table:
     if "\x00" in text[:4096]:
         raise CamcadError("binary data, not a text table", where,
                           "give a .csv/.txt table of angle (deg) and acceleration, or a DXF drawing")
-    line_count = text.count("\n") + 1
+    line_count = text.count("\n") + (0 if text.endswith("\n") else 1)   # a last newline ends a line
     if line_count > MAX_TABLE_LINES:
         raise CamcadError(f"the table has {line_count:,} lines, more than camcad reads ({MAX_TABLE_LINES:,})", where,
                           "give the law with fewer rows (a drawn law needs hundreds)")

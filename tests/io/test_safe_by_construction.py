@@ -286,7 +286,7 @@ def test_limits_on_script_operations_and_table_lines(place):
     table = work / "long.csv"
     table.write_text("".join(f"{i * 360 / 600_000:.6f},0\n" for i in range(600_001)))
     run = bounded(["check", table.name, "--lift", "10"], work, place)
-    assert run.code == 2 and "600,002 lines" in run.err
+    assert run.code == 2 and "600,001 lines" in run.err   # 600,001 rows, each ended by a newline
 
 
 # ---------------------------------------------------------------------------------------------
