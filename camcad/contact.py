@@ -14,7 +14,7 @@ Conventions
 Sources: K. L. Johnson, Contact Mechanics (Cambridge, 1985), ch. 4 (Hertz theory, two-dimensional
 contact of cylinders); R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), dynamic
 force analysis of force-closed followers and cam contact stress; Podgorny et al., Obrabotka Metallov
-20(1) (2018) 44–54 (σ_max(t) ≤ [σ_H] as a cyclogram constraint, seed 000).
+20(1) (2018) 44–54 (σ_max(t) ≤ [σ_H] as a cyclogram constraint, Podgorny et al. 2018).
 """
 
 from __future__ import annotations
@@ -313,7 +313,7 @@ class ContactResult:
         return self.sigma_max <= self.allowable and not self.separation
 
     def report(self) -> dict:
-        """The SPEC.md ``contact`` keys (without ``phase_limit_deg``, which needs the law) and more."""
+        """The docs/INTERFACE.md ``contact`` keys (without ``phase_limit_deg``, which needs the law) and more."""
         return {
             "passed": self.passed,
             "sigma_max_MPa": self.sigma_max,
@@ -378,7 +378,7 @@ def contact_stress(theta_rad, s_mm, v_mm_per_rad, a_mm_per_rad2, pressure_angle_
     ContactResult
         Arrays over θ: ``normal_force`` (N, signed), ``sigma`` (MPa), ``half_width`` (mm), ``r_eff``
         (mm); figures ``sigma_max`` (MPa) at ``at`` (rad), ``safety_factor`` [σ_H]/σ_max
-        (dimensionless), ``separation``, ``min_force`` (N); ``report()`` gives the SPEC.md keys.
+        (dimensionless), ``separation``, ``min_force`` (N); ``report()`` gives the docs/INTERFACE.md keys.
 
     Raises
     ------

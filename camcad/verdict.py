@@ -15,7 +15,7 @@ phase angles were analysed — the law's own or the cyclogram's) and may carry a
 limit by the cyclogram"). ``Warning`` is what a senior engineer would flag even where the scene sets no
 limit; it carries the figure that triggered it.
 
-JSON form (SPEC.md): ``{"value", "limit", "margin", "passed", "why", ...}``.
+JSON form (docs/INTERFACE.md): ``{"value", "limit", "margin", "passed", "why", ...}``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Area balance of a drawn acceleration law: the check, and every way of correcting it.
 
-The conditions (Dupliak & Kotsiyba 2018, seed 003, eqs. 1–3; θ in rad, the law starts from rest
+The conditions (Dupliak & Kotsiyba 2018, Dupliak & Kotsiyba 2018, eqs. 1–3; θ in rad, the law starts from rest
 at s = 0): the velocity is zero at the end of every rise and every return (the accelerating and
 decelerating areas of each phase balance), and the displacement comes back to its start at the
 end of the cycle (rise = −return, the profile closes). With v(0) = s(0) = 0,
@@ -11,7 +11,7 @@ both *linear* in the ordinates a_i of the drawn polyline. So every condition is 
 matrix C (one row per condition, one column per vertex), computed exactly from the piecewise-linear
 shape functions, and a correction δ that restores balance solves C δ = −C a.
 
-Correction modes (SPEC.md; the source's list (a)–(g)):
+Correction modes (docs/INTERFACE.md; the source's list (a)–(g)):
 - ``min-change``: the δ of least ∫ δa(θ)² dθ — the smallest change of the drawn curve as a function —
   over all vertices that are off the axis, solved exactly with the polyline's mass matrix M
   (δ = −M⁻¹Cᵀ (C M⁻¹ Cᵀ)⁻¹ C a); vertices on the axis (dwells, phase boundaries) stay put.

@@ -28,7 +28,7 @@ from camcad.law.phases import phases_integrals
 
 @dataclass(frozen=True)
 class BalanceReport:
-    """The area balance of a law (SPEC.md ``check`` keys); areas in mm/rad (∫ a dθ, θ in rad).
+    """The area balance of a law (docs/INTERFACE.md ``check`` keys); areas in mm/rad (∫ a dθ, θ in rad).
 
     Attributes
     ----------
@@ -87,7 +87,7 @@ class BalanceReport:
 def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
     """Areas, closures and verdict of a drawn law: balanced when every closure is within tol × rise.
 
-    Exact: v and s are the piecewise-quadratic and -cubic integrals of the drawn polyline (seed 003,
+    Exact: v and s are the piecewise-quadratic and -cubic integrals of the drawn polyline (Dupliak & Kotsiyba 2018,
     eqs. 1–3: the velocity back to zero at the end of every rise and return, rise = −return).
 
     Parameters

@@ -1,4 +1,4 @@
-"""The balance conditions of a drawn law as linear functionals of its ordinates (seed 003, eqs. 1–3).
+"""The balance conditions of a drawn law as linear functionals of its ordinates (Dupliak & Kotsiyba 2018, eqs. 1–3).
 
 v = 0 at the end of every rise and return, s(cycle) = s(0); each is a row of C with C a = residuals,
 computed exactly from the piecewise-linear shape functions; M is the polyline's mass matrix.

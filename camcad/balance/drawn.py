@@ -1,6 +1,6 @@
 """A designed law as a drawing: its acceleration as a polyline that meets every end value the law states.
 
-A drawing holds the acceleration analog as a polyline (SPEC.md "Acceleration-law input"). Sampled from a
+A drawing holds the acceleration analog as a polyline (docs/INTERFACE.md "Acceleration-law input"). Sampled from a
 closed form, a polyline's integrals miss the law's positions and velocities by the chords' error (second
 order in the step), so a drawing read back would fail ``camcad check``. ``drawn_polyline`` samples the law
 until the chords are within ``tol`` of its largest acceleration (bisecting only where they are not; a jump

@@ -43,11 +43,11 @@ class CheckReport:
 
     @property
     def exit_code(self) -> int:
-        """0 balanced, 1 not (SPEC.md)."""
+        """0 balanced, 1 not (docs/INTERFACE.md)."""
         return 0 if self.balance.balanced else 1
 
     def to_dict(self) -> dict:
-        """The JSON of ``camcad check --json`` (SPEC.md keys)."""
+        """The JSON of ``camcad check --json`` (docs/INTERFACE.md keys)."""
         payload = {"source": self.source, "notes": list(self.notes), **self.balance.to_dict(),
                    "length_unit": self.length_unit}
         if self.trapezoid is not None:

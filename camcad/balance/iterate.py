@@ -1,4 +1,4 @@
-"""The source's own correction loop (seed 003): resample, trapezoid integration, trial steps per condition.
+"""The source's own correction loop: resample, trapezoid integration, trial steps per condition.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The phase modes of the correction (seed 003 options f and g): stretch phase parts in angle.
+"""The phase modes of the correction (Dupliak & Kotsiyba 2018 options f and g): stretch phase parts in angle.
 """
 
 from __future__ import annotations

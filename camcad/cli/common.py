@@ -15,7 +15,7 @@ import typer
 from camcad.errors import CamcadError
 from camcad.io.jsonout import to_jsonable
 
-#: exit codes (SPEC.md)
+#: exit codes (docs/INTERFACE.md)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
 
@@ -109,7 +109,7 @@ def print_json(payload: dict) -> None:
     print(json.dumps(to_jsonable(payload), indent=2))
 
 
-# --- the law-choosing options (SPEC.md: the same meaning in every command) --------------------
+# --- the law-choosing options (docs/INTERFACE.md: the same meaning in every command) --------------------
 
 LawArg = Annotated[Path, typer.Argument(help="Acceleration law: a DXF drawing or a .csv/.txt table (θ deg, a).",
                                         show_default=False)]

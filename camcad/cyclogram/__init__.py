@@ -1,6 +1,6 @@
 """Cyclogram of a group of mechanisms: a network of events and operations, its least makespan by longest paths.
 
-Model (Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) 2018 44–54, seed 000,
+Model (Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) 2018 44–54, Podgorny et al. 2018,
 after Hendrickson & Janson, Civil Engineering Systems 1 (1984) 195–203):
 vertices are events x with times p(x) (deg of the cam shaft); arcs are operations (x, y) whose phase
 angle is t(x, y) = p(y) − p(x). Minimise p(N) − p(1) subject to

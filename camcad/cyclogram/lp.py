@@ -92,7 +92,7 @@ class CyclogramResult:
 
     @property
     def active_bounds(self) -> list[str]:
-        """Labels "x->y" of operations with an active bound (SPEC.md ``active_bounds``)."""
+        """Labels "x->y" of operations with an active bound (docs/INTERFACE.md ``active_bounds``)."""
         labels = []
         for c in self.active:
             if c.label not in labels:
@@ -100,7 +100,7 @@ class CyclogramResult:
         return labels
 
     def report(self) -> dict:
-        """The SPEC.md ``cyclogram`` keys and more."""
+        """The docs/INTERFACE.md ``cyclogram`` keys and more."""
         out: dict[str, Any] = {
             "passed": self.feasible,
             "feasible": self.feasible,
@@ -180,7 +180,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
         ``makespan_deg``, ``event_times_deg`` ({event: deg}), ``phase_angles_deg`` ({"x->y": deg}),
         ``critical_path``, ``active_bounds``, ``feasible``; when infeasible, ``conflict`` (a smallest
         set of constraints that cannot hold together) and ``explanation``; ``report()`` gives the
-        SPEC.md ``cyclogram`` keys.
+        docs/INTERFACE.md ``cyclogram`` keys.
 
     Raises
     ------
@@ -189,7 +189,7 @@ def optimise(network: Network, limits: Mapping[str, Iterable[PhaseLimit]] | None
 
     References
     ----------
-    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): minimise p(N) − p(1) subject to
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54: minimise p(N) − p(1) subject to
     p(x) ≤ p(y) − t(x, y), t(x, y) ≥ [φ(x, y)].
     T. H. Cormen et al., Introduction to Algorithms, 3rd ed. (2009), §24.4 (difference constraints and
     shortest paths; longest paths are the same with the signs turned).

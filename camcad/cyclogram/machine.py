@@ -330,7 +330,7 @@ class MachineResult:
         return self.result.feasible
 
     def report(self) -> dict[str, Any]:
-        """The machine's ``cyclogram`` keys (SPEC.md: makespan_deg, event_times_deg, phase_angles_deg,
+        """The machine's ``cyclogram`` keys (docs/INTERFACE.md: makespan_deg, event_times_deg, phase_angles_deg,
         critical_path, active_bounds, feasible), the objective and the limiting operation, and per group its
         start, makespan and phases."""
         out = self.result.report()

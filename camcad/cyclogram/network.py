@@ -45,7 +45,7 @@ class Operation:
 
     References
     ----------
-    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): the cyclogram as a network of
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54: the cyclogram as a network of
     events and operations with least admissible phase angles.
 
     Examples
@@ -151,7 +151,7 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
 
     References
     ----------
-    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000).
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54.
 
     Examples
     --------

@@ -6,9 +6,9 @@ Modules, one concept each:
 - ``spectrum``: the sampled displacement spectrum the frequency-domain response uses;
 - ``steady``: the periodic steady state (frequency domain and time marching) and speed sweeps;
 - ``residual``: residual vibration after a motion phase that starts from rest;
-- ``startload``: the summary dynamic load at the start of a motion (seed 001);
+- ``startload``: the summary dynamic load at the start of a motion;
 - ``multimass``: flywheel, elastic shaft, cam, position function and elastic chain (Lagrange);
-- ``impact``: a lever on a limit stop: impulse, triangular pulse, Duhamel response, rebound (seed 000);
+- ``impact``: a lever on a limit stop: impulse, triangular pulse, Duhamel response, rebound;
 - ``runs``: the analyses over a speed range with their reports, shared by the CLI and the scene pipeline.
 
 The scene sections ``[dynamics]`` and ``[stops]`` are read by ``camcad.scene.sections.dynamics`` and

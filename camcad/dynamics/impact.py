@@ -1,4 +1,4 @@
-"""Impact of a driven lever on a limit stop, and its first rebound (seed 000, Podgorny et al. 2018).
+"""Impact of a driven lever on a limit stop, and its first rebound (Podgorny et al. 2018).
 
 The driven lever (pivot A, arms a and b, reduced mass m at the contact point C) is pressed against a
 limit plate with a preload. The model, step by step:
@@ -43,7 +43,7 @@ at t0 is the source's linearised cyclogram constraint a = k t + b with k = −A0
 [a] is t = t0 A0/[a].
 
 Units: SI inside (m, s, N, kg); lengths at the interface in mm, angles in deg, speeds in rpm.
-Sources: Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) (2018) 44–54 (seed 000);
+Sources: Podgorny, Maksimchuk, Kirillov, Skeeba, Obrabotka Metallov 20(1) (2018) 44–54;
 Ya. G. Panovko, Fundamentals of the Applied Theory of Vibration and Impact (1990);
 A. A. Yablonsky, S. S. Noreiko, Course of the Theory of Vibrations (2007) — the Duhamel integral.
 """
@@ -451,7 +451,7 @@ class StopModel:
     References
     ----------
     Yu. Podgorny, O. Maksimchuk, A. Kirillov, V. Skeeba, "Features of machine cyclogramming taking into
-    account the interaction of links with stops", Obrabotka Metallov 20(1) (2018) 44–54 (seed 000).
+    account the interaction of links with stops", Obrabotka Metallov 20(1) (2018) 44–54.
     Ya. G. Panovko, Fundamentals of the Applied Theory of Vibration and Impact (1990).
 
     Examples
@@ -872,7 +872,7 @@ def impact_sweep(law: MotionLaw, stop: StopModel, speeds_rpm, *, keep=(), progre
 
     References
     ----------
-    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54 (seed 000): impulse, force and the first
+    Podgorny et al., Obrabotka Metallov 20(1) (2018) 44–54: impulse, force and the first
     rebound by the Duhamel integral; their force 4.137 → 6.2 N and rebound 0.07 → 0.105 mm from 280 to
     420 rpm are both the speed ratio 1.5.
 

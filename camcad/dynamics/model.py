@@ -39,7 +39,7 @@ Two solution paths, which must agree where both apply:
   monodromy matrix Φ integrated alongside give the periodic initial state z0 = (I − Φ)⁻¹ z_p.
   Knobs: ``method`` (RK45, DOP853, Radau, LSODA, …), ``rtol``, ``atol``.
 
-Residual vibration (SPEC.md): the amplitude of the free vibration after a motion phase that
+Residual vibration (docs/INTERFACE.md): the amplitude of the free vibration after a motion phase that
 starts from rest. The response after the phase is x = e^{−ζωn u} (C cos ωd u + D sin ωd u),
 u = t − T; the amplitude is the envelope at the end of the phase, A = √(C² + D²) =
 √(x_T² + ((ẋ_T + ζωn x_T)/ωd)²). ``residual_vibration`` evaluates it by the Duhamel integral
@@ -48,7 +48,7 @@ knobs ``panels`` and ``nodes``), or by time marching (``method="time"``).
 
 Sources: I. I. Vulfson, Dynamics of Cyclic Machines, Springer (2015), ch. 2–3 (the elastic
 follower, ψ); R. L. Norton, Cam Design and Manufacturing Handbook, 2nd ed. (2009), ch. 8–9 (the
-single-DOF follower model, residual vibration); the batten study (seed 001: variable c2, ψ, the
+single-DOF follower model, residual vibration); the batten study (the batten study: variable c2, ψ, the
 summary dynamic load at the start of motion lasting about half the free period).
 """
 
@@ -155,7 +155,7 @@ OUTPUT_UNITS = {
 def unit_key(key: str, unit: str) -> str:
     """A JSON key that carries a length, in the law's unit: ``_mm`` → ``_rad`` (``_mm2`` → ``_rad2``).
 
-    Keys of a translating follower's law keep their SPEC.md names (``dynamic_error_max_mm``); those of an
+    Keys of a translating follower's law keep their docs/INTERFACE.md names (``dynamic_error_max_mm``); those of an
     oscillating follower's law (rad or deg of swing) say so (``dynamic_error_max_rad``).
 
     Examples

@@ -1,6 +1,6 @@
 """The batten study's multi-mass model: flywheel, elastic main shaft, cam, position function, elastic driven chain.
 
-Seed 001 (PhD abstract, Novosibirsk, batten of the STB loom) names the elements — J0 moment of
+The batten study (PhD abstract, Novosibirsk, batten of the STB loom) names the elements — J0 moment of
 inertia of the pulley/flywheel, J1 of the cam, J2 of the driven mass, c1 reduced stiffness of the
 main shaft between cam and flywheel, c2 the variable reduced stiffness of the driven system, ψ the
 dissipation coefficient, M0 the driving torque, Π(φ) the position (transfer) function — but its
@@ -39,7 +39,7 @@ tabulated characteristic M0(n) (a scene's [dynamics] motor_torque).
 
 Units: SI throughout (kg·m², N·m/rad, N/m or N·m/rad, s); the law's displacement (mm or rad) is
 turned into Π by ``position_scale`` (1e-3 for mm → m, 1 for rad).
-Source: seed 001; Lagrange's equations with dissipation as in Vulfson, Dynamics of Cyclic
+Source: the batten study; Lagrange's equations with dissipation as in Vulfson, Dynamics of Cyclic
 Machines (2015), ch. 1–3.
 """
 

@@ -369,7 +369,7 @@ def residual_about(cam, wanted, follower: ElasticFollower, rpm: float, *, nodes:
 
         q(T) = q(θ0) e^{p(T−θ0)} + ∫ g(τ) e^{p(T−τ)} dτ,     A = |q(T)|/r_d = √(e² + ((e' + ζ r e)/r_d)²),
 
-    the amplitude of the free vibration that follows (camcad.dynamics.model; SPEC.md's residual vibration when
+    the amplitude of the free vibration that follows (camcad.dynamics.model; docs/INTERFACE.md's residual vibration when
     ``cam`` is ``wanted``). The integral is Gauss–Legendre over panels split at the law's breakpoints and at most
     one radian of r_d τ wide (``nodes`` per panel). For the polydyne cam at its design speed g vanishes
     identically (r² K = 1, r² λ = 2ζr), so the residual is the quadrature's round-off.

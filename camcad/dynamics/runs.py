@@ -1,8 +1,8 @@
 """Dynamics and stop-impact analyses of one law over the machine's speeds, with their verdicts: what
-`camcad dynamics`, `camcad impact` and the scene pipeline (steps 5, 6 and 8 of SPEC.md) share.
+`camcad dynamics`, `camcad impact` and the scene pipeline (steps 5, 6 and 8 of docs/INTERFACE.md) share.
 
 The models are in camcad.dynamics.steady, .residual, .multimass and .impact; this module runs them over
-the speeds and gathers the figures under the SPEC.md ``dynamics`` and ``impact`` keys, and a
+the speeds and gathers the figures under the docs/INTERFACE.md ``dynamics`` and ``impact`` keys, and a
 ``camcad.verdict.Verdict``: every check a figure, a limit and a margin (a figure without a limit is
 reported for information), and the warnings a senior engineer would give even where no limit is set.
 
@@ -43,7 +43,7 @@ ZERO_AMPLITUDE = 1e-12
 
 @dataclass(frozen=True)
 class DynamicsRun:
-    """What ``run_dynamics`` found: ``report`` (SPEC.md ``dynamics`` keys and more, without the verdict),
+    """What ``run_dynamics`` found: ``report`` (docs/INTERFACE.md ``dynamics`` keys and more, without the verdict),
     ``verdict``, the ``sweep`` (camcad.dynamics.steady.Sweep), the speeds whose responses are kept for
     plots, the settings, and the residual vibration at every speed (``residuals``: {rpm: [Residual]})."""
 
@@ -66,7 +66,7 @@ class DynamicsRun:
 def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | None = None,
                  lead_in: tuple[float, float] | None = None, compare=None, compare_name: str = "",
                  applies: str = "") -> DynamicsRun:
-    """The elastic follower over ``speeds`` (rpm): SPEC.md ``dynamics`` keys, residual vibration at every
+    """The elastic follower over ``speeds`` (rpm): docs/INTERFACE.md ``dynamics`` keys, residual vibration at every
     speed, start-of-motion loads, the multi-mass model when the settings have one, and the verdict.
 
     Parameters
@@ -76,7 +76,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     settings : camcad.scene.sections.dynamics.DynamicsSettings
         The follower, the limits (``allowed_*``) and the solver knobs.
     speeds : list of float
-        Cam speeds, rpm (the first one is the SPEC.md residual-vibration speed).
+        Cam speeds, rpm (the first one is the docs/INTERFACE.md residual-vibration speed).
     lead_in : (float, float) or None
         (angle deg, fraction of the peak) — compare with lead-in segments before each motion.
     compare : MotionLaw or None
@@ -241,7 +241,8 @@ def _dynamics_verdict(law, result, residuals: dict, settings, lift: float, unit:
 
 @dataclass(frozen=True)
 class ImpactRun:
-    """What ``run_impact`` found: ``report`` (SPEC.md ``impact`` keys), the sweep, the stop model, the verdict."""
+    """What ``run_impact`` found: ``report`` (docs/INTERFACE.md ``impact`` keys), the sweep, the stop model, the
+    verdict."""
 
     report: dict
     sweep: Any
@@ -262,7 +263,7 @@ CLOSE_TO_LIMIT = 0.05
 
 def run_impact(law, model, speeds: list[float], *, progress: Callable | None = None,
                applies: str = "", published=None, study: bool = False) -> ImpactRun:
-    """Impact on the limit stop over ``speeds`` (rpm): SPEC.md ``impact`` keys, the linearised rebound
+    """Impact on the limit stop over ``speeds`` (rpm): docs/INTERFACE.md ``impact`` keys, the linearised rebound
     relation, the least phase angle for the allowed amplitude, and the verdict.
 
     Parameters

@@ -1,4 +1,4 @@
-"""The summary dynamic load at the start of a motion (seed 001: a half-sine pulse of half the free period).
+"""The summary dynamic load at the start of a motion (the batten study: a half-sine pulse of half the free period).
 """
 
 from __future__ import annotations

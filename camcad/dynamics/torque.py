@@ -303,7 +303,7 @@ class CycleFigures:
         return float(angular_speed(self.rpm))
 
     def to_dict(self) -> dict:
-        """The figures in SPEC.md's units (N·m, W, deg, rpm)."""
+        """The figures in docs/INTERFACE.md's units (N·m, W, deg, rpm)."""
         w = self.omega
         return {"rpm": self.rpm, "torque_peak_Nm": self.peak, "torque_peak_at_deg": math.degrees(self.peak_at),
                 "torque_max_Nm": self.maximum, "torque_max_at_deg": math.degrees(self.maximum_at),

@@ -1,4 +1,4 @@
-"""Fourier analysis and synthesis of motion laws, and resonance filtering (background.md §2, seed 001).
+"""Fourier analysis and synthesis of motion laws, and resonance filtering (docs/references.md, the batten study).
 
 Conventions
 -----------
@@ -33,7 +33,7 @@ Truncation error (Parseval): (1/T)∫(s − s_N)² dθ = Σ_{k>N} A_k²/2. The s
 harmonics is exact; beyond them the remainder is estimated from the jump asymptotics
 |c_k|² ≈ (1/T²) Σ_m Σ_j |Δ_j f^{(m)}|² / (kω0)^{2m+2} (averaged over k), summed with the Hurwitz zeta.
 
-Sources: PhD abstract on the batten mechanism of the STB loom, Novosibirsk (seed 001; background.md §2:
+Sources: PhD abstract on the batten mechanism of the STB loom, Novosibirsk (the batten study; docs/references.md:
 harmonic patterns, RMS error against the number of harmonics, resonance filtering of the 17th harmonic
 and its neighbours, lead-in segments of 14° at 0.1 of the peak acceleration); A. Zygmund,
 Trigonometric Series (1959), ch. II (integration by parts, Parseval); W. H. Press et al., Numerical

@@ -93,7 +93,7 @@ def analyse(law: MotionLaw, harmonics: int = 64, *, tol: float = 1e-9, method: s
     References
     ----------
     Harmonic analysis of cam motion laws, RMS error against the number of harmonics kept, resonance
-    filtering: PhD abstract on the batten mechanism of the STB loom, Novosibirsk (seed 001; see
+    filtering: PhD abstract on the batten mechanism of the STB loom, Novosibirsk (the batten study; see
     ``docs/analyses.md``).
 
     Examples

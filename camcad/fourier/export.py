@@ -23,8 +23,8 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
                           phases: tuple[Phase, ...] | None = None, from_rest: bool = True) -> PiecewiseLinearLaw:
     """The law's acceleration as a polyline on a uniform step (deg) plus its knots and phase ends.
 
-    A jump of a (left and right limits differ) becomes two vertices at one θ, as SPEC.md draws it.
-    ``from_rest``: start from v = 0, s = 0 at θ = 0, as a drawn law is read back (SPEC.md); otherwise
+    A jump of a (left and right limits differ) becomes two vertices at one θ, as docs/INTERFACE.md draws it.
+    ``from_rest``: start from v = 0, s = 0 at θ = 0, as a drawn law is read back (docs/INTERFACE.md); otherwise
     the law's own v(0), s(0). Chord error of a smooth a: step²·max|a''|/8 (step in rad).
 
     Parameters

@@ -1,4 +1,4 @@
-"""Resonance filtering: remove the band's harmonics from a law, keep its dwells and closure (seed 001).
+"""Resonance filtering: remove the band's harmonics from a law, keep its dwells and closure.
 """
 
 from __future__ import annotations
@@ -177,7 +177,7 @@ def start_accelerations(law, window: float, samples: int = 512) -> list[float]:
 
 @dataclass(frozen=True)
 class FilterResult:
-    """A filtered law and the figures the batten study and SPEC.md ask for (mm, mm/rad², rad).
+    """A filtered law and the figures the batten study and docs/INTERFACE.md ask for (mm, mm/rad², rad).
 
     ``camcad.filter_law`` returns it; the example is there.
 
@@ -252,7 +252,7 @@ class FilterResult:
         return cast(float, self.start_accel_filtered) / self.start_accel_original
 
     def report(self) -> dict:
-        """SPEC.md ``spectrum`` filter keys and the further figures."""
+        """docs/INTERFACE.md ``spectrum`` filter keys and the further figures."""
         band = self.band
         ratio = self.start_accel_ratio
         comp = None
@@ -339,13 +339,13 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
         ``removal_bound`` Σ(1 − g_k)A_k (mm), ``lift_original``/``lift_filtered`` (mm),
         ``peak_accel_original``/``peak_accel_filtered`` (mm/rad²) and their ratio (dimensionless),
         ``start_accel_original``/``start_accel_filtered`` (mm/rad²), ``notes``; ``report()`` gives the
-        SPEC.md ``spectrum`` filter keys.
+        docs/INTERFACE.md ``spectrum`` filter keys.
 
     References
     ----------
     Resonance filtering (the resonating 17th harmonic and its neighbours removed cut the acceleration
     at the start of motion by about 61 %): PhD abstract on the batten mechanism of the STB loom,
-    Novosibirsk (seed 001; ``docs/analyses.md``).
+    Novosibirsk (the batten study; ``docs/analyses.md``).
 
     Examples
     --------
@@ -390,14 +390,14 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     extremes = grid[[int(np.argmax(base.s)), int(np.argmin(base.s))]]
     keep_points = np.concatenate((dwells, extremes))
 
-    # the written law starts from rest at s = 0 (SPEC.md), so a filtered law still moving at θ = 0 is closed
+    # the written law starts from rest at s = 0 (docs/INTERFACE.md), so a filtered law still moving at θ = 0 is closed
     # with a change whose lowest harmonic m lies below the band: it moves s by up to about 2|v(0)|/(m ω0)
     # (measured: the sine of the closing change and the removed linear drift add)
     closing = _closing_order(band.removed)
     v_law0 = float(law.kinematics(np.zeros(1)).v[0])
 
     def deviation_on(points, correction: FourierLaw, with_drift: bool = True) -> float:
-        # measured from θ = 0, where a law read back from a file starts at s = 0 (SPEC.md): what the
+        # measured from θ = 0, where a law read back from a file starts at s = 0 (docs/INTERFACE.md): what the
         # written law's dwells and lift show against the original read the same way
         if len(points) == 0:
             return 0.0

@@ -1,4 +1,4 @@
-"""Lead-in segments before each motion (seed 001: 14° at 0.1 of the peak acceleration), rebalanced.
+"""Lead-in segments before each motion (the batten study: 14° at 0.1 of the peak acceleration), rebalanced.
 """
 
 from __future__ import annotations

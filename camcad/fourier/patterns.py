@@ -1,4 +1,4 @@
-"""The database of harmonic patterns of the standard laws, and synthesis of tachograms from it (seed 001).
+"""The database of harmonic patterns of the standard laws, and synthesis of tachograms from it.
 """
 
 from __future__ import annotations

@@ -141,7 +141,7 @@ def resonant_harmonics(fn_hz: float, rpm, band: float = 0.05, neighbours: int = 
     References
     ----------
     Resonance filtering of a motion law (removing the resonating harmonic and its neighbours): PhD
-    abstract on the batten mechanism of the STB loom, Novosibirsk (seed 001).
+    abstract on the batten mechanism of the STB loom, Novosibirsk.
 
     Examples
     --------

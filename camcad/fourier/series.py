@@ -1,6 +1,6 @@
 """The Fourier series of a motion law and its spectrum: amplitudes, initial phases, evaluation.
 
-Conventions (seed 001; see camcad.fourier): s(θ) = mean + Σ A_k sin(k ω0 θ + φ_k), ω0 = 2π/cycle;
+Conventions (the batten study; see camcad.fourier): s(θ) = mean + Σ A_k sin(k ω0 θ + φ_k), ω0 = 2π/cycle;
 c_k = (1/T) ∫ s e^{−ikω0θ} dθ, A_k = 2|c_k|, φ_k = arg c_k + π/2.
 """
 

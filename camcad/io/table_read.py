@@ -1,6 +1,6 @@
 """Reading a law from a text table: cam angle θ (deg) and one column of the motion, its kind named by the header.
 
-Kinds (SPEC.md "Tables name their kind in the header"; the first column is the cam angle θ in deg):
+Kinds (docs/INTERFACE.md "Tables name their kind in the header"; the first column is the cam angle θ in deg):
 
 =====================================  ==========================================================
 header                                 the second column is

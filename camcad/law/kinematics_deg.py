@@ -21,7 +21,7 @@ def kinematics_deg(law: MotionLaw, theta_deg) -> Kinematics:
     -------
     Kinematics
         ``theta`` (rad), s (mm, or rad of swing), and the analogs v = ds/dθ (mm/rad), a = d²s/dθ² (mm/rad²),
-        j = d³s/dθ³ (mm/rad³) per radian of cam angle (SPEC.md); time derivatives at n rpm are v·ω, a·ω²,
+        j = d³s/dθ³ (mm/rad³) per radian of cam angle (docs/INTERFACE.md); time derivatives at n rpm are v·ω, a·ω²,
         j·ω³ with ω = 2πn/60.
 
     Examples

@@ -1,6 +1,6 @@
 """Motion laws: the common interface, and the piecewise-linear acceleration law integrated exactly.
 
-Conventions (SPEC.md): the cam angle θ is in radians inside the library; the
+Conventions (docs/INTERFACE.md): the cam angle θ is in radians inside the library; the
 follower displacement s is in mm (or in rad of arm swing for an oscillating
 follower); v = ds/dθ, a = d²s/dθ², j = d³s/dθ³ are analogs per radian of cam
 angle (mm/rad, mm/rad², mm/rad³). A law is periodic with period ``cycle``.

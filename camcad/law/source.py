@@ -1,6 +1,6 @@
 """From a file to a law: pick the curve, find its zero axis, map it to the cycle, scale it, find its phases.
 
-Conventions (SPEC.md "Acceleration-law input", docs/reading.md):
+Conventions (docs/INTERFACE.md "Acceleration-law input", docs/reading.md):
 - The law's curve is the widest chain of drawn pieces that is a function of x (``io.chain``);
   its zero axis and origin are found in the drawing (``law.baseline``) unless ``y0``/``x0`` say.
 - x is cam angle. The curve's x-extent maps to one cycle [0, cycle_deg] (from ``x0`` when given)
@@ -220,7 +220,7 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
     References
     ----------
     O. M. Dupliak, R. I. Kotsiyba, "Methods for optimization of the cam mechanisms modeling",
-    Khmelnytsky National University (2018) (seed 003): the acceleration analog drawn in CAD and
+    Khmelnytsky National University (2018): the acceleration analog drawn in CAD and
     read from DXF. camcad's reading rules are in ``docs/reading.md``.
 
     Examples

@@ -1,3 +1,3 @@
-"""Linkages after the cam (seed 002, Sunkuev 1984): the structural atlas of (adjustable) chains, four-bar
+"""Linkages after the cam (Sunkuev 1984): the structural atlas of (adjustable) chains, four-bar
 function generators (the Q method, precision points, least squares, minimax), the linkage after the follower,
 adjustable mechanisms and their settings."""

@@ -1,4 +1,4 @@
-"""Adjustable linkages: one element of the chain is moved and locked at settings (seed 002, ch. 3 and 6).
+"""Adjustable linkages: one element of the chain is moved and locked at settings (Sunkuev 1984, ch. 3 and 6).
 
 The adjustable elements (``Adjustment``), in the frame of ``camcad.linkage.analysis`` with the follower
 on its base circle (ψ = 0):
@@ -10,8 +10,8 @@ on its base circle (ψ = 0):
   as above, measured in the lever's position at ψ = 0), B or E on an output lever;
 - ``link_angle`` — the input link clamped to the follower's arm at the angle θ₀ + x.
 
-Kinematic characteristics of the extreme positions (the seed's notation): the input's extreme positions
-φ₁, φ₂ and the working member's ψ₁, ψ₂, the swing ψ₁₂ = ψ₂ − ψ₁, the setting x₁. The seed's Table 2
+Kinematic characteristics of the extreme positions (Sunkuev 1984's notation): the input's extreme positions
+φ₁, φ₂ and the working member's ψ₁, ψ₂, the swing ψ₁₂ = ψ₂ − ψ₁, the setting x₁. Sunkuev 1984's Table 2
 (rotating input, a crank) and Table 3 (non-rotating input) list the regulation tasks (ch. 3, the paragraph
 "В табл. 2 приведен перечень задач"; the symbols: var — regulated within given limits, f — a functional
 relation with another characteristic, const — constant while another is regulated). In the cam case the
@@ -34,7 +34,7 @@ task  ψ₁      ψ₂      x₁      ψ₁₂
 camcad measures ψ₁ and ψ₂ as the working member's angle at the follower's two extreme positions, from
 its position at ψ = 0 in the nominal geometry, positive in the working member's positive sense (deg).
 
-Task 1 has an exact construction (the seed's method: the adjustable mechanism reduced to a fixed one
+Task 1 has an exact construction (Sunkuev 1984's method: the adjustable mechanism reduced to a fixed one
 by the chains it forms in its extreme positions, ch. 3 "синтез регулируемого механизма сводится к синтезу
 нерегулируемого вспомогательного"): put A on an arc fixed to the input lever whose centre is B's position
 at the first extreme position and whose radius is the coupler b. At ψ = 0, whatever the setting, the
@@ -43,7 +43,7 @@ centre turned with the input lever) is an ordinary four-bar whose input is the s
 ψ₂: the *auxiliary mechanism*. Tasks 2–6 are fitted (least squares over the arc's centre, its radius and
 the settings) with that auxiliary mechanism computed at each setting.
 
-Sources: B. S. Sunkuev, doctoral abstract (Moscow 1984), seed 002, ch. 3 (Tables 2 and 3, the auxiliary
+Sources: B. S. Sunkuev, doctoral abstract (Moscow 1984), Sunkuev 1984, ch. 3 (Tables 2 and 3, the auxiliary
 mechanism), ch. 6 (settings).
 """
 
@@ -59,14 +59,14 @@ import numpy as np
 from camcad.errors import CamcadError
 from camcad.linkage.analysis import Linkage, analyse
 
-#: Table 3 of the seed (non-rotating input), as camcad reads the OCR (module docstring)
+#: Table 3 of Sunkuev 1984 (non-rotating input), as camcad reads the OCR (module docstring)
 TABLE3 = {1: {"psi1": "const", "psi2": "var"},
           2: {"psi1": "f", "psi2": "f"},
           3: {"psi1": "f", "x1": "f"},
           4: {"psi1": "const", "psi2": "f", "x1": "f"},
           5: {"psi1": "f", "psi2": "f", "x1": "f"},
           6: {"x1": "f", "psi12": "f"}}
-#: Table 2 of the seed (rotating input): columns φ1, ψ1, φ2, ψ2, x1, ψ12 (the OCR's α1 read as x1)
+#: Table 2 of Sunkuev 1984 (rotating input): columns φ1, ψ1, φ2, ψ2, x1, ψ12 (the OCR's α1 read as x1)
 TABLE2 = {1: {"psi12": "var"}, 2: {"phi1": "const", "psi1": "const", "psi2": "var"},
           3: {"psi1": "f", "psi2": "f"}, 4: {"phi1": "const", "psi1": "const", "phi2": "var", "psi2": "const"},
           5: {"phi1": "const", "psi1": "f", "phi2": "const", "psi2": "f"},

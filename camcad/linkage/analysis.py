@@ -3,7 +3,7 @@ derivatives, transmission angles, dead points, limit positions, branch continuit
 
 The chain is one four-bar, or a six-bar made of two four-bars in series (the output link of the first
 loop is rigid with the input link of the second, both pivoting at the first loop's output pivot, the
-seed's "two four-bars connected in series", ch. 4, the paragraph "Регулируемый шестизвенник состоит из
+Sunkuev 1984's "two four-bars connected in series", ch. 4, the paragraph "Регулируемый шестизвенник состоит из
 двух последовательно соединенных четырехзвенников"). The input is the follower's rocker: it turns by
 the follower's swing ψ (rad) from its position with the roller on the base circle.
 
@@ -45,8 +45,8 @@ The transmission angle μ of a loop is the angle between coupler and output link
 (2bc); its worst value min(μ, 180° − μ) over an input interval is exact (``fourbar.worst_transmission_angle``).
 
 Sources: F. Freudenstein, Trans. ASME 77 (1955) 853–861 (the loop equation); R. L. Norton, Design of
-Machinery (vector-loop velocity and acceleration analysis); B. S. Sunkuev 1984 (seed 002), ch. 4 (the
-six-bar of two four-bars in series); the batten's position function Π (seed 001).
+Machinery (vector-loop velocity and acceleration analysis); B. S. Sunkuev 1984, ch. 4 (the
+six-bar of two four-bars in series); the batten's position function Π.
 """
 
 from __future__ import annotations

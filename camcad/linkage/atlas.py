@@ -1,16 +1,16 @@
-"""Enumeration of ordinary and adjustable planar kinematic chains (seed 002, ch. 1, Table 1).
+"""Enumeration of ordinary and adjustable planar kinematic chains (Sunkuev 1984, ch. 1, Table 1).
 
-Ordinary chains (rules in ``camcad.linkage.graphs``) are generated the way the seed describes after
-Woo (seed p. 9–10): choose a link assortment (n_i links of order i), build the *contracted graph*
+Ordinary chains (rules in ``camcad.linkage.graphs``) are generated the way Sunkuev 1984 describes after
+Woo (Sunkuev 1984, p. 9–10): choose a link assortment (n_i links of order i), build the *contracted graph*
 on the links of order ≥ 3 (a multigraph with loops: each of its edges stands for a string of
 binary links), distribute the n_2 binary links over its edges, expand, keep the graphs that are
 chains, and remove isomorphic copies by the exact canonical form of ``graphs.canonical_form``.
 
-Adjustable chains (seed p. 8–11): an adjustable chain with n' links, mobility W' and m locked pairs
+Adjustable chains (Sunkuev 1984, p. 8–11): an adjustable chain with n' links, mobility W' and m locked pairs
 ("жёсткие регулируемые связи") is an ordinary chain with n = n' + m links and W = W' + m whose m
 pairs are coloured as locked. The locked pairs and the links they touch form the adjustable links;
 each must be an open chain (the locked pairs form a forest). The kinematic requirements are checked
-on the *contracted* chain, in which each adjustable link is one vertex (seed p. 11: "подграф
+on the *contracted* chain, in which each adjustable link is one vertex (Sunkuev 1984, p. 11: "подграф
 регулируемого звена рассматривается как одна вершина"): it must be an ordinary chain with n' links
 and mobility W' by the same four rules (in particular simple: an adjustable link may not be joined
 to another link by two pairs, which would make that pair of links rigid). Colourings are counted
@@ -43,7 +43,7 @@ from camcad.linkage.graphs import (
 #: take minutes and cannot be drawn legibly, so the CLI refuses beyond this
 MAX_LINKS = 10
 
-#: Table 1 of the seed (p. 11): (n', W', m) -> number of adjustable chains
+#: Table 1 of Sunkuev 1984 (p. 11): (n', W', m) -> number of adjustable chains
 SEED_TABLE1 = {(4, 1, 1): 1, (4, 1, 2): 3, (4, 1, 3): 4, (6, 1, 1): 7, (6, 1, 2): 38, (8, 1, 1): 285}
 
 #: published counts of ordinary chains (Tsai, Mechanism Design: Enumeration of Kinematic Structures
@@ -69,7 +69,7 @@ def _check_size(links: int, where: str) -> None:
 def link_assortments(links: int, dof: int) -> list[dict[int, int]]:
     """Every link assortment {order i: n_i} of a chain with ``links`` links and mobility ``dof``.
 
-    Σ n_i = n and Σ i·n_i = 2p with p = (3(n − 1) − W)/2, i ≥ 2 (seed p. 9, first stage of Woo's
+    Σ n_i = n and Σ i·n_i = 2p with p = (3(n − 1) − W)/2, i ≥ 2 (Sunkuev 1984, p. 9, first stage of Woo's
     method). Orders are bounded by n − 1.
 
     Examples
@@ -342,7 +342,7 @@ def adjustable_chains(links: int, dof: int, locked: int) -> AdjustableAtlas:
 
     Rule (module docstring): colour m pairs of every ordinary chain with n' + m links and mobility
     W' + m; keep colourings whose locked pairs form a forest and whose contracted chain is an
-    ordinary chain (n', W'); count up to isomorphism of the coloured graph (seed p. 8–11).
+    ordinary chain (n', W'); count up to isomorphism of the coloured graph (Sunkuev 1984, p. 8–11).
 
     Besides the count under that rule it returns, to show how much each condition removes, the
     number of colourings up to isomorphism with no condition (``count_unconditional``), with the
@@ -424,11 +424,11 @@ def _discrepancy(key: tuple[int, int, int], result: AdjustableAtlas) -> str | No
     seed = SEED_TABLE1.get(key)
     if seed is None or seed == len(result.chains):
         return None
-    return (f"Table 1 of the seed gives {seed}; camcad's rule gives {len(result.chains)}. Without any kinematic "
+    return (f"Table 1 of Sunkuev 1984 gives {seed}; camcad's rule gives {len(result.chains)}. Without any kinematic "
             f"condition (every colouring up to isomorphism) the count is {result.count_unconditional}; with the "
             f"contracted chain only connected, simple and of minimum degree 2 (no rigid-sub-chain check) it is "
             f"{result.count_contracted_simple}. No single rule tried reproduces all six rows of Table 1 (the rule "
-            "that gives 1, 3, 4, 7, 38 gives this number); the seed's rule for this row is not recoverable from "
+            "that gives 1, 3, 4, 7, 38 gives this number); Sunkuev 1984's rule for this row is not recoverable from "
             "the abstract (see docs/linkage.md)")
 
 
@@ -437,8 +437,8 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
     adjustable chains (n' = ``links``, W' = ``dof``, m locked pairs).
 
     Payload keys: ``count``, ``chains`` (each: links, pairs, assortment, locked_pairs, adjustable_links,
-    fractionated), ``rule``, ``seed_count`` (when Table 1 of the seed has the class), ``published_count``
-    (ordinary chains with a published count), ``discrepancy`` (text, when the seed's count differs),
+    fractionated), ``rule``, ``seed_count`` (when Table 1 of Sunkuev 1984 has the class), ``published_count``
+    (ordinary chains with a published count), ``discrepancy`` (text, when Sunkuev 1984's count differs),
     ``counts`` (under weaker rules). ``AtlasReport.seconds`` is the enumeration time (not in the payload,
     so that the written files stay byte-identical).
 

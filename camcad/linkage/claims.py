@@ -1,4 +1,4 @@
-"""Measuring the seed's two claims about Q (Sunkuev 1984, ch. 2, conclusions 2 and 3 of the chapter):
+"""Measuring Sunkuev 1984's two claims about Q (Sunkuev 1984, ch. 2, conclusions 2 and 3 of the chapter):
 
 1. minimising Q gives mechanisms "of higher accuracy than those obtained under the same initial
    conditions by minimising deviation functions";
@@ -14,7 +14,7 @@ From the *same* start, three single local searches run under the same limits:
 - least squares: ``deviation.least_squares_synthesis`` (trust region on Σ Δψ² over N points).
 
 Each result is checked on the dense grid (``fgen.evaluate``); positions and objective evaluations are
-counted per run. No scan, no multistart: this isolates the objective function, as the seed's claim does.
+counted per run. No scan, no multistart: this isolates the objective function, as Sunkuev 1984's claim does.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ rad + violation of the log link-ratio margin), in the same units as the objectiv
 - ``least_squares_synthesis``: minimises Σ Δψ(φ_k)² by ``scipy.optimize.least_squares`` (trust-region
   reflective, forward-difference Jacobian: 5 extra objective values per Jacobian).
 - ``max_deviation_synthesis``: minimises max_k |Δψ(φ_k)| by Nelder–Mead; the "deviation function"
-  the seed compares Q with (ch. 2, conclusions 2–3).
+  Sunkuev 1984 compares Q with (ch. 2, conclusions 2–3).
 """
 
 from __future__ import annotations

@@ -1,21 +1,21 @@
-"""One adjustable four-bar reproducing a family of position functions ψ = F⁽ʲ⁾(φ), j = 1 … p (seed 002, ch. 4).
+"""One adjustable four-bar reproducing a family of position functions ψ = F⁽ʲ⁾(φ), j = 1 … p (Sunkuev 1984, ch. 4).
 
-The seed (ch. 4, "В общем случае требуется воспроизвести заданное семейство зависимостей ψ = F⁽ʲ⁾(φ)" and
+Sunkuev 1984 (ch. 4, "В общем случае требуется воспроизвести заданное семейство зависимостей ψ = F⁽ʲ⁾(φ)" and
 the six-bar paragraph "Через точки C(1), C(2), C(3) проведем окружность") solves it in two stages:
 
 1. *Stage 1 — Q over the members' pivot sets.* With the free parameters given (here: the coupler length b,
-   shared, and each member's coupler angle α⁽ʲ⁾ at its node 1 — the seed's α4 and α5⁽ʲ⁾), the Q method of
+   shared, and each member's coupler angle α⁽ʲ⁾ at its node 1 — Sunkuev 1984's α4 and α5⁽ʲ⁾), the Q method of
    ch. 2 gives for member j the pivots C₁₂₃⁽ʲ⁾, C₁₄₅⁽ʲ⁾, … of the output link from its S nodes
    (``camcad.linkage.qmethod``: the circles |C − z_k| = b/|1 − r_k|); Q⁽ʲ⁾ is the diagonal of their
-   rectangle, C⁽ʲ⁾ its centre. The objective is Q = Σ_j Q⁽ʲ⁾ (the seed's sum for the six-bar and the guiding
+   rectangle, C⁽ʲ⁾ its centre. The objective is Q = Σ_j Q⁽ʲ⁾ (Sunkuev 1984's sum for the six-bar and the guiding
    four-bar of ch. 5) plus, camcad's addition, the spread max c⁽ʲ⁾ − min c⁽ʲ⁾ of the output link lengths
    c⁽ʲ⁾ = |B₁⁽ʲ⁾ − C⁽ʲ⁾|: one mechanism has one output link.
 2. *Stage 2 — the circle through the members' pivots.* The pivots C⁽ʲ⁾ lie on the arc of the adjustable
    link: its centre F and radius R (the circumcircle for p = 3, the least-squares circle for p > 3), and
    the settings x⁽ʲ⁾ = arg(C⁽ʲ⁾ − F), the lock angles of the adjustable link FC.
 
-The seed's four-bar text takes Q over the union of all members' pivots (a fixed pivot C and another
-adjustable element, Fig. 5, which the OCR does not show); camcad follows the two-stage form the seed uses
+Sunkuev 1984's four-bar text takes Q over the union of all members' pivots (a fixed pivot C and another
+adjustable element, Fig. 5, which the OCR does not show); camcad follows the two-stage form Sunkuev 1984 uses
 for the six-bar (Fig. 6) and the guiding four-bar (Fig. 10): the output pivot on an arc. The members share
 the input (crank O–A of length ``crank`` at the angle φ0 + φ) and the output link's length; each member's
 output angle is measured from its own start (ψ⁽ʲ⁾(φ₁) is free).

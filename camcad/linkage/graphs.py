@@ -1,12 +1,12 @@
-"""Kinematic chains as graphs: links are vertices, revolute pairs are edges (seed 002, ch. 1).
+"""Kinematic chains as graphs: links are vertices, revolute pairs are edges (Sunkuev 1984, ch. 1).
 
 A planar chain of n links (the frame counted) joined by p revolute pairs has the mobility
 (Chebyshev–Grübler)
 
     W = 3 (n − 1) − 2 p,   so   p = (3 (n − 1) − W) / 2.
 
-The seed (Sunkuev 1984, p. 9 of the abstract) prints p = (3n − W)/2: that holds when its n counts the
-*moving* links only (n_moving = n − 1). Table 1 of the seed counts all links (its four-link chain is
+Sunkuev 1984 (Sunkuev 1984, p. 9 of the abstract) prints p = (3n − W)/2: that holds when its n counts the
+*moving* links only (n_moving = n − 1). Table 1 of Sunkuev 1984 counts all links (its four-link chain is
 the four-bar), so camcad's n is the total number of links and the formula above is the one used.
 
 An *ordinary* chain here is a graph that is
@@ -18,7 +18,7 @@ An *ordinary* chain here is a graph that is
    3 (|S| − 1) − 2 e(S) ≥ 1 (a triangle, or anything stiffer, is excluded),
 
 with mobility W. Fractionated chains (a cut vertex) are kept. An *adjustable* chain is an ordinary
-chain with some pairs locked ("жёсткая регулируемая связь", seed p. 8); see ``camcad.linkage.atlas``.
+chain with some pairs locked ("жёсткая регулируемая связь", Sunkuev 1984, p. 8); see ``camcad.linkage.atlas``.
 
 Non-isomorphism is decided by ``canonical_form``: colour refinement followed by an exhaustive
 individualisation search that keeps the lexicographically smallest relabelled adjacency matrix
@@ -39,7 +39,7 @@ LOCKED = 2
 def pairs_for(links: int, dof: int, where: str = "--links/--dof") -> int:
     """Number of revolute pairs p of a planar chain with ``links`` links and mobility ``dof``.
 
-    p = (3 (n − 1) − W) / 2  (Chebyshev–Grübler, n counting the frame; seed 002 p. 9 prints
+    p = (3 (n − 1) − W) / 2  (Chebyshev–Grübler, n counting the frame; Sunkuev 1984 p. 9 prints
     p = (3n − W)/2 with n the moving links only).
 
     Parameters

@@ -1,7 +1,7 @@
 """Guiding four-bars (Sunkuev 1984, ch. 2 and ch. 5): a coupler point that reproduces a curve, a curve with its
 timing, or a distance to a fixed point.
 
-The seed's three task groups of guiding mechanisms (ch. 2, "Для направляющих механизмов рассмотрены три группы
+Sunkuev 1984's three task groups of guiding mechanisms (ch. 2, "Для направляющих механизмов рассмотрены три группы
 задач синтеза"):
 
 1. **points** — a curve y = F(x) (the coupler point passes the given points, no timing);
@@ -12,12 +12,12 @@ The mechanism (``GuidingFourBar``): input pivot O, crank OA = a turning by θ, c
 at C, assembly branch σ (``camcad.linkage.analysis.Loop``: σ = +1 puts B left of C→A), coupler point
 M = A + (u + iv)(B − A)/b (u mm along AB, v mm to its left). Lengths mm, angles rad inside, deg at the interface.
 
-**The Q method** (the seed's special objective for guiding mechanisms: "геометрический параметр множества положений
+**The Q method** (Sunkuev 1984's special objective for guiding mechanisms: "геометрический параметр множества положений
 одного и того же неподвижного шарнира механизма. Каждое из этих положений определяется в результате синтеза
 механизма по условию интерполяционного приближения заданной зависимости с двумя или тремя узлами"): the free
 parameters fix one dyad and the coupler; each node subset gives a position of the other fixed pivot; Q is the
 diagonal of the axis-parallel rectangle around those positions (mm), minimised under the limits; the pivot is then
-taken at the rectangle's centre. camcad's constructions (the seed names the idea, not the formulas):
+taken at the rectangle's centre. camcad's constructions (Sunkuev 1984 names the idea, not the formulas):
 
 - *points*: the free dyad is the rocker's — pivot C, rocker c, |BM| = e and the crank pin A in the coupler's frame
   (w: A − B along B→M and to its left); B_k is where the circles (C, c) and (M_k, e) meet, A_k follows; the crank
@@ -319,7 +319,7 @@ def _nearest(pair: tuple[complex, complex], ref: complex) -> complex:
 
 
 def subsets(count: int, nodes: int) -> list[tuple[int, ...]]:
-    """The seed's node subsets (0-based): node 1 in each, every other node once — {1, i} for two-node
+    """Sunkuev 1984's node subsets (0-based): node 1 in each, every other node once — {1, i} for two-node
     interpolation, {1,2,3}, {1,4,5}, … for three-node (an even count repeats the last node).
 
     Examples
@@ -1041,7 +1041,7 @@ def deviation_synthesis(target: PathTarget, limits: Limits, seed: int = 0, toler
 
 def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 0,
                 starts: list[GuidingFourBar] | None = None, random_starts: int = 30) -> PathResult:
-    """The seed's Q method for the task (module docstring): Q minimised (least squares on the pivots' spread with
+    """Sunkuev 1984's Q method for the task (module docstring): Q minimised (least squares on the pivots' spread with
     the limits as exact penalties) from the given starts and ``random_starts`` random ones; the pivot at the
     rectangle's centre.
 
@@ -1109,7 +1109,7 @@ def q_synthesis(target: PathTarget, limits: Limits, nodes: int = 3, seed: int = 
 
 
 # --------------------------------------------------------------------------------------------
-# Adjustable guiding mechanisms: a family of curves, of timed curves, of distances (seed ch. 5)
+# Adjustable guiding mechanisms: a family of curves, of timed curves, of distances (Sunkuev 1984, ch. 5)
 # --------------------------------------------------------------------------------------------
 
 @dataclass
@@ -1165,7 +1165,7 @@ def _family_residual(problems: list[PathQ], limits: Limits, x: np.ndarray) -> np
 
 def path_family(targets: list[PathTarget], limits: Limits, seed: int = 0, random_starts: int = 20
                 ) -> PathFamilyResult:
-    """One adjustable guiding four-bar for a family of targets of one task (the seed's ch. 5, Figs. 10–12).
+    """One adjustable guiding four-bar for a family of targets of one task (Sunkuev 1984's ch. 5, Figs. 10–12).
 
     Stage 1: the Q construction of each member (``PathQ``, two-node subsets for curves so the crank is shared)
     with the free parameters shared by all members — points: the rocker's dyad, the coupler and the crank (the

@@ -1,6 +1,6 @@
 """The Q method of function-generator synthesis (Sunkuev 1984, ch. 2 of the abstract).
 
-The seed's statement (ch. 2, the paragraph "Выберем на отрезке [φ0, φm] S узлов интерполирования"
+Sunkuev 1984's statement (ch. 2, the paragraph "Выберем на отрезке [φ0, φm] S узлов интерполирования"
 and the formula for Q): choose S interpolation nodes 1..S on the input interval, S being the number
 of scheme parameters. A synthesis method that interpolates on r < S nodes fixes r parameters by
 finding one fixed pivot, the other S − r (the *free* parameters) being chosen. Of the C(S, r) node
@@ -13,15 +13,15 @@ positions,
 
 a function of the free parameters, minimised by nonlinear programming under the limits on the
 mechanism. Q = 0 means a mechanism that interpolates on all S nodes. After the minimum, the
-pivot is chosen inside the rectangle (the seed: "for example in the middle of the diagonal"), or
+pivot is chosen inside the rectangle (Sunkuev 1984: "for example in the middle of the diagonal"), or
 searched inside it for the least deviation. One value of Q costs S positions of the mechanism,
-one value of a deviation N (the seed's third conclusion of ch. 2).
+one value of a deviation N (Sunkuev 1984's third conclusion of ch. 2).
 
-camcad's four-bar version (the seed's Fig. 5 parametrisation, ch. 4: "при заданных α5, α4 …
+camcad's four-bar version (Sunkuev 1984's Fig. 5 parametrisation, ch. 4: "при заданных α5, α4 …
 определить положение C123 шарнира C"): S = 5 (a, b, c, d up to scale; φ0; ψ0), r = 3, K = 2. The
 crank has length a = 1 (this fixes the scale, so Q is measured in crank lengths: camcad's choice;
-the seed leaves the normalisation open) and points along +x at node 1: A_k = e^{i(φ_k − φ_1)}. The
-free parameters are the coupler length b and its angle α to the crank at node 1 (the seed's α5):
+Sunkuev 1984 leaves the normalisation open) and points along +x at node 1: A_k = e^{i(φ_k − φ_1)}. The
+free parameters are the coupler length b and its angle α to the crank at node 1 (Sunkuev 1984's α5):
 B_1 = 1 + b e^{iα}. For node k the output link turns by Δψ_k = ψ_k − ψ_1 about the unknown pivot C,
 so B_k = C + r_k (B_1 − C), r_k = e^{iΔψ_k}; the coupler length is kept, |B_k − A_k| = b, exactly when
 
@@ -31,7 +31,7 @@ a circle of possible pivots per node k ≥ 2. The subset {1, i, j} gives the piv
 intersection of circles i and j (0, 1 or 2 points). camcad keeps an intersection only when the
 linkage is on the same assembly branch at the subset's nodes, and of the 2^K choices of one
 intersection per subset takes the one with the smallest Q whose branch at node 1 is common
-(camcad's rule: the seed does not say how to choose between the two intersections). With no
+(camcad's rule: Sunkuev 1984 does not say how to choose between the two intersections). With no
 admissible choice, Q is replaced by a penalty (100 crank lengths plus the gap between the circles).
 
 Limits (``fgen.Limits``) are checked on the mechanism with the pivot at the centre of the rectangle:
@@ -62,7 +62,7 @@ PENALTY = 100.0
 
 
 def node_subsets(count: int, r: int = 3) -> list[tuple[int, ...]]:
-    """The seed's K node subsets (1-based): each contains node 1, every other node is in exactly one.
+    """Sunkuev 1984's K node subsets (1-based): each contains node 1, every other node is in exactly one.
 
     K = (S − 1)/(r − 1) must be whole.
 
@@ -432,7 +432,7 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
                 starts: list[tuple[float, float]] | None = None) -> QResult:
     """The Q method: minimise Q over the free parameters (b, α) under the limits, then pick the pivot.
 
-    Search (camcad's; the seed asks for nonlinear programming from a good initial mechanism and
+    Search (camcad's; Sunkuev 1984 asks for nonlinear programming from a good initial mechanism and
     argues that Q makes one cheap to find): Q is evaluated on a grid of ``grid`` = (n_b, n_α) points —
     log b uniform in [1/ratio_max, ratio_max], α in [0, 360°), the whole grid shifted by a random
     fraction of a cell drawn from ``numpy.random.default_rng(seed)`` — at S positions (plus the
@@ -505,7 +505,7 @@ def q_synthesis(target: Target, nodes_phi, limits: Limits, work: Work, grid: tup
 
 
 def _search_pivot(problem: QProblem, state: QState, points: int = 41) -> FunctionGenerator:
-    """The seed's alternative last step: the pivot inside the Q_min rectangle with the least maximum
+    """Sunkuev 1984's alternative last step: the pivot inside the Q_min rectangle with the least maximum
     deviation on ``points`` points (Nelder–Mead on the rectangle, N positions per trial)."""
     from scipy.optimize import minimize
 

@@ -189,7 +189,7 @@ def atlas_lines(payload: dict, seconds: float) -> list[str]:
         lines.append(f"  published      {payload['published_count']} ({same} the count)")
     if "seed_count" in payload:
         same = "reproduced" if payload["seed_count"] == payload["count"] else "NOT reproduced"
-        lines.append(f"  seed Table 1   {payload['seed_count']} ({same})")
+        lines.append(f"  Sunkuev 1984, Table 1   {payload['seed_count']} ({same})")
     if payload.get("counts"):
         c = payload["counts"]
         lines.append(f"  weaker rules   no condition {c['unconditional']}, contracted chain simple "
@@ -258,7 +258,7 @@ class FgenRequest:
     input_range, output_range : float
         The input and output links' turns over the interval, deg (signed).
     method : str
-        q (the seed's Q method), precision, lsq, minimax (least maximum error under the limits), remez (equal
+        q (Sunkuev 1984's Q method), precision, lsq, minimax (least maximum error under the limits), remez (equal
         ripple without limits: a reference), or all.
     nodes : int or None
         q: S nodes (odd, default 5); lsq: N points (default 41).
@@ -638,7 +638,7 @@ class PathRequest:
     ----------
     points : Path, list of Path, or None
         A curve: a table with the header ``x_mm,y_mm`` (the points in order along it); three or more tables: a
-        family, one adjustable mechanism for all (seed ch. 5).
+        family, one adjustable mechanism for all (Sunkuev 1984, ch. 5).
     timed : Path, list of Path, or None
         A curve with its timing: ``phi_deg,x_mm,y_mm`` (φ the input's turn from the first row); or a family.
     distance : Path, list of Path, or None
@@ -650,7 +650,7 @@ class PathRequest:
     task : str or None
         points, timed or distance (with ``rows``).
     method : str
-        q (the seed's Q method), deviation, or all (both; the best is reported).
+        q (Sunkuev 1984's Q method), deviation, or all (both; the best is reported).
     nodes : int
         The Q method's subsets: 2 or 3 nodes each.
     mu_min : float
@@ -903,7 +903,7 @@ def _path_family_report(targets: list[PathTarget], limits: Limits, request: Path
 
 @dataclass(frozen=True)
 class VariatorRequest:
-    """What ``camcad linkage variator`` synthesises: the transforming six-bar of an impulse variator (seed Fig. 7).
+    """What ``camcad linkage variator`` synthesises: an impulse variator's transforming six-bar (Sunkuev 1984, Fig. 7).
 
     Parameters
     ----------
@@ -952,7 +952,7 @@ class VariatorReport(LinkageReport):
 
 
 def run_linkage_variator(request: VariatorRequest) -> VariatorReport:
-    """The transforming six-bar of an impulse variator (``camcad linkage variator``, seed ch. 4, Fig. 7).
+    """The transforming six-bar of an impulse variator (``camcad linkage variator``, Sunkuev 1984, ch. 4, Fig. 7).
 
     Parameters
     ----------

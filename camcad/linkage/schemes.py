@@ -10,7 +10,7 @@ quaternary one. Then:
   an adjustable chain whose every link of that order is in an adjustable link takes the highest order of the rest;
 - the **input** is a binary link jointed to the frame (ties: the lowest number; none when the frame has no binary
   neighbour: the scheme says so);
-- an **adjustable link** (the links joined by locked pairs, seed Fig. 1 b) is drawn filled, its locked pairs as
+- an **adjustable link** (the links joined by locked pairs, Sunkuev 1984, Fig. 1 b) is drawn filled, its locked pairs as
   squares (the joint is clamped while the machine runs and released to regulate), ordinary pairs as circles.
 
 A short guide to choosing among the schemes (``GUIDE``) is printed with the atlas and stored per chain as
@@ -30,7 +30,7 @@ from camcad.linkage.graphs import Chain
 from camcad.linkage.layout import layout
 
 GUIDE = ("choose the scheme whose adjustable link is jointed to the frame (it is set at a fixed place while the "
-         "machine is stopped, as the seed's regulation tasks assume) and whose input is a binary link on the frame "
+         "machine is stopped, as Sunkuev 1984's regulation tasks assume) and whose input is a binary link on the frame "
          "(a crank or a rocker driven directly); among those, fewer links of higher order make simpler parts; a "
          "chain with a cut link (fractionated) is two mechanisms in series")
 

@@ -5,7 +5,7 @@ the work done):
 
 - ``precision``: three precision points, Freudenstein's closed form (``camcad.linkage.precision``);
 - ``lsq``: least squares over N points (``camcad.linkage.deviation``), started from ``precision``;
-- ``q``: the seed's Q method (``camcad.linkage.qmethod``);
+- ``q``: Sunkuev 1984's Q method (``camcad.linkage.qmethod``);
 - ``minimax``: the least maximum error under the limits (``camcad.linkage.minimax.constrained_minimax``),
   started from the admissible results of ``lsq`` and ``q`` (and of the other methods with ``--method all``);
 - ``remez``: the equal-ripple four-bar without limits (``camcad.linkage.minimax.minimax_synthesis``), started
@@ -67,7 +67,7 @@ class FgenOptions:
     seed: int = 0                      # q: shift of the scan grid
     grid: tuple[int, int] = (32, 64)   # q: scan grid (n_b, n_alpha)
     keep: int = 4                      # q: local runs
-    pick: str = "centre"               # q: the seed's last step, centre or search
+    pick: str = "centre"               # q: Sunkuev 1984's last step, centre or search
     max_error_deg: float | None = None   # the accuracy asked for; None: 1 % of the output range
 
 
@@ -254,7 +254,7 @@ def _check(value: float, limit: float, margin: float, passed: bool, why: str) ->
 
 
 def report(result: FgenResult) -> dict:
-    """The JSON report of a synthesis (SPEC.md keys: method, links, max_error_deg, rms_error_deg,
+    """The JSON report of a synthesis (docs/INTERFACE.md keys: method, links, max_error_deg, rms_error_deg,
     mu_min_deg, position_evaluations, nodes_deg; every check as {value, limit, margin, passed, why}).
 
     Examples

@@ -19,7 +19,7 @@ and, inverted on a monotone branch (Π' ≠ 0), the follower's law from the work
 
     ψ' = y'/Π',  ψ'' = (y'' − Π'' ψ'²)/Π',  ψ''' = (y''' − Π''' ψ'³ − 3 Π'' ψ' ψ'')/Π'.
 
-The rigid driven system (seed 001's batten: the driven mass J₂ behind the position function Π). With J
+The rigid driven system (the batten study's batten: the driven mass J₂ behind the position function Π). With J
 the working member's inertia (kg·m², or kg for a sliding member) and Q the load on it (N·m or N, positive
 against its motion), its kinetic energy is T = ½ J ẏ² = ½ J Π'² ψ̇²: the inertia reduced to the follower
 is J Π'² and Lagrange's equation in ψ gives the generalised force the follower must supply
@@ -33,7 +33,7 @@ angle then gives the contact force (camcad.contact.normal_force). With θ = ωt,
 ψ̈ = ψ'' ω², so that force is A(θ) ω² + B(θ) (``LinkageLoad``).
 
 Sources: the batten's dynamic model with the position function П(φ) and its Lagrange function
-(seed 001, ch. 3); I. I. Vulfson, Dynamics of Cyclic Machines (Springer 2015), ch. 1 (reduced inertia,
+(the batten study, ch. 3); I. I. Vulfson, Dynamics of Cyclic Machines (Springer 2015), ch. 1 (reduced inertia,
 the ½ J' ψ̇² term); R. L. Norton, Cam Design and Manufacturing Handbook (2009), ch. 9 (force analysis).
 """
 
@@ -472,7 +472,7 @@ def reduced_inertia(inertia, d1):
 
     References
     ----------
-    Seed 001 (the batten's J₂ behind П(φ)); Vulfson (2015) ch. 1.
+    The batten study (the batten's J₂ behind П(φ)); Vulfson (2015) ch. 1.
 
     Examples
     --------

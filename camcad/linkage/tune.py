@@ -1,12 +1,12 @@
-"""Settings for given extreme positions of the working member (seed 002, ch. 6).
+"""Settings for given extreme positions of the working member (Sunkuev 1984, ch. 6).
 
-The seed (ch. 6, "В период остановки непроворачивающегося механизма регулируются координаты ψ1 и ψ2"):
+Sunkuev 1984 (ch. 6, "В период остановки непроворачивающегося механизма регулируются координаты ψ1 и ψ2"):
 for a mechanism with two setting parameters x₁, x₂ and the extreme positions ψ₁ = ψ₁(x₁, x₂),
 ψ₂ = ψ₂(x₁, x₂), the given ψ₁, ψ₂ turn the two equations into x₂ = f₁(x₁) and x₂ = f₂(x₁), and
 
-    F(x₁) = f₁(x₁) − f₂(x₁) = 0                                                (seed eq. 2)
+    F(x₁) = f₁(x₁) − f₂(x₁) = 0                                                (Sunkuev 1984, eq. 2)
 
-is one transcendental equation in one unknown; x₂ follows from either f. The seed solves it "by one of
+is one transcendental equation in one unknown; x₂ follows from either f. Sunkuev 1984 solves it "by one of
 the fast numerical methods" using the mechanism's kinematic properties.
 
 camcad's mechanism with two settings: x₁ is the adjustable element of ``camcad.linkage.adjust`` (a pivot
@@ -18,7 +18,7 @@ a grid of x₁, every sign change (not a jump of 2π) is bracketed and refined b
 root is reported — the equation may have several, each a different mechanism setting for the same
 extreme positions.
 
-Settings tables (the seed's buttonhole-machine tables of "the buttonhole's parameters and the
+Settings tables (Sunkuev 1984's buttonhole-machine tables of "the buttonhole's parameters and the
 corresponding settings", ch. 6) list the roots over a grid of requested (ψ₁, swing).
 """
 
@@ -230,7 +230,7 @@ def solve_settings(linkage: Linkage, adj: Adjustment, psi_max: float, psi1: floa
 def settings_table(linkage: Linkage, adj: Adjustment, psi_max: float, psi1_values, swing_values,
                    x1_range: tuple[float, float] | None = None, points: int = 361) -> list[dict]:
     """The settings for every requested (ψ₁, swing) pair (rad): one row per root (deg, mm), with the
-    round-trip error and the checks — the seed's settings tables.
+    round-trip error and the checks — Sunkuev 1984's settings tables.
 
     Examples
     --------

@@ -1,7 +1,7 @@
 """The transforming six-bar of an impulse variator (Sunkuev 1984, ch. 4, Fig. 7).
 
 An impulse (pulse) variator turns a crank's rotation into an oscillation whose forward strokes a one-way clutch
-adds up; its mean speed ratio is regulated. The seed's mechanism: two four-bars in series, O A B C and C B D E
+adds up; its mean speed ratio is regulated. Sunkuev 1984's mechanism: two four-bars in series, O A B C and C B D E
 ("Регулируемый шестизвенник состоит из двух последовательно соединенных четырехзвенников OA(j)B(j)C(j) и
 C(j)B(j)D(j)E"): crank OA, coupler AB, rocker CB pivoted at C; the rocker CB is the input of the second loop,
 whose coupler BD drives the output ED pivoted at the fixed E. The regulation moves C on an arc about O, so the
@@ -11,7 +11,7 @@ U = w·k. Over the working interval φ_p of the crank U should be constant while
 regulated over [U_cp⁽⁰⁾, U_cp⁽ᵐ⁾]; the non-uniformity is δ = (U_max − U_min)/U_cp and the requirement
 max_j δ⁽ʲ⁾ <= [δ].
 
-Synthesis in the seed's two stages:
+Synthesis in Sunkuev 1984's two stages:
 
 1. the first four-bar (crank a = 1; coupler, rocker, |OC|, the interval's start) for the least non-uniformity
    δ_w of w over the working interval (Nelder–Mead from a grid of starts; the crank must turn fully, the

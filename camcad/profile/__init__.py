@@ -4,7 +4,7 @@ Library entry points (what the CLI and the scene pipeline call):
 
     follower = Follower("roller", base_radius=40.0, roller_radius=10.0)
     result = synthesize(law, follower, ProfileSettings(tol_mm=0.001))
-    figures = report(result)                                        # SPEC.md keys
+    figures = report(result)                                        # docs/INTERFACE.md keys
 
 Modules: ``followers`` (Follower), ``scaled_law`` (swing_law: the law in follower units), ``geometry``
 (closed-form pitch curve, profile, pressure angle, radius of curvature), ``sampling`` (chord

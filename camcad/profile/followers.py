@@ -1,6 +1,6 @@
 """Followers: what touches the cam, where it sits, and the design limits that go with it.
 
-Frames and signs (SPEC.md): the cam centre is the origin of the fixed frame; the cam turns
+Frames and signs (docs/INTERFACE.md): the cam centre is the origin of the fixed frame; the cam turns
 counter-clockwise by default (``cw`` flips it). A translating follower moves along +y on
 the line x = e (offset e, mm). An oscillating follower pivots at A = (C, 0) (C the pivot
 distance, mm); its arm of length L carries the roller centre B = A + L·(−cos γ, sin γ), where

@@ -24,7 +24,7 @@ which for e = 0 is the textbook ρ = ((Rp+s)² + v²)^{3/2} / ((Rp+s)² + 2v² �
 Pressure angle: the angle between the common normal n and the direction w in which the roller
 centre moves when it moves away from the cam (its own path), signed so that it is positive on
 the rise: φ = σ·atan2(w × n, w · n). For the translating roller it is
-φ = atan((v − σe)/(d + s)), SPEC.md's φ = atan((v − e)/(d + s)) for the default CCW cam;
+φ = atan((v − σe)/(d + s)), docs/INTERFACE.md's φ = atan((v − e)/(d + s)) for the default CCW cam;
 for the oscillating roller (pivot A = (C, 0), B = A + L(−cos γ, sin γ), γ = γ0 + ψ) it is
 φ = atan((L(1 + ψ') − C cos γ)/(C sin γ)) for σ = +1.
 

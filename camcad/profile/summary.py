@@ -1,4 +1,4 @@
-"""The report of a synthesised profile: the SPEC.md ``profile`` keys with every check's margin.
+"""The report of a synthesised profile: the docs/INTERFACE.md ``profile`` keys with every check's margin.
 
 Angles in degrees, lengths in mm; figures rounded to their meaningful digits by the JSON writer.
 """
@@ -66,7 +66,7 @@ def stroke(result: ProfileResult) -> float:
 
 
 def profile_report(result: ProfileResult, phases: str = "the law's own phase angles") -> dict:
-    """The report of a synthesised cam: the SPEC.md ``profile`` keys with every check's margin.
+    """The report of a synthesised cam: the docs/INTERFACE.md ``profile`` keys with every check's margin.
 
     ``checks`` holds every check as ``{"value", "limit", "margin", "passed", "why", ...}``
     (``camcad.profile.verdict``), ``tightest`` their names with the least relative margin first,

@@ -6,7 +6,7 @@ pressure angle and of the radii of curvature (grid search refined by zooming gri
 and runs the checks: pressure angle against its limits per phase, undercut (a convex pitch
 radius ≤ Rr, a flat-face radius ≤ 0, or a loop or cusp, which shapely sees as a profile
 polygon that is not valid and simple), the curvature limit, and closure. ``report(result)``
-gives the SPEC.md keys; ``output.write_outputs`` writes the files.
+gives the docs/INTERFACE.md keys; ``output.write_outputs`` writes the files.
 """
 
 from __future__ import annotations
@@ -185,7 +185,7 @@ class PressureAngleCheck:
 class ProfileResult:
     """Everything ``synthesize`` found: the curves, the checks and the law table (mm and rad).
 
-    Returned by ``synthesize``; ``camcad.report`` turns it into the SPEC.md keys (deg and mm),
+    Returned by ``synthesize``; ``camcad.report`` turns it into the docs/INTERFACE.md keys (deg and mm),
     ``write_outputs`` into files and the ``plot_*`` functions into figures.
 
     Attributes
@@ -667,7 +667,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     radius ≤ Rr, flat-face radius ≤ 0, or a profile polygon that shapely finds not valid and simple);
     convex profile radius ≥ ``follower.rho_min`` when given; the profile closes within ``tol_mm``.
     For a translating roller follower the pressure angle is φ = atan((v − e)/(d + s)),
-    d = √(Rp² − e²), Rp = Rb + Rr (SPEC.md).
+    d = √(Rp² − e²), Rp = Rb + Rr (docs/INTERFACE.md).
 
     Parameters
     ----------
@@ -702,7 +702,7 @@ def synthesize(law: MotionLaw, follower: Follower, settings: ProfileSettings | N
     Examples
     --------
     A cycloidal dwell–rise–dwell–return cycle of 20 mm and a translating roller follower, Rb 40 mm,
-    Rr 10 mm, no offset. The largest pressure angle, by hand from SPEC.md's formula on a fine grid of
+    Rr 10 mm, no offset. The largest pressure angle, by hand from docs/INTERFACE.md's formula on a fine grid of
     the law, is the one ``synthesize`` found by its own search:
 
     >>> import numpy as np

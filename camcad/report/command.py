@@ -18,7 +18,7 @@ from camcad.io.output_folder import OutputFolder, safe_name
 
 
 def default_folder(name: str) -> Path:
-    """./camcad-out/<name made safe>/ (SPEC.md)."""
+    """./camcad-out/<name made safe>/ (docs/INTERFACE.md)."""
     return Path("camcad-out") / safe_name(name)
 
 

@@ -188,8 +188,8 @@ def _csv(names, data, header: list[str]) -> str:
 
 def write_torque_csv(report, folder) -> list[Path]:
     """torque.csv (and torque_speeds.csv with several speeds) into the OutputFolder ``folder``: the header line
-    first (SPEC.md: ``theta_deg,torque_Nm,…``; units in the names), no comment lines — the speed is the report's
-    ``rpm``."""
+    first (docs/INTERFACE.md: ``theta_deg,torque_Nm,…``; units in the names), no comment lines — the speed is the
+    report's ``rpm``."""
     result = report.result
     names, data = torque_table(report)
     written = [write_text_atomic(folder.path("torque.csv"), _csv(names, data, []))]

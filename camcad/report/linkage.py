@@ -4,7 +4,7 @@ Figures are ``matplotlib.figure.Figure`` objects (Agg, no pyplot state); DXF dra
 ``camcad.io.dxf_write.Drawing`` objects; ``write_atlas_outputs`` and ``write_fgen_outputs`` write a
 command's files atomically into its output folder. Same input, same bytes: no timestamps.
 
-Atlas diagrams follow the seed's Fig. 2 convention: links are vertices, pairs are edges; the links of
+Atlas diagrams follow Sunkuev 1984's Fig. 2 convention: links are vertices, pairs are edges; the links of
 an adjustable link are filled vertices and its locked pairs thick edges.
 """
 
@@ -60,7 +60,7 @@ def _grid(count: int) -> tuple[int, int]:
 
 def atlas_figure(chains, layouts, title: str, adjustable: bool):
     """All chains of an atlas in one figure: a cell per chain, numbered as in the JSON list; adjustable
-    links as filled vertices and thick locked pairs (seed Fig. 2).
+    links as filled vertices and thick locked pairs (Sunkuev 1984, Fig. 2).
 
     Examples
     --------
@@ -112,7 +112,7 @@ def atlas_figure(chains, layouts, title: str, adjustable: bool):
     ax.scatter(pts[:, 0], pts[:, 1], s=(2 * radius_pt) ** 2, c=fills, edgecolors="black", linewidths=0.8, zorder=2)
     legend = "links: vertices, pairs: edges"
     if adjustable:
-        legend += "\nadjustable link: filled vertices and thick (locked) pairs (seed Fig. 2)"
+        legend += "\nadjustable link: filled vertices and thick (locked) pairs (Sunkuev 1984, Fig. 2)"
     fig.suptitle(f"{title}\n{legend}", fontsize=9)
     return fig
 
@@ -191,19 +191,19 @@ def atlas_csv(payload: dict) -> str:
 
 
 def atlas_title(payload: dict) -> str:
-    """The atlas's title: class, count and the reference count (seed Table 1 or published).
+    """The atlas's title: class, count and the reference count (Sunkuev 1984, Table 1 or published).
 
     Examples
     --------
     >>> from camcad.linkage.atlas import atlas
     >>> atlas_title(atlas(6, 1, adjustable=1).payload)
-    "adjustable chains n'=6, W'=1, m=1: 7 (seed Table 1: 7)"
+    "adjustable chains n'=6, W'=1, m=1: 7 (Sunkuev 1984, Table 1: 7)"
     """
     if payload["kind"] == "adjustable":
         head = (f"adjustable chains n'={payload['links']}, W'={payload['dof']}, m={payload['adjustable']}: "
                 f"{payload['count']}")
         if "seed_count" in payload:
-            head += f" (seed Table 1: {payload['seed_count']})"
+            head += f" (Sunkuev 1984, Table 1: {payload['seed_count']})"
         return head
     head = f"ordinary chains n={payload['links']}, W={payload['dof']}: {payload['count']}"
     if "published_count" in payload:
@@ -270,7 +270,7 @@ def schemes_figure(report, title: str):
                 color="#555555", va="center")
     ax.set_xlim(-1.6, cols * 3.0 - 1.4)
     ax.set_ylim(-(rows - 1) * 3.0 - 1.6, 1.6)
-    fig.suptitle(f"{title}: kinematic schemes (stage 4)\nframe hatched, input arrowed, adjustable link grey with "
+    fig.suptitle(f"{title}: kinematic schemes\nframe hatched, input arrowed, adjustable link grey with "
                  "locked pairs as squares", fontsize=9)
     return fig
 
@@ -1066,7 +1066,7 @@ def family_figure(result, members):
 
 
 def tune_figure(result, unit: str):
-    """F(x₁) = f₁(x₁) − f₂(x₁) (deg) over the searched interval with every root marked (seed ch. 6, eq. 2).
+    """F(x₁) = f₁(x₁) − f₂(x₁) (deg) over the searched interval with every root marked (Sunkuev 1984, ch. 6, eq. 2).
 
     Examples
     --------

@@ -354,7 +354,7 @@ def plot_hodograph(result):
 
     References
     ----------
-    O. M. Dupliak, R. I. Kotsiyba (2018), seed 003: the velocity hodograph among the outputs.
+    O. M. Dupliak, R. I. Kotsiyba (2018), Dupliak & Kotsiyba 2018: the velocity hodograph among the outputs.
 
     Examples
     --------

@@ -160,7 +160,7 @@ def run_scene(source: str | Path | Scene, options: PipelineOptions = PipelineOpt
     Returns
     -------
     SceneResult
-        As ``analyse_scene`` (SPEC.md keys: deg, mm, rpm, N, MPa); ``report["outputs"]`` lists the
+        As ``analyse_scene`` (docs/INTERFACE.md keys: deg, mm, rpm, N, MPa); ``report["outputs"]`` lists the
         files written.
 
     Raises

@@ -3,7 +3,7 @@ text forms two servo systems read (``camcad.profile.servo`` computes the numbers
 
 - ``servo_table.csv``: ``#`` comment lines (the mechanism, the units, the speed, the slave's peaks), then the
   columns master angle (deg), slave position, velocity per master degree, acceleration per master degree²
-  (SPEC.md: these four first), jerk per master degree³ and, with a speed, velocity, acceleration and jerk per
+  (docs/INTERFACE.md: these four first), jerk per master degree³ and, with a speed, velocity, acceleration and jerk per
   second.
 - ``servo_codesys.txt`` (``--servo-format codesys``): the ASCII table of the CODESYS SoftMotion cam editor
   (CODESYS V3.5, SM3_Basic; commands "Read Cam Data from ASCII Table" / "Write Cam Data to ASCII Table"): one

@@ -9,7 +9,7 @@ Three tiers, data flowing one way (tests/project/test_layering.py forbids cycles
 - **the machine**: ``laws`` (a mechanism's law built, retimed, its unit), ``follower`` (the follower on its
   law), ``linkage`` (the chain after the follower), ``mechanism`` and ``stretch`` (contact geometry and the least
   phase angles), the steps ``filtering``, ``contact`` and ``phase_angles`` (the cyclogram), ``analysis_report``
-  (what an analysis returns) and ``pipeline`` (what ``camcad profile SCENE.toml`` runs, in SPEC.md's order);
+  (what an analysis returns) and ``pipeline`` (what ``camcad profile SCENE.toml`` runs, in docs/INTERFACE.md's order);
 - **commands**: ``commands/`` — one ``run_<command>(request) -> report`` per stand-alone analysis command,
   each computing the machine the pipeline computes (``commands/source``).
 """

@@ -1,7 +1,7 @@
 """What every analysis returns: the phase angles it ran with and its report object.
 
 - ``PhaseAngles``: which phase angles an analysis ran with (the law's own, or the optimised cyclogram's).
-- ``AnalysisReport``: the analysis object under its SPEC.md key (figures, ``checks``, ``warnings``,
+- ``AnalysisReport``: the analysis object under its docs/INTERFACE.md key (figures, ``checks``, ``warnings``,
   ``passed``), the source it ran on, and the objects the plots need. ``to_dict`` is the JSON of the
   command; ``analysis_dict`` the object the pipeline puts in report.json — one definition of each key.
 """
@@ -72,7 +72,7 @@ def rounded_tree(value: Any, digits: int | None = None) -> Any:
 class AnalysisReport:
     """What an analysis command returns (module docstring).
 
-    ``key``: the SPEC.md key of the analysis object (spectrum, dynamics, impact, contact, cyclogram);
+    ``key``: the docs/INTERFACE.md key of the analysis object (spectrum, dynamics, impact, contact, cyclogram);
     ``body``: its figures; ``verdict``: its checks and warnings; ``source``: ``AnalysisSource.summary()``
     (or the scene for contact and cyclogram); ``result``: the analysis objects the plots need;
     ``skipped``: steps not run and why.
@@ -91,7 +91,7 @@ class AnalysisReport:
 
     @property
     def exit_code(self) -> int:
-        """SPEC.md: 0 when every check passed, 1 when one failed."""
+        """docs/INTERFACE.md: 0 when every check passed, 1 when one failed."""
         return 0 if self.passed else 1
 
     def analysis_dict(self) -> dict:

@@ -22,7 +22,7 @@ HELD_TOL_DEG = 1e-9
 
 @dataclass(frozen=True)
 class MechanismContact:
-    """One mechanism's contact analysis: its report (SPEC.md ``contact`` keys), the result at the worst
+    """One mechanism's contact analysis: its report (docs/INTERFACE.md ``contact`` keys), the result at the worst
     speed and the speed sweep (for the plots), the phase angles analysed and the least ones."""
 
     name: str
@@ -35,7 +35,7 @@ class MechanismContact:
 
 def contact_step(scene, mech, law, speeds: list[float], samples: int, angles=None,
                  least: dict | None = None, memo=None, extra_load=None) -> MechanismContact:
-    """Contact stress of one mechanism's ``law`` (the pipeline's step 7 and ``camcad contact``): the SPEC.md
+    """Contact stress of one mechanism's ``law`` (the pipeline's step 7 and ``camcad contact``): the docs/INTERFACE.md
     ``contact`` keys, the least normal force over the speeds, and the least phase angles — computed by root
     finding when ``least`` is None, else ``least`` ({label: (deg, source, binding)}, e.g. the cyclogram's)."""
     angles = angles if angles is not None else PhaseAngles.of_law(law)

@@ -273,7 +273,7 @@ class FilterStep:
 
 
 def filter_step(scene, mech, law, speeds, unit: str = "mm", applies: str = "") -> FilterStep:
-    """Step 3 of SPEC.md's pipeline on one mechanism: [filter] with fn from [filter] or [dynamics] and the
+    """Step 3 of docs/INTERFACE.md's pipeline on one mechanism: [filter] with fn from [filter] or [dynamics] and the
     speed range from [filter] or [machine]; judged as ``camcad spectrum --filter`` judges it."""
     if not mech.has("filter"):
         return FilterStep(law, skipped="no [filter] in scene")
@@ -297,7 +297,7 @@ def filter_step(scene, mech, law, speeds, unit: str = "mm", applies: str = "") -
 
 
 def filter_body(outcome: FilterOutcome, figures: WrittenFigures, unit: str) -> dict:
-    """The filter's SPEC.md keys (``removed``, ``max_deviation_mm``, ``dwell_deviation_mm``,
+    """The filter's docs/INTERFACE.md keys (``removed``, ``max_deviation_mm``, ``dwell_deviation_mm``,
     ``peak_accel_ratio``) for the written law, and the filter's own figures under ``filter``."""
     body: dict[str, Any] = {}
     if outcome.filtered is not None:

@@ -329,7 +329,7 @@ def _analyse_lines(payload: dict, mu_min: float) -> list[str]:
 
 @dataclass(frozen=True)
 class AdjustRequest:
-    """What ``camcad linkage adjust`` solves: a regulation task of the seed's Table 3 or Table 2.
+    """What ``camcad linkage adjust`` solves: a regulation task of Sunkuev 1984's Table 3 or Table 2.
 
     Parameters
     ----------
@@ -417,7 +417,7 @@ def _functions(options: dict) -> dict:
 
 
 def run_linkage_adjust(request: AdjustRequest) -> AdjustReport:
-    """An adjustable mechanism for a regulation task of the seed's Tables 2 and 3 (``camcad linkage adjust``).
+    """An adjustable mechanism for a regulation task of Sunkuev 1984's Tables 2 and 3 (``camcad linkage adjust``).
 
     Parameters
     ----------
@@ -442,7 +442,7 @@ def run_linkage_adjust(request: AdjustRequest) -> AdjustReport:
     (0, [10.0, 15.0, 20.0])
     """
     if request.table not in (2, 3):
-        raise CamcadError(f"--table {request.table}: the seed's regulation tables are 2 and 3", "--table",
+        raise CamcadError(f"--table {request.table}: Sunkuev 1984's regulation tables are 2 and 3", "--table",
                           "use 2 or 3")
     if request.task is None:
         raise CamcadError("missing", "--task", "give the regulation task, e.g. --task 1")
@@ -585,7 +585,7 @@ def _adjust_table2(request: AdjustRequest, command: CommandLinkage) -> AdjustRep
 
 @dataclass(frozen=True)
 class TuneRequest:
-    """What ``camcad linkage tune`` finds: the settings for given extreme positions (seed ch. 6).
+    """What ``camcad linkage tune`` finds: the settings for given extreme positions (Sunkuev 1984, ch. 6).
 
     Parameters
     ----------
@@ -653,7 +653,7 @@ def grid_axes(text: str) -> tuple[list[float], list[float]]:
 def run_linkage_tune(request: TuneRequest) -> TuneReport:
     """Settings for given extreme positions (``camcad linkage tune``).
 
-    Every root of the seed's F(x₁) = f₁(x₁) − f₂(x₁) = 0, or the settings table.
+    Every root of Sunkuev 1984's F(x₁) = f₁(x₁) − f₂(x₁) = 0, or the settings table.
 
     Parameters
     ----------

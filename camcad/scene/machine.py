@@ -318,7 +318,7 @@ def analyse_machine(source: str | Path | MachineScene, options: PipelineOptions 
     Returns
     -------
     MachineAnalysis
-        ``report["machine"]``: the SPEC.md cyclogram keys of the joined network (deg), the objective, the
+        ``report["machine"]``: the docs/INTERFACE.md cyclogram keys of the joined network (deg), the objective, the
         limiting operation under both objectives; ``report["groups"]``: each group's pipeline report.
 
     Raises

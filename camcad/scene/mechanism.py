@@ -466,8 +466,8 @@ def stress_relation(law, follower_table: dict, params, speeds: list[float], inde
 def mechanism_contact(scene: Scene, mech: Mechanism, speeds: list[float], samples: int, law=None,
                       with_limits: bool = True, memo: LimitMemo | None = None, extra_load=None):
     """Contact analysis of one mechanism: stress along the profile at every speed, the worst speed's
-    figures (SPEC.md ``contact`` keys), separation, and (``with_limits``) the contact-limited least phase angle
-    of each rise and return. ``law`` defaults to the mechanism's [law]. ``extra_load(theta)``: a
+    figures (docs/INTERFACE.md ``contact`` keys), separation, and (``with_limits``) the contact-limited least phase
+    angle of each rise and return. ``law`` defaults to the mechanism's [law]. ``extra_load(theta)``: a
     ``camcad.linkage.transfer.LinkageLoad`` (the working member behind a [linkage]) or None; with one, the
     phase limits are not computed (their stretched phases do not carry it). Returns (report, ContactResult at
     the worst speed, SpeedSweep)."""

@@ -52,7 +52,7 @@ class CyclogramAngles:
     impacts: dict = field(default_factory=dict)
 
     def report(self) -> dict:
-        """The SPEC.md ``cyclogram`` keys (and more), with the retimed phases as text."""
+        """The docs/INTERFACE.md ``cyclogram`` keys (and more), with the retimed phases as text."""
         out = self.result.report()
         out["skipped"] = dict(self.skipped)
         out["speeds_rpm"] = None if self.speeds is None else list(self.speeds)

@@ -1,4 +1,4 @@
-"""The scene pipeline: what `camcad profile SCENE.toml` runs, in SPEC.md's order, and only what the scene asks for.
+"""The scene pipeline: what `camcad profile SCENE.toml` runs, in docs/INTERFACE.md's order: what the scene asks for.
 
 For every mechanism: 1 read the law → 2 check (and fix, when [law] fix says so) its balance → 3 resonance
 filtering and lead-in ([filter], with a natural frequency and speeds) → 4 profile synthesis ([follower]) →
@@ -183,7 +183,8 @@ class MechanismRun:
 
 @dataclass(frozen=True)
 class SceneResult:
-    """What the pipeline found: the scene, every mechanism's run, the report (SPEC.md keys; no outputs yet)."""
+    """What the pipeline found: the scene, every mechanism's run, the report (docs/INTERFACE.md keys; no outputs
+    yet)."""
 
     scene: Scene
     runs: dict
@@ -205,7 +206,7 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
 
     For every mechanism: read the law, check (and fix) its balance, resonance filtering, profile
     synthesis, elastic dynamics, stop impact, contact stress and the least phase angles they allow; then
-    the cyclogram, whose phase angles go back into the laws (module docstring; SPEC.md "The scene
+    the cyclogram, whose phase angles go back into the laws (module docstring; docs/INTERFACE.md "The scene
     pipeline"). Only the steps the scene asks for run; ``report["skipped"]`` says why the others did
     not. ``run_scene`` also writes the outputs (step 10).
 
@@ -225,7 +226,7 @@ def analyse_scene(path: str | Path | Scene, options: PipelineOptions = PipelineO
     Returns
     -------
     SceneResult
-        ``report``: the SPEC.md keys (angles deg, lengths mm, speeds rpm, forces N, stresses MPa),
+        ``report``: the docs/INTERFACE.md keys (angles deg, lengths mm, speeds rpm, forces N, stresses MPa),
         with ``models_run`` and ``skipped``; ``runs``: each mechanism's law, profile and models;
         ``passed``: the verdict.
 

@@ -244,7 +244,7 @@ def run_drive(request: DriveRequest):
     """``camcad drive``: camshaft torque and power, flywheel and motor of a scene, as an AnalysisReport.
 
     The mechanisms of the scene drive one shaft; the report (key ``drive``) gives the flywheel for a speed
-    fluctuation and the motor through its gearbox too. The figures (SPEC.md): ``torque_peak_Nm`` (max |T|),
+    fluctuation and the motor through its gearbox too. The figures (docs/INTERFACE.md): ``torque_peak_Nm`` (max |T|),
     ``torque_rms_Nm``, ``torque_mean_Nm``, ``power_peak_W``, ``power_mean_W`` of the shaft at the speed of the
     largest peak (``rpm``), the same at every speed (``speeds``) and per mechanism (``mechanisms``), the energy
     swing and the flywheel (``flywheel``), the motor (``motor``), the elastic torque where a mechanism has the

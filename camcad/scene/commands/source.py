@@ -1,7 +1,7 @@
 """What every analysis command works on: the law (from a file, a standard shape, or a scene's mechanism as the
 scene pipeline builds it), its unit, the speeds, and the phase angles analysed.
 
-- ``LawRequest``: how the user named the law (the SPEC.md law-choosing options, ``--unit``,
+- ``LawRequest``: how the user named the law (the docs/INTERFACE.md law-choosing options, ``--unit``,
   ``--phase-angles``, ``--mechanism``, ``--rpm``).
 - ``resolve_source(request)`` → ``AnalysisSource``. For a law file or a standard shape: the law itself. For a
   scene: the scene and the mechanism; ``AnalysisSource.machine(options)`` then runs the scene pipeline
@@ -51,7 +51,7 @@ _SCENE_KEYS = ("law", "mechanisms", "cyclogram", "machine", "follower", "contact
 
 @dataclass(frozen=True)
 class LawRequest:
-    """How the law was named: a file or ``standard`` with the SPEC.md options, the unit of its
+    """How the law was named: a file or ``standard`` with the docs/INTERFACE.md options, the unit of its
     displacement (None: mm for a law file, from the scene for a scene), which phase angles to analyse
     ("auto": the cyclogram's when the scene has one), the mechanism of a group scene, and the speeds
     (``rpm``: the --rpm text, None: the scene's [machine] rpm)."""
