@@ -32,7 +32,7 @@ from timing import median_time
 from camcad.dynamics.impact import triangular_pulse, triangular_pulse_response
 
 MASS = 0.0075911          # kg, reduced mass of the lever (sample shuttle_lift.toml)
-F_STOP = 768.0            # Hz (published, seed 000)
+F_STOP = 768.0            # Hz (published, Podgorny et al. 2018)
 ZETA = 0.05
 PEAK_FORCE = 4.137        # N (published at 280 rpm)
 OMEGA = 2 * math.pi * F_STOP

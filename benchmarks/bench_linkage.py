@@ -1,12 +1,12 @@
-"""Linkage (seed 002): atlas time per class, and speed against error of every function-generator method.
+"""Linkage: atlas time per class, and speed against error of every function-generator method.
 
 Atlas rows: time to enumerate one class of chains; error = |count − reference| where the reference is the
-published count (ordinary chains: Tsai 2001) or the seed's Table 1 (adjustable chains; the n' = 8 row is
+published count (ordinary chains: Tsai 2001) or Sunkuev 1984's Table 1 (adjustable chains; the n' = 8 row is
 not reproduced, see docs/linkage.md), unit "chains".
 
 Function-generator rows: y = log10(x) on [1, 2], input 60 deg, output 90 deg, mu >= 30 deg, link ratio
 <= 10, 5 Chebyshev nodes; error = largest |structural error| on a 2001-point grid (deg); the setting
-names the position computations the method used. Plus the seed's claim (Q against deviation
+names the position computations the method used. Plus Sunkuev 1984's claim (Q against deviation
 minimisation from the same random starts, single local searches): median error of the admissible
 results and median positions.
 
@@ -49,7 +49,7 @@ def atlas_rows(quick: bool) -> list[dict]:
     for key in table:
         elapsed, result = median_time(lambda k=key: adjustable_chains(*k), 1 if quick or key[0] >= 8 else 3)
         rows.append(_row("linkage atlas", "adjustable chains (coloured, contracted check)",
-                         f"n'={key[0]} W'={key[1]} m={key[2]}: {len(result.chains)} (seed {SEED_TABLE1[key]})",
+                         f"n'={key[0]} W'={key[1]} m={key[2]}: {len(result.chains)} (Sunkuev 1984: {SEED_TABLE1[key]})",
                          elapsed, abs(len(result.chains) - SEED_TABLE1[key]), "chains vs seed Table 1"))
     return rows
 

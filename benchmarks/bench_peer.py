@@ -120,7 +120,7 @@ def exact_pitch(theta: np.ndarray, lift: float = LIFT_MM, rb: float = BASE_RADIU
 
     Fixed frame: the follower's axis is +y through the cam centre, so the roller centre is
     q = (0, r), r = Rb + Rr + s. The cam turns counter-clockwise by θ, so in the cam's own frame
-    the point is R(−θ) q = r (sin θ, cos θ) = r e_r (camcad's SPEC.md convention; at θ = 0 it is
+    the point is R(−θ) q = r (sin θ, cos θ) = r e_r (camcad's docs/INTERFACE.md convention; at θ = 0 it is
     on +y, and it moves clockwise round the cam as θ grows).
     """
     theta = np.asarray(theta, dtype=float)
@@ -155,7 +155,7 @@ def exact_pressure_angle(theta: np.ndarray, lift: float = LIFT_MM, rb: float = B
                          rr: float = ROLLER_RADIUS_MM) -> np.ndarray:
     """Pressure angle φ (rad), positive on the rise: the angle between the normal n and the
     follower's direction of travel e_r; cos φ = n·e_r = r/√(r² + v²), so φ = atan(v/(Rb + Rr + s))
-    (SPEC.md with e = 0). Source: Norton (2009), ch. 8."""
+    (docs/INTERFACE.md with e = 0). Source: Norton (2009), ch. 8."""
     s, v, _ = cycloidal_drdr(theta, lift)
     return np.arctan2(v, rb + rr + s)
 

@@ -1,6 +1,6 @@
 """Regenerate the batten study's files in samples/batten/ (run: python samples/make_batten_study.py).
 
-The batten study (PhD abstract, Novosibirsk; ../shared/background.md section 2) starts from the serial STB
+The batten study (PhD abstract, Novosibirsk; docs/references.md section 2) starts from the serial STB
 2-220 cam's tabulated radius-vectors, which it does not publish. So the table here is MADE, not measured:
 
 1. a serial law is CHOSEN to meet the published figures that describe it: a swing of 0.421 rad and peak

@@ -222,7 +222,7 @@ def test_tiny_and_huge_scales_balance_alike():
 @pytest.mark.reference("closed form", "trapezoid error bounds derived here: |v error| <= sum|dm_k| h^2/8, |s error| "
                                       "adds T h^2 max|a'|/12")
 def test_source_check_by_trapezoid_is_within_its_error_bound():
-    # The source's check (seed 003): resample a with step h, trapezoid twice. Bounds derived here:
+    # The source's check: resample a with step h, trapezoid twice. Bounds derived here:
     # - a grid that holds every knot integrates the polyline's v exactly (a is linear between grid points);
     # - otherwise each knot of slope change Δm_k inside a cell moves the area by at most |Δm_k| h²/8, so
     #   |error of v| ≤ Σ|Δm_k| h²/8 and |error of s| ≤ T Σ|Δm_k| h²/8 + T h² max|a'|/12 (trapezoid on v).

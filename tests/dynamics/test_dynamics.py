@@ -391,7 +391,7 @@ def test_cli_dynamics_bad_input_is_one_line(cli, args, message):
 @pytest.mark.reference("second method", "the reduction is the ratio of the two runs' peak link accelerations, "
                                         "recomputed from the library")
 def test_cli_dynamics_lead_in_lowers_the_start_load(cli, tmp_path):
-    # The source (seed 001): lead-in segments before the motion bring the follower to the cam slowly and
+    # The source: lead-in segments before the motion bring the follower to the cam slowly and
     # cut the summary load at the start of motion. A harmonic law jumps in acceleration at its start, so
     # a 14 deg lead-in at 0.1 of the peak must lower the start load of the rise.
     from camcad.fourier.leadin import add_lead_in

@@ -177,7 +177,7 @@ def test_impact_force_and_rebound_are_proportional_to_speed():
     # are test_sample_is_calibrated_at_280_rpm_and_validated_at_the_other_speeds's
 
 
-#: published first-rebound amplitudes (Podgorny et al. 2018, seed 000), mm, and force at 280/420 rpm, N
+#: published first-rebound amplitudes (Podgorny et al. 2018, Podgorny et al. 2018), mm, and force at 280/420 rpm, N
 PUBLISHED_REBOUND = {280.0: 0.070, 320.0: 0.078, 370.0: 0.092, 420.0: 0.105}
 PUBLISHED_FORCE = {280.0: 4.137, 420.0: 6.2}
 

@@ -1,4 +1,4 @@
-"""Adjustable mechanisms (seed 002 ch. 3, 4, 6): Table 3 task 1, a fitted task, Table 2's crank
+"""Adjustable mechanisms (Sunkuev 1984 ch. 3, 4, 6): Table 3 task 1, a fitted task, Table 2's crank
 characteristics, the family of position functions, and tuning for given extreme positions."""
 
 from __future__ import annotations

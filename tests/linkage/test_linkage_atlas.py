@@ -1,7 +1,7 @@
-"""Structural synthesis (seed 002, ch. 1): counts of ordinary and adjustable chains.
+"""Structural synthesis (Sunkuev 1984, ch. 1): counts of ordinary and adjustable chains.
 
 Evidence: published counts (Tsai 2001: 1, 2, 16, 230 one-DOF chains with 4/6/8/10 links; 1, 4, 40
-two-DOF chains with 5/7/9 links), the seed's Table 1, and second routes written here independently of
+two-DOF chains with 5/7/9 links), Sunkuev 1984's Table 1, and second routes written here independently of
 camcad.linkage: brute force over all edge sets with networkx isomorphism, adjustable chains generated
 by *splitting* links of the n'-link chains into open chains (the reverse of camcad's colouring and
 contracting), edge orbits from networkx automorphisms, and the canonical form against networkx on
@@ -261,7 +261,7 @@ def _expand(g, split):
                                     "reproduced (137 and 287)")
 def test_table1_rows_and_the_eight_link_discrepancy():
     counts = {key: len(adjustable_chains(*key).chains) for key in SEED_TABLE1 if key[0] <= 6}
-    assert counts == {key: SEED_TABLE1[key] for key in counts}          # 1, 3, 4, 7, 38 as printed in the seed
+    assert counts == {key: SEED_TABLE1[key] for key in counts}          # 1, 3, 4, 7, 38 as printed in Sunkuev 1984
     payload = atlas(8, 1, 1).payload
     assert (payload["count"], payload["seed_count"], payload["counts"]["unconditional"]) == (137, 285, 287)
     assert "not recoverable" in payload["discrepancy"]
@@ -272,7 +272,7 @@ def test_table1_rows_and_the_eight_link_discrepancy():
 @pytest.mark.parametrize("n_prime, m", [(4, 1), (4, 2), (4, 3), (6, 1), (6, 2)])
 def test_table1_rows_reproduced_and_checked_by_splitting_links(n_prime, m):
     result = adjustable_chains(n_prime, 1, m)
-    assert len(result.chains) == SEED_TABLE1[(n_prime, 1, m)]          # the seed's Table 1
+    assert len(result.chains) == SEED_TABLE1[(n_prime, 1, m)]          # Sunkuev 1984's Table 1
     assert len(_split_route(n_prime, 1, m)) == len(result.chains)        # a second, independent route
 
 

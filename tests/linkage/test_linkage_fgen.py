@@ -1,4 +1,4 @@
-"""Four-bar kinematics and function-generator synthesis (seed 002, ch. 2).
+"""Four-bar kinematics and function-generator synthesis (Sunkuev 1984, ch. 2).
 
 Evidence: the loop-closure vector equation solved here by scipy (not by camcad's closed form), high-order
 finite differences, dense sampling, four-bars of known dimensions as targets (the synthesis must find

@@ -114,7 +114,7 @@ def test_pressure_angle_and_curvature_match_numerical_methods(key):
                                       "roller")
 @pytest.mark.parametrize("offset", [0.0, 12.0, -12.0])
 def test_translating_roller_matches_the_textbook_formulas(offset):
-    # SPEC.md: φ = atan((v − e)/(d + s)), d = √(Rp² − e²) for the CCW cam; Norton's
+    # docs/INTERFACE.md: φ = atan((v − e)/(d + s)), d = √(Rp² − e²) for the CCW cam; Norton's
     # ρ = ((d+s)² + (v−e)²)^{3/2} / ((d+s)² + (v−e)(2v−e) − a(d+s)) (derived for the offset roller).
     follower = Follower("roller", 50.0, 10.0, offset)
     cam = CamGeometry(LAW, follower)

@@ -42,7 +42,7 @@ def _on_the_cam(frames, points: np.ndarray, curve: np.ndarray, every: int = 7) -
     return max(_distance_to_polyline(points[k], frames.cam_points(curve, k)) for k in range(0, frames.count, every))
 
 
-@pytest.mark.reference("closed form", "translating roller: centre (e, d + s), d = sqrt(Rp^2 - e^2), SPEC.md")
+@pytest.mark.reference("closed form", "translating roller: centre (e, d + s), d = sqrt(Rp^2 - e^2), docs/INTERFACE.md")
 @pytest.mark.parametrize("offset, cw", [(0.0, False), (12.0, False), (-8.0, True)])
 def test_translating_roller_follows_its_axis_and_touches_the_turned_profile(offset, cw):
     follower = camcad.Follower("roller", base_radius=45.0, roller_radius=12.0, offset=offset, cw=cw)
@@ -57,7 +57,7 @@ def test_translating_roller_follows_its_axis_and_touches_the_turned_profile(offs
     assert np.allclose(np.hypot(*(frames.centre - frames.contact).T), 12.0, atol=1e-9)
     # the contact lies on the written profile turned with the cam (chord tolerance 1 µm)
     assert _on_the_cam(frames, frames.contact, frames.profile) < 2e-3
-    # pressure angle: the angle of the common normal from the axis is atan((v - sigma e)/(d + s)) (SPEC.md)
+    # pressure angle: the angle of the common normal from the axis is atan((v - sigma e)/(d + s)) (docs/INTERFACE.md)
     sigma = -1.0 if cw else 1.0
     expected = np.degrees(np.arctan((law.v - sigma * offset) / (d + law.s)))
     assert np.allclose(frames.pressure_angle_deg, expected, atol=1e-9)

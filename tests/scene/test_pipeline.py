@@ -40,7 +40,7 @@ def test_group_scene_writes_every_output_and_feeds_the_cyclogram_back(group_run)
     cyclogram = report["cyclogram"]
     assert cyclogram["feasible"] is True
     # the limiting operation of the sample: the shuttle lift's rise held at its vibration limit
-    # a = -0.003 t + 0.208 <= 0.1 mm  ->  t >= 36 deg (published relation, seed 000)
+    # a = -0.003 t + 0.208 <= 0.1 mm  ->  t >= 36 deg (published relation, Podgorny et al. 2018)
     assert "3->7" in cyclogram["active_bounds"]
     assert cyclogram["phase_angles_deg"]["3->7"] == pytest.approx(36.0, abs=1e-6)
     on_disk = json.loads((out / "report.json").read_text())
