@@ -1,6 +1,6 @@
 """Reading a drawing: open any DXF (ASCII, binary, damaged, UTF-8 or UTF-16) and list its drawn pieces.
 
-What a designer's drawing may hold (see ../shared/dxf-interop.md for the traps): the law as one
+What a designer's drawing may hold (docs/reading.md says how camcad reads each): the law as one
 entity (LWPOLYLINE, POLYLINE with bulges, SPLINE with fit or control points) or as a chain of
 pieces of any kind joined end to end (LINE, ARC, ELLIPSE arcs, polylines, splines), and around it
 axes, a grid, a frame, text and dimensions. Every curve entity of the model space becomes a

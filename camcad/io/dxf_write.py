@@ -1,4 +1,4 @@
-"""Writing drawings as DXF that every CAD program opens (see ../shared/dxf-interop.md).
+"""Writing drawings as DXF that every CAD program opens (docs/part.md lists the readers checked).
 
 The writer takes plain geometry (``Drawing``: polylines with optional bulges, control-point
 splines, circles, lines, text) so it does not depend on how the geometry was made. Rules it
