@@ -67,6 +67,9 @@ class Check:
         Anything the engineer should know about this check (e.g. held at the limit by the cyclogram).
     passed_override : bool or None
         A verdict that is not a plain comparison (e.g. a profile that does not close); None = compare.
+    scale : float
+        The size of the quantity, in ``unit``, against which "at limit" is judged when the limit is 0 (e.g. the
+        largest normal force for a least normal force of 0 N); 0: max(|limit|, |value|) alone.
     """
 
     name: str
@@ -77,6 +80,7 @@ class Check:
     applies: str = ""
     note: str = ""
     passed_override: bool | None = None
+    scale: float = 0.0
 
     def __post_init__(self) -> None:
         if self.sense not in ("max", "min"):
@@ -110,14 +114,14 @@ class Check:
 
     @property
     def at_limit(self) -> bool:
-        """Passes, but ends at its limit: margin ≤ ``AT_LIMIT`` × max(|limit|, |value|) (a limit of 0 with a
-        value of 0 too). Such a check is reported "at limit" (a warning), never a clean pass."""
+        """Passes, but ends at its limit: margin ≤ ``AT_LIMIT`` × max(|limit|, |value|, ``scale``) (a limit of 0
+        with a value of 0 too). Such a check is reported "at limit" (a warning), never a clean pass."""
         if not self.passed or self.passed_override is not None or self.limit is None or self.value is None:
             return False
         margin = self.margin
         if margin is None or not math.isfinite(margin):
             return False
-        return margin <= AT_LIMIT * max(abs(self.limit), abs(self.value))
+        return margin <= AT_LIMIT * max(abs(self.limit), abs(self.value), abs(self.scale))
 
     @property
     def status(self) -> str:

@@ -357,7 +357,8 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
             out.print(f"{indent}note       {note}")
     design = mech.get("design") or {}
     if design.get("rb_min_mm") is not None:
-        out.print(f"{indent}smallest Rb {design['rb_min_mm']:.6g} mm (limited by {design['limited_by']})")
+        out.print(f"{indent}smallest Rb {_up(design['rb_min_mm'], 6, significant=True)} mm (limited by "
+                  f"{design['limited_by']})")
     from camcad.report.verdict_text import verdict_lines
 
     lines = verdict_lines(mech)
@@ -370,8 +371,9 @@ def _print_mechanism(out, mech: dict, indent: str, show_skipped: bool = True) ->
         if least is None:
             continue
         # what binds (report.json's phase_limits has every source's angle)
-        binding = ", ".join(f"{k} {v:.4f} deg" for k, v in sources.items() if k != "least_deg" and v == least)
-        out.print(f"{indent}least {label} angle {least:.4f} deg (bound by {binding})")
+        # rounded up, so that the printed angle, given back as a phase angle, still passes (report.json: exact)
+        binding = ", ".join(f"{k} {_up(v)} deg" for k, v in sources.items() if k != "least_deg" and v == least)
+        out.print(f"{indent}least {label} angle {_up(least)} deg (bound by {binding})")
     for note in mech.get("phase_limit_notes") or []:
         out.print(f"{indent}note       {note}")
     for key, why in (mech.get("skipped") or {}).items() if show_skipped else ():
@@ -400,3 +402,16 @@ def _print_group(out, report: dict) -> int:
     elif "cyclogram" in report.get("skipped", {}):
         out.print(f"cyclogram skipped ({report['skipped']['cyclogram']})")
     return warnings
+
+
+def _up(value: float, digits: int = 4, significant: bool = False) -> str:
+    """``value`` printed with ``digits`` decimals (or significant digits), rounded up: a least angle or smallest
+    radius read off the screen and given back must not fall below the exact one."""
+    import math
+
+    if not math.isfinite(value) or value == 0.0:
+        return f"{value:.{digits}f}" if not significant else f"{value:.{digits}g}"
+    decimals = digits if not significant else digits - 1 - math.floor(math.log10(abs(value)))
+    step = 10.0 ** -decimals
+    shown = math.ceil(value / step - 1e-9) * step
+    return f"{shown:.{max(decimals, 0)}f}" if not significant else f"{shown:.{digits}g}"

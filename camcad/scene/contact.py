@@ -88,7 +88,7 @@ def contact_verdict(found: list[MechanismContact], speeds) -> Verdict:
         if force is not None:
             checks.append(Check(f"{item.name}: normal force (spring holds the follower)", force["value"], 0.0, "N",
                                 sense="min", applies=f"least at {force['at_deg']:.4g} deg, {force['rpm']:g} rpm; "
-                                                     f"{whose}"))
+                                                     f"{whose}", scale=float(r.get("normal_force_max_N", 0.0))))
         counts: dict[str, int] = {}
         for start, end, kind in angles.phases_deg:
             if kind == "dwell":
