@@ -27,6 +27,7 @@ def commands() -> list[tuple[str, int]]:
     return found
 
 
+@pytest.mark.reference("property", "issue 27 item 5: the page names every worked example of Sunkuev 1984 listed")
 def test_the_page_has_every_example():
     names = " ".join(c for c, _ in commands())
     for needed in ("adjust --table 2 --task 3", "--task 5", "--task 6", "variator",
@@ -35,6 +36,8 @@ def test_the_page_has_every_example():
         assert needed in names, needed
 
 
+@pytest.mark.reference("property", "each command of docs/linkage/examples.md exits with the code the page states "
+                                   "and writes its outputs")
 @pytest.mark.parametrize(("command", "code"), commands(), ids=lambda v: str(v)[:60])
 def test_every_example_runs_as_written(cli, tmp_path, monkeypatch, command, code):
     monkeypatch.chdir(ROOT)
