@@ -123,14 +123,15 @@ def path(points: Annotated[list[Path] | None, _opt("--points", "A curve: table x
          mu_min: MuOpt = 30.0, ratio_max: RatioOpt = 10.0,
          max_deviation: Annotated[float | None, _opt("--max-deviation", "Accuracy asked for (mm); default 0.1 % of "
                                                                         "the target's size.")] = None,
-         seed: SeedOpt = 0, output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
+         seed: SeedOpt = 0, starts: Annotated[int, _opt("--starts", "A family's random starts (stage 1).")] = 20,
+         output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Synthesise a guiding four-bar: its coupler point through a curve, a timed curve, or at given distances from
     a fixed point (Sunkuev 1984, ch. 2 and 5); three or more tables: one adjustable four-bar for the family; exit 1
     when a check (deviation, transmission angle, link ratio) fails."""
     from camcad.linkage.runners import PathRequest
 
     _go(PathRequest(points, timed, distance, fixed_point, None, None, method, nodes, mu_min, ratio_max, max_deviation,
-                    seed), output, not no_plots, as_json)
+                    seed, starts), output, not no_plots, as_json)
 
 
 @linkage_app.command()

@@ -661,6 +661,8 @@ class PathRequest:
         The accuracy asked for, mm; default 0.1 % of the target's size.
     seed : int
         Random starts' seed.
+    starts : int
+        A family's random starts of stage 1 (beside the first member's own synthesis).
 
     Examples
     --------
@@ -685,6 +687,7 @@ class PathRequest:
     ratio_max: float = 10.0
     max_deviation: float | None = None
     seed: int = 0
+    starts: int = 20
 
 
 @dataclass
@@ -860,7 +863,9 @@ def run_linkage_path(request: PathRequest) -> PathReport:
 
 def _path_family_report(targets: list[PathTarget], limits: Limits, request: PathRequest, inputs: tuple) -> PathReport:
     """A family of guiding targets: one adjustable four-bar (``camcad.linkage.path.path_family``)."""
-    fam = path_family(targets, limits, request.seed)
+    if not 0 <= request.starts <= 1000:
+        raise CamcadError(f"{request.starts} random starts is out of range", "--starts", "give 0 to 1000")
+    fam = path_family(targets, limits, request.seed, random_starts=request.starts)
     rows = []
     for k, (t, mech, chk) in enumerate(zip(targets, fam.mechanisms, fam.checks)):
         tolerance = request.max_deviation if request.max_deviation is not None else DEFAULT_TOLERANCE * t.size

@@ -45,7 +45,7 @@ print("== profile")
 follower = camcad.Follower("roller", base_radius=40.0, roller_radius=10.0)
 result = camcad.synthesize(law, follower, camcad.ProfileSettings(plots=False))
 kk = camcad.kinematics_deg(law, np.linspace(0.0, 360.0, 360001))
-by_hand = np.degrees(np.arctan(kk.v / (40.0 + 10.0 + kk.s))).max()    # docs/INTERFACE.md: tan φ = v/(Rb + Rr + s), e = 0
+by_hand = np.degrees(np.arctan(kk.v / (40.0 + 10.0 + kk.s))).max()    # tan φ = v/(Rb + Rr + s), e = 0
 print(f"pressure angle max {np.degrees(result.pressure_angle.maximum.value):.6f} deg "
       f"(by hand on a 0.001 deg grid: {by_hand:.6f})")
 

@@ -132,7 +132,8 @@ def test_rigid_roller_peak_and_rms_equal_the_closed_form_at_several_speeds(tmp_p
         assert row["power_mean_W"] == pytest.approx(row["torque_mean_Nm"] * omega, abs=1e-9 * peak * omega)
 
 
-@pytest.mark.reference("property", "P = T omega at every row of torque.csv; the first columns named by docs/INTERFACE.md")
+@pytest.mark.reference("property", "P = T omega at every row of torque.csv; the first columns named by "
+                                   "docs/INTERFACE.md")
 def test_torque_csv_power_is_torque_times_omega(tmp_path, cli):
     path = roller_scene(tmp_path, rpm="450")
     out = tmp_path / "out"
@@ -178,7 +179,8 @@ def test_load_table_step_equals_constant_force_over_its_range(tmp_path):
     assert table.body["torque_mean_Nm"] == pytest.approx(constant.body["torque_mean_Nm"], rel=1e-9)
 
 
-@pytest.mark.reference("second method", "force triangle with guide friction and docs/INTERFACE.md's phi = atan((v - e)/(d + s))")
+@pytest.mark.reference("second method", "force triangle with guide friction and docs/INTERFACE.md's "
+                                        "phi = atan((v - e)/(d + s))")
 def test_guide_friction_of_an_offset_roller_follows_the_force_triangle(tmp_path):
     e, mu, m, k, f0, rpm = 8.0, 0.15, 1.5, 8.0, 150.0, 300.0
     path = roller_scene(tmp_path, rpm=str(rpm), follower_extra=f"offset = {e}", contact_extra=f"friction = {mu}")

@@ -1,4 +1,4 @@
-"""Sunkuev 1984's worked examples as docs/linkage/examples.md writes them: every ``camcad linkage …`` command of the page
+"""Sunkuev 1984's worked examples as docs/linkage/examples.md writes them: every ``camcad linkage …`` command
 runs, from the repository's root, with the exit code the page states (``# exit N`` after it; 0 otherwise). Only
 ``-o`` is added (the outputs go to a temporary folder, never into the repository)."""
 

@@ -37,7 +37,7 @@ def test_the_documentation_builds_without_a_warning(tmp_path):
 
     reference = "".join((html / "api" / f"{p}.html").read_text(encoding="utf-8") for p in
                         ("laws", "balance", "profile", "fourier", "dynamics", "contact", "cyclogram", "scenes",
-                         "plots", "errors"))
+                         "plots", "linkage", "errors"))
     for name in camcad.__all__:
         if name == "__version__":
             continue

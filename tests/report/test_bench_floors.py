@@ -28,7 +28,8 @@ def test_floors_peers_and_references_import_nothing_of_camcad(module):
     assert not [n for n in names if n.split(".")[0] == "camcad"], module
 
 
-@pytest.mark.reference("closed form", "pressure angle atan(v/(Rb + Rr + s)) on a 1,000,001-point grid (docs/INTERFACE.md)")
+@pytest.mark.reference("closed form", "pressure angle atan(v/(Rb + Rr + s)) on a 1,000,001-point grid "
+                                      "(docs/INTERFACE.md)")
 def test_the_roller_cam_reference_gives_the_peak_pressure_angle_of_the_closed_form():
     # the peer's cam: cycloidal rise of 20 mm over 90 deg after a 90 deg dwell, Rb 40, Rr 10, no offset;
     # the peak of atan(v / (50 + s)) by brute force on a fine grid of the rise, s and v written out here
