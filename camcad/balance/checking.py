@@ -154,7 +154,7 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
                 closure[phase.kind] = off
     conds = conditions(law)
     residuals = functional_values(x, a, conds) - targets(conds)
-    scale = _scale(law)
+    scale = lift_scale(law)
     limit = tol * scale
     return BalanceReport(areas=areas, velocity_closure=closure,
                          displacement_closure=float(residuals[-1]), rise=moved["rise"],
@@ -202,7 +202,7 @@ def check_recorded(law: PiecewiseLinearLaw, record) -> BalanceReport:
     s = kin.s - law.kinematics(np.zeros(1)).s[0]
     ends = law.kinematics(np.array([0.0, cycle]))
     closure_s, closure_v = float(ends.s[1] - ends.s[0]), float(ends.v[1] - ends.v[0])
-    lift = record.lift if record.lift is not None else _scale(law)
+    lift = record.lift if record.lift is not None else lift_scale(law)
     limit = record.tol * lift
     dwells = [p for p in law.phases if p.kind == "dwell"]
     deviation, at = 0.0, None
@@ -309,13 +309,13 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
     conds = conditions(law)
     approximate = trapezoid_residuals(law, step_deg, conds)
     exact = functional_rows(law.x, conds) @ law.a - targets(conds)
-    limit = tol * _scale(law)
+    limit = tol * lift_scale(law)
     return {"step_deg": step_deg, "residuals": [float(r) for r in approximate],
             "balanced": bool(np.all(np.abs(approximate) <= limit)),
             "error_vs_exact": [float(e) for e in approximate - exact]}
 
 
-def _scale(law: PiecewiseLinearLaw) -> float:
+def lift_scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
     from camcad.law.source import rise_displacement
 

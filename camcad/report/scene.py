@@ -28,8 +28,8 @@ from camcad.profile.servo import ServoExport
 from camcad.report.animation import write_animation
 from camcad.report.design_report import write_design_report
 from camcad.report.part_files import scene_part_files, write_part_files
+from camcad.report.scene_toml import scene_toml
 from camcad.report.servo import servo_files, write_servo
-from camcad.report.sweep import scene_toml
 from camcad.scene.animation import mechanism_frames
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
