@@ -21,6 +21,7 @@ from camcad.balance.conditions import (
 )
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import phases_integrals
+from camcad.law.source import rise_displacement
 
 # ---------------------------------------------------------------------------------------------
 # Check
@@ -317,8 +318,6 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
 
 def lift_scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; max |s| if there is no rise."""
-    from camcad.law.source import rise_displacement
-
     rise = rise_displacement(law)
     if rise > 0:
         return rise

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from camcad.balance.checking import check
-from camcad.balance.conditions import DEFAULT_STEP_DEG, functional_rows
+from camcad.balance.conditions import DEFAULT_STEP_DEG, conditions, functional_rows, lift_conditions, targets
 from camcad.balance.modes import vertex_mode
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
@@ -85,8 +85,6 @@ def phase_mode(law, mode, max_stretch, hold, tol, where, notes, lift_targets=Non
     notes.append("phase angles changed: " + ", ".join(
         f"{p.kind} {np.degrees(p.start):.4g}..{np.degrees(p.end):.4g} deg" for p in current.phases))
     if mode == "phase-keypoints":
-        from camcad.balance.conditions import conditions, lift_conditions, targets
-
         conds = conditions(current) + (lift_conditions(current, lift_targets) if lift_targets is not None else ())
         residual = np.abs(functional_rows(current.x, conds) @ current.a - targets(conds))
         if np.any(residual > 1e-12 * check(current, tol).tolerance_abs / tol):

@@ -13,7 +13,6 @@ from typing import Annotated
 import typer
 
 from camcad.errors import CamcadError
-from camcad.io.jsonout import to_jsonable
 
 #: exit codes (SPEC.md)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -106,6 +105,9 @@ def echo(text: str = "") -> None:
 
 
 def print_json(payload: dict) -> None:
+    """``payload`` as indented JSON on stdout (numpy values and paths made plain)."""
+    from camcad.io.jsonout import to_jsonable
+
     print(json.dumps(to_jsonable(payload), indent=2))
 
 

@@ -11,6 +11,7 @@ import numpy as np
 from camcad.fourier.exact import Piece, checked_pieces, pieces_coefficients, polyline_analysis
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
+from camcad.law.standard import CompositeLaw
 
 # =============================================================================================
 # Analysis entry points
@@ -38,8 +39,6 @@ def exact_available(law) -> bool:
     >>> exact_available(law)
     True
     """
-    from camcad.law.standard import CompositeLaw
-
     if isinstance(law, (PiecewiseLinearLaw, FourierLaw)):
         return True
     if isinstance(law, CorrectedLaw):
@@ -131,8 +130,6 @@ def analyse(law: MotionLaw, harmonics: int = 64, *, tol: float = 1e-9, method: s
 
 
 def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
-    from camcad.law.standard import CompositeLaw
-
     cycle = law.cycle
     if isinstance(law, FourierLaw):
         c = np.zeros(harmonics, dtype=complex)

@@ -11,6 +11,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.law import standard
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.numerics import hurwitz_zeta
 
@@ -191,8 +192,6 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     >>> [round(float(x), 12) for x in p], sorted(round(float(r), 12) for r in rates)   # cos as two exponentials
     ([0.5], [-3.14159265359, 3.14159265359])
     """
-    from camcad.law import standard
-
     two_pi = 2.0 * np.pi
     if isinstance(shape, standard.Cycloidal):
         terms = (np.array([0.0, 1.0]), np.array([two_pi, -two_pi]),

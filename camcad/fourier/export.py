@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad import balance
 from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import analyse
@@ -202,8 +203,6 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
     >>> exported.closed, exported.max_deviation < 0.01          # mm, 0.04 % of the 25 mm lift: the chords at 0.5 deg
     (True, True)
     """
-    from camcad import balance
-
     polyline = acceleration_polyline(law, step_deg)
     kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     phases = tuple(law.phases)

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from camcad import balance
 from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.fourier.export import acceleration_polyline, left_value, right_value
@@ -145,8 +146,6 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     >>> round(result.lift_new, 9)                               # scaled back to the 25 mm lift
     25.0
     """
-    from camcad import balance
-
     if not (np.isfinite(angle_deg) and angle_deg > 0):
         raise CamcadError(f"lead-in angle {angle_deg!r} deg must be positive", where, "give e.g. 14 (deg)")
     if not (np.isfinite(fraction) and 0 < fraction <= 1):

@@ -13,6 +13,7 @@ from camcad.errors import CamcadError
 from camcad.fourier.analysis import grow_until_found
 from camcad.fourier.exact import EPS, TAIL_ORDERS, Piece, gauss_legendre, shape_terms, tail_mean_square
 from camcad.fourier.series import FourierLaw, Spectrum, series_on_grid
+from camcad.law.standard import SHAPES, compose
 
 # =============================================================================================
 # The database of harmonic patterns of the standard laws, and synthesis from it
@@ -112,8 +113,6 @@ def pattern_database() -> dict[str, MotionPattern]:
     >>> sorted(pattern_database())[:3]
     ['cycloidal', 'harmonic', 'poly345']
     """
-    from camcad.law.standard import SHAPES
-
     database = {}
     for name, shape in SHAPES.items():
         if shape_terms(shape) is not None:
@@ -339,8 +338,6 @@ def synthesise_standard(phases_deg, lift: float, tol: float, *, shape: str = "cy
     >>> synthesis.reached, synthesis.rms_measured <= 1e-3
     (True, True)
     """
-    from camcad.law.standard import compose
-
     if not (np.isfinite(tol) and tol > 0):
         raise CamcadError(f"tolerance {tol!r} mm must be positive", "synthesis", "give e.g. 1e-3 mm")
     exact = compose(list(phases_deg), lift, shape, return_shape, cycle_deg)

@@ -17,8 +17,15 @@ from typing import Any
 import numpy as np
 
 from camcad.arrays import unique
-from camcad.report.figure import COLOURS, new_figure
+from camcad.io.atomic import write_text_atomic
+from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.scene import run_scene
 from camcad.report.scene_toml import scene_toml
+from camcad.scene.pipeline import PipelineOptions
+from camcad.sweep import analysis
+from camcad.sweep.evaluate import prepared
+from camcad.sweep.space import apply_values
+from camcad.sweep.store import read_results
 
 #: colours of the failing checks, in order of their counts (the feasible cells are pale green)
 FAIL_COLOURS = ("#c62828", "#1565c0", "#ef6c00", "#6a1b9a", "#00838f", "#8d6e63", "#ad1457", "#9e9d24",
@@ -261,11 +268,6 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
     """
     from pathlib import Path
 
-    from camcad.report.figure import save_figure
-    from camcad.sweep import analysis
-    from camcad.sweep.space import apply_values
-    from camcad.sweep.store import read_results
-
     folder = Path(folder)
     path = (lambda *parts: out.path(*parts)) if out is not None else (lambda *parts: folder.joinpath(*parts))
     table = read_results(folder)
@@ -315,15 +317,11 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
                   + "\n".join(f"  {k} = {v}" for k, v in values.items())
                   + f"\nbest by: {', '.join(o.text for o in objectives)}")
         best_path = path("best.toml")
-        from camcad.io.atomic import write_text_atomic
 
         write_text_atomic(best_path, scene_toml(best_tables, header))
         outputs.append(best_path)
         report["best"]["scene"] = str(best_path)
         if run_best:
-            from camcad.report.scene import run_scene
-            from camcad.scene.pipeline import PipelineOptions
-
             result = run_scene(best_path, PipelineOptions(output=path("best"), plots=("summary",) if plots else ()))
             report["best"]["profile"] = {"passed": bool(result.passed), "folder": str(path("best")),
                                          "tightest": _tightest(result.report)}
@@ -345,8 +343,6 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
 
 
 def _space(plan):
-    from camcad.sweep.evaluate import prepared
-
     return prepared(plan.task).space
 
 
@@ -382,8 +378,6 @@ def _absolute_files(tables: dict, base_dir) -> dict:
 
 
 def _region(points, axes, grid_keys, best, units, space, draw: bool = True):
-    from camcad.sweep import analysis
-
     x_key, y_key = axes
     fixed = {}
     mask = np.ones(len(points["design"]), dtype=bool)
@@ -414,8 +408,6 @@ def _region(points, axes, grid_keys, best, units, space, draw: bool = True):
 def _write_csv(path, points, rows, grid_keys, objectives) -> None:
     import csv
     import io
-
-    from camcad.io.atomic import write_text_atomic
 
     # each column once: an objective may be a varied key or min_margin_ratio itself (the default objective)
     columns = list(dict.fromkeys(["design", *grid_keys, *[o.column for o in objectives], "governing",

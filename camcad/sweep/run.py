@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from camcad.errors import CamcadError
+from camcad.scene.default import default_tables
+from camcad.scene.file import read_scene
 from camcad.sweep import store
 from camcad.sweep.engine import Engine
 from camcad.sweep.evaluate import (
@@ -83,11 +85,7 @@ class SweepPlan:
 
 def load_scene_tables(scene_path: Path | None) -> tuple[dict, str, Path | None, list[Path]]:
     """(tables, name, folder of relative law files, input files) of a scene file, or of the built-in default."""
-    from camcad.scene.file import read_scene
-
     if scene_path is None:
-        from camcad.scene.default import default_tables
-
         return default_tables(), "built-in default", None, []
     scene = read_scene(scene_path)  # the structure is checked here, each section by the pipeline
     return scene.raw, scene_path.name, scene.base_dir, scene.input_files()
