@@ -20,8 +20,10 @@ from camcad.dynamics.model import OUTPUT_UNITS, unit_key
 from camcad.report.command import finish, open_folder
 from camcad.report.command import write_figures as write_planned
 from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.stop import analogs_window, plot_analogs, plot_published, published_lines
 from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
 from camcad.scene.commands.dynamics import run_dynamics_report
+from camcad.scene.commands.impact import run_impact_report
 from camcad.scene.commands.source import resolve_source
 from camcad.verdict import note_line
 
@@ -347,7 +349,6 @@ def published_figures(run, name: str = "") -> list[tuple[str, object]]:
     (``impact_analogs.png``, the source's Fig. 4)."""
     if not run.comparisons:
         return []
-    from camcad.report.stop import analogs_window, plot_analogs, plot_published
 
     speeds = sorted({c.figure.rpm for c in run.comparisons if c.figure.rpm is not None
                      and min(run.sweep.speeds_rpm) <= c.figure.rpm <= max(run.sweep.speeds_rpm)})
@@ -453,7 +454,6 @@ def impact_lines(run) -> list[str]:
                      f"b {fmt(beam['arm_b_mm'])} mm, stop at {fmt(beam['stop_arm_mm'], 6)} mm from the pivot: "
                      f"c free {fmt(beam['free_stiffness_N_per_m'])} N/m, on the stop "
                      f"{fmt(beam['stop_stiffness_N_per_m'])} N/m")
-    from camcad.report.stop import published_lines
 
     lines += published_lines(report.result)
     lines += verdict_lines(report.verdict, common_applies(report))
@@ -487,8 +487,6 @@ def dynamics_command(command: DynamicsCommand, progress=None):
 def impact_command(command: DynamicsCommand, progress=None):
     """Run ``camcad impact``: resolve the law, compute (camcad.scene.commands.impact.run_impact_report), write the plots
     and impact.json. Returns a CommandRun."""
-    from camcad.scene.commands.impact import run_impact_report
-
     request = cast("ImpactRequest", command.request)  # camcad impact asks with an ImpactRequest
     src = resolve_source(request.law, command="impact", require=(
         ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))

@@ -29,6 +29,7 @@ from camcad.report.animation import write_animation
 from camcad.report.design_report import write_design_report
 from camcad.report.figure import save_figure
 from camcad.report.part_files import scene_part_files, write_part_files
+from camcad.report.profile import PLOTS, SummaryPage, save_profile_plots
 from camcad.report.profile_files import write_outputs
 from camcad.report.scene_toml import scene_toml
 from camcad.report.servo import servo_files, write_servo
@@ -216,8 +217,6 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
     every = "all" in plots
     written: list[Path] = []
     if run.profile is not None:
-        from camcad.report.profile import PLOTS, save_profile_plots
-
         wanted = tuple(name for name in PLOTS if every or name in plots)
         written.extend(save_profile_plots(run.profile, folder, wanted, report, page=page))
     figures = []
@@ -268,8 +267,6 @@ CYCLOGRAM_JOB = "[cyclogram]"
 def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
     """Every mechanism's plots and the cyclogram's, in this process, the summaries into one shared page
     (module docstring)."""
-    from camcad.report.profile import SummaryPage
-
     page: SummaryPage | None = None
     drawn = []
     for name, run, folder, plots, report in jobs:
