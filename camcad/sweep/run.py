@@ -3,7 +3,7 @@
 ``prepare_sweep`` reads the scene, builds the design space (every key and SPEC checked before any work) and
 runs design 0 in this process: a scene or a first design the pipeline refuses stops the sweep with one line,
 and its time sizes the chunks (``TARGET_CHUNK_S`` of work each, at least ``CHUNKS_PER_WORKER`` chunks per
-worker). ``run_sweep`` then computes every chunk whose file is missing (all of them for a fresh folder, the
+worker). ``compute_chunks`` then computes every chunk whose file is missing (all of them for a fresh folder, the
 rest for ``--resume``), writing each one as it completes. Timings, never in the data, are returned as a
 ``RunStats``: wall time, the workers' CPU time, designs per second, and per core.
 """
@@ -190,7 +190,7 @@ class RunStats:
 Progress = Callable[[int, int, int, float], None]
 
 
-def run_sweep(plan: SweepPlan, folder: Path, engine: Engine, resume: bool = False,
+def compute_chunks(plan: SweepPlan, folder: Path, engine: Engine, resume: bool = False,
               progress: Progress | None = None, stop_after_chunks: int | None = None, out=None) -> RunStats:
     """Compute the plan's chunks that are not on disk in ``folder`` and write each as it completes.
 
