@@ -84,7 +84,7 @@ def sweep_rows(designs_default: int, designs_loom: int, rounds: int) -> list[dic
     import statistics
 
     from camcad.sweep.engine import make_engine
-    from camcad.sweep.run import prepare_sweep, run_sweep, sized
+    from camcad.sweep.run import compute_chunks, prepare_sweep, sized
 
     rows = []
     radii = max(1, designs_default // 10)
@@ -100,7 +100,7 @@ def sweep_rows(designs_default: int, designs_loom: int, rounds: int) -> list[dic
             for workers in (1, 2):
                 with tempfile.TemporaryDirectory() as folder, make_engine(workers) as engine:
                     sized_plan = sized(plan, workers, max(1, plan.designs // (4 * workers)))
-                    runs[workers].append(run_sweep(sized_plan, Path(folder), engine).as_dict())
+                    runs[workers].append(compute_chunks(sized_plan, Path(folder), engine).as_dict())
         rates = {}
         for workers in (1, 2):
             found = runs[workers]

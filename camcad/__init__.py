@@ -30,7 +30,8 @@ Contact: ``ContactParams``, ``contact_stress``. Drive: ``CamDrive`` (camshaft to
 ``energy_fluctuation`` (flywheel), ``run_drive``/``DriveRequest`` (``camcad drive``), ``servo_table``,
 ``polydyne_law``. Cyclogram: ``Operation``, ``make_network``, ``optimise``; a machine of
 groups: ``Group``, ``make_machine``, ``optimise_machine``.
-Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``. Speed against error:
+Scenes: ``read_scene``, ``PipelineOptions``, ``analyse_scene``, ``run_scene``; a design space swept:
+``run_sweep``/``SweepRequest`` (``camcad sweep``). Speed against error:
 ``run_bench``/``BenchRequest`` (``camcad bench``). Linkages (Sunkuev 1984): a request in,
 a report out (``to_dict()``, ``exit_code``, ``lines()``) — ``run_linkage_atlas`` (``AtlasRequest``),
 ``run_linkage_fgen`` (``FgenRequest``), ``run_linkage_path`` (``PathRequest``), ``run_linkage_family``
@@ -118,6 +119,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs; at run time they load
     )
     from camcad.report.profile_files import write_outputs
     from camcad.report.scene import run_scene
+    from camcad.report.sweep_command import SweepRequest, run_sweep
     from camcad.scene.animation import MechanismFrames, mechanism_frames
     from camcad.scene.commands.drive import DriveRequest, run_drive
     from camcad.scene.file import read_scene
@@ -153,6 +155,7 @@ _EXPORTS: dict[str, str] = {
     "ProfileResult": "camcad.profile.synth", "synthesize": "camcad.profile.synth",
     "profile_report": "camcad.profile.summary", "synthesize_many": "camcad.profile.batch",
     "BenchRequest": "camcad.report.bench", "run_bench": "camcad.report.bench",
+    "SweepRequest": "camcad.report.sweep_command", "run_sweep": "camcad.report.sweep_command",
     "PipelineOptions": "camcad.scene.pipeline", "min_base_radius": "camcad.profile.design",
     "write_outputs": "camcad.report.profile_files",
     "ExportSettings": "camcad.scene.sections.export", "part_files": "camcad.report.part_files",
@@ -229,6 +232,7 @@ __all__ = [
     "SegmentSpec",
     "ShaftCam",
     "StopModel",
+    "SweepRequest",
     "TuneRequest",
     "__version__",
     "analyse",
@@ -286,6 +290,7 @@ __all__ = [
     "run_linkage_path",
     "run_linkage_tune",
     "run_scene",
+    "run_sweep",
     "servo_table",
     "simulate_shaft",
     "solve_segments",

@@ -21,6 +21,7 @@ from camcad.balance.conditions import (
 )
 from camcad.law.law import PiecewiseLinearLaw, integrate_trapezoid
 from camcad.law.phases import phases_integrals
+from camcad.law.source import rise_displacement
 
 # ---------------------------------------------------------------------------------------------
 # Check
@@ -154,7 +155,7 @@ def check(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL) -> BalanceReport:
                 closure[phase.kind] = off
     conds = conditions(law)
     residuals = functional_values(x, a, conds) - targets(conds)
-    scale = _scale(law)
+    scale = lift_scale(law)
     limit = tol * scale
     return BalanceReport(areas=areas, velocity_closure=closure,
                          displacement_closure=float(residuals[-1]), rise=moved["rise"],
@@ -202,7 +203,7 @@ def check_recorded(law: PiecewiseLinearLaw, record) -> BalanceReport:
     s = kin.s - law.kinematics(np.zeros(1)).s[0]
     ends = law.kinematics(np.array([0.0, cycle]))
     closure_s, closure_v = float(ends.s[1] - ends.s[0]), float(ends.v[1] - ends.v[0])
-    lift = record.lift if record.lift is not None else _scale(law)
+    lift = record.lift if record.lift is not None else lift_scale(law)
     limit = record.tol * lift
     dwells = [p for p in law.phases if p.kind == "dwell"]
     deviation, at = 0.0, None
@@ -309,18 +310,16 @@ def check_by_trapezoid(law: PiecewiseLinearLaw, tol: float = DEFAULT_TOL,
     conds = conditions(law)
     approximate = trapezoid_residuals(law, step_deg, conds)
     exact = functional_rows(law.x, conds) @ law.a - targets(conds)
-    limit = tol * _scale(law)
+    limit = tol * lift_scale(law)
     return {"step_deg": step_deg, "residuals": [float(r) for r in approximate],
             "balanced": bool(np.all(np.abs(approximate) <= limit)),
             "error_vs_exact": [float(e) for e in approximate - exact]}
 
 
-def _scale(law: PiecewiseLinearLaw) -> float:
+def lift_scale(law: PiecewiseLinearLaw) -> float:
     """The rise displacement (mm), the yardstick of every closure; the range of s if there is no rise or the rise
     is round-off (below 1e-9 of max |a|·T²: a rise with no return, corrected to end where it began, is judged
     against the range of its motion, not against a net rise of 1e-14 mm), and never below that round-off."""
-    from camcad.law.source import rise_displacement
-
     rise = rise_displacement(law)
     roundoff = 1e-9 * float(np.max(np.abs(law.a), initial=0.0)) * float(law.cycle) ** 2
     if rise > roundoff:

@@ -27,8 +27,8 @@ from camcad.balance.conditions import (
     stated_ends,
     valid_tol,
 )
-from camcad.balance.modes import _resample, _vertex_mode
-from camcad.balance.phase import _phase_mode
+from camcad.balance.modes import resample_law, vertex_mode, zero_law_message
+from camcad.balance.phase import phase_mode
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear
 from camcad.law.phases import zero_threshold
@@ -222,7 +222,7 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
         rises = ", ".join(f"{np.degrees(p.start):.4g}..{np.degrees(p.end):.4g}" for p in law.phases
                           if p.kind == "rise")
         try:  # with too few vertices even a free lift leaves no motion: that is the first thing to say
-            free, _ = _vertex_mode(start, "min-change", "exact", tol, step_deg, None, hold, 0, where)
+            free, _ = vertex_mode(start, "min-change", "exact", tol, step_deg, None, hold, 0, where)
             no_motion = not np.any(np.abs(free.a[_drawn(free.x)]) > zero_threshold(law.a))
         except CamcadError:
             no_motion = False
@@ -239,14 +239,14 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
     if mode in ("phase", "phase-keypoints"):
         if method == "iterate":
             notes.append("phase modes are solved in closed form; --method iterate does not apply")
-        corrected, iterations = _phase_mode(start, mode, max_stretch, hold, tol, where, notes,
+        corrected, iterations = phase_mode(start, mode, max_stretch, hold, tol, where, notes,
                                             lift_targets=targets_or_none)
         resampled = False
     else:
         resampled = mode == "extrema-resample"
         if resampled:
-            start, hold = _resample(start, step_deg, hold)
-        corrected, iterations = _vertex_mode(start, mode, method, tol, step_deg, segment_deg, hold,
+            start, hold = resample_law(start, step_deg, hold)
+        corrected, iterations = vertex_mode(start, mode, method, tol, step_deg, segment_deg, hold,
                                              max_iterations, where, lift_targets=targets_or_none)
     if not np.all(np.isfinite(corrected.a)) or not np.any(np.abs(corrected.a[_drawn(corrected.x)])
                                                           > zero_threshold(law.a)):
@@ -273,12 +273,6 @@ def correct(law: PiecewiseLinearLaw, mode: str = "min-change", *, tol: float = D
 
 #: a relative change at or below this is round-off, not a change a designer made (vertices_changed)
 ROUND_OFF = 1e-12
-
-
-def zero_law_message(mode: str, vertices: int, count: int) -> str:
-    """What to say when the only balanced law a mode can reach has no motion left."""
-    return (f"mode {mode} can balance this law only by removing all its motion (every acceleration zero): the "
-            f"{vertices}-vertex law has too few points to move for its {count} balance conditions")
 
 
 def _drawn(x: np.ndarray) -> np.ndarray:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from camcad.balance.checking import _scale, trapezoid_residuals
+from camcad.balance.checking import lift_scale, trapezoid_residuals
 from camcad.balance.conditions import Condition, valid_step
 from camcad.errors import CamcadError
 from camcad.law.phases import sign_runs
@@ -14,7 +14,7 @@ from camcad.law.phases import sign_runs
 WORK_BUDGET = 20_000_000
 
 
-def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where):
+def iterate_moves(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where):
     """The source's loop: trapezoid integration at step_deg, trial steps on one knob per condition.
 
     Knob of the velocity condition of a phase: the movable points of that phase's closing part
@@ -24,7 +24,7 @@ def _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, wh
     searched with expanding trial steps until the residual changes sign, then by halving, and the
     conditions are swept in turn until all agree within the tolerance.
     """
-    limit = tol * _scale(law)
+    limit = tol * lift_scale(law)
     valid_step(step_deg, law.cycle)
     points = law.cycle / np.radians(step_deg) + len(law.x)
     max_iterations = int(min(max_iterations, max(100, WORK_BUDGET // points)))

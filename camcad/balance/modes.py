@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camcad.arrays import unique
-from camcad.balance.checking import _scale
+from camcad.balance.checking import lift_scale
 from camcad.balance.conditions import (
     Condition,
     conditions,
@@ -30,7 +30,7 @@ from camcad.balance.conditions import (
     targets,
     valid_step,
 )
-from camcad.balance.iterate import _iterate
+from camcad.balance.iterate import iterate_moves
 from camcad.errors import CamcadError
 from camcad.law.law import PiecewiseLinearLaw, sample_piecewise_linear, uniform_grid
 from camcad.law.phases import zero_threshold
@@ -76,7 +76,7 @@ def jump_nodes(x: np.ndarray) -> np.ndarray:
     return np.concatenate(([0], np.cumsum(x[1:] != x[:-1]))).astype(int)
 
 
-def _resample(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
+def resample_law(law: PiecewiseLinearLaw, step_deg: float, hold: np.ndarray):
     """The law resampled at a uniform step; jumps keep both their vertices so they stay vertical."""
     valid_step(step_deg, law.cycle)
     grid = uniform_grid(0.0, law.cycle, np.radians(step_deg))
@@ -348,7 +348,7 @@ def _lobe_extrema(a: np.ndarray, lobe: np.ndarray) -> list[np.ndarray]:
 
 # --- solving ---------------------------------------------------------------------------------------
 
-def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterations, where,
+def vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterations, where,
                  lift_targets=None):
     """Balance ``law`` by moving the vertices ``mode`` allows; with ``lift_targets`` (mm, one per rise)
     the displacement over each rise is held at that value too."""
@@ -366,7 +366,7 @@ def _vertex_mode(law, mode, method, tol, step_deg, segment_deg, hold, max_iterat
         # the vertex is written as drawn
         delta[np.abs(delta) <= ROUND_OFF_CHANGE * float(np.max(np.abs(law.a), initial=0.0))] = 0.0
         return law.with_ordinates(law.a + delta), 1
-    return _iterate(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where)
+    return iterate_moves(law, mode, conds, basis, touched, tol, step_deg, max_iterations, where)
 
 
 def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, use_mass: bool,
@@ -425,7 +425,7 @@ def least_change(law: PiecewiseLinearLaw, conds: tuple[Condition, ...], basis, u
         p = _sparse_change(law, basis, rows, residual, use_mass)
     delta = np.asarray(basis @ p).ravel()
     remaining = rows @ (law.a + delta) - goal
-    limit = SOLVE_TOLERANCE * _scale(law)
+    limit = SOLVE_TOLERANCE * lift_scale(law)
     if not np.all(np.isfinite(delta)) or np.any(np.abs(remaining) > limit):
         A = basis.restrict(rows) if isinstance(basis, NodeBasis) else np.asarray((basis.T @ rows.T).T)
         _explain_unreachable(A, residual, conds, mode, where, limit, law, basis)
@@ -499,10 +499,14 @@ def _sparse_change(law: PiecewiseLinearLaw, basis, rows: np.ndarray, residual: n
     return p
 
 
+def zero_law_message(mode: str, vertices: int, count: int) -> str:
+    """What to say when the only balanced law a mode can reach has no motion left."""
+    return (f"mode {mode} can balance this law only by removing all its motion (every acceleration zero): the "
+            f"{vertices}-vertex law has too few points to move for its {count} balance conditions")
+
+
 def _explain_unreachable(A, residual, conds, mode, where, limit, law, basis):
     """Raise the CamcadError that says which condition cannot be met, and what can meet it."""
-    from camcad.balance.correction import zero_law_message
-
     norms = np.abs(A).max(axis=1)
     biggest = max(float(norms.max()), 1e-300) if len(norms) else 1e-300
     other_modes = "use --mode min-change or keypoints (they move every point off the axis)"

@@ -6,15 +6,15 @@ from __future__ import annotations
 import numpy as np
 
 from camcad.balance.checking import check
-from camcad.balance.conditions import DEFAULT_STEP_DEG, functional_rows
-from camcad.balance.modes import _vertex_mode
+from camcad.balance.conditions import DEFAULT_STEP_DEG, conditions, functional_rows, lift_conditions, targets
+from camcad.balance.modes import vertex_mode
 from camcad.errors import CamcadError
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import phase_integrals, sign_runs
 
 # --- phase modes ----------------------------------------------------------------------------------
 
-def _phase_mode(law, mode, max_stretch, hold, tol, where, notes, lift_targets=None):
+def phase_mode(law, mode, max_stretch, hold, tol, where, notes, lift_targets=None):
     """Stretch phase parts in angle (closed form), the next dwell taking up the change.
 
     The ordinates stay, so stretching a part by f scales its area (velocity change) by f and its
@@ -85,13 +85,11 @@ def _phase_mode(law, mode, max_stretch, hold, tol, where, notes, lift_targets=No
     notes.append("phase angles changed: " + ", ".join(
         f"{p.kind} {np.degrees(p.start):.4g}..{np.degrees(p.end):.4g} deg" for p in current.phases))
     if mode == "phase-keypoints":
-        from camcad.balance.conditions import conditions, lift_conditions, targets
-
         conds = conditions(current) + (lift_conditions(current, lift_targets) if lift_targets is not None else ())
         residual = np.abs(functional_rows(current.x, conds) @ current.a - targets(conds))
         if np.any(residual > 1e-12 * check(current, tol).tolerance_abs / tol):
             # vertex order is unchanged by a stretch, so the held vertices are the same indices
-            current, _ = _vertex_mode(current, "keypoints", "exact", tol, DEFAULT_STEP_DEG, None,
+            current, _ = vertex_mode(current, "keypoints", "exact", tol, DEFAULT_STEP_DEG, None,
                                       hold, 0, where, lift_targets=lift_targets)
     return current, 1
 

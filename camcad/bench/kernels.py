@@ -26,7 +26,7 @@ import numpy as np
 
 from camcad import balance, dynamics, fourier
 from camcad.bench import floors, peers, references
-from camcad.bench.timing import cpu_interleaved
+from camcad.bench.timing import cpu_interleaved, cpu_once
 from camcad.io.table_read import MAX_TABLE_LINES, read_table
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.law.phases import detect_phases
@@ -220,7 +220,6 @@ def dynamics_rows(rounds: int, quick: bool) -> list[dict]:
         candidates["peer"] = peer
     times = cpu_interleaved(candidates, rounds if not quick else 3)
     if quick:       # the peer takes seconds: one timed call
-        from camcad.bench.timing import cpu_once
 
         times["peer"], peer_result = cpu_once(peer)
     else:

@@ -27,6 +27,10 @@ import statistics
 import subprocess
 import sys
 
+from camcad.scene.default import default_tables
+from camcad.sweep.engine import DaskCluster, LocalPool
+from camcad.sweep.evaluate import make_task
+
 #: (name, --vary specs, designs in a full run, in a quick run, target designs/s/core)
 SWEEPS = (
     ("follower dimensions (default scene)", ("follower.base_radius=30:79.5:0.5", "follower.roller_radius=5:14:1"),
@@ -118,10 +122,6 @@ def rate_rows(quick: bool) -> list[dict]:
 
 def engine_rows(quick: bool) -> list[dict]:
     """The follower sweep on a local pool of 2 processes and on a Dask LocalCluster of 2 worker processes."""
-    from camcad.scene.default import default_tables
-    from camcad.sweep.engine import DaskCluster, LocalPool
-    from camcad.sweep.evaluate import make_task
-
     name, vary, full, small, _ = SWEEPS[0]
     count = small if quick else full
     task = make_task(default_tables(), "built-in default", None, list(vary), None, 0)

@@ -13,7 +13,6 @@ from typing import Annotated
 import typer
 
 from camcad.errors import CamcadError
-from camcad.io.jsonout import to_jsonable
 
 #: exit codes (docs/INTERFACE.md)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -106,6 +105,9 @@ def echo(text: str = "") -> None:
 
 
 def print_json(payload: dict) -> None:
+    """``payload`` as indented JSON on stdout (numpy values and paths made plain)."""
+    from camcad.io.jsonout import to_jsonable
+
     print(json.dumps(to_jsonable(payload), indent=2))
 
 
@@ -141,7 +143,7 @@ def load_law_from_options(path: Path, layer: str | None, handle: str | None, cyc
 
     if origin is not None:
         x0, y0 = parse_origin(origin, x0, y0)
-    stated = cycle != 360.0 or _given("cycle")
+    stated = cycle != 360.0 or option_given("cycle")
     return load_law(path, layer=layer, handle=handle, cycle_deg=cycle if stated else None, lift=lift,
                     phases=phases, x_deg=x_deg, y0=y0, x0=x0, **table_options)
 
@@ -160,7 +162,7 @@ def parse_origin(text: str, x0: float | None, y0: float | None) -> tuple[float, 
                           "write --origin X,Y, e.g. --origin 10,104.5") from None
 
 
-def _given(name: str) -> bool:
+def option_given(name: str) -> bool:
     """True when the option ``name`` of the running command was given on the command line (or
     when no command is running: a library call states what it passes)."""
     try:  # typer >= 0.16 runs its own copy of click

@@ -24,8 +24,8 @@ from camcad.cli.common import (
     X0Opt,
     XDegOpt,
     Y0Opt,
-    _given,
     echo,
+    option_given,
     parse_origin,
     print_json,
     progress_line,
@@ -242,7 +242,7 @@ def _scene_tables(target: Path | None, *, rb, auto_rb, rr, offset, kind, pivot, 
         if origin is not None:
             x0, y0 = parse_origin(origin, x0, y0)
         law = {"file": str(target.resolve())}
-        if cycle != 360.0 or _given("cycle"):   # a cycle not stated is found from the drawing
+        if cycle != 360.0 or option_given("cycle"):   # a cycle not stated is found from the drawing
             law["cycle"] = cycle
         law.update({k: v for k, v in (("lift", lift), ("phases", phases), ("layer", layer), ("handle", handle),
                                       ("y0", y0), ("x0", x0)) if v is not None})

@@ -19,7 +19,7 @@ from typing import Any
 from camcad.cyclogram.conflicts import find_conflict
 from camcad.cyclogram.constraints import Constraint, constraints_of, effective_lower_bounds
 from camcad.cyclogram.limits import PhaseLimit
-from camcad.cyclogram.network import Network, _reachable
+from camcad.cyclogram.network import Network, reachable_from
 from camcad.cyclogram.slack import SLACK_RULE, spread_slack
 from camcad.errors import CamcadError
 
@@ -318,8 +318,8 @@ def _critical(network: Network, tight: list[Constraint]) -> tuple[list[Constrain
     for c in tight:
         forward[c.tail].append(c)
         backward[c.head].append(c)
-    from_start = _reachable(network.start, {e: [c.head for c in forward[e]] for e in network.events})
-    to_end = _reachable(network.end, {e: [c.tail for c in backward[e]] for e in network.events})
+    from_start = reachable_from(network.start, {e: [c.head for c in forward[e]] for e in network.events})
+    to_end = reachable_from(network.end, {e: [c.tail for c in backward[e]] for e in network.events})
     active = [c for c in tight if c.tail in from_start and c.head in to_end]
     active_set = set(active)
     # one path: breadth-first over active constraints, in operation order

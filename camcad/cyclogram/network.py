@@ -222,8 +222,8 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
         if name not in order:
             raise CamcadError(f"{role} event {name!r} is not an event of the network", where,
                               nearest_name(name, order).replace("valid keys", "events"))
-    after_start = _reachable(start, successors)
-    before_end = _reachable(end, predecessors)
+    after_start = reachable_from(start, successors)
+    before_end = reachable_from(end, predecessors)
     for event in order:
         if event not in after_start:
             raise CamcadError(f"event {event!r} does not follow the first event {start!r}", where,
@@ -236,7 +236,8 @@ def make_network(operations: Iterable[Operation], events: Iterable[str] | None =
     return Network(tuple(order), ops, start, end, float(cycle_deg), float(start_deg))
 
 
-def _reachable(origin: str, neighbours: Mapping[str, list[str]]) -> set[str]:
+def reachable_from(origin: str, neighbours: Mapping[str, list[str]]) -> set[str]:
+    """The nodes reachable from ``origin`` along ``neighbours`` (``origin`` included)."""
     seen = {origin}
     stack = [origin]
     while stack:

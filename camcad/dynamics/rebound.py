@@ -40,7 +40,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from camcad.dynamics.impact import StopModel, find_contact, first_rebound, impact_at
-from camcad.dynamics.model import rpm_to_rad_s
+from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
+from camcad.dynamics.steady import steady_state
 from camcad.errors import CamcadError
 from camcad.law.law import MotionLaw
 
@@ -282,9 +283,6 @@ def elastic_approach(law: MotionLaw, stop: StopModel, rpm: float, natural_freque
     """The approach velocity (m/s) of the elastic follower (``ElasticFollower`` at fn, ζ: the link's
     elasticity during the approach, as in the paper's Fig. 4) where its steady-state displacement reaches
     the stop (lift − preload for the upper stop), at ``rpm``."""
-    from camcad.dynamics.model import ElasticFollower
-    from camcad.dynamics.steady import steady_state
-
     contact = find_contact(law, stop.stop, stop.preload_mm, stop.ratio)
     response = steady_state(law, ElasticFollower(natural_frequency_hz, damping_ratio), rpm, samples=samples)
     theta, y = response.theta, response.displacement_elastic

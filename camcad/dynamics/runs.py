@@ -31,6 +31,12 @@ from typing import Any, cast
 
 import numpy as np
 
+from camcad.dynamics.impact import impact_sweep
+from camcad.dynamics.model import OUTPUT_UNITS, LoadSum, rpm_to_rad_s, unit_key
+from camcad.dynamics.rebound import compare_published, rebound_study
+from camcad.dynamics.spectrum import check_closure, law_spectrum
+from camcad.dynamics.steady import steady_state, sweep
+from camcad.fourier.leadin import add_lead_in
 from camcad.verdict import Check, Verdict, Warning
 
 #: a harmonic of non-zero amplitude whose frequency is within this fraction of the natural frequency at
@@ -88,10 +94,7 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
     -------
     DynamicsRun
     """
-    from camcad.dynamics.model import OUTPUT_UNITS, unit_key
     from camcad.dynamics.residual import residual_vibration
-    from camcad.dynamics.spectrum import check_closure
-    from camcad.dynamics.steady import sweep
 
     follower = settings.follower
     lift = check_closure(law)
@@ -145,8 +148,6 @@ def run_dynamics(law, settings, speeds: list[float], *, progress: Callable | Non
         if compare is not None:
             report["compare"] = {"law": compare_name, **_compared(report, compare, follower, fastest, settings, unit)}
         if lead_in is not None:
-            from camcad.fourier.leadin import add_lead_in
-
             angle, fraction = lead_in
             result_lead = add_lead_in(law, angle, fraction, where="lead-in")
             report["lead_in"] = {"angle_deg": angle, "fraction": fraction, "balanced": result_lead.balanced,
@@ -181,8 +182,6 @@ def _worst_text(speeds, at: float) -> str:
 
 def _dynamics_verdict(law, result, residuals: dict, settings, lift: float, unit: str, applies: str) -> Verdict:
     """Checks (worst speed first named) and warnings of a dynamics run."""
-    from camcad.dynamics.spectrum import law_spectrum
-
     speeds = list(result.speeds_rpm)
     span = _speed_text(speeds)
     tail = f"; {applies}" if applies else ""
@@ -289,8 +288,6 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
         lever stays pressed on its stop, the model's premise), the approach phase angle against the least
         one for the allowed amplitude (deg).
     """
-    from camcad.dynamics.impact import impact_sweep
-
     speeds = [float(s) for s in speeds]
     keep = sorted({speeds[0], max(speeds)})
     result = impact_sweep(law, model, speeds, keep=keep, progress=progress)
@@ -320,8 +317,6 @@ def run_impact(law, model, speeds: list[float], *, progress: Callable | None = N
     comparisons: tuple = ()
     found_study = None
     if published is not None:
-        from camcad.dynamics.rebound import compare_published, rebound_study
-
         comparisons = tuple(compare_published(law, model, published))
         report["published"] = {"source": published.source, "figures": [row.to_dict() for row in comparisons]}
         if study and len(published.of("rebound_mm", "computed")) >= 2:
@@ -362,10 +357,8 @@ def _one_or_list(values):
 
 def start_load_entries(law, follower, rpm: float, settings) -> list[dict]:
     """Start-of-motion load of every motion phase at ``rpm``, with and without the summary pulse."""
-    from camcad.dynamics.model import OUTPUT_UNITS, LoadSum
     from camcad.dynamics.residual import motion_phases
     from camcad.dynamics.startload import start_loads, start_pulse
-    from camcad.dynamics.steady import steady_state
 
     unit = OUTPUT_UNITS[settings.output_unit]
     kwargs = {"method": settings.method, "samples": settings.samples, "solver": settings.solver, "rtol": settings.rtol}
@@ -397,7 +390,6 @@ def _start_load_dict(load, unit) -> dict:
 def _multimass_entry(law, settings, rpm: float) -> dict:
     """The multi-mass model at ``rpm``: flywheel held at speed (or turned by the motor's characteristic M0(n)),
     elastic or rigid shaft; figures over the last cycle."""
-    from camcad.dynamics.model import rpm_to_rad_s, unit_key
     from camcad.dynamics.multimass import MotorCurve, MultiMassModel, SpeedDrive, simulate
 
     scale = 1e-3 if settings.output_unit == "mm" else 1.0

@@ -65,7 +65,8 @@ from camcad.io.output_folder import check_outputs, confined_path
 from camcad.io.table_read import TABLE_SUFFIXES
 from camcad.law.law import Phase, PiecewiseLinearLaw
 from camcad.law.phases import detect_phases, zero_threshold
-from camcad.law.source import LoadedLaw, VertexMap
+from camcad.law.source import LoadedLaw, VertexMap, load_law
+from camcad.profile import CamGeometry, Follower
 
 #: how many undo steps are kept (each a law; laws that differ only in ordinates share their angles)
 MAX_UNDO = 200
@@ -505,8 +506,6 @@ class EditSession:
     @classmethod
     def from_file(cls, path: str | Path, *, tol: float = DEFAULT_TOL, **options) -> EditSession:
         """Read ``path`` with ``load_law(path, **options)`` and start a session on it."""
-        from camcad.law.source import load_law
-
         loaded = load_law(path, **options)
         return cls(loaded, tol=tol, input_path=Path(path))
 
@@ -1030,8 +1029,6 @@ class EditSession:
         """The pitch curve of a knife-edge translating follower on this law, for a small preview:
         (points (samples×2, mm), base radius mm, closure gap mm) or None when the cycle does not
         divide 360°. The base radius is chosen as twice the largest |s| so the curve stays round."""
-        from camcad.profile import CamGeometry, Follower
-
         law = law or self.law
         lobes = 2 * math.pi / law.cycle
         if abs(lobes - round(lobes)) > 1e-9:

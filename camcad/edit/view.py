@@ -36,9 +36,11 @@ from camcad.edit.session import (
     default_output,
     default_script,
     extremum_group,
+    jump_group,
     lobe_of,
 )
 from camcad.errors import CamcadError
+from camcad.law.phases import zero_threshold
 
 PHASE_COLOURS = {"rise": "#e8f1fb", "return": "#fdeee6", "dwell": "#f2f2f2"}
 ABOVE, BELOW = "#2a9d8f", "#e76f51"
@@ -1165,15 +1167,11 @@ class _StaticBlock(Artist):
 
 
 def _group(x: np.ndarray, index: int) -> tuple[int, int]:
-    from camcad.edit.session import jump_group
-
     return jump_group(x, index)
 
 
 def _lobe_peaks(a: np.ndarray) -> list[tuple[int, float]]:
     """(first index, peak value) of every lobe of ``a``."""
-    from camcad.law.phases import zero_threshold
-
     eps = zero_threshold(a)
     sign = np.where(np.abs(a) <= eps, 0, np.sign(a)).astype(int)
     change = np.flatnonzero(np.diff(sign) != 0) + 1

@@ -35,7 +35,7 @@ from io import BytesIO
 from pathlib import Path
 from typing import Any
 
-from camcad.edit.view import FIGSIZE
+from camcad.edit.view import FIGSIZE, EditorView, new_figure
 from camcad.errors import CamcadError
 from camcad.io.input_file import check_json_nesting
 
@@ -326,8 +326,6 @@ class EditorServer:
             FigureManagerWebAgg,
             NavigationToolbar2WebAgg,
         )
-
-        from camcad.edit.view import FIGSIZE, EditorView, new_figure
 
         class _Manager(FigureManagerWebAgg):
             _toolbar2_class = NavigationToolbar2WebAgg  # type: ignore[assignment]  # matplotlib types it as None

@@ -8,9 +8,10 @@ from typing import cast
 
 import numpy as np
 
-from camcad.fourier.exact import Piece, _pieces_coefficients, _polyline_analysis, checked_pieces
+from camcad.fourier.exact import Piece, checked_pieces, pieces_coefficients, polyline_analysis
 from camcad.fourier.series import CorrectedLaw, FourierLaw, Spectrum, series_on_grid
 from camcad.law.law import MotionLaw, PiecewiseLinearLaw
+from camcad.law.standard import CompositeLaw
 
 # =============================================================================================
 # Analysis entry points
@@ -38,8 +39,6 @@ def exact_available(law) -> bool:
     >>> exact_available(law)
     True
     """
-    from camcad.law.standard import CompositeLaw
-
     if isinstance(law, (PiecewiseLinearLaw, FourierLaw)):
         return True
     if isinstance(law, CorrectedLaw):
@@ -131,8 +130,6 @@ def analyse(law: MotionLaw, harmonics: int = 64, *, tol: float = 1e-9, method: s
 
 
 def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
-    from camcad.law.standard import CompositeLaw
-
     cycle = law.cycle
     if isinstance(law, FourierLaw):
         c = np.zeros(harmonics, dtype=complex)
@@ -155,13 +152,13 @@ def _exact_analysis(law, harmonics: int, tail_to: int) -> Spectrum:
         return Spectrum(cycle, base.mean + law.correction.mean, c[:harmonics], base.accel_mean, ca[:harmonics],
                         tail, float("nan"), base.coefficient_error, base.accel_coefficient_error, "exact")
     if isinstance(law, PiecewiseLinearLaw):
-        r = _polyline_analysis(law, harmonics, tail_to)
+        r = polyline_analysis(law, harmonics, tail_to)
         return Spectrum(cycle, r["mean"], r["coefficients"], r["accel_mean"], r["accel_coefficients"],
                         r["tail"], r["mean_square"], r["error"], r["accel_error"], "exact")
     if isinstance(law, CompositeLaw):
         pieces = cast(list[Piece], checked_pieces(law))  # exact_available: every shape is known
-        mean, c, tail, error = _pieces_coefficients(pieces, cycle, harmonics, 0, tail_to)
-        accel_mean, ca, _, accel_error = _pieces_coefficients(pieces, cycle, harmonics, 2, harmonics, with_tail=False)
+        mean, c, tail, error = pieces_coefficients(pieces, cycle, harmonics, 0, tail_to)
+        accel_mean, ca, _, accel_error = pieces_coefficients(pieces, cycle, harmonics, 2, harmonics, with_tail=False)
         raw_square = math.fsum(p.integral_of_square() for p in pieces) / cycle
         return Spectrum(cycle, mean, c, accel_mean, ca, tail, raw_square - mean**2, error, accel_error, "exact")
     raise ValueError(f"no exact analysis for {type(law).__name__}")
@@ -329,10 +326,11 @@ def least_harmonics(law: MotionLaw, tol: float, *, max_harmonics: int = 1 << 14,
     >>> least_harmonics(law, 1e-6)[0]
     1
     """
-    return _grow_until_found(lambda count: analyse(law, count), tol, start, max_harmonics)
+    return grow_until_found(lambda count: analyse(law, count), tol, start, max_harmonics)
 
 
-def _grow_until_found(spectrum_of, tol: float, start: int, max_harmonics: int):
+def grow_until_found(spectrum_of, tol: float, start: int, max_harmonics: int):
+    """(least harmonics meeting ``tol``, spectrum): ``spectrum_of(N)`` at a growing N until N has headroom."""
     harmonics = max(1, min(start, max_harmonics))
     while True:
         spectrum = spectrum_of(harmonics)

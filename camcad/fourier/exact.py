@@ -11,6 +11,7 @@ from typing import cast
 
 import numpy as np
 
+from camcad.law import standard
 from camcad.law.law import PiecewiseLinearLaw
 from camcad.numerics import hurwitz_zeta
 
@@ -18,7 +19,7 @@ EPS = float(np.finfo(float).eps)
 #: below this |z| the monomial moments E_m(z) are integrated by Gauss–Legendre, above by recurrence
 _SMALL_Z = 8.0
 #: derivative orders whose jumps enter the remainder estimate of the composite laws
-_TAIL_ORDERS = 7
+TAIL_ORDERS = 7
 #: elements per block when a (points × harmonics) matrix of exponentials is formed
 _BLOCK = 1 << 21
 
@@ -29,7 +30,7 @@ _BLOCK = 1 << 21
 # =============================================================================================
 
 @functools.lru_cache(maxsize=64)
-def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+def gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Nodes and weights of n-point Gauss–Legendre on [0, 1] (computed once per n; read-only)."""
     nodes, weights = np.polynomial.legendre.leggauss(n)
     nodes, weights = (nodes + 1.0) / 2.0, weights / 2.0
@@ -70,7 +71,7 @@ def monomial_moments(z: np.ndarray, degree: int) -> np.ndarray:
     out = np.empty((degree + 1, len(z)), dtype=complex)
     small = np.abs(z) < _SMALL_Z
     if small.any():
-        nodes, weights = _gauss_legendre(48)
+        nodes, weights = gauss_legendre(48)
         kernel = np.exp(-1j * np.outer(nodes, z[small])) * weights[:, None]
         powers = nodes[None, :] ** np.arange(degree + 1)[:, None]
         out[:, small] = powers @ kernel
@@ -157,7 +158,7 @@ class Piece:
         """∫ f² over the piece, Gauss–Legendre with enough nodes to be exact to round-off."""
         rate = float(np.max(np.abs(self.rates))) if len(self.rates) else 0.0
         n = int(len(self.poly) + 24 + math.ceil(rate * self.length))
-        nodes, weights = _gauss_legendre(n)
+        nodes, weights = gauss_legendre(n)
         values = self.values(nodes * self.length)
         return float(self.length * np.sum(weights * values**2))
 
@@ -191,8 +192,6 @@ def shape_terms(shape) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     >>> [round(float(x), 12) for x in p], sorted(round(float(r), 12) for r in rates)   # cos as two exponentials
     ([0.5], [-3.14159265359, 3.14159265359])
     """
-    from camcad.law import standard
-
     two_pi = 2.0 * np.pi
     if isinstance(shape, standard.Cycloidal):
         terms = (np.array([0.0, 1.0]), np.array([two_pi, -two_pi]),
@@ -323,7 +322,7 @@ def _piece_jumps(pieces: list[Piece], orders: int, shift: int = 0) -> tuple[np.n
     return positions, starts - np.roll(ends, 1, axis=1)
 
 
-def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int,
+def pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, order: int, tail_to: int,
                          with_tail: bool = True):
     """(mean, c_k for k = 1..harmonics, Σ_{k>N} A_k²/2 (NaN unless ``with_tail``), round-off bound) of the
     ``order``-th derivative of the pieces."""
@@ -333,7 +332,7 @@ def _pieces_coefficients(pieces: list[Piece], cycle: float, harmonics: int, orde
     mean, coefficients = float(np.real(transformed[0])), transformed[1:]
     tail = math.nan
     if with_tail:
-        positions, deltas = _piece_jumps(pieces, _TAIL_ORDERS, shift=order)
+        positions, deltas = _piece_jumps(pieces, TAIL_ORDERS, shift=order)
         tail = _remainder(coefficients, harmonics, positions, deltas, cycle)
     error = 2.0 * 64.0 * EPS * sum(p.scale() for p in derived) / cycle
     return mean, coefficients[:harmonics], tail, error
@@ -489,7 +488,8 @@ def _jump_coefficients(positions, deltas, cycle: float, harmonics: int) -> np.nd
     return total / cycle
 
 
-def _polyline_analysis(law: PiecewiseLinearLaw, harmonics: int, tail_to: int):
+def polyline_analysis(law: PiecewiseLinearLaw, harmonics: int, tail_to: int):
+    """The spectrum of a polyline acceleration law from its jumps (exact), the remainder summed to ``tail_to``."""
     positions, deltas = _polyline_jumps(law)
     cycle = law.cycle
     omega = 2.0 * np.pi / cycle
@@ -503,7 +503,7 @@ def _polyline_analysis(law: PiecewiseLinearLaw, harmonics: int, tail_to: int):
     # numpy's pairwise summation: round-off ~ eps·log2(n) of the sum of |terms|
     integral = s0 * length + v0 * length**2 / 2 + a0 * length**3 / 6 + slope * length**4 / 24
     mean = float(np.sum(integral)) / cycle
-    nodes, weights = _gauss_legendre(4)   # exact for the degree-6 square of a cubic
+    nodes, weights = gauss_legendre(4)   # exact for the degree-6 square of a cubic
     t = np.outer(length, nodes)
     s = s0[:, None] + v0[:, None] * t + a0[:, None] * t**2 / 2 + slope[:, None] * t**3 / 6
     mean_square = float(np.sum(length[:, None] * weights[None, :] * s**2)) / cycle - mean**2

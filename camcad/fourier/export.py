@@ -9,10 +9,11 @@ from typing import Any
 
 import numpy as np
 
+from camcad import balance
 from camcad.arrays import unique
 from camcad.errors import CamcadError
 from camcad.fourier.analysis import analyse
-from camcad.fourier.filter import _evaluation_grid, _jumps_and_phase_ends, _knots_of
+from camcad.fourier.filter import evaluation_grid, jumps_and_phase_ends, knots_of
 from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 # =============================================================================================
@@ -61,10 +62,10 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
     cycle = law.cycle
     count = max(8, math.ceil(cycle / np.radians(step_deg) - 1e-9))
     grid = np.linspace(0.0, cycle, count + 1)
-    breaks = _knots_of(law)
+    breaks = knots_of(law)
     if len(breaks) > 4 * count:
         # a densely drawn base: keep its jumps and the phase ends, sample the rest on the grid
-        breaks = _jumps_and_phase_ends(law)
+        breaks = jumps_and_phase_ends(law)
     knots = np.concatenate((grid, breaks, np.asarray(extra_knots, dtype=float)))
     knots = unique(knots[(knots >= 0.0) & (knots <= cycle)])
     right = law.kinematics(knots).a
@@ -84,11 +85,13 @@ def acceleration_polyline(law: MotionLaw, step_deg: float = 0.1, *, extra_knots=
     return PiecewiseLinearLaw(x, a, cycle, tuple(law.phases if phases is None else phases), v0, s0)
 
 
-def _right_value(law: PiecewiseLinearLaw, theta: float) -> float:
+def right_value(law: PiecewiseLinearLaw, theta: float) -> float:
+    """The acceleration (mm/rad²) just right of ``theta`` (rad)."""
     return float(law.kinematics(np.array([theta])).a[0])
 
 
-def _left_value(law: PiecewiseLinearLaw, theta: float) -> float:
+def left_value(law: PiecewiseLinearLaw, theta: float) -> float:
+    """The acceleration (mm/rad²) just left of ``theta`` (rad); at 0 the value at 0."""
     return float(law.kinematics(np.array([max(np.nextafter(theta, -np.inf), 0.0)])).a[0])
 
 
@@ -200,8 +203,6 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
     >>> exported.closed, exported.max_deviation < 0.01          # mm, 0.04 % of the 25 mm lift: the chords at 0.5 deg
     (True, True)
     """
-    from camcad import balance
-
     polyline = acceleration_polyline(law, step_deg)
     kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     phases = tuple(law.phases)
@@ -224,7 +225,7 @@ def export_polyline(law: MotionLaw, *, step_deg: float = 0.1, tol: float | None 
         max_change = float(np.max(np.abs(change)))
         notes.append(f"closed from rest (the law has v(0) = {law.kinematics(np.zeros(1)).v[0]:.3g} mm/rad) with a "
                      f"change of a of at most {max_change:.3g} mm/rad^2 (constant and harmonic {harmonic})")
-    grid = _evaluation_grid(law, 1 << 14)
+    grid = evaluation_grid(law, 1 << 14)
     s_law = law.kinematics(grid).s - law.kinematics(np.zeros(1)).s[0]
     s_result = result.kinematics(grid).s
     deviation = float(np.max(np.abs(s_result - s_law)))

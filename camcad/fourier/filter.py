@@ -88,17 +88,17 @@ def dwell_grid(phases: tuple[Phase, ...], spacing: float) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros(0)
 
 
-def _knots_of(law) -> np.ndarray:
+def knots_of(law) -> np.ndarray:
     """Angles (rad) where the law's acceleration may jump or kink: knots, phase ends."""
     points = [p.start for p in law.phases] + [p.end for p in law.phases]
     if isinstance(law, PiecewiseLinearLaw):
         points += list(law.x)
     if isinstance(law, CorrectedLaw):
-        points += list(_knots_of(law.base))
+        points += list(knots_of(law.base))
     return unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
 
 
-def _jumps_and_phase_ends(law) -> np.ndarray:
+def jumps_and_phase_ends(law) -> np.ndarray:
     """Angles (rad) where a drawn base law's acceleration jumps, and the ends of its phases."""
     points = [p.start for p in law.phases] + [p.end for p in law.phases]
     base = law
@@ -109,10 +109,10 @@ def _jumps_and_phase_ends(law) -> np.ndarray:
     return unique(np.asarray(points, dtype=float)) if points else np.zeros(0)
 
 
-def _evaluation_grid(law, samples: int) -> np.ndarray:
+def evaluation_grid(law, samples: int) -> np.ndarray:
     """A uniform grid plus the knots approached from both sides, so jumps and extremes at knots are seen."""
     grid = np.arange(samples + 1) * (law.cycle / samples)
-    knots = _knots_of(law)
+    knots = knots_of(law)
     knots = knots[(knots >= 0) & (knots <= law.cycle)]
     left = np.nextafter(knots, -np.inf)
     return unique(np.concatenate((grid, knots, left[left >= 0])))
@@ -120,7 +120,7 @@ def _evaluation_grid(law, samples: int) -> np.ndarray:
 
 def series_on_evaluation_grid(series: FourierLaw, grid: np.ndarray, samples: int,
                               orders: tuple[int, ...]) -> list[np.ndarray]:
-    """Derivatives of ``series`` at the points of ``_evaluation_grid(law, samples)``: the uniform points
+    """Derivatives of ``series`` at the points of ``evaluation_grid(law, samples)``: the uniform points
     θ_j = j T/M by one inverse FFT per order (O(M log M) however many harmonics), the knots beside them
     by Horner's scheme (``evaluate_series_orders``). Units of s per rad^order."""
     step = series.cycle / samples
@@ -380,7 +380,7 @@ def filter_law(law: MotionLaw, band: ResonanceBand, *, harmonics: int = 64, keep
     if samples is None:
         top = max(band.highest, compensation_harmonics or 0, 2 * band.highest + 8)
         samples = max(1 << 14, 1 << math.ceil(math.log2(64 * (top + 1))))
-    grid = _evaluation_grid(law, samples)
+    grid = evaluation_grid(law, samples)
     base = law.kinematics(grid)
     lift = float(np.ptp(base.s))
     tol = 1e-3 * lift if dwell_tol is None else float(dwell_tol)

@@ -8,10 +8,11 @@ from typing import Any
 
 import numpy as np
 
+from camcad import balance
 from camcad.arrays import unique
 from camcad.errors import CamcadError
-from camcad.fourier.export import _left_value, _right_value, acceleration_polyline
-from camcad.fourier.filter import _evaluation_grid, motion_starts
+from camcad.fourier.export import acceleration_polyline, left_value, right_value
+from camcad.fourier.filter import evaluation_grid, motion_starts
 from camcad.law.law import MotionLaw, Phase, PiecewiseLinearLaw
 
 
@@ -145,8 +146,6 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     >>> round(result.lift_new, 9)                               # scaled back to the 25 mm lift
     25.0
     """
-    from camcad import balance
-
     if not (np.isfinite(angle_deg) and angle_deg > 0):
         raise CamcadError(f"lead-in angle {angle_deg!r} deg must be positive", where, "give e.g. 14 (deg)")
     if not (np.isfinite(fraction) and 0 < fraction <= 1):
@@ -184,9 +183,9 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
         sign = float(np.sign(mean_a)) or (1.0 if phase.kind == "rise" else -1.0)
         level = sign * fraction * peak
         lo = start - angle
-        a_left = _left_value(base, lo)
-        a_right = _right_value(base, start)
-        jumps_before.append(abs(a_right - _left_value(base, start)))
+        a_left = left_value(base, lo)
+        a_right = right_value(base, start)
+        jumps_before.append(abs(a_right - left_value(base, start)))
         outside = (xs < lo) | (xs > start)
         inside_grid = unique(xs[(xs > lo) & (xs < start)])
         x_new = np.concatenate((xs[outside], [lo, lo], inside_grid, [start, start]))
@@ -216,8 +215,8 @@ def add_lead_in(law: MotionLaw, angle_deg: float = 14.0, fraction: float = 0.1, 
     kwargs: dict[str, Any] = {} if tol is None else {"tol": tol}
     corrected = balance.correct(unbalanced, "min-change", fixed=held, where=where, **kwargs)
     result = corrected.law
-    grid = _evaluation_grid(result, 1 << 14)
-    lift_before = float(np.ptp(law.kinematics(_evaluation_grid(law, 1 << 14)).s))
+    grid = evaluation_grid(result, 1 << 14)
+    lift_before = float(np.ptp(law.kinematics(evaluation_grid(law, 1 << 14)).s))
     notes = list(corrected.notes)
     factor = 1.0
     if keep_lift:

@@ -10,9 +10,10 @@ from typing import Any, cast
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.fourier.analysis import _grow_until_found
-from camcad.fourier.exact import _TAIL_ORDERS, EPS, Piece, _gauss_legendre, shape_terms, tail_mean_square
+from camcad.fourier.analysis import grow_until_found
+from camcad.fourier.exact import EPS, TAIL_ORDERS, Piece, gauss_legendre, shape_terms, tail_mean_square
 from camcad.fourier.series import FourierLaw, Spectrum, series_on_grid
+from camcad.law.standard import SHAPES, compose
 
 # =============================================================================================
 # The database of harmonic patterns of the standard laws, and synthesis from it
@@ -91,10 +92,10 @@ def motion_pattern(shape, name: str | None = None) -> MotionPattern:
         raise CamcadError(f"no exact harmonic pattern for the shape {getattr(shape, 'name', shape)!r}",
                           "harmonic database", "use cycloidal, harmonic, poly345 or poly4567")
     piece = Piece(0.0, 1.0, *terms)
-    nodes, weights = _gauss_legendre(64)
+    nodes, weights = gauss_legendre(64)
     f = piece.values(nodes)
     moments = (float(np.sum(weights * f)), float(np.sum(weights * f**2)))
-    edges = np.array([[piece.values(0.0, m), piece.values(1.0, m)] for m in range(_TAIL_ORDERS)])
+    edges = np.array([[piece.values(0.0, m), piece.values(1.0, m)] for m in range(TAIL_ORDERS)])
     return MotionPattern(cast(str, name or getattr(shape, "name", "shape")), shape, piece.derivative(1), moments, edges)
 
 
@@ -112,8 +113,6 @@ def pattern_database() -> dict[str, MotionPattern]:
     >>> sorted(pattern_database())[:3]
     ['cycloidal', 'harmonic', 'poly345']
     """
-    from camcad.law.standard import SHAPES
-
     database = {}
     for name, shape in SHAPES.items():
         if shape_terms(shape) is not None:
@@ -280,7 +279,7 @@ def pattern_coefficients(phases_deg, lift: float, shape: str = "cycloidal", retu
             integral += beta * (level + h * m1)
             square += beta * (level**2 + 2 * level * h * m1 + h**2 * m2)
             edges = pattern.edge_derivatives
-            scale = h / beta ** np.arange(_TAIL_ORDERS)
+            scale = h / beta ** np.arange(TAIL_ORDERS)
             scale[0] = 0.0  # s itself is continuous at the ends of a motion
             positions += [start, start + beta]
             jumps += [scale * edges[:, 0], -scale * edges[:, 1]]
@@ -339,13 +338,11 @@ def synthesise_standard(phases_deg, lift: float, tol: float, *, shape: str = "cy
     >>> synthesis.reached, synthesis.rms_measured <= 1e-3
     (True, True)
     """
-    from camcad.law.standard import compose
-
     if not (np.isfinite(tol) and tol > 0):
         raise CamcadError(f"tolerance {tol!r} mm must be positive", "synthesis", "give e.g. 1e-3 mm")
     exact = compose(list(phases_deg), lift, shape, return_shape, cycle_deg)
     database = pattern_database()
-    n, spectrum = _grow_until_found(
+    n, spectrum = grow_until_found(
         lambda count: pattern_coefficients(phases_deg, lift, shape, return_shape, count, cycle_deg, database),
         tol, 64, max_harmonics)
     if n is None:

@@ -6,6 +6,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+from camcad.io.atomic import write_text_atomic
+
 
 def to_jsonable(value: Any) -> Any:
     """numpy scalars and arrays, paths and tuples → plain JSON types; NaN/inf → null (JSON has neither)."""
@@ -25,7 +27,5 @@ def to_jsonable(value: Any) -> Any:
 def write_json(path, payload) -> Path:
     """``payload`` as indented JSON, written atomically (camcad.io.atomic)."""
     import json
-
-    from camcad.io.atomic import write_text_atomic
 
     return write_text_atomic(path, json.dumps(to_jsonable(payload), indent=2) + "\n")

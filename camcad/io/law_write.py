@@ -24,7 +24,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
-from camcad.io.dxf_read import curve_space
+from camcad.io.dxf_read import curve_space, open_drawing
 from camcad.io.dxf_write import (
     HeaderKeep,
     header_snapshot,
@@ -289,8 +289,6 @@ def write_corrected_drawing(loaded, law, out: str | Path, *, resampled: bool = F
     (Path, list of str)
         The written path and notes saying what was written and what could not be kept.
     """
-    from camcad.io.dxf_read import open_drawing
-
     out = Path(out)
     if loaded.curve is None:
         raise ValueError("the law was not read from a drawing")

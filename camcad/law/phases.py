@@ -30,7 +30,7 @@ import numpy as np
 
 from camcad.arrays import unique
 from camcad.errors import CamcadError
-from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.law import Phase, PiecewiseLinearLaw, sample_piecewise_linear
 from camcad.numerics import brent_root
 
 #: |a| at or below this fraction of max|a| counts as zero acceleration
@@ -412,8 +412,6 @@ def _first_lobe_sign(law: PiecewiseLinearLaw) -> int:
 
 def _motion_law(x: np.ndarray, a: np.ndarray, start: float, end: float) -> PiecewiseLinearLaw:
     """The law restricted to [start, end], shifted to start at 0 from rest."""
-    from camcad.law.law import sample_piecewise_linear
-
     inner = (x > start) & (x < end)
     xs = np.concatenate(([start], x[inner], [end]))
     a_start = sample_piecewise_linear(x, a, np.array([start]))[0]
@@ -427,7 +425,6 @@ def _left_value(x: np.ndarray, a: np.ndarray, t: float) -> float:
     index = np.searchsorted(x, t, side="left")
     if index < len(x) and x[index] == t:
         return float(a[index])
-    from camcad.law.law import sample_piecewise_linear
 
     return float(sample_piecewise_linear(x, a, np.array([t]))[0])
 
@@ -549,7 +546,6 @@ def phases_integrals(x: np.ndarray, a: np.ndarray, bounds) -> list[tuple[float, 
     bounds = [(float(lo), float(hi)) for lo, hi in bounds]
     if len(x) < 2 or not bounds or any(lo < x[0] or hi > x[-1] or hi < lo for lo, hi in bounds):
         return [phase_integrals(x, a, lo, hi) for lo, hi in bounds]
-    from camcad.law.law import sample_piecewise_linear
 
     ends = np.array(sorted({v for pair in bounds for v in pair}))
     found = np.minimum(np.searchsorted(x, ends), len(x) - 1)
@@ -577,8 +573,6 @@ def phases_integrals(x: np.ndarray, a: np.ndarray, bounds) -> list[tuple[float, 
 
 def restrict(x: np.ndarray, a: np.ndarray, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
     """The polyline cut to [start, end], with interpolated end points (right value at a start jump)."""
-    from camcad.law.law import sample_piecewise_linear
-
     inner = (x > start) & (x < end)
     xs = np.concatenate(([start], x[inner], [end]))
     a_start = sample_piecewise_linear(x, a, np.array([start]))[0]

@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import Phase, PiecewiseLinearLaw
+from camcad.law.law import Phase, PiecewiseLinearLaw, sample_piecewise_linear
 from camcad.law.segments import SegmentLaw, solve_segments
 from camcad.law.standard import CompositeLaw, Segment
 
@@ -73,8 +73,6 @@ def _retime_polyline(law: PiecewiseLinearLaw, bounds: list[tuple[float, float]])
     Every phase boundary becomes a double knot, its left copy belonging to the phase before and
     its right copy to the phase after, so two neighbouring phases can scale differently.
     """
-    from camcad.law.law import sample_piecewise_linear
-
     old = law.phases
     x, a = law.x, law.a
     for boundary in [p.start for p in old[1:]]:

@@ -36,6 +36,7 @@ from camcad.io.dxf_read import (
     Drawing,
     collect_pieces,
     curve_entities,
+    handles_text,
     open_drawing,
     units_note,
 )
@@ -287,8 +288,6 @@ def load_law(path: str | Path, *, layer: str | None = None, handle: str | None =
 
 
 def _pieces_text(pieces) -> str:
-    from camcad.io.dxf_read import handles_text
-
     kinds = sorted({p.kind for p in pieces})
     return f"{'/'.join(kinds)} {handles_text([p.handle for p in pieces], 4)}"
 

@@ -58,6 +58,7 @@ import numpy as np
 
 from camcad.errors import CamcadError
 from camcad.linkage.analysis import Linkage, analyse
+from camcad.linkage.fourbar import grashof
 
 #: Table 3 of Sunkuev 1984 (non-rotating input), as camcad reads the OCR (module docstring)
 TABLE3 = {1: {"psi1": "const", "psi2": "var"},
@@ -643,8 +644,6 @@ def crank_characteristics(linkage: Linkage, adj: Adjustment, x: float) -> dict:
     >>> sorted(crank_characteristics(lk, Adjustment("link_angle"), 0.0))
     ['phi1_deg', 'phi2_deg', 'psi12_deg', 'psi1_deg', 'psi2_deg']
     """
-    from camcad.linkage.fourbar import grashof
-
     lk = adjusted(linkage, adj, x)
     loop = lk.loops[0]
     if len(lk.loops) != 1 or not grashof(loop.a, loop.b, loop.c, loop.d).input_rotates:

@@ -34,6 +34,7 @@ from camcad.linkage.graphs import (
     Chain,
     canonical_form,
     chain_problems,
+    is_connected,
     pairs_for,
     relabel,
     rigid_subchain,
@@ -140,8 +141,6 @@ def _multigraphs(degrees: list[int]):
 def _distinct_multigraphs(degrees: list[int]):
     """The connected contracted multigraphs of ``_multigraphs``, one per isomorphism class (canonical form
     with edge colour = multiplicity, vertex colour = number of loops)."""
-    from camcad.linkage.graphs import is_connected
-
     h = len(degrees)
     seen = set()
     for contracted in _multigraphs(degrees):
@@ -388,7 +387,6 @@ def adjustable_chains(links: int, dof: int, locked: int) -> AdjustableAtlas:
             for u, v in edges:
                 degree[u] += 1
                 degree[v] += 1
-            from camcad.linkage.graphs import is_connected
 
             if min(degree) < 2 or not is_connected(n_prime, edges):
                 continue
@@ -447,8 +445,6 @@ def atlas(links: int, dof: int, adjustable: int | None = None) -> AtlasReport:
     >>> atlas(6, 1, adjustable=2).payload["count"], atlas(6, 1, adjustable=2).payload["seed_count"]
     (38, 38)
     """
-    from camcad.linkage.graphs import is_connected
-
     result: OrdinaryAtlas | AdjustableAtlas
     if adjustable is None:
         result = ordinary_chains(links, dof)

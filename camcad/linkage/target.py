@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from camcad.errors import CamcadError
+from camcad.io.table_read import read_table
 
 #: points of the grid on which a target is checked for being defined and monotone
 CHECK_POINTS = 4001
@@ -141,8 +142,6 @@ def target_from_table(path: Path, x0: float | None, x1: float | None, input_rang
     22.5
     """
     from scipy.interpolate import CubicSpline
-
-    from camcad.io.table_read import read_table
 
     table = read_table(path)
     x, y = table.theta_deg, table.accel

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from camcad.errors import CamcadError
-from camcad.law.law import Kinematics
+from camcad.law.law import Kinematics, PiecewiseLinearLaw
 
 UNITS_IN = ("rad", "mm")
 UNITS_OUT = ("rad", "mm")
@@ -378,8 +378,6 @@ class _LawLike:
         return self.base.phases
 
     def breakpoints(self) -> np.ndarray:
-        from camcad.law.law import PiecewiseLinearLaw
-
         inner = getattr(self.base, "breakpoints", None)
         points = list(np.asarray(inner()) if inner is not None else [])
         if isinstance(self.base, PiecewiseLinearLaw):

@@ -32,6 +32,7 @@ import numpy as np
 from camcad.errors import CamcadError
 from camcad.linkage.adjust import Adjustment, adjusted, base_setting
 from camcad.linkage.analysis import Linkage, analyse
+from camcad.linkage.qmethod import circle_intersections
 
 
 def loop_inputs(loop, beta: float) -> list[float]:
@@ -46,8 +47,6 @@ def loop_inputs(loop, beta: float) -> list[float]:
     >>> sorted(round(t, 12) for t in loop_inputs(loop, beta))      # a crank-rocker meets β twice per turn
     [-2.651298685708, 1.2]
     """
-    from camcad.linkage.qmethod import circle_intersections
-
     p, q = complex(*loop.p), complex(*loop.q)
     b_pt = q + loop.c * complex(math.cos(beta), math.sin(beta))
     points, _ = circle_intersections(p, loop.a, b_pt, loop.b)

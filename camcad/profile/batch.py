@@ -29,6 +29,7 @@ from camcad.profile.sampling import (
     MAX_NODES,
     PLACEMENT_MARGIN,
     Polyline,
+    density_of,
     interior_theta,
     nodes_from_density,
     peak_of_samples,
@@ -332,8 +333,6 @@ def _chords(batch: _Batch, lo: float, hi: float, tol: float, breakpoints: np.nda
 
 
 def _density(geo: CurveGeometry, tol: float) -> np.ndarray:
-    from camcad.profile.sampling import density_of
-
     return density_of(geo, tol)
 
 

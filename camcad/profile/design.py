@@ -37,6 +37,8 @@ from camcad.extrema import zoom_min
 from camcad.law.law import MotionLaw
 from camcad.numerics import bounded_minimum, brent_root
 from camcad.profile.followers import Follower
+from camcad.profile.geometry import CamGeometry
+from camcad.profile.scaled_law import law_breakpoints
 
 
 @dataclass(frozen=True)
@@ -79,8 +81,6 @@ def _worst(values_fn, theta: np.ndarray) -> float:
 
 def pressure_angle_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
     """g_φ (rad) for ``follower`` as given (its Rb); +inf when no limit applies."""
-    from camcad.profile.geometry import CamGeometry
-
     geometry = CamGeometry(law, follower)
 
     def margin(t: np.ndarray) -> np.ndarray:
@@ -99,8 +99,6 @@ def _translating_pressure_angle_rb(law: MotionLaw, follower: Follower, theta: np
     Rb = √(d_min² + e²) − Rr. The limit in force at each θ (rise, return, reversible) is the one the
     profile's own check applies (``CamGeometry.pressure_angle_limit``).
     """
-    from camcad.profile.geometry import CamGeometry
-
     geometry = CamGeometry(law, follower)
     sigma, offset = follower.sigma, follower.offset
 
@@ -119,8 +117,6 @@ def _translating_pressure_angle_rb(law: MotionLaw, follower: Follower, theta: np
 
 def curvature_margin(law: MotionLaw, follower: Follower, theta: np.ndarray) -> float:
     """g_ρ (1/mm) for a roller follower as given (its Rb); +inf when nothing limits it."""
-    from camcad.profile.geometry import CamGeometry
-
     geometry = CamGeometry(law, follower)
     reach = follower.roller_radius + (follower.rho_min or 0.0)
     if reach <= 0.0:
@@ -151,8 +147,6 @@ class _GridCache:
         return self._kin if theta is self.grid else self.law.kinematics(theta)
 
     def breakpoints(self) -> np.ndarray:
-        from camcad.profile.scaled_law import law_breakpoints
-
         return law_breakpoints(self.law)
 
 
@@ -256,8 +250,6 @@ def min_base_radius(law: MotionLaw, follower: Follower, *, xtol: float | None = 
     >>> round(by_hand, 6), round(design.rb_pressure_angle, 6)
     (25.018891, 25.018891)
     """
-    from camcad.profile.scaled_law import law_breakpoints
-
     one_lobe = union(np.linspace(0.0, law.cycle, grid + 1), law_breakpoints(law))
     notes: list[str] = []
     rb_rho: float | None

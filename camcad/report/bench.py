@@ -27,6 +27,7 @@ from camcad.bench import kernels, startup, sweeps
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic, write_text_atomic
 from camcad.io.jsonout import write_json
+from camcad.report.figure import pyplot
 
 if TYPE_CHECKING:
     from importlib.abc import Loader
@@ -349,8 +350,6 @@ def markdown_table(rows: list[dict], quick: bool) -> str:
 def plot_speed_error(rows: list[dict], path: Path) -> Path:
     """Time against error on log axes: the kernels' camcad, floor and peer points joined per kernel, and every
     other row with an error (one colour per kernel, one marker per method)."""
-    from camcad.report.figure import pyplot
-
     plt = pyplot()
     points: list[tuple[str, str, float, float]] = []
     for r in rows:

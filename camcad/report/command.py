@@ -15,6 +15,7 @@ from typing import Any
 
 from camcad.io.jsonout import write_json
 from camcad.io.output_folder import OutputFolder, safe_name
+from camcad.report.figure import save_figure
 
 
 def default_folder(name: str) -> Path:
@@ -49,8 +50,6 @@ def write_figures(out: OutputFolder, figures, json_name: str, others=()) -> list
     """Save ``figures`` ((name or name parts, Figure) pairs) into ``out``, after checking them, ``others``
     (names written later) and ``json_name`` as one set (``OutputFolder.plan``): nothing is written when one
     of them would replace an input or another output."""
-    from camcad.report.figure import save_figure
-
     parts = [(name,) if isinstance(name, str) else tuple(name) for name, _ in figures]
     out.plan([*parts, *((name,) for name in others), (json_name,)])
     return [save_figure(fig, out.path(*name)) for name, (_, fig) in zip(parts, figures)]

@@ -15,7 +15,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camcad.io.output_folder import distinct_names
+from camcad.report.command import finish, open_folder, write_figures
 from camcad.report.figure import COLOURS, new_figure
+from camcad.report.text import fmt, table, verdict_lines
+from camcad.scene.commands.contact import run_contact
+from camcad.scene.commands.source import require_scene
+from camcad.scene.file import read_scene
 
 if TYPE_CHECKING:
     from camcad.scene.commands.contact import ContactRequest
@@ -121,8 +127,6 @@ def contact_figures(report) -> list[tuple[tuple[str, ...], object]]:
 
 
 def contact_lines(run) -> list[str]:
-    from camcad.report.text import fmt, table, verdict_lines
-
     report = run.report
     source = report.source
     lines = [f"{source['name']} ({source['scene']}): contact stress",
@@ -159,12 +163,6 @@ class ContactCommand:
 def contact_command(command: ContactCommand):
     """Run ``camcad contact``: compute (camcad.scene.commands.contact.run_contact), write the plots and
     contact.json into the output folder (the scene and its law files are never replaced). Returns a CommandRun."""
-    from camcad.io.output_folder import distinct_names
-    from camcad.report.command import finish, open_folder, write_figures
-    from camcad.scene.commands.contact import run_contact
-    from camcad.scene.commands.source import require_scene
-    from camcad.scene.file import read_scene
-
     path = require_scene(command.request.scene, "contact")
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:

@@ -19,7 +19,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camcad.report.command import finish, open_folder, write_figures
 from camcad.report.figure import new_figure
+from camcad.report.text import fmt, table, verdict_lines
+from camcad.scene.commands.cyclogram import run_cyclogram
+from camcad.scene.commands.source import require_scene
+from camcad.scene.file import read_scene
+from camcad.scene.sections.cyclogram import parse_cyclogram
 
 if TYPE_CHECKING:
     from camcad.cyclogram.network import Network
@@ -256,7 +262,6 @@ def scene_cyclogram_figures(scene, cyclogram_report: dict) -> list[tuple[str, ob
     scene's outputs (camcad.report.scene)."""
     if not cyclogram_report or not cyclogram_report.get("feasible"):
         return []
-    from camcad.scene.sections.cyclogram import parse_cyclogram
 
     network = parse_cyclogram(scene.cyclogram, f"{scene.path} [cyclogram]",
                               [m.name for m in scene.mechanisms if m.prefix])
@@ -266,8 +271,6 @@ def scene_cyclogram_figures(scene, cyclogram_report: dict) -> list[tuple[str, ob
 
 
 def cyclogram_lines(run) -> list[str]:
-    from camcad.report.text import fmt, table, verdict_lines
-
     report = run.report
     body = report.body
     lines = [f"{report.source['name']} ({report.source['scene']}): cyclogram"]
@@ -303,11 +306,6 @@ class CyclogramCommand:
 def cyclogram_command(command: CyclogramCommand):
     """Run ``camcad cyclogram``: compute (camcad.scene.commands.cyclogram.run_cyclogram), write the Gantt chart, the
     network and cyclogram.json. Returns a CommandRun (exit code 1 when the network is infeasible)."""
-    from camcad.report.command import finish, open_folder, write_figures
-    from camcad.scene.commands.cyclogram import run_cyclogram
-    from camcad.scene.commands.source import require_scene
-    from camcad.scene.file import read_scene
-
     path = require_scene(command.request.scene, "cyclogram")
     scene = read_scene(path)
     with open_folder(command.output, path.stem, scene.input_files()) as out:

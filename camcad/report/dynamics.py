@@ -16,8 +16,15 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
-from camcad.dynamics.model import OUTPUT_UNITS
+from camcad.dynamics.model import OUTPUT_UNITS, unit_key
+from camcad.report.command import finish, open_folder
+from camcad.report.command import write_figures as write_planned
 from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.stop import analogs_window, plot_analogs, plot_published, published_lines
+from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
+from camcad.scene.commands.dynamics import run_dynamics_report
+from camcad.scene.commands.impact import run_impact_report
+from camcad.scene.commands.source import resolve_source
 from camcad.verdict import note_line
 
 if TYPE_CHECKING:
@@ -342,7 +349,6 @@ def published_figures(run, name: str = "") -> list[tuple[str, object]]:
     (``impact_analogs.png``, the source's Fig. 4)."""
     if not run.comparisons:
         return []
-    from camcad.report.stop import analogs_window, plot_analogs, plot_published
 
     speeds = sorted({c.figure.rpm for c in run.comparisons if c.figure.rpm is not None
                      and min(run.sweep.speeds_rpm) <= c.figure.rpm <= max(run.sweep.speeds_rpm)})
@@ -366,20 +372,10 @@ def write_figures(figures, out, sub: tuple[str, ...] = ()) -> list[Path]:
 
 
 def dynamics_lines(run) -> list[str]:
-    from camcad.report.text import (
-        common_applies,
-        fmt,
-        header_lines,
-        output_lines,
-        table,
-        verdict_lines,
-    )
-
     report = run.report
     d = report.body
     u = OUTPUT_UNITS[d["unit"]]
     unit = d["unit"]
-    from camcad.dynamics.model import unit_key
 
     lines = header_lines(report)
     lines.append(f"fn = {fmt(d['natural_frequency_hz'])} Hz, damping ratio {fmt(d['damping_ratio'])}"
@@ -430,15 +426,6 @@ def dynamics_lines(run) -> list[str]:
 
 
 def impact_lines(run) -> list[str]:
-    from camcad.report.text import (
-        common_applies,
-        fmt,
-        header_lines,
-        output_lines,
-        table,
-        verdict_lines,
-    )
-
     report = run.report
     d = report.body
     sweep = report.result.sweep
@@ -467,7 +454,6 @@ def impact_lines(run) -> list[str]:
                      f"b {fmt(beam['arm_b_mm'])} mm, stop at {fmt(beam['stop_arm_mm'], 6)} mm from the pivot: "
                      f"c free {fmt(beam['free_stiffness_N_per_m'])} N/m, on the stop "
                      f"{fmt(beam['stop_stiffness_N_per_m'])} N/m")
-    from camcad.report.stop import published_lines
 
     lines += published_lines(report.result)
     lines += verdict_lines(report.verdict, common_applies(report))
@@ -487,11 +473,6 @@ class DynamicsCommand:
 def dynamics_command(command: DynamicsCommand, progress=None):
     """Run ``camcad dynamics``: resolve the law, compute (camcad.scene.commands.dynamics.run_dynamics_report), write the
     plots and dynamics.json (the inputs are never replaced). Returns a CommandRun."""
-    from camcad.report.command import finish, open_folder
-    from camcad.report.command import write_figures as write_planned
-    from camcad.scene.commands.dynamics import run_dynamics_report
-    from camcad.scene.commands.source import resolve_source
-
     request = cast("DynamicsRequest", command.request)  # camcad dynamics asks with a DynamicsRequest
     require = () if request.fn is not None else (
         ("dynamics", "add [dynamics] with natural_frequency_hz and damping_ratio, or pass --fn and --zeta"),)
@@ -506,11 +487,6 @@ def dynamics_command(command: DynamicsCommand, progress=None):
 def impact_command(command: DynamicsCommand, progress=None):
     """Run ``camcad impact``: resolve the law, compute (camcad.scene.commands.impact.run_impact_report), write the plots
     and impact.json. Returns a CommandRun."""
-    from camcad.report.command import finish, open_folder
-    from camcad.report.command import write_figures as write_planned
-    from camcad.scene.commands.impact import run_impact_report
-    from camcad.scene.commands.source import resolve_source
-
     request = cast("ImpactRequest", command.request)  # camcad impact asks with an ImpactRequest
     src = resolve_source(request.law, command="impact", require=(
         ("stops", "add [stops] with the lever, the stop stiffness, restitution, damping and preload"),))

@@ -20,7 +20,11 @@ from camcad.io.atomic import write_atomic, write_text_atomic
 from camcad.io.dxf_write import Drawing, DxfCircle, DxfLine, DxfPath, DxfText, write_dxf
 from camcad.io.jsonout import write_json
 from camcad.linkage.fgen import structural_error
+from camcad.linkage.fourbar import joints, transmission_angle
+from camcad.linkage.layout import layout
 from camcad.linkage.synthesis import error_tolerance
+from camcad.profile.followers import arm_angle_on_base_circle
+from camcad.report.profile_files import build_drawing
 
 PNG_METADATA = {"Software": None}
 FORBIDDEN = "#f4c7c3"
@@ -341,8 +345,6 @@ def write_atlas_outputs(out_dir: Path, report, plots: bool = True) -> list[Path]
     >>> sorted(p.name for p in write_atlas_outputs(Path(tempfile.mkdtemp()), atlas(4, 1), plots=False))
     ['atlas.csv', 'atlas.dxf', 'atlas.json']
     """
-    from camcad.linkage.layout import layout
-
     out_dir = Path(out_dir)
     payload = report.payload
     layouts = [layout(chain.n, chain.edges) for chain in report.chains]
@@ -414,7 +416,6 @@ def error_figure(result):
                                                lambda x: (x - t.x0) / (t.x1 - t.x0) * t.input_range_deg))
     top.set_xlabel("x", fontsize=8)
     fg = result.mechanism
-    from camcad.linkage.fourbar import transmission_angle
 
     mu = np.degrees(transmission_angle(fg.a, fg.b, fg.c, fg.d, fg.phi0 + ev.phi))
     limit = result.options.limits.mu_min_deg
@@ -520,8 +521,6 @@ def pivot_figure(result):
 
 
 def _positions(fg, theta):
-    from camcad.linkage.fourbar import joints
-
     return joints(fg.a, fg.b, fg.c, fg.d, theta, fg.branch)
 
 
@@ -824,15 +823,11 @@ def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=No
     extra_lines: list = []
     extra_splines: list = []
     if profile is not None:
-        from camcad.report.profile_files import build_drawing
-
         cam = build_drawing(profile)
         extra_paths, extra_circles, extra_lines = list(cam.paths), list(cam.circles), list(cam.lines)
         extra_splines = list(cam.splines)
         layers += [x for x in ("PROFILE", "PITCH", "BASE_CIRCLE", "CENTER", "ROLLER") if x not in layers]
     if follower is not None and follower.kind == "oscillating":
-        from camcad.profile.followers import arm_angle_on_base_circle
-
         g0 = arm_angle_on_base_circle(follower)
         for psi in (0.0, psi_max):
             g = g0 + psi

@@ -18,10 +18,12 @@ from typing import Any
 
 import numpy as np
 
+from camcad.errors import CamcadError
 from camcad.io.jsonout import write_json
 from camcad.io.output_folder import OutputFolder, safe_name
 from camcad.report.figure import new_figure, save_figure
 from camcad.report.scene import write_scene
+from camcad.report.text import fmt, table, verdict_lines
 from camcad.scene.machine import MachineAnalysis, analyse_machine, read_machine
 from camcad.scene.pipeline import PipelineOptions
 
@@ -243,8 +245,6 @@ def run_machine(request: MachineRequest) -> MachineReport:
     -------
     MachineReport
     """
-    from camcad.errors import CamcadError
-
     if isinstance(request.samples, bool) or not isinstance(request.samples, int) or not 16 <= request.samples <= 10**6:
         raise CamcadError(f"--samples {request.samples} is not in 16..1000000", "--samples",
                           "give the cam-angle samples per phase, e.g. 2000")
@@ -275,8 +275,6 @@ def run_machine(request: MachineRequest) -> MachineReport:
 def machine_lines(report: MachineReport) -> list[str]:
     """The text of ``camcad machine``: the objective, the limiting operation under both objectives, each
     group's placement and phases, the machine's checks and each group's verdict."""
-    from camcad.report.text import fmt, table, verdict_lines
-
     analysis = report.analysis
     body = analysis.report["machine"]
     lines = [f"{analysis.scene.name} ({analysis.scene.path}): machine of {len(analysis.scene.groups)} groups"]

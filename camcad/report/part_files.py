@@ -35,6 +35,7 @@ from camcad.profile.toolpath import (
     table_angles,
     turn_sense,
 )
+from camcad.report.solid import mesh, part_shape, step_bytes, stl_bytes, volume
 from camcad.scene.pipeline import SceneResult
 from camcad.scene.sections.export import EXPORT_FILES, ExportSettings, parse_export
 
@@ -309,8 +310,6 @@ def part_files(result: ProfileResult, settings: ExportSettings) -> PartFiles:
         report["programs"] = programs
         report["cutter_radius_mm"] = settings.cutter_radius
     if "step" in kinds or "stl" in kinds:
-        from camcad.report.solid import mesh, part_shape, step_bytes, stl_bytes, volume
-
         part_ready(result, "step" if "step" in kinds else "stl")
         solids = {}
         for part in parts:

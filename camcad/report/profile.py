@@ -14,7 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from camcad.profile.summary import profile_report
 from camcad.report.figure import COLOURS, TITLE_Y, fix_label_positions, new_figure, save_figure
+from camcad.report.verdict_text import verdict_lines
 
 PHASE_COLOURS = {"rise": "#d9f0d3", "return": "#fde0c5", "dwell": None}
 #: line spacing of the verdict's monospace lines (a multiple of the font size): 1.3 × 8 pt, the step between
@@ -444,8 +446,6 @@ def plot_summary(result, report: dict | None = None):
     >>> figure.axes[0].get_xlabel(), figure.axes[1].get_ylabel()
     ('x (mm)', 's (mm)')
     """
-    from camcad.profile.summary import profile_report
-
     return SummaryPage().draw(result, report if report is not None else profile_report(result))
 
 
@@ -550,8 +550,6 @@ class SummaryPage:
 
 def _verdict_lines(report: dict) -> list[tuple[str, str]]:
     """(text, colour) lines of the summary's verdict panel (``camcad.report.verdict_text``)."""
-    from camcad.report.verdict_text import verdict_lines
-
     colour = {"ok": COLOURS["ok"], "fail": COLOURS["fail"], "warn": "#b35900"}
     prefix = {"ok": "ok   ", "fail": "FAIL ", "warn": "!    "}
     lines = [("checks, tightest margin first; warnings", "black")]
@@ -569,8 +567,6 @@ def save_profile_plots(result, folder: str | Path, which=("summary",), report: d
     """Draw the plots named in ``which`` (keys of ``PLOTS``; "all" for every one) and save each as
     ``<name>.png`` in ``folder``; the summary into ``page`` when given (a ``SummaryPage`` drawn again for
     each mechanism of a group). Returns the written paths."""
-    from camcad.profile.summary import profile_report
-
     names = list(PLOTS) if "all" in which else [name for name in PLOTS if name in which]
     written = []
     for name in names:

@@ -17,6 +17,7 @@ from camcad.profile.scaled_law import describe_law, describe_phases
 from camcad.profile.summary import profile_report as report
 from camcad.profile.summary import stroke
 from camcad.profile.synth import CurveResult, ProfileResult, ProfileSettings
+from camcad.report.profile import save_profile_plots
 
 #: mm per inch
 INCH_MM = 25.4
@@ -191,8 +192,6 @@ def write_outputs(result: ProfileResult, out: OutputFolder | str | Path, setting
                          "R12" if settings.r12 else "R2000", units),
                write_text_atomic(out.path(*sub, "law.csv"), law_csv_text(result, units))]
     if plots:
-        from camcad.report.profile import save_profile_plots
-
         written.extend(save_profile_plots(result, out.path(*sub) if sub else out.folder, plots))
     if report_json:
         report_path = out.path(*sub, "report.json")

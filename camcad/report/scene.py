@@ -27,9 +27,12 @@ from camcad.io.output_folder import OutputFolder, distinct_names, safe_name
 from camcad.profile.servo import ServoExport
 from camcad.report.animation import write_animation
 from camcad.report.design_report import write_design_report
+from camcad.report.figure import save_figure
 from camcad.report.part_files import scene_part_files, write_part_files
+from camcad.report.profile import PLOTS, SummaryPage, save_profile_plots
+from camcad.report.profile_files import write_outputs
+from camcad.report.scene_toml import scene_toml
 from camcad.report.servo import servo_files, write_servo
-from camcad.report.sweep import scene_toml
 from camcad.scene.animation import mechanism_frames
 from camcad.scene.file import Scene
 from camcad.scene.pipeline import MechanismRun, PipelineOptions, SceneResult, analyse_scene
@@ -201,8 +204,6 @@ def _write_data(run: MechanismRun, out: OutputFolder, sub: tuple[str, ...], opti
                 units: str = "mm") -> list[Path]:
     """profile.dxf and law.csv (or law.csv alone for a mechanism without a profile), lengths in ``units``."""
     if run.profile is not None:
-        from camcad.report.profile_files import write_outputs
-
         return write_outputs(run.profile, out, sub=sub, report_json=False, plots=(), units=units)
     theta = np.linspace(0.0, run.law.cycle, LAW_SAMPLES)
     return [write_law_csv(out.path(*sub, "law.csv"), run.law.kinematics(theta))]
@@ -213,13 +214,9 @@ def mechanism_plots(run: MechanismRun, folder: Path, plots: tuple[str, ...], rep
     """Draw and save the plots of one mechanism named in ``plots`` into ``folder`` (the profile's through
     ``camcad.report.profile``, the models' when named or with "all"); the summary into ``page`` when given
     (a ``camcad.report.profile.SummaryPage`` shared by the mechanisms of a run)."""
-    from camcad.report.figure import save_figure
-
     every = "all" in plots
     written: list[Path] = []
     if run.profile is not None:
-        from camcad.report.profile import PLOTS, save_profile_plots
-
         wanted = tuple(name for name in PLOTS if every or name in plots)
         written.extend(save_profile_plots(run.profile, folder, wanted, report, page=page))
     figures = []
@@ -270,14 +267,11 @@ CYCLOGRAM_JOB = "[cyclogram]"
 def _draw_all(jobs: list) -> list[tuple[str, list[Path]]]:
     """Every mechanism's plots and the cyclogram's, in this process, the summaries into one shared page
     (module docstring)."""
-    from camcad.report.profile import SummaryPage
-
     page: SummaryPage | None = None
     drawn = []
     for name, run, folder, plots, report in jobs:
         if name == CYCLOGRAM_JOB:          # run is the scene, report its cyclogram object
             from camcad.report.cyclogram import scene_cyclogram_figures
-            from camcad.report.figure import save_figure
 
             figures = scene_cyclogram_figures(run, report)
             drawn.append((name, [save_figure(fig, folder / file) for file, fig in figures]))

@@ -19,7 +19,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camcad.io.atomic import write_text_atomic
+from camcad.report.command import finish, open_folder
 from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.text import common_applies, fmt, header_lines, output_lines, table, verdict_lines
+from camcad.scene.commands.source import resolve_source
+from camcad.scene.commands.spectrum import run_spectrum
 from camcad.verdict import note_line
 
 if TYPE_CHECKING:
@@ -242,8 +247,6 @@ def write_spectrum(report, out, *, r12: bool = False, plots: bool = True, json_n
     """Write a spectrum run's files into ``out`` (an OutputFolder): spectrum.csv; with a filter or lead-in
     filtered.dxf and filtered.csv (the written law); the plots. Every name (and ``json_name``, written later
     by the caller) is checked as one set before the first file is written. Returns the paths."""
-    from camcad.io.atomic import write_text_atomic
-
     result = report.result
     data = ["spectrum.csv"] + (["filtered.dxf", "filtered.csv"] if result.outcome is not None else [])
     plot_names = ["spectrum.png", "truncation.png"] + (["filtered.png"] if result.outcome is not None else [])
@@ -289,15 +292,6 @@ def write_spectrum(report, out, *, r12: bool = False, plots: bool = True, json_n
 def spectrum_lines(run) -> list[str]:
     """The text output of ``camcad spectrum``: header, harmonics, truncation errors, resonance, the filter's
     figures, the verdict (tightest margins first) and the files written."""
-    from camcad.report.text import (
-        common_applies,
-        fmt,
-        header_lines,
-        output_lines,
-        table,
-        verdict_lines,
-    )
-
     report = run.report
     data = report.body
     result = report.result
@@ -359,10 +353,6 @@ class SpectrumCommand:
 def spectrum_command(command: SpectrumCommand):
     """Run ``camcad spectrum``: resolve the law, compute (camcad.scene.commands.spectrum.run_spectrum), write the files
     and spectrum.json into the output folder (the inputs are never replaced). Returns a CommandRun."""
-    from camcad.report.command import finish, open_folder
-    from camcad.scene.commands.source import resolve_source
-    from camcad.scene.commands.spectrum import run_spectrum
-
     src = resolve_source(command.request.law, command="spectrum")
     with open_folder(command.output, src.name, src.inputs) as out:
         report = run_spectrum(command.request, src)

@@ -17,7 +17,11 @@ import math
 
 import numpy as np
 
+from camcad.dynamics.impact import find_contact, impact_at
+from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
+from camcad.dynamics.steady import steady_state
 from camcad.report.figure import COLOURS, new_figure
+from camcad.report.text import fmt, table
 
 VARIANT_STYLES = {"elastic approach": ("tab:orange", "--"), "Hertz duration": ("tab:green", "-."),
                   "restitution(v)": ("tab:purple", ":"), "half-sine pulse": ("tab:brown", (0, (3, 1, 1, 1))),
@@ -36,8 +40,6 @@ def plot_published(run, *, title: str = ""):
     -------
     matplotlib.figure.Figure
     """
-    from camcad.dynamics.impact import find_contact, impact_at
-
     model, law = run.model, run.law
     fig, (left, right) = new_figure(13, 5.2, cols=2)
     speeds = [i.rpm for i in run.sweep.impacts] + [c.figure.rpm for c in run.comparisons if c.figure.rpm]
@@ -115,9 +117,6 @@ def plot_analogs(law, natural_frequency_hz: float, damping_ratio: float, speeds_
     -------
     matplotlib.figure.Figure
     """
-    from camcad.dynamics.model import ElasticFollower, rpm_to_rad_s
-    from camcad.dynamics.steady import steady_state
-
     follower = ElasticFollower(natural_frequency_hz, damping_ratio)
     fig, axes = new_figure(9.5, 9.0, rows=3, sharex=True)
     first = True
@@ -169,8 +168,6 @@ def _autoscale_window(ax, window) -> None:
 
 def published_lines(run) -> list[str]:
     """The published figures beside camcad's (value, error, role), the study's variants and its conclusion."""
-    from camcad.report.text import fmt, table
-
     if not run.comparisons:
         return []
     source = run.published.source if run.published is not None else ""

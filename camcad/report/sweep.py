@@ -5,20 +5,27 @@
   the vertical key at each value of the horizontal one), an optional reference curve over it;
 - ``pareto_figure``: the feasible designs in the plane of the first two objectives (a third, when given, as
   colour), the non-dominated ones joined, the best one marked;
-- ``scene_toml``: scene tables as TOML text (the best design is written as a scene file that ``camcad
-  profile`` runs as it stands).
+- the best design written as a scene file (``camcad.report.scene_toml``) that ``camcad profile`` runs as it
+  stands.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from typing import Any
 
 import numpy as np
 
 from camcad.arrays import unique
-from camcad.report.figure import COLOURS, new_figure
+from camcad.io.atomic import write_text_atomic
+from camcad.report.figure import COLOURS, new_figure, save_figure
+from camcad.report.scene import run_scene
+from camcad.report.scene_toml import scene_toml
+from camcad.scene.pipeline import PipelineOptions
+from camcad.sweep import analysis
+from camcad.sweep.evaluate import prepared
+from camcad.sweep.space import apply_values
+from camcad.sweep.store import read_results
 
 #: colours of the failing checks, in order of their counts (the feasible cells are pale green)
 FAIL_COLOURS = ("#c62828", "#1565c0", "#ef6c00", "#6a1b9a", "#00838f", "#8d6e63", "#ad1457", "#9e9d24",
@@ -221,89 +228,6 @@ def pareto_figure(points: dict[str, np.ndarray], front: np.ndarray, best: int | 
 
 
 # --------------------------------------------------------------------------------------------
-# scene files
-# --------------------------------------------------------------------------------------------
-
-_BARE = re.compile(r"^[A-Za-z0-9_-]+$")
-
-
-def scene_toml(tables: dict, header: str = "") -> str:
-    """Scene tables as TOML text: top-level keys, then each table, arrays of tables as ``[[name]]``.
-
-    Parameters
-    ----------
-    tables : dict
-        The scene's tables (strings, numbers, booleans, lists, tables; ``inf`` and ``nan`` allowed).
-    header : str
-        Comment lines put first (each line gets a ``#``).
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> import tomllib
-    >>> tables = {"name": "x", "law": {"lift": 25.0, "phases": "0:90:rise"},
-    ...           "cyclogram": {"operations": [{"from": 1, "bounds_deg": [0.0, float("inf")]}]}}
-    >>> tomllib.loads(scene_toml(tables)) == tables
-    True
-    """
-    lines = [f"# {line}".rstrip() for line in header.splitlines()]
-    _table(tables, [], lines)
-    return "\n".join(lines).strip() + "\n"
-
-
-def _table(table: dict, path: list[str], lines: list[str]) -> None:
-    scalars = {k: v for k, v in table.items() if not isinstance(v, dict) and not _array_of_tables(v)}
-    if path and (scalars or not any(isinstance(v, dict) or _array_of_tables(v) for v in table.values())):
-        lines += ["", f"[{'.'.join(_key(p) for p in path)}]"]
-    for key, value in scalars.items():
-        lines.append(f"{_key(key)} = {_value(value)}")
-    for key, value in table.items():
-        if isinstance(value, dict):
-            _table(value, path + [key], lines)
-        elif _array_of_tables(value):
-            for item in value:
-                lines += ["", f"[[{'.'.join(_key(p) for p in path + [key])}]]"]
-                for k, v in item.items():
-                    lines.append(f"{_key(k)} = {_value(v)}")
-
-
-def _array_of_tables(value: Any) -> bool:
-    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
-
-
-def _key(key: str) -> str:
-    import json
-
-    key = str(key)
-    return key if _BARE.match(key) else json.dumps(key, ensure_ascii=False)
-
-
-def _value(value: Any) -> str:
-    import json
-
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        return repr(value)
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items()) + "}"
-    raise TypeError(f"cannot write {type(value).__name__} to TOML")
-
-
-# --------------------------------------------------------------------------------------------
 # a finished sweep's outputs
 # --------------------------------------------------------------------------------------------
 
@@ -343,11 +267,6 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
         ``counts``, ``objectives``, ``best``, ``pareto``, ``region``, ``outputs`` (report.json's keys).
     """
     from pathlib import Path
-
-    from camcad.report.figure import save_figure
-    from camcad.sweep import analysis
-    from camcad.sweep.space import apply_values
-    from camcad.sweep.store import read_results
 
     folder = Path(folder)
     path = (lambda *parts: out.path(*parts)) if out is not None else (lambda *parts: folder.joinpath(*parts))
@@ -398,15 +317,11 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
                   + "\n".join(f"  {k} = {v}" for k, v in values.items())
                   + f"\nbest by: {', '.join(o.text for o in objectives)}")
         best_path = path("best.toml")
-        from camcad.io.atomic import write_text_atomic
 
         write_text_atomic(best_path, scene_toml(best_tables, header))
         outputs.append(best_path)
         report["best"]["scene"] = str(best_path)
         if run_best:
-            from camcad.report.scene import run_scene
-            from camcad.scene.pipeline import PipelineOptions
-
             result = run_scene(best_path, PipelineOptions(output=path("best"), plots=("summary",) if plots else ()))
             report["best"]["profile"] = {"passed": bool(result.passed), "folder": str(path("best")),
                                          "tightest": _tightest(result.report)}
@@ -428,8 +343,6 @@ def sweep_outputs(folder, plan, tables: dict, base_dir, objectives: list, plot_a
 
 
 def _space(plan):
-    from camcad.sweep.evaluate import prepared
-
     return prepared(plan.task).space
 
 
@@ -465,8 +378,6 @@ def _absolute_files(tables: dict, base_dir) -> dict:
 
 
 def _region(points, axes, grid_keys, best, units, space, draw: bool = True):
-    from camcad.sweep import analysis
-
     x_key, y_key = axes
     fixed = {}
     mask = np.ones(len(points["design"]), dtype=bool)
@@ -497,8 +408,6 @@ def _region(points, axes, grid_keys, best, units, space, draw: bool = True):
 def _write_csv(path, points, rows, grid_keys, objectives) -> None:
     import csv
     import io
-
-    from camcad.io.atomic import write_text_atomic
 
     # each column once: an objective may be a varied key or min_margin_ratio itself (the default objective)
     columns = list(dict.fromkeys(["design", *grid_keys, *[o.column for o in objectives], "governing",

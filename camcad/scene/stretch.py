@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 
 from camcad.arrays import union
+from camcad.contact import axial_force, effective_radius, fits, hertz_peak_pressure
 from camcad.cyclogram.limits import INADMISSIBLE, PhaseLimit
 from camcad.errors import CamcadError
 from camcad.extrema import zoom_max
@@ -243,8 +244,6 @@ class PhaseStretch:
 
     def _stress(self, widths_deg: np.ndarray, params: ContactParams, speeds_rpm):
         """(σ_max sampled, jams, roller does not fit, separation), each one value per width."""
-        from camcad.contact import axial_force, effective_radius, fits, hertz_peak_pressure
-
         widths = np.atleast_1d(np.asarray(widths_deg, dtype=float))
         kin = self.kinematics(widths)
         pitch = self.pitch(kin)

@@ -28,6 +28,7 @@ from camcad.errors import CamcadError
 from camcad.io.output_folder import init_worker
 from camcad.sweep.evaluate import ChunkResult, SweepTask, evaluate_chunk, worker_version
 from camcad.sweep.store import INSTALL_FIX
+from camcad.version import __version__
 
 #: chunks in flight per worker
 IN_FLIGHT_PER_WORKER = 3
@@ -177,8 +178,6 @@ class DaskCluster(Engine):
         self.workers = sum(self.client.nthreads().values())
 
     def _check_workers(self, timeout_s: float) -> None:
-        from camcad.version import __version__
-
         try:
             theirs = self.client.submit(worker_version, pure=False).result(timeout=max(timeout_s, 30.0))
         except Exception as err:  # noqa: BLE001 - ModuleNotFoundError on the worker, a timeout

@@ -32,7 +32,14 @@ from typing import Any
 
 from camcad.errors import CamcadError
 from camcad.io.input_file import read_input
+from camcad.io.output_folder import safe_name
+from camcad.scene.file import scene_from_dict
+from camcad.scene.pipeline import PipelineOptions, analyse_scene
+from camcad.sweep.batch import evaluate_batch, groups
+from camcad.sweep.space import apply_values, build_space
+from camcad.sweep.threads import pin_numerical_threads
 from camcad.verdict import Check
+from camcad.version import __version__
 
 STATUS_OK, STATUS_BAD, STATUS_BUG = "ok", "bad input", "internal error"
 #: the figures of each check, as column suffixes
@@ -89,7 +96,6 @@ def make_task(tables: dict, name: str, base_dir: Path | None, vary: list[str], s
             continue
         path = Path(given) if base_dir is None else base_dir / given
         content = read_input(path, "the law file ([law] file, relative to the scene)")
-        from camcad.io.output_folder import safe_name
 
         name_in_task = f"law{number}_{safe_name(Path(given).name)}"
         files[name_in_task] = content
@@ -111,8 +117,6 @@ class Prepared:
     """A task made ready on one worker: the design space and a folder holding the law files."""
 
     def __init__(self, task: SweepTask) -> None:
-        from camcad.sweep.space import build_space
-
         self.task = task
         self.folder = Path(tempfile.mkdtemp(prefix="camcad-sweep-")) if task.files else None
         if self.folder is not None:
@@ -129,8 +133,6 @@ class Prepared:
 
     def scene_tables(self, design: int) -> tuple[dict, dict]:
         """(the design's values, its scene tables)."""
-        from camcad.sweep.space import apply_values
-
         values = self.space.values(design)
         return values, apply_values(self.task.tables, self.keys, values)
 
@@ -269,9 +271,6 @@ def _number(value: Any) -> float | None:
 
 def evaluate_design(prep: Prepared, design: int) -> dict:
     """The row of design ``design`` (module docstring): a dict of column → value."""
-    from camcad.scene.file import scene_from_dict
-    from camcad.scene.pipeline import PipelineOptions, analyse_scene
-
     row: dict[str, Any] = {"design": int(design)}
     if prep.space.samples > 1:
         row["sample"] = int(design) % prep.space.samples
@@ -372,9 +371,6 @@ def evaluate_chunk(task: SweepTask, chunk: int, start: int, stop: int) -> ChunkR
     """
     import warnings
 
-    from camcad.sweep.batch import evaluate_batch, groups
-    from camcad.sweep.threads import pin_numerical_threads
-
     cpu, wall = time.process_time(), time.perf_counter()
     pin_numerical_threads()     # one design per core: no BLAS threads spinning beside it
     prep = prepared(task)
@@ -390,6 +386,4 @@ def evaluate_chunk(task: SweepTask, chunk: int, start: int, stop: int) -> ChunkR
 
 def worker_version() -> str:
     """camcad's version on a worker (the Dask engine checks the cluster runs the same camcad)."""
-    from camcad.version import __version__
-
     return __version__

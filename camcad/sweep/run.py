@@ -3,7 +3,7 @@
 ``prepare_sweep`` reads the scene, builds the design space (every key and SPEC checked before any work) and
 runs design 0 in this process: a scene or a first design the pipeline refuses stops the sweep with one line,
 and its time sizes the chunks (``TARGET_CHUNK_S`` of work each, at least ``CHUNKS_PER_WORKER`` chunks per
-worker). ``run_sweep`` then computes every chunk whose file is missing (all of them for a fresh folder, the
+worker). ``compute_chunks`` then computes every chunk whose file is missing (all of them for a fresh folder, the
 rest for ``--resume``), writing each one as it completes. Timings, never in the data, are returned as a
 ``RunStats``: wall time, the workers' CPU time, designs per second, and per core.
 """
@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from camcad.errors import CamcadError
+from camcad.scene.default import default_tables
+from camcad.scene.file import read_scene
 from camcad.sweep import store
 from camcad.sweep.engine import Engine
 from camcad.sweep.evaluate import (
@@ -83,11 +85,7 @@ class SweepPlan:
 
 def load_scene_tables(scene_path: Path | None) -> tuple[dict, str, Path | None, list[Path]]:
     """(tables, name, folder of relative law files, input files) of a scene file, or of the built-in default."""
-    from camcad.scene.file import read_scene
-
     if scene_path is None:
-        from camcad.scene.default import default_tables
-
         return default_tables(), "built-in default", None, []
     scene = read_scene(scene_path)  # the structure is checked here, each section by the pipeline
     return scene.raw, scene_path.name, scene.base_dir, scene.input_files()
@@ -192,7 +190,7 @@ class RunStats:
 Progress = Callable[[int, int, int, float], None]
 
 
-def run_sweep(plan: SweepPlan, folder: Path, engine: Engine, resume: bool = False,
+def compute_chunks(plan: SweepPlan, folder: Path, engine: Engine, resume: bool = False,
               progress: Progress | None = None, stop_after_chunks: int | None = None, out=None) -> RunStats:
     """Compute the plan's chunks that are not on disk in ``folder`` and write each as it completes.
 

@@ -35,7 +35,11 @@ from typing import Any
 
 import numpy as np
 
+from camcad.cyclogram.retime import format_phases, stretch_phase
 from camcad.errors import CamcadError, nearest_name
+from camcad.law.phases import parse_phases
+from camcad.law.standard import shape_named
+from camcad.scene.fields import parse_speeds, read_table
 
 #: significant digits of a range's values (A + i·STEP without the round-off of the binary step)
 RANGE_DIGITS = 12
@@ -417,16 +421,11 @@ def _check_value(key: Key, value, where: str) -> None:
             raise CamcadError(f"phase angle must be positive, got {value:g} deg", where, "give angles > 0")
         return
     if key.path.endswith("machine.rpm"):
-        from camcad.scene.fields import parse_speeds
-
         parse_speeds(value, where)
         return
-    from camcad.scene.fields import read_table
 
     f = key.field
     if key.tables[-1] == "law" and key.name in ("standard", "return_standard"):
-        from camcad.law.standard import shape_named
-
         try:
             shape_named(value)
         except KeyError as err:
@@ -575,9 +574,6 @@ def apply_values(tables: dict, keys: dict[str, Key], values: dict[str, Any]) -> 
 
 def stretched_phases(text: str, label: str, width_deg: float, cycle_deg: float = 360.0, where: str = "phases") -> str:
     """The phases text with motion ``label`` (``rise``, ``return``, ``rise_2``, …) made ``width_deg`` wide."""
-    from camcad.cyclogram.retime import format_phases, stretch_phase
-    from camcad.law.phases import parse_phases
-
     phases = [(math.degrees(p.start), math.degrees(p.end), p.kind) for p in parse_phases(text, cycle_deg, where)]
     labels = {lab: i for i, lab in _labelled(phases)}
     if label not in labels:

@@ -23,7 +23,9 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from camcad.errors import CamcadError
+from camcad.io.atomic import write_atomic
 from camcad.io.input_file import check_json_nesting, read_input
+from camcad.io.jsonout import write_json
 
 #: manifest format version
 MANIFEST_VERSION = 1
@@ -108,8 +110,6 @@ def rows_to_table(rows: list[dict], key_kinds: dict[str, str], key_units: dict[s
 def write_chunk(path: Path, table) -> Path:
     """Write one chunk's table to ``path`` atomically (temporary file beside it, fsync, rename)."""
     import pyarrow.parquet as pq
-
-    from camcad.io.atomic import write_atomic
 
     return write_atomic(path, lambda tmp: pq.write_table(table, tmp, compression="zstd"))
 
@@ -207,6 +207,4 @@ def same_sweep(found: dict, wanted: dict) -> str | None:
 
 
 def write_manifest(path: Path, data: dict) -> Path:
-    from camcad.io.jsonout import write_json
-
     return write_json(path, data)

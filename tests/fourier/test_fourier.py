@@ -727,7 +727,7 @@ def test_sparse_high_harmonics_by_horner_and_on_the_grid_by_fft_match_a_direct_s
     cycle = 2.0 * np.pi
     law = compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
     samples = 1 << 13
-    grid = fourier.filter._evaluation_grid(law, samples)
+    grid = fourier.filter.evaluation_grid(law, samples)
     assert len(grid) > samples + 1                                   # the knots are there, off the grid
     series = fourier.FourierLaw(cycle, 0.7, coefficients)
     orders = (0, 1, 2, 3)

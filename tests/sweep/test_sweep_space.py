@@ -261,7 +261,7 @@ def test_boundary_and_objective_parsing():
 
 @pytest.mark.reference("property", "tomllib reads back every sample scene as written")
 def test_scene_toml_round_trips_every_sample_scene():
-    from camcad.report.sweep import scene_toml
+    from camcad.report.scene_toml import scene_toml
 
     for path in sorted(SCENES.glob("*.toml")):
         tables = tomllib.loads(path.read_text())
