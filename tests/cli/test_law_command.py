@@ -70,11 +70,12 @@ def test_check_reads_the_drawing_back_with_the_same_phases_and_balanced(written,
 
 def test_edit_opens_the_drawing_and_saves_it(written, cli, tmp_path):
     script = tmp_path / "ops.json"
-    script.write_text(json.dumps([{"op": "save", "path": str(tmp_path / "edited.dxf")}]))
-    result = cli("edit", written / "law.dxf", "--script", script, "--json")
+    script.write_text(json.dumps([{"op": "save", "path": "edited.dxf"}]))   # saves go into the output folder
+    (tmp_path / "out").mkdir()
+    result = cli("edit", written / "law.dxf", "--script", script, "-o", tmp_path / "out", "--json")
     assert result.code == 0, result.err
     assert result.json()["balanced"]
-    assert cli("check", tmp_path / "edited.dxf").code == 0
+    assert cli("check", tmp_path / "out" / "edited.dxf").code == 0
 
 
 def test_law_from_the_command_line(cli, tmp_path):
