@@ -126,7 +126,20 @@ def test_flat_face_least_angle_is_bound_by_the_cusp_condition_and_says_so(rb):
 def test_profile_prints_what_binds(cli, tmp_path):
     result = cli("profile", "--follower", "flat", "--rb", "60", "--no-plots", "-o", tmp_path)
     assert result.code == 0
-    assert "least rise angle 78.9984 deg (bound by cusp 78.9984 deg)" in result.out
+    # printed rounded up (78.99842... -> 78.9985), so the printed angle given back still passes
+    assert "least rise angle 78.9985 deg (bound by cusp 78.9985 deg)" in result.out
     assert "cusp condition Rb + s + a > 0" in result.out
     result = cli("profile", "--rb", "100", "--rr", "30", "--no-plots", "-o", tmp_path / "r")
-    assert "least return angle 26.0776 deg (bound by undercut 26.0776 deg)" in result.out
+    assert "least return angle 26.0777 deg (bound by undercut 26.0777 deg)" in result.out
+
+
+@pytest.mark.reference("property", "a least angle read off the screen and given back as the phase angle passes the "
+                                   "check that bound it (the printed figure is rounded up)")
+def test_the_printed_least_angle_given_back_passes(cli, tmp_path):
+    result = cli("profile", "--rb", "100", "--rr", "30", "--no-plots", "-o", tmp_path / "a")
+    line = next(x for x in result.out.splitlines() if "least return angle" in x)
+    printed = float(line.split("least return angle ")[1].split()[0])
+    end = 180.0 + printed
+    phases = f"0:120:rise,120:180:dwell,180:{end:.4f}:return,{end:.4f}:360:dwell"
+    again = cli("profile", "--rb", "100", "--rr", "30", "--phases", phases, "--no-plots", "-o", tmp_path / "b")
+    assert again.code == 0, again.out[-2000:]
