@@ -1054,14 +1054,14 @@ def main() -> int:
                         help="write this case's inputs and argv to tests/fixtures/fuzz/seedS-caseN/ (a regression)")
     parser.add_argument("--finding", default="", help="with --pin: what the case found, for its record")
     args = parser.parse_args()
-    if args.pin is not None:
-        case = make_case(args.seed, args.pin, law_corpus(), scene_corpus())
+    commands = tuple(c for c in args.commands.split(",") if c in ALL_COMMANDS) or ALL_COMMANDS
+    if args.pin is not None:   # the case the command line ran (it draws from the same commands)
+        case = make_case(args.seed, args.pin, law_corpus(), scene_corpus(), commands)
         print(pin(case, PINNED / f"seed{args.seed}-case{args.pin}", args.finding, args.seed))
         return 0
     if args.replay is not None:
         args.cases, args.start, args.workers = 1, args.replay, 1
     began = time.perf_counter()
-    commands = tuple(c for c in args.commands.split(",") if c in ALL_COMMANDS) or ALL_COMMANDS
     outcomes = run(args.cases, args.seed, args.workers, args.start, progress=args.replay is None, keep=args.keep,
                    commands=commands, log=args.log)
     print(summary(outcomes, args.seed, time.perf_counter() - began))

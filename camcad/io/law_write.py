@@ -581,9 +581,18 @@ def _curve_entities(doc, curve) -> tuple[list, bool]:
     return entities, unique
 
 
+def _plot_style_normal(doc) -> None:
+    """The plot style "Normal" every new layer refers to (ezdxf looks it up): a damaged drawing may have lost it
+    from its ACAD_PLOTSTYLENAME dictionary; a placeholder is put back, as a new drawing has."""
+    styles = doc.plotstyles
+    if "Normal" not in styles:
+        styles["Normal"] = doc.objects.add_placeholder(owner=styles.dxf.handle)
+
+
 def _original_block(doc):
     """A new block definition (never inserted) for the original curve, and its frozen layer."""
     if ORIGINAL_LAYER not in doc.layers:
+        _plot_style_normal(doc)
         doc.layers.add(ORIGINAL_LAYER, color=8)
     layer = doc.layers.get(ORIGINAL_LAYER)
     layer.off()

@@ -345,6 +345,12 @@ def _bounds(limits: Limits) -> tuple[float, float]:
     return 1.0 / limits.ratio_max, limits.ratio_max
 
 
+
+def crank_of(log_b: float) -> float:
+    """The crank length b from its logarithm, the optimisers' variable; an optimiser's step far out (log b past
+    700, where exp overflows) gives the largest finite length, which the link-ratio limit refuses."""
+    return math.exp(min(float(log_b), 700.0))
+
 def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = True) -> tuple[np.ndarray, float]:
     """Minimise the penalised Q from ``start`` = (b, α rad) by Nelder–Mead (log b, α), finish on an active
     limit with SLSQP, then, when K = 2 and Q is nearly zero, by Gauss–Newton on the vector C_145 − C_123
@@ -363,24 +369,24 @@ def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = 
     from scipy.optimize import least_squares, minimize
 
     def objective(y):
-        return penalised(problem, math.exp(y[0]), float(y[1]))
+        return penalised(problem, crank_of(y[0]), float(y[1]))
 
     y0 = np.array([math.log(start[0]), start[1]])
     simplex = np.array([y0, y0 + [0.2, 0.0], y0 + [0.0, 0.3]])
     result = minimize(objective, y0, method="Nelder-Mead",
                       options={"xatol": 1e-10, "fatol": 1e-15, "maxfev": 2000, "initial_simplex": simplex})
     y, value = np.array(result.x, dtype=float), float(result.fun)
-    state = problem.state(math.exp(y[0]), float(y[1]))
-    near_limit = state.feasible and min(problem.constraints(math.exp(y[0]), float(y[1]))) < 1e-4
+    state = problem.state(crank_of(y[0]), float(y[1]))
+    near_limit = state.feasible and min(problem.constraints(crank_of(y[0]), float(y[1]))) < 1e-4
     if near_limit and value <= state.q + 1e-12:
         # on a limit the exact penalty converges slowly: finish with SLSQP on Q under the limits
         def margins(z):
-            b = math.exp(z[0])
+            b = crank_of(z[0])
             lo, hi = _bounds(problem.limits)
             return np.array([*problem.constraints(b, float(z[1])), b - lo, hi - b])
 
         def q_of(z):
-            st = problem.state(math.exp(z[0]), float(z[1]))
+            st = problem.state(crank_of(z[0]), float(z[1]))
             return st.q if st.feasible else PENALTY
 
         fine = minimize(q_of, y, method="SLSQP", constraints=[{"type": "ineq", "fun": margins}],
@@ -389,10 +395,10 @@ def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = 
             trial = objective(fine.x)
             if trial < value:
                 y, value = np.array(fine.x, dtype=float), trial
-        state = problem.state(math.exp(y[0]), float(y[1]))
+        state = problem.state(crank_of(y[0]), float(y[1]))
     if polish and len(problem.subsets) == 2 and state.feasible and state.q < 1e-3 and value == state.q:
         def residual(z):
-            st = problem.state(math.exp(z[0]), float(z[1]))
+            st = problem.state(crank_of(z[0]), float(z[1]))
             if not st.feasible:
                 return np.array([PENALTY, PENALTY])
             gap = st.pivots[1] - st.pivots[0]
@@ -402,7 +408,7 @@ def local_minimum(problem: QProblem, start: tuple[float, float], polish: bool = 
         trial = objective(fine.x)
         if trial < value:
             y, value = np.array(fine.x, dtype=float), trial
-    return np.array([math.exp(y[0]), y[1]]), value
+    return np.array([crank_of(y[0]), y[1]]), value
 
 
 def grid_minima(values: np.ndarray) -> list[tuple[int, int]]:

@@ -238,3 +238,19 @@ def test_r12_copy_stays_r12_with_real_extents(tmp_path):
     assert max(abs(v) for v in doc.header["$EXTMAX"]) < 1e19
     xs = [v.dxf.location.x for e in doc.modelspace().query("POLYLINE") for v in e.vertices]
     assert float(doc.header["$EXTMAX"][0]) >= max(xs) - 1e-9
+
+
+@pytest.mark.reference("property", "a damaged drawing's corrected copy keeps the law's layer and adds the original's "
+                                   "layer (fuzz case 1950 of seed 12: internal error DXFKeyError 'Normal')")
+def test_a_drawing_without_the_normal_plot_style_gets_its_corrected_copy(tmp_path, cli):
+    doc = ezdxf.new("R2000")
+    doc.layers.add("LAW")
+    doc.modelspace().add_lwpolyline([(0, 0), (45, 1), (90, 0), (135, -1), (180, 0), (225, -1), (270, 0),
+                                     (315, 1.2), (360, 0)], dxfattribs={"layer": "LAW"})
+    del doc.plotstyles["Normal"]
+    source = tmp_path / "damaged.dxf"
+    doc.saveas(source)
+    run = cli("fix", source, "-o", tmp_path / "fixed.dxf", "--no-plots")
+    assert run.code == 0, run.err
+    fixed = ezdxf.readfile(tmp_path / "fixed.dxf")
+    assert "LAW" in fixed.layers and "CAMCAD_ORIGINAL" in fixed.layers and "Normal" in fixed.plotstyles
