@@ -47,6 +47,15 @@ JointOpt = Annotated[str, _opt("--joint", "The element's joint (C, F, A, B, E)."
 PathOpt = Annotated[str, _opt("--path", "The element's path: arc or slot.")]
 CentreOpt = Annotated[str | None, _opt("--centre", "Arc centre X,Y (mm).")]
 DirectionOpt = Annotated[float, _opt("--direction", "Slot direction (deg).")]
+AnimateOpt = Annotated[bool, typer.Option(
+    "--animate", help="Also write animation.html: with a scene's cam, the cam, the follower and the linkage over a "
+                      "turn; otherwise the linkage alone over its input range and back (one self-contained page).")]
+AnimateFormatOpt = Annotated[str | None, typer.Option(
+    "--animate-format", help="Animation files: a comma list of html (default), gif, mp4 (mp4 needs ffmpeg); "
+                             "implies --animate.")]
+AnimateStepOpt = Annotated[float | None, typer.Option(
+    "--animate-step", help="Between frames: cam angle with a cam, input angle without (deg, default 1; it must "
+                           "divide 360); implies --animate.")]
 SOURCE = ("scene", "mechanism", "pivot", "output_pivot", "links", "input_angle", "swing", "sense", "branch",
           "output_pivot_2", "links_2", "coupling_2", "branch_2", "coupler_point", "mu_min")
 ELEMENT = {"element": "element", "joint": "joint", "path": "path", "centre": "centre", "direction": "direction"}
@@ -159,13 +168,18 @@ def analyse(scene: SceneOptArg = None, mechanism: MechOpt = None, pivot: PivotOp
             links_2: Links2Opt = None, coupling_2: Coupling2Opt = 0.0, branch_2: Branch2Opt = 1,
             coupler_point: CouplerOpt = None, mu_min: MuOpt = 30.0,
             points: Annotated[int, _opt("--points", "Samples over the swing.")] = 721,
-            cam: Annotated[bool, typer.Option("--cam/--no-cam", help="Scene: draw the cam on the same sheet.")] = True,
+            cam: Annotated[bool, typer.Option("--cam/--no-cam", help="Scene: draw (and animate) the cam with the "
+                                                                     "linkage.")] = True,
+            animate: AnimateOpt = False, animate_format: AnimateFormatOpt = None, animate_step: AnimateStepOpt = None,
             output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
     """Analyse the linkage after the follower: exact Pi, Pi', Pi'', Pi''', transmission angles, dead points,
     branch, coupler path; exit 1 when a check fails."""
+    from camcad.cli.report_options import animate_options
     from camcad.scene.linkage_commands import AnalyseRequest
 
-    _go(AnalyseRequest(_source(locals()), points, cam), output, not no_plots, as_json)
+    source = _source(locals())
+    formats, step = animate_options(animate, animate_format, animate_step)
+    _go(AnalyseRequest(source, points, cam, formats, step), output, not no_plots, as_json)
 
 
 @linkage_app.command()

@@ -30,6 +30,27 @@ def handover_options(*, animate: bool, animate_format: str | None, animate_step:
     import shutil
 
     from camcad.errors import CamcadError
+
+    formats, step = animate_options(animate, animate_format, animate_step)
+    pages: tuple[str, ...] = ("html", "pdf") if report_pdf else ("html",) if report else ()
+    if report_pdf:
+        from camcad.report.design_report import chromium
+
+        if chromium() is None:
+            raise CamcadError("a PDF report is printed by Chromium, which is not installed", "--report-pdf",
+                              "install chromium (or chromium-headless-shell), or set CAMCAD_CHROMIUM; --report "
+                              "alone writes report.html")
+    return {"animate": formats, "animate_step_deg": step, "report": pages, "command": command_line()}
+
+
+def animate_options(animate: bool, animate_format: str | None,
+                    animate_step: float | None) -> tuple[tuple[str, ...], float]:
+    """(the animation formats, the step between frames in deg) of ``--animate``, ``--animate-format`` and
+    ``--animate-step``; () when none is given. Refused here, before any work, when a format is unknown, the step
+    does not divide 360 or an MP4 cannot be made on this machine."""
+    import shutil
+
+    from camcad.errors import CamcadError
     from camcad.profile.animation import FRAME_STEP_DEG, frame_angles
 
     formats: tuple[str, ...] = ()
@@ -45,15 +66,7 @@ def handover_options(*, animate: bool, animate_format: str | None, animate_step:
                               "install ffmpeg (e.g. apt-get install ffmpeg), or ask for html or gif")
     step = FRAME_STEP_DEG if animate_step is None else animate_step
     frame_angles(step)                       # a step that does not divide 360: refused now
-    pages: tuple[str, ...] = ("html", "pdf") if report_pdf else ("html",) if report else ()
-    if report_pdf:
-        from camcad.report.design_report import chromium
-
-        if chromium() is None:
-            raise CamcadError("a PDF report is printed by Chromium, which is not installed", "--report-pdf",
-                              "install chromium (or chromium-headless-shell), or set CAMCAD_CHROMIUM; --report "
-                              "alone writes report.html")
-    return {"animate": formats, "animate_step_deg": float(step), "report": pages, "command": command_line()}
+    return formats, float(step)
 
 
 def command_line() -> str:

@@ -123,6 +123,10 @@ class LinkageReport:
     summary: list[str] = field(default_factory=list)
     name: str = "linkage"
     inputs: tuple[Path, ...] = ()
+    #: ``--animate``: the animation files asked for ("html", "gif", "mp4") and their frames
+    #: (``camcad.scene.animation.MechanismFrames`` or ``LinkageMotion``), None when not asked or not drawable
+    animate: tuple[str, ...] = field(default=(), kw_only=True)
+    animation: Any = field(default=None, kw_only=True)
 
     @property
     def exit_code(self) -> int:

@@ -23,7 +23,7 @@ import numpy as np
 from camcad.errors import CamcadError
 from camcad.io.atomic import write_atomic
 from camcad.report.figure import new_figure
-from camcad.scene.animation import MechanismFrames
+from camcad.scene.animation import LinkageMotion, MechanismFrames
 
 #: animation file kinds: what ``--animate-format`` accepts
 FORMATS = ("html", "gif", "mp4")
@@ -219,7 +219,7 @@ def animation_html(frames: MechanismFrames, title: str = "", subtitle: str = "")
     --------
     >>> import camcad
     >>> from camcad.profile.animation import cam_frames
-    >>> from camcad.scene.animation import MechanismFrames
+    >>> from camcad.scene.animation import LinkageMotion, MechanismFrames
     >>> law = camcad.compose([("rise", 90), ("dwell", 90), ("return", 90), ("dwell", 90)], 20.0)
     >>> result = camcad.synthesize(law, camcad.Follower("roller", base_radius=40.0, roller_radius=10.0),
     ...                            camcad.ProfileSettings(plots=False, design=False))
@@ -306,10 +306,11 @@ def animation_html(frames: MechanismFrames, title: str = "", subtitle: str = "")
         step=f"{360.0 / cam.count:g}")
 
 
-def write_animation(frames: MechanismFrames, folder: Path, formats: tuple[str, ...] = ("html",), *,
+def write_animation(frames: MechanismFrames | LinkageMotion, folder: Path, formats: tuple[str, ...] = ("html",), *,
                     title: str = "", subtitle: str = "") -> list[Path]:
-    """Write the animation of ``frames`` into ``folder`` as ``animation.html`` (and ``animation.gif``,
-    ``animation.mp4`` when asked); returns the written paths. An MP4 needs ffmpeg on the PATH."""
+    """Write the animation of ``frames`` (a cam mechanism, or a linkage alone) into ``folder`` as
+    ``animation.html`` (and ``animation.gif``, ``animation.mp4`` when asked); returns the written paths. An MP4
+    needs ffmpeg on the PATH."""
     for kind in formats:
         if kind not in FORMATS:
             raise CamcadError(f"unknown animation format {kind!r}", "--animate-format", "use html, gif or mp4")
@@ -318,11 +319,13 @@ def write_animation(frames: MechanismFrames, folder: Path, formats: tuple[str, .
                           "install ffmpeg (e.g. apt-get install ffmpeg), or ask for html or gif")
     written = []
     if "html" in formats:
-        page = animation_html(frames, title, subtitle)
+        page = (linkage_animation_html(frames, title, subtitle) if isinstance(frames, LinkageMotion)
+                else animation_html(frames, title, subtitle))
         written.append(write_atomic(folder / "animation.html", lambda tmp: tmp.write_text(page, encoding="utf-8")))
     for kind in ("gif", "mp4"):
         if kind in formats:
-            written.append(_write_movie(frames, folder / f"animation.{kind}", kind, title or frames.name))
+            movie = _write_linkage_movie if isinstance(frames, LinkageMotion) else _write_movie
+            written.append(movie(frames, folder / f"animation.{kind}", kind, title or frames.name))  # type: ignore[arg-type]
     return written
 
 
@@ -630,6 +633,332 @@ _PAGE = """<!DOCTYPE html>
 <select id="camcad-speed" aria-label="speed"><option value="0.25">0.25×</option>
 <option value="0.5">0.5×</option><option value="1" selected>1× (a turn in 6 s)</option><option value="2">2×</option>
 <option value="4">4×</option></select>
+<span id="camcad-frame-label"></span>
+</div>
+<script type="application/json" id="camcad-animation-data">{data}</script>
+<script>{script}</script>
+</body>
+</html>
+"""
+
+
+# --------------------------------------------------------------------------------------------
+# A linkage alone (``camcad.scene.animation.LinkageMotion``): `camcad linkage analyse|fgen|path --animate`
+# --------------------------------------------------------------------------------------------
+
+def _line_chart(x: np.ndarray, series: list[tuple[np.ndarray, str]], box: tuple[float, float, float, float],
+                label: str, unit: str, x_label: str, name: str) -> tuple[str, dict]:
+    """An SVG chart of each (values, css class) of ``series`` against ``x`` in ``box`` (x, y, w, h; px), a cursor
+    and a dot on the first series, and its scale for the page's script."""
+    x0, y0, w, h = box
+    x = np.asarray(x, dtype=float)
+    order = np.argsort(x, kind="stable")
+    values = np.concatenate([np.asarray(v, dtype=float) for v, _ in series])
+    finite = values[np.isfinite(values)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    if high - low < 1e-9 * max(1.0, abs(high)):
+        low, high = low - 1.0, high + 1.0
+    pad = 0.08 * (high - low)
+    low, high = low - pad, high + pad
+    x_low, x_high = float(x.min()), float(x.max())
+    if x_high - x_low < 1e-12:
+        x_high = x_low + 1.0
+
+    def xy(t, v):
+        return x0 + w * (t - x_low) / (x_high - x_low), y0 + h * (high - v) / (high - low)
+
+    parts = [f'<rect x="{x0}" y="{y0}" width="{w}" height="{h}" class="chart-box"/>']
+    for t in np.linspace(x_low, x_high, 5):
+        px = xy(t, 0.0)[0]
+        parts.append(f'<line x1="{px:.1f}" y1="{y0}" x2="{px:.1f}" y2="{y0 + h}" class="grid"/>'
+                     f'<text x="{px:.1f}" y="{y0 + h + 14}" class="tick" text-anchor="middle">{t:.4g}°</text>')
+    for v in (low + pad, high - pad):
+        parts.append(f'<text x="{x0 - 4}" y="{xy(x_low, v)[1] + 4:.1f}" class="tick" text-anchor="end">{v:.4g}</text>')
+    parts.append(f'<text x="{x0}" y="{y0 - 6}" class="chart-title">{html.escape(label)} ({html.escape(unit)}) '
+                 f'against {html.escape(x_label)}</text>')
+    for values_k, cls in series:
+        v = np.asarray(values_k, dtype=float)[order]
+        line = " L".join("{:.2f},{:.2f}".format(*xy(t, y)) for t, y in zip(x[order], v) if np.isfinite(y))
+        parts.append(f'<path d="M{line}" class="{cls}"/>')
+    parts.append(f'<line id="{name}-cursor" x1="{x0}" y1="{y0}" x2="{x0}" y2="{y0 + h}" class="cursor"/>'
+                 f'<circle id="{name}-dot" r="4" class="dot"/>')
+    return "".join(parts), {"x0": x0, "w": w, "y0": y0, "h": h, "low": low, "high": high, "xlow": x_low,
+                            "xhigh": x_high}
+
+
+def _ground(x: float, y: float, size: float) -> str:
+    """A fixed pivot's ground mark (a triangle under the joint), mm."""
+    return (f'<path d="M{x:.3f},{y:.3f} L{x - size:.3f},{y - 1.6 * size:.3f} L{x + size:.3f},{y - 1.6 * size:.3f} Z" '
+            'class="fixed-part"/>')
+
+
+def linkage_animation_html(motion: LinkageMotion, title: str = "", subtitle: str = "") -> str:
+    """The self-contained HTML page of a linkage alone in motion (``camcad.scene.animation.LinkageMotion``).
+
+    The links and joints (fixed pivots dark), the coupler point's path (and the curve it is to trace), and beside
+    them the output's turn and the loops' transmission angles against the input, with a cursor at the frame's
+    input; the same controls, ``data-frames`` and ``window.camcadAnimation`` as ``animation_html``.
+
+    Parameters
+    ----------
+    motion : LinkageMotion
+        The linkage's frames (mm, deg).
+    title, subtitle : str
+        The page's heading and the line under it.
+
+    Returns
+    -------
+    str
+        The page (no unit): one HTML document with its SVG, style and script inline; it loads nothing.
+
+    Examples
+    --------
+    >>> import math
+    >>> from camcad.linkage.analysis import Linkage, Loop
+    >>> from camcad.scene.animation import linkage_motion
+    >>> lk = Linkage((Loop((0.0, 0.0), (100.0, 20.0), 40.0, 120.0, 90.0, 1),), theta0=math.radians(80.0))
+    >>> page = linkage_animation_html(linkage_motion(lk, math.radians(30.0), 1.0))
+    >>> 'data-frames="60"' in page, "http" in page
+    (True, False)
+    """
+    drawn = motion.linkage
+    reach = list(drawn.joints.values()) + ([motion.target] if motion.target is not None else [])
+    everything = np.vstack(reach)
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    size = float(np.max(high - low)) or 1.0
+    pad = 0.1 * size
+    x_min, y_min, x_max, y_max = low[0] - pad, low[1] - pad, high[0] + pad, high[1] + pad
+    stroke = size / 400.0
+    fixed = []
+    for name in drawn.fixed:
+        x, y = drawn.joints[name][0]
+        fixed.append(_ground(float(x), float(y), 0.03 * size))
+    if motion.target is not None:
+        fixed.append(f'<path d="{_path(_decimate(motion.target), closed=False)}" class="target"/>')
+    moving = []
+    if "P" in drawn.joints:
+        moving.append(f'<path d="{_path(drawn.joints["P"], closed=False)}" class="trace"/>')
+        moving.append('<polygon id="camcad-coupler" class="coupler-plate"/>')
+    for a, b, what in drawn.links:
+        moving.append(f'<line id="camcad-link-{a}{b}" class="link"><title>{html.escape(what)}</title></line>')
+    for name in drawn.joints:
+        cls = "joint fixed-joint" if name in drawn.fixed else "joint"
+        moving.append(f'<circle id="camcad-joint-{name}" r="{3 * stroke:.3f}" class="{cls}"><title>{name}</title>'
+                      '</circle>')
+    x = motion.input_deg
+    series = [(motion.output_deg, "curve")]
+    if motion.target_output_deg is not None:
+        series.append((motion.target_output_deg, "limit"))
+    out_chart, out_scale = _line_chart(x, series, (58, 26, 330, 120), motion.output_label, "deg",
+                                       motion.input_label, "camcad-out")
+    mu_chart, mu_scale = _line_chart(x, [(mu, "curve") for mu in drawn.transmission_deg], (58, 196, 330, 120),
+                                     "transmission angle μ", "deg", motion.input_label, "camcad-mu")
+    data = {"n": motion.count, "input": _rounded(x, 6), "output": _rounded(motion.output_deg, 6),
+            "target": None if motion.target_output_deg is None else _rounded(motion.target_output_deg, 6),
+            "joints": {name: [_rounded(xy[:, 0]), _rounded(xy[:, 1])] for name, xy in drawn.joints.items()},
+            "links": [[a, b] for a, b, _ in drawn.links], "mu": [_rounded(mu, 3) for mu in drawn.transmission_deg],
+            "scales": {"out": out_scale, "mu": mu_scale}, "turn_seconds": TURN_SECONDS,
+            "input_label": motion.input_label, "output_label": motion.output_label}
+    view = f"{x_min:.3f} {-y_max:.3f} {x_max - x_min:.3f} {y_max - y_min:.3f}"
+    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    step = float(abs(x[1] - x[0])) if motion.count > 1 else 0.0
+    return _LINKAGE_PAGE.format(
+        title=html.escape(title or motion.name), subtitle=html.escape(subtitle), n=motion.count, view=view,
+        fixed="".join(fixed), moving="".join(moving), charts=out_chart + mu_chart, chart_height=340, data=payload,
+        script=_LINKAGE_SCRIPT, style=_STYLE + _LINKAGE_STYLE, step=f"{step:.4g}",
+        input_label=html.escape(motion.input_label), output_label=html.escape(motion.output_label))
+
+
+def _write_linkage_movie(motion: LinkageMotion, path: Path, kind: str, title: str) -> Path:
+    """A GIF (Pillow) or MP4 (ffmpeg) of a linkage alone: one matplotlib figure, its artists moved per frame."""
+    from matplotlib import animation as mpl_animation
+
+    drawn = motion.linkage
+    fig, (ax, out_ax) = new_figure(9.6, 5.4, cols=2, layout=None, gridspec_kw={"width_ratios": [1.3, 1.0]})
+    fig.set_dpi(MOVIE_DPI)
+    fig.subplots_adjust(left=0.02, right=0.9, top=0.9, bottom=0.12, wspace=0.3)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    reach = np.vstack(list(drawn.joints.values()) + ([motion.target] if motion.target is not None else []))
+    low, high = reach.min(axis=0), reach.max(axis=0)
+    pad = 0.1 * float(np.max(high - low))
+    ax.set_xlim(low[0] - pad, high[0] + pad)
+    ax.set_ylim(low[1] - pad, high[1] + pad)
+    if motion.target is not None:
+        ax.plot(*motion.target.T, color=COLOURS["contact"], lw=1.0, ls="--")
+    if "P" in drawn.joints:
+        ax.plot(*drawn.joints["P"].T, color=COLOURS["follower"], lw=0.8, ls=":")
+    for name in drawn.fixed:
+        ax.plot(*drawn.joints[name][0], marker="^", color=COLOURS["fixed"], ms=11)
+    links = ax.plot([], [], color=COLOURS["linkage"], lw=2.4, marker="o", ms=5, mfc="white")[0]
+    point = ax.plot([], [], "o", color=COLOURS["follower"], ms=5)[0]
+    order = np.argsort(motion.input_deg, kind="stable")
+    out_ax.plot(motion.input_deg[order], motion.output_deg[order], color=COLOURS["cam_edge"], lw=1.4)
+    if motion.target_output_deg is not None:
+        out_ax.plot(motion.input_deg[order], motion.target_output_deg[order], color=COLOURS["contact"], lw=1.0,
+                    ls="--")
+    out_ax.set_xlabel(f"{motion.input_label} (deg)")
+    out_ax.set_ylabel(f"{motion.output_label} (deg)")
+    out_ax.grid(True, lw=0.4, alpha=0.6)
+    cursor = out_ax.axvline(0.0, color="black", lw=1.0)
+    heading = fig.suptitle(title, fontsize=11)
+
+    def show(k: int):
+        xs, ys = [], []
+        for a, b, _ in drawn.links:
+            xs += [drawn.joints[a][k, 0], drawn.joints[b][k, 0], np.nan]
+            ys += [drawn.joints[a][k, 1], drawn.joints[b][k, 1], np.nan]
+        links.set_data(xs, ys)
+        if "P" in drawn.joints:
+            point.set_data([drawn.joints["P"][k, 0]], [drawn.joints["P"][k, 1]])
+        cursor.set_xdata([motion.input_deg[k], motion.input_deg[k]])
+        heading.set_text(f"{title} — {motion.input_label} = {motion.input_deg[k]:.2f}°, "
+                         f"{motion.output_label} = {motion.output_deg[k]:.3f}°")
+
+    return write_atomic(path, _movie_writer(fig, show, motion.count, kind, mpl_animation))
+
+
+def _movie_writer(fig, show, count: int, kind: str, mpl_animation):
+    """The writer of a GIF or MP4 of ``count`` frames drawn by ``show(k)`` on ``fig`` (for ``write_atomic``)."""
+
+    def gif(tmp: Path) -> None:
+        from PIL import Image
+
+        pictures = []
+        for k in range(count):
+            show(k)
+            fig.canvas.draw()
+            pictures.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3]).quantize(colors=64))
+        pictures[0].save(tmp, format="GIF", save_all=True, append_images=pictures[1:], duration=round(1000 / FPS),
+                         loop=0)
+
+    def mp4(tmp: Path) -> None:
+        writer = mpl_animation.FFMpegWriter(fps=FPS, extra_args=["-f", "mp4"])
+        with writer.saving(fig, str(tmp), fig.dpi):
+            for k in range(count):
+                show(k)
+                writer.grab_frame()
+
+    return gif if kind == "gif" else mp4
+
+
+_LINKAGE_STYLE = """
+.target { fill: none; stroke: #c00000; stroke-dasharray: 6 3; stroke-width: 1.2; }
+.coupler-plate { fill: #e6f2e6; fill-opacity: 0.7; stroke: #2e7d32; }
+"""
+
+_LINKAGE_SCRIPT = r"""
+(function () {
+  "use strict";
+  var data = JSON.parse(document.getElementById("camcad-animation-data").textContent);
+  var n = data.n, frame = 0, shown = 0, playing = true, speed = 1, last = null, clock = 0;
+  function el(id) { return document.getElementById(id); }
+  function set(node, attrs) { if (node) { for (var k in attrs) { node.setAttribute(k, attrs[k]); } } }
+  var svg = el("camcad-mechanism"), slider = el("camcad-slider"), button = el("camcad-play");
+  var label = el("camcad-frame-label");
+  function fmt(v, d) { return (v === null || v === undefined) ? "-" : Number(v).toFixed(d); }
+  function cursor(name, scale, value, k) {
+    var x = scale.x0 + scale.w * (data.input[k] - scale.xlow) / (scale.xhigh - scale.xlow);
+    set(el(name + "-cursor"), {x1: x, x2: x});
+    if (value !== null && value !== undefined) {
+      set(el(name + "-dot"), {cx: x, cy: scale.y0 + scale.h * (scale.high - value) / (scale.high - scale.low)});
+    }
+  }
+  function show(k) {
+    frame = ((k % n) + n) % n;
+    data.links.forEach(function (pair) {
+      var a = data.joints[pair[0]], b = data.joints[pair[1]];
+      set(el("camcad-link-" + pair[0] + pair[1]), {x1: a[0][frame], y1: a[1][frame], x2: b[0][frame],
+                                                     y2: b[1][frame]});
+    });
+    for (var name in data.joints) {
+      set(el("camcad-joint-" + name), {cx: data.joints[name][0][frame], cy: data.joints[name][1][frame]});
+    }
+    if (data.joints.P) {
+      var plate = ["A", "B", "P"].map(function (j) { return data.joints[j][0][frame] + "," + data.joints[j][1][frame]; });
+      set(el("camcad-coupler"), {points: plate.join(" ")});
+    }
+    cursor("camcad-out", data.scales.out, data.output[frame], frame);
+    cursor("camcad-mu", data.scales.mu, data.mu[0][frame], frame);
+    el("camcad-input").textContent = fmt(data.input[frame], 3) + " deg";
+    el("camcad-output").textContent = fmt(data.output[frame], 4) + " deg" +
+      (data.target ? " (wanted " + fmt(data.target[frame], 4) + ")" : "");
+    el("camcad-mu").textContent = data.mu.map(function (m) { return fmt(m[frame], 1); }).join(", ") + " deg";
+    slider.value = frame;
+    label.textContent = "frame " + (frame + 1) + " / " + n;
+    shown += 1;
+    document.body.dataset.frame = frame;
+    window.camcadAnimation = {frames: n, frame: frame, shown: shown, playing: playing};
+  }
+  function tick(now) {
+    if (last === null) { last = now; }
+    var dt = (now - last) / 1000;
+    last = now;
+    if (playing) {
+      clock += dt * speed * n / data.turn_seconds;
+      if (clock >= 1) { var steps = Math.floor(clock); clock -= steps; show(frame + steps); }
+    }
+    window.requestAnimationFrame(tick);
+  }
+  function play(on) {
+    playing = on;
+    button.textContent = on ? "pause" : "play";
+    last = null;
+    window.camcadAnimation.playing = on;
+  }
+  slider.max = n - 1;
+  slider.addEventListener("input", function () { play(false); show(Number(slider.value)); });
+  button.addEventListener("click", function () { play(!playing); });
+  el("camcad-back").addEventListener("click", function () { play(false); show(frame - 1); });
+  el("camcad-forward").addEventListener("click", function () { play(false); show(frame + 1); });
+  el("camcad-speed").addEventListener("change", function (e) { speed = Number(e.target.value); });
+  document.addEventListener("keydown", function (e) {
+    if (e.key === " ") { play(!playing); e.preventDefault(); }
+    else if (e.key === "ArrowRight") { play(false); show(frame + 1); }
+    else if (e.key === "ArrowLeft") { play(false); show(frame - 1); }
+  });
+  if (Number(svg.dataset.frames) !== n) { throw new Error("frame count mismatch"); }
+  window.camcadAnimation = {frames: n, frame: 0, shown: 0, playing: true};
+  show(0);
+  window.requestAnimationFrame(tick);
+})();
+"""
+
+_LINKAGE_PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="camcad">
+<title>{title} — camcad animation</title>
+<style>{style}</style>
+</head>
+<body>
+<h1>{title}</h1>
+<p class="subtitle">{subtitle}</p>
+<div class="stage">
+<svg id="camcad-mechanism" class="mechanism" data-frames="{n}" viewBox="{view}" role="img"
+     aria-label="the linkage moving over its input range and back, {n} frames of {step} deg">
+<g transform="scale(1,-1)">{fixed}{moving}</g>
+</svg>
+<div class="side">
+<svg class="charts" viewBox="0 0 400 {chart_height}" role="img"
+     aria-label="the output and the transmission angle against the input">{charts}</svg>
+<table class="readout">
+<tr><td>{input_label}</td><td class="value" id="camcad-input"></td></tr>
+<tr><td>{output_label}</td><td class="value" id="camcad-output"></td></tr>
+<tr><td>transmission angle μ</td><td class="value" id="camcad-mu"></td></tr>
+</table>
+</div>
+</div>
+<div class="controls">
+<button id="camcad-play" type="button">pause</button>
+<button id="camcad-back" type="button" aria-label="previous frame">&#9664;</button>
+<button id="camcad-forward" type="button" aria-label="next frame">&#9654;</button>
+<input id="camcad-slider" type="range" min="0" max="{n}" value="0" step="1" aria-label="frame">
+<select id="camcad-speed" aria-label="speed"><option value="0.25">0.25×</option>
+<option value="0.5">0.5×</option><option value="1" selected>1× (there and back in 6 s)</option>
+<option value="2">2×</option><option value="4">4×</option></select>
 <span id="camcad-frame-label"></span>
 </div>
 <script type="application/json" id="camcad-animation-data">{data}</script>

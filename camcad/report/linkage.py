@@ -11,6 +11,7 @@ an adjustable link are filled vertices and its locked pairs thick edges.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from itertools import pairwise
 from pathlib import Path
 
@@ -1138,9 +1139,11 @@ def analysis_csv(analysis) -> str:
 
 
 def write_linkage_outputs(out_dir: Path, name: str, payload: dict, texts: dict | None = None,
-                          figures: dict | None = None, drawing: Drawing | None = None) -> list[Path]:
+                          figures: dict | None = None, drawing: Drawing | None = None,
+                          written_before: Sequence[Path] = ()) -> list[Path]:
     """Write ``name``.json (``payload`` with ``outputs``), the CSV ``texts`` ({file name: text}), the PNG
-    ``figures`` ({file name: Figure factory}) and ``name``.dxf into ``out_dir``, atomically.
+    ``figures`` ({file name: Figure factory}) and ``name``.dxf into ``out_dir``, atomically; files already
+    written for the command (``written_before``, e.g. its animation) are listed first.
 
     Examples
     --------
@@ -1150,7 +1153,8 @@ def write_linkage_outputs(out_dir: Path, name: str, payload: dict, texts: dict |
     ['analysis.json', 'x.csv']
     """
     out_dir = Path(out_dir)
-    written = [write_text_atomic(out_dir / file, text) for file, text in (texts or {}).items()]
+    written = list(written_before)
+    written += [write_text_atomic(out_dir / file, text) for file, text in (texts or {}).items()]
     if drawing is not None:
         written.append(_write_dxf(out_dir / f"{name}.dxf", drawing))
     for file, make in (figures or {}).items():

@@ -35,6 +35,7 @@ from camcad.linkage.runners import (
     run_linkage_path,
     run_linkage_variator,
 )
+from camcad.report.animation import write_animation
 from camcad.report.command import CommandRun, open_folder
 from camcad.report.linkage import (
     analysis_csv,
@@ -127,8 +128,24 @@ def write_report(report: LinkageReport, out, plots: bool) -> list[Path]:
         FamilyReport: _family_files, AnalyseReport: _analyse_files, AdjustReport: _adjust_files,
         TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files}
     texts, figures, drawing = writers[type(report)](report, plots)
-    out.plan([(name,) for name in [*texts, *figures, f"{report.command}.dxf", f"{report.command}.json"]])
-    return write_linkage_outputs(out.folder, report.command, report.payload, texts, figures, drawing)
+    out.plan([(name,) for name in [*texts, *figures, *animation_files(report), f"{report.command}.dxf",
+                                   f"{report.command}.json"]])
+    return write_linkage_outputs(out.folder, report.command, report.payload, texts, figures, drawing,
+                                 _write_animation(report, out.folder))
+
+
+def animation_files(report: LinkageReport) -> list[str]:
+    """The animation files a report asks for (``--animate``): none when it has no frames to draw."""
+    return [f"animation.{kind}" for kind in report.animate] if report.animation is not None else []
+
+
+def _write_animation(report: LinkageReport, folder: Path) -> list[Path]:
+    if report.animation is None:
+        return []
+    moves = (report.payload.get("animation") or {}).get("moves", "")
+    files = write_animation(report.animation, folder, report.animate, title=report.animation.name, subtitle=moves)
+    report.payload.setdefault("animation", {})["files"] = [p.name for p in files]
+    return files
 
 
 def _write_fgen(report: FgenReport, out, plots: bool) -> list[Path]:

@@ -10,11 +10,13 @@ geometry to draw: only its working member's y is given.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from camcad.profile.animation import FRAME_STEP_DEG, CamFrames, cam_frames
+from camcad.errors import CamcadError
+from camcad.profile.animation import FRAME_STEP_DEG, CamFrames, cam_frames, frame_angles
 
 #: the links of the linkage's drawing: (joint, joint, what), joints named as ``Linkage.joints`` names them
 FOURBAR_LINKS = (("O", "A", "input link (on the follower's shaft)"), ("A", "B", "coupler"),
@@ -142,14 +144,124 @@ def mechanism_frames(run, step_deg: float = FRAME_STEP_DEG) -> MechanismFrames:
     >>> frames.count, frames.linkage is None, round(float(frames.cam.s[45]), 9)
     (180, True, 20.0)
     """
-    cam = cam_frames(run.profile, step_deg)
+    return cam_mechanism_frames(run.name, run.profile, run.linkage, run.law, step_deg)
+
+
+def cam_mechanism_frames(name: str, profile, context=None, law=None,
+                         step_deg: float = FRAME_STEP_DEG) -> MechanismFrames:
+    """The frames of a cam (``ProfileResult``) and, with ``context`` (``camcad.scene.linkage.LinkageContext``)
+    and the follower's ``law``, the linkage after its follower (``mechanism_frames`` of a scene run, and
+    ``camcad linkage analyse`` of a scene): mm, deg; the working member's position in rad or mm."""
+    cam = cam_frames(profile, step_deg)
     unit = "rad" if cam.kind == "oscillating" else "mm"
-    context = run.linkage
     if context is None:
-        return MechanismFrames(run.name, cam, law_unit=unit)
+        return MechanismFrames(name, cam, law_unit=unit)
     theta = np.radians(cam.theta_deg)
-    working = context.working_law(run.law).kinematics(theta).s
+    working = context.working_law(law).kinematics(theta).s
     drawn = None
     if context.linkage is not None and cam.kind == "oscillating":
         drawn = linkage_frames(context.linkage, cam.s)
-    return MechanismFrames(run.name, cam, drawn, working - working[0], context.transfer.unit_out, unit)
+    return MechanismFrames(name, cam, drawn, working - working[0], context.transfer.unit_out, unit)
+
+
+@dataclass(frozen=True)
+class LinkageMotion:
+    """A linkage alone moving over its input range and back (``linkage_motion``): no cam drives it.
+
+    Attributes
+    ----------
+    name : str
+        The linkage's name.
+    input_deg : ndarray, shape (N,)
+        The input at each frame, deg from its position at the start of the range: up from 0 to the range's
+        end, then back (the last frame one step before 0, so the motion loops).
+    output_deg : ndarray, shape (N,)
+        The output link's turn from its position at input 0, deg (the working member's Π of a linkage after a
+        follower; the output link's turn of a function generator).
+    linkage : LinkageFrames
+        The joints at each frame (mm) and the loops' transmission angles (deg).
+    input_label, output_label : str
+        What the input and the output are (for the page's charts).
+    target : ndarray, shape (M, 2), or None
+        A curve the coupler point P is to trace (``camcad linkage path``), mm.
+    target_output_deg : ndarray, shape (N,), or None
+        The output the linkage is to give at each frame (a function generator's f), deg.
+    """
+
+    name: str
+    input_deg: np.ndarray
+    output_deg: np.ndarray
+    linkage: LinkageFrames
+    input_label: str = "input ψ"
+    output_label: str = "output Π"
+    target: np.ndarray | None = None
+    target_output_deg: np.ndarray | None = None
+
+    @property
+    def count(self) -> int:
+        """Number of frames."""
+        return int(self.input_deg.size)
+
+
+def sweep_angles(span_deg: float, step_deg: float = FRAME_STEP_DEG) -> np.ndarray:
+    """The inputs of a there-and-back sweep of ``span_deg`` (deg, signed): ceil(|span|/step) equal steps out,
+    the same back, 2·ceil(|span|/step) frames (the first 0, the turn-back at ``span_deg``).
+
+    Examples
+    --------
+    >>> sweep_angles(30.0, 10.0).tolist()
+    [0.0, 10.0, 20.0, 30.0, 20.0, 10.0]
+    >>> len(sweep_angles(-25.0, 2.0))
+    26
+    """
+    frame_angles(step_deg)                  # the same steps as a cam's frames: refused the same way
+    span = float(span_deg)
+    if not math.isfinite(span) or span == 0.0:
+        raise CamcadError(f"an input range of {span_deg!r} deg has no motion to animate", "--animate",
+                          "give the linkage a swing (--swing DEG), or leave --animate out")
+    count = max(1, math.ceil(abs(span) / float(step_deg) - 1e-9))
+    out = np.linspace(0.0, span, count + 1)
+    return np.concatenate((out, out[-2:0:-1]))
+
+
+def linkage_motion(linkage, span_rad: float, step_deg: float = FRAME_STEP_DEG, name: str = "linkage", *,
+                   input_label: str = "input ψ", output_label: str = "output Π") -> LinkageMotion:
+    """A linkage (``camcad.linkage.analysis.Linkage``) alone, moved over its input range [0, ``span_rad``] (rad)
+    and back at ``step_deg`` (deg) between frames.
+
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage; its input ψ (rad) turns the input link by ``input_sense`` ψ from ``theta0``.
+    span_rad : float
+        The input range, rad (a follower's swing ψ_max; a function generator's input turn).
+    step_deg : float
+        Input angle between frames, deg (a step that divides 360, as a cam's).
+    name, input_label, output_label : str
+        The linkage's name and what its input and output are.
+
+    Returns
+    -------
+    LinkageMotion
+        The joints (mm), the input and the output's turn Π(ψ) (deg) at each frame.
+
+    Examples
+    --------
+    A parallelogram four-bar turns its output link with its input link:
+
+    >>> from camcad.linkage.analysis import Linkage, Loop
+    >>> lk = Linkage((Loop((0.0, 0.0), (3.0, 0.0), 1.0, 3.0, 1.0, -1),), theta0=math.pi / 2)
+    >>> motion = linkage_motion(lk, math.radians(30.0), 5.0)
+    >>> motion.count, [round(float(v), 9) for v in motion.output_deg[:3]]
+    (12, [0.0, 5.0, 10.0])
+    """
+    psi_deg = sweep_angles(math.degrees(span_rad), step_deg)
+    psi = np.radians(psi_deg)
+    drawn = linkage_frames(linkage, psi)
+    closes = np.all([np.isfinite(xy).all() for xy in drawn.joints.values()])
+    if not closes:
+        raise CamcadError("the linkage does not close over its whole input range: there is nothing to draw where "
+                          "it breaks", "--animate", "fix the linkage (see the analysis's checks), or leave "
+                                                    "--animate out")
+    output = np.degrees(linkage.position(psi, order=1)[0])
+    return LinkageMotion(name, psi_deg, output, drawn, input_label, output_label)

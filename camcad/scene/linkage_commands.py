@@ -25,6 +25,8 @@ from camcad.linkage.analysis import LinkageAnalysis, analyse
 from camcad.linkage.expr import parse_expression
 from camcad.linkage.runners import LinkageReport, in_radians, numbers
 from camcad.linkage.tune import TuneResult, settings_table, solve_settings, tuned
+from camcad.profile.animation import FRAME_STEP_DEG
+from camcad.scene.animation import cam_mechanism_frames, linkage_motion
 from camcad.scene.linkage import (
     CommandLinkage,
     adjustment_of,
@@ -205,7 +207,13 @@ class AnalyseRequest:
     points : int
         Samples over the swing.
     cam : bool
-        With a scene: draw the cam on the same sheet.
+        With a scene: draw the cam on the same sheet (and animate it with the linkage).
+    animate : tuple of str
+        Animation files to write ("html", "gif", "mp4"); () none. With a scene's cam: the cam, the follower
+        and the linkage over one turn (``camcad.scene.animation.cam_mechanism_frames``); otherwise the linkage
+        alone over the swing and back (``linkage_motion``).
+    animate_step_deg : float
+        Between frames: cam angle (deg) with a cam, the follower's swing (deg) without; must divide 360.
 
     Examples
     --------
@@ -216,6 +224,8 @@ class AnalyseRequest:
     source: LinkageSource = field(default_factory=LinkageSource)
     points: int = 721
     cam: bool = True
+    animate: tuple[str, ...] = ()
+    animate_step_deg: float = FRAME_STEP_DEG
 
 
 @dataclass
@@ -294,8 +304,33 @@ def run_linkage_analyse(request: AnalyseRequest) -> AnalyseReport:
                               [setting_value(ctx.spec.adjust, v) for v in ctx.spec.adjust.settings])
         if request.cam:
             report.profile = cam_profile(command)
+    if request.animate:
+        _animate(report, request, command, result)
     report.summary = _analyse_lines(payload, command.mu_min)
     return report
+
+
+def _animate(report: AnalyseReport, request: AnalyseRequest, command: CommandLinkage,
+             result: LinkageAnalysis) -> None:
+    """The frames of ``--animate``: the cam, its follower and the linkage with a scene's cam, else the linkage
+    alone over the swing; none (and why, in the JSON) where the linkage does not close over the swing."""
+    report.animate = request.animate
+    if not result.closes:
+        report.payload["animation"] = {"skipped": "the linkage does not close over the whole swing: nothing to draw "
+                                                  "where it breaks"}
+        return
+    if report.profile is not None:
+        frames = cam_mechanism_frames(command.name, report.profile, command.context, command.follower_law,
+                                      request.animate_step_deg)
+        report.animation = frames
+        report.payload["animation"] = {"moves": "the cam over one turn, the follower and the linkage after it",
+                                       "frames": frames.count, "step_deg": 360.0 / frames.count}
+        return
+    motion = linkage_motion(command.linkage, command.psi_max, request.animate_step_deg, command.name,
+                            input_label="follower's swing ψ", output_label="working member Π")
+    report.animation = motion
+    report.payload["animation"] = {"moves": "the linkage alone over the follower's swing and back",
+                                   "frames": motion.count, "step_deg": round(float(abs(motion.input_deg[1])), 9)}
 
 
 def _analyse_lines(payload: dict, mu_min: float) -> list[str]:
