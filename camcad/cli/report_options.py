@@ -27,7 +27,6 @@ def handover_options(*, animate: bool, animate_format: str | None, animate_step:
     """The ``PipelineOptions`` fields the options ask for (``animate``, ``animate_step_deg``, ``report``,
     ``command``); refused here, before any work, when a format is unknown, the step does not divide 360, or an
     MP4 or a PDF cannot be made on this machine."""
-    import shutil
 
     from camcad.errors import CamcadError
 

@@ -677,8 +677,8 @@ def _line_chart(x: np.ndarray, series: list[tuple[np.ndarray, str]], box: tuple[
     parts.append(f'<text x="{x0}" y="{y0 - 6}" class="chart-title">{html.escape(label)} ({html.escape(unit)}) '
                  f'against {html.escape(x_label)}</text>')
     for values_k, cls in series:
-        v = np.asarray(values_k, dtype=float)[order]
-        line = " L".join("{:.2f},{:.2f}".format(*xy(t, y)) for t, y in zip(x[order], v) if np.isfinite(y))
+        ys = np.asarray(values_k, dtype=float)[order]
+        line = " L".join("{:.2f},{:.2f}".format(*xy(t, y)) for t, y in zip(x[order], ys) if np.isfinite(y))
         parts.append(f'<path d="M{line}" class="{cls}"/>')
     parts.append(f'<line id="{name}-cursor" x1="{x0}" y1="{y0}" x2="{x0}" y2="{y0 + h}" class="cursor"/>'
                  f'<circle id="{name}-dot" r="4" class="dot"/>')
@@ -734,7 +734,8 @@ def linkage_animation_html(motion: LinkageMotion, title: str = "", subtitle: str
         x, y = drawn.joints[name][0]
         fixed.append(_ground(float(x), float(y), 0.03 * size))
     if motion.target is not None:
-        fixed.append(f'<path d="{_path(_decimate(motion.target), closed=False)}" class="target"/>')
+        fixed.append(f'<path d="{_path(motion.target[:: max(1, len(motion.target) // CURVE_POINTS)], closed=False)}" '
+                     'class="target"/>')
     moving = []
     if "P" in drawn.joints:
         moving.append(f'<path d="{_path(drawn.joints["P"], closed=False)}" class="trace"/>')
@@ -875,7 +876,9 @@ _LINKAGE_SCRIPT = r"""
       set(el("camcad-joint-" + name), {cx: data.joints[name][0][frame], cy: data.joints[name][1][frame]});
     }
     if (data.joints.P) {
-      var plate = ["A", "B", "P"].map(function (j) { return data.joints[j][0][frame] + "," + data.joints[j][1][frame]; });
+      var plate = ["A", "B", "P"].map(function (j) {
+        return data.joints[j][0][frame] + "," + data.joints[j][1][frame];
+      });
       set(el("camcad-coupler"), {points: plate.join(" ")});
     }
     cursor("camcad-out", data.scales.out, data.output[frame], frame);

@@ -307,6 +307,8 @@ def run_linkage_analyse(request: AnalyseRequest) -> AnalyseReport:
     if request.animate:
         _animate(report, request, command, result)
     report.summary = _analyse_lines(payload, command.mu_min)
+    if "skipped" in payload.get("animation", {}):
+        report.summary.append(f"  animation      not written: {payload['animation']['skipped']}")
     return report
 
 
