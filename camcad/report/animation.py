@@ -793,6 +793,9 @@ def _write_linkage_movie(motion: LinkageMotion, path: Path, kind: str, title: st
         ax.plot(*drawn.joints[name][0], marker="^", color=COLOURS["fixed"], ms=11)
     links = ax.plot([], [], color=COLOURS["linkage"], lw=2.4, marker="o", ms=5, mfc="white")[0]
     point = ax.plot([], [], "o", color=COLOURS["follower"], ms=5)[0]
+    plate = ax.fill([], [], facecolor="#e6f2e6", edgecolor=COLOURS["linkage"], lw=1.2, alpha=0.8)[0]
+    labels = {name: ax.annotate(name, (0.0, 0.0), xytext=(5, 5), textcoords="offset points", fontsize=9)
+              for name in drawn.joints}
     order = np.argsort(motion.input_deg, kind="stable")
     out_ax.plot(motion.input_deg[order], motion.output_deg[order], color=COLOURS["cam_edge"], lw=1.4)
     if motion.target_output_deg is not None:
@@ -812,6 +815,9 @@ def _write_linkage_movie(motion: LinkageMotion, path: Path, kind: str, title: st
         links.set_data(xs, ys)
         if "P" in drawn.joints:
             point.set_data([drawn.joints["P"][k, 0]], [drawn.joints["P"][k, 1]])
+            plate.set_xy(np.array([drawn.joints[j][k] for j in ("A", "B", "P")]))
+        for name, text in labels.items():
+            text.xy = tuple(drawn.joints[name][k])
         cursor.set_xdata([motion.input_deg[k], motion.input_deg[k]])
         heading.set_text(f"{title} — {motion.input_label} = {motion.input_deg[k]:.2f}°, "
                          f"{motion.output_label} = {motion.output_deg[k]:.3f}°")

@@ -167,3 +167,40 @@ def test_the_report_prints_to_pdf(cli, tmp_path):
     pdf = (tmp_path / "report.pdf").read_bytes()
     assert pdf.startswith(b"%PDF-") and len(pdf) > 10_000
     assert (tmp_path / "report.html").is_file()
+
+
+def test_the_linkage_alone_plays_its_frames_without_a_console_error(browser, tmp_path):
+    """`camcad linkage analyse --animate` of a four-bar given by options: 2 ceil(30 / 1) = 60 frames, it plays
+    (the joint B moves), the keys step it, the readout shows the frame's swing, no console error."""
+    from camcad.cli import main
+
+    try:
+        main(["linkage", "analyse", "--links", "40,120,90", "--output-pivot", "100,20", "--input-angle", "80",
+              "--swing", "30", "--sense", "-1", "--coupler-point", "30,10", "--animate", "--no-plots", "-o",
+              str(tmp_path)])
+    except SystemExit as stop:
+        assert int(stop.code or 0) == 0
+    page, errors = _page(browser, (tmp_path / "animation.html").as_uri())
+    try:
+        page.wait_for_function("window.camcadAnimation && window.camcadAnimation.shown > 5", timeout=20000)
+        assert page.get_attribute("#camcad-mechanism", "data-frames") == "60"
+        assert page.evaluate("window.camcadAnimation.frames") == 60
+        first = page.evaluate("[window.camcadAnimation.frame, document.getElementById('camcad-joint-B')"
+                              ".getAttribute('cx')]")
+        page.wait_for_function(f"window.camcadAnimation.frame !== {first[0]}", timeout=10000)
+        assert page.evaluate("document.getElementById('camcad-joint-B').getAttribute('cx')") != first[1]
+        page.keyboard.press(" ")
+        page.wait_for_function("window.camcadAnimation.playing === false")
+        page.keyboard.press("Home")
+        while page.evaluate("window.camcadAnimation.frame") != 29:
+            page.keyboard.press("ArrowRight")
+        assert page.inner_text("#camcad-input") == "29.000 deg"               # out: 1 deg of swing a frame
+        page.keyboard.press("ArrowRight")
+        assert page.inner_text("#camcad-input") == "30.000 deg"               # the turn-back
+        page.keyboard.press("ArrowRight")
+        assert page.inner_text("#camcad-input") == "29.000 deg"
+        if os.environ.get("CAMCAD_SCREENSHOT"):
+            page.screenshot(path=os.environ["CAMCAD_SCREENSHOT"])
+        assert errors == []
+    finally:
+        page.close()
