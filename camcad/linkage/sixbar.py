@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from itertools import product
 
 import numpy as np
-from scipy.optimize import minimize
+from scipy.optimize import least_squares, minimize
 
 from camcad.errors import CamcadError
 from camcad.linkage.analysis import Linkage, Loop
@@ -75,7 +75,8 @@ class SixbarOptions:
     max_error_deg: float | None = None
     seed: int = 0
     scan: int = 12000         # random points per branch of loop 1
-    keep: int = 6             # pattern searches per branch of loop 1 from the best scan points
+    starts: int = 40          # Levenberg-Marquardt runs per branch of loop 1 from the best scan points
+    keep: int = 6             # pattern searches from the best of those
 
 
 @dataclass
@@ -260,7 +261,7 @@ class SixbarProblem:
 
 
 def pattern_search(problem: SixbarProblem, x: np.ndarray, branch_1: int, rng: np.random.Generator,
-                   step: float = 0.3, iterations: int = 800, tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
+                   step: float = 0.3, iterations: int = 2500, tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
     """Local minima of the penalised Q from the rows of ``x`` (one start each, all on ``branch_1``): a
     pattern search run for every start at once (one vectorised call per iteration): the ± coordinate
     steps and 12 random directions of the current step length; a success doubles the step, a failure
@@ -287,23 +288,68 @@ def pattern_search(problem: SixbarProblem, x: np.ndarray, branch_1: int, rng: np
     return x, f
 
 
+def residuals(problem: SixbarProblem, x: np.ndarray, branch_1: int) -> np.ndarray:
+    """For an (m, 6) array of free parameters: the differences F_j − F_1 (real and imaginary parts) between
+    the pivots of subset j and of subset 1 (all zero exactly when Q = 0) and the limits' violations times
+    sqrt(``PENALTY_WEIGHT``); ``PENALTY`` where a subset gives no pivot. Shape (m, 2(K − 1) + 3)."""
+    out = problem.evaluate(x, branch_1)
+    piv = out["pivots"]
+    diff = piv[:, 1:] - piv[:, :1]
+    viol = math.sqrt(PENALTY_WEIGHT) * np.maximum(0.0, -np.column_stack([out["mu1"], out["mu2"], out["ratio"]]))
+    res = np.column_stack([diff.real, diff.imag, viol])
+    return np.where(out["found"][:, None], res, PENALTY)
+
+
+def close_nodes(problem: SixbarProblem, x0: np.ndarray, branch_1: int, evaluations: int = 30) -> np.ndarray:
+    """Drive the K pivots of F together from ``x0`` by Levenberg–Marquardt on ``residuals`` (6 equations in
+    the 6 free parameters: a six-bar that interpolates on all S nodes when they meet), the Jacobian by
+    forward differences in one vectorised call; at most ``evaluations`` residual evaluations."""
+    n = len(x0)
+    step = 1e-7
+
+    def fun(y):
+        return residuals(problem, y[None, :], branch_1)[0]
+
+    def jac(y):
+        pts = y[None, :] + step * np.vstack([np.zeros(n), np.eye(n)])
+        r = residuals(problem, pts, branch_1)
+        return (r[1:] - r[0]).T / step
+
+    res = least_squares(fun, x0, jac=jac, method="trf", xtol=1e-14, ftol=1e-14, gtol=1e-14,
+                        max_nfev=evaluations)
+    return res.x
+
+
 def search(problem: SixbarProblem, options: SixbarOptions) -> tuple[SixbarQ, int]:
-    """Minimise the penalised Q: a random scan of ``options.scan`` points per branch of loop 1, a pattern
-    search from the ``options.keep`` best of each branch (``pattern_search``), and Nelder–Mead from the
-    best of those; returns the best state and the number of local runs."""
+    """Minimise the penalised Q: a random scan of ``options.scan`` points per branch of loop 1; from the best
+    ``options.starts`` of each branch the pivots driven together (``close_nodes``); a pattern search on Q
+    from the ``options.keep`` best of those (``pattern_search``) and Nelder–Mead from the best. Returns the
+    best state and the number of local runs."""
     rng = np.random.default_rng(options.seed)
     lo, hi = (math.log(v) for v in RATIO_BOX)
     found = []
+    runs = 0
     for branch_1 in (1, -1):
         x = np.column_stack([rng.uniform(lo, hi, options.scan), rng.uniform(lo, hi, options.scan),
                              rng.uniform(lo, hi, options.scan), rng.uniform(0, 2 * math.pi, options.scan),
                              rng.uniform(lo, hi, options.scan), rng.uniform(0, 2 * math.pi, options.scan)])
         obj = problem.evaluate(x, branch_1)["objective"]
-        order = np.argsort(obj)[:options.keep]
-        xs, fs = pattern_search(problem, x[order], branch_1, rng)
-        found += [(float(fv), xv, branch_1) for fv, xv in zip(fs, xs)]
+        for k in np.argsort(obj)[:options.starts]:
+            runs += 1
+            y = close_nodes(problem, x[k], branch_1)
+            fy = float(problem.evaluate(y[None, :], branch_1)["objective"][0])
+            found.append((fy, y, branch_1) if fy < obj[k] else (float(obj[k]), x[k], branch_1))
     found.sort(key=lambda s: s[0])
-    _, x0, branch_1 = found[0]
+    best = found[:options.keep]
+    polished = []
+    for branch_1 in (1, -1):
+        group = [xv for _, xv, br in best if br == branch_1]
+        if group:
+            runs += len(group)
+            xs, fs = pattern_search(problem, np.array(group), branch_1, rng)
+            polished += [(float(fv), xv, branch_1) for fv, xv in zip(fs, xs)]
+    polished.sort(key=lambda s: s[0])
+    _, x0, branch_1 = polished[0]
 
     def fun(y, br=branch_1):
         return float(problem.evaluate(y[None, :], br)["objective"][0])
@@ -311,7 +357,7 @@ def search(problem: SixbarProblem, options: SixbarOptions) -> tuple[SixbarQ, int
     res = minimize(fun, x0, method="Nelder-Mead",
                    options={"maxfev": 1500, "xatol": 1e-12, "fatol": 1e-15, "adaptive": True})
     st = problem.state(res.x if res.fun <= fun(x0) else x0, branch_1)
-    return st, 2 * options.keep + 1
+    return st, runs + 1
 
 
 def build(problem: SixbarProblem, st: SixbarQ, frame_mm: float) -> tuple[Linkage, float]:
@@ -434,3 +480,119 @@ def synthesize_sixbar(target: Target, options: SixbarOptions | None = None) -> S
     result = SixbarResult(target, options, linkage, psi0, node_phi, st, work, runs=runs)
     check(result)
     return result
+
+
+def error_tolerance(options: SixbarOptions, target: Target) -> float:
+    """The largest structural error (deg) the verdict allows: ``max_error_deg``, else 1 % of |output range|
+    (as ``fgen``)."""
+    if options.max_error_deg is not None:
+        return float(options.max_error_deg)
+    return 0.01 * abs(target.output_range_deg)
+
+
+def _check(value: float, limit: float, margin: float, passed: bool, why: str) -> dict:
+    out = {"value": value, "limit": limit, "margin": margin, "passed": passed, "why": why}
+    if passed and abs(margin) <= 1e-6 * abs(limit):
+        out["note"] = "at its limit (the optimisation holds it there): no reserve"
+    return out
+
+
+def report(result: SixbarResult) -> dict:
+    """The JSON of a six-bar synthesis: ``fgen``'s keys (``links`` are loop 1's a, b, c, d) plus ``chain``,
+    ``links_2`` (e = CD, f = DE, g = FE, h = CF, mm), ``mu_loop_deg``, ``pivots`` and ``analyse_options``
+    (the options of ``camcad linkage analyse`` that rebuild the chain).
+
+    Examples
+    --------
+    >>> from camcad.linkage.target import make_target
+    >>> t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
+    >>> out = report(synthesize_sixbar(t, SixbarOptions(scan=2000, keep=2)))
+    >>> out["chain"], sorted(out["links_2"]), len(out["nodes_deg"])
+    ('sixbar', ['e', 'f', 'g', 'h'], 9)
+    """
+    lk, t, o = result.linkage, result.target, result.options
+    loop1, loop2 = lk.loops
+    a, b, c, d, e, f, g, h = result.links
+    tolerance = error_tolerance(o, t)
+    lim = o.limits
+    ratio = result.ratio
+    mu = result.mu_min_deg
+    checks = {
+        "transmission_angle": _check(mu, lim.mu_min_deg, mu - lim.mu_min_deg, bool(mu >= lim.mu_min_deg),
+                                     "smallest min(mu, 180 - mu) of both loops over their input ranges (deg), closed "
+                                     "form"),
+        "link_ratio": _check(ratio, lim.ratio_max, lim.ratio_max - ratio, bool(ratio <= lim.ratio_max),
+                             "longest / shortest of the 8 links"),
+        "branch": {"value": float(result.branch_continuous), "limit": 1.0,
+                   "margin": float(result.branch_continuous) - 1.0, "passed": result.branch_continuous, "why":
+                   f"1 when both loops close on {len(result.phi)} grid points, no dead point, no output step above "
+                         "1.5 max|dbeta/dtheta| h: no jump to the other assembly branch"},
+        "max_error": _check(result.max_error_deg, tolerance, tolerance - result.max_error_deg,
+                            bool(result.max_error_deg <= tolerance),
+                            "largest |structural error| (deg) against " + (
+                                "--max-error" if o.max_error_deg is not None else
+                                "1 % of the output range (the default; set --max-error)")),
+    }
+    node_err = wrap(output(lk, result.nodes_phi) - result.psi0 - t.psi(result.nodes_phi))
+    err_deg = np.degrees(result.error)
+    ext = [0] + [k for k in range(1, len(err_deg) - 1)
+                 if (err_deg[k] - err_deg[k - 1]) * (err_deg[k + 1] - err_deg[k]) < 0] + [len(err_deg) - 1]
+    st = result.q
+    xs = [p.real for p in st.pivots]
+    ys = [p.imag for p in st.pivots]
+    joints = lk.joints(0.0)
+    return {
+        "method": "q",
+        "chain": "sixbar",
+        "function": t.label,
+        "x": [t.x0, t.x1],
+        "input_range_deg": t.input_range_deg,
+        "output_range_deg": t.output_range_deg,
+        "links": {"a": a, "b": b, "c": c, "d": d},
+        "links_2": {"e": e, "f": f, "g": g, "h": h},
+        "link_names": {"a": "input crank OA", "b": "coupler AB", "c": "lever arm CB", "d": "frame OC",
+                       "e": "lever arm CD", "f": "coupler DE", "g": "output rocker FE", "h": "frame CF"},
+        "pivots": {name: [float(complex(joints[name]).real), float(complex(joints[name]).imag)]
+                   for name in ("O", "C", "F")},
+        "coupling_2_deg": math.degrees(lk.couplings[0]),
+        "offsets_deg": {"phi0": math.degrees(lk.theta0) % 360.0, "psi0": math.degrees(result.psi0) % 360.0},
+        "branch": loop1.branch,
+        "branch_2": loop2.branch,
+        "max_error_deg": result.max_error_deg,
+        "rms_error_deg": result.rms_error_deg,
+        "mu_min_deg": mu,
+        "mu_loop_deg": list(result.mu_deg),
+        "link_ratio": ratio,
+        "position_evaluations": result.work.positions,
+        "position_breakdown": {"q": result.work.positions},
+        "objective_evaluations": result.work.objective_evaluations,
+        "verification_positions": result.verification_positions,
+        "nodes_deg": [math.degrees(v) for v in result.nodes_phi],
+        "node_errors_deg": [float(v) for v in np.degrees(node_err)],
+        "nodes_x": [float(v) for v in t.x_of(result.nodes_phi)],
+        "spacing": o.spacing,
+        "constrained": True,
+        "admissible": result.admissible,
+        "max_error_tolerance_deg": tolerance,
+        "error_extrema": [{"phi_deg": math.degrees(float(result.phi[k])), "error_deg": float(err_deg[k])}
+                          for k in ext],
+        "q": {"value": st.q, "unit": "lengths of loop 2's input arm CD (e = 1 during the search)",
+              "nodes": len(result.nodes_phi), "subsets": node_subsets(len(result.nodes_phi)),
+              "free_parameters": {"b_over_a": math.exp(st.x[0]), "c_over_a": math.exp(st.x[1]),
+                                  "d_over_a": math.exp(st.x[2]), "theta0_deg": math.degrees(st.x[3]) % 360.0,
+                                  "f_over_e": math.exp(st.x[4]), "alpha2_deg": math.degrees(st.x[5]) % 360.0},
+              "pivots_F": [[p.real, p.imag] for p in st.pivots],
+              "rectangle": {"x": [min(xs), max(xs)], "y": [min(ys), max(ys)]},
+              "pick": "centre", "limits_met": bool(min(st.margins.values()) >= 0), "scan_points": 2 * o.scan,
+              "pivot_closing_runs": 2 * o.starts,
+              "local_runs": result.runs},
+        "analyse_options": {
+            "pivot": "0,0", "output_pivot": f"{d:.6g},0", "links": f"{a:.6g},{b:.6g},{c:.6g}",
+            "input_angle": math.degrees(lk.theta0), "sense": lk.input_sense, "branch": loop1.branch,
+            "output_pivot_2": f"{loop2.q[0]:.6g},{loop2.q[1]:.6g}", "links_2": f"{e:.6g},{f:.6g},{g:.6g}",
+            "coupling_2": math.degrees(lk.couplings[0]), "branch_2": loop2.branch},
+        "checks": checks,
+        "passed": all(ch["passed"] for ch in checks.values()),
+        "notes": [f"six-bar Q method: S = {len(result.nodes_phi)} nodes, the last pivot F from "
+                  f"{len(st.pivots)} subsets, 6 free parameters (camcad's formulation, docs/linkage.md)"],
+    }
