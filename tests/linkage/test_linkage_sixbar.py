@@ -20,7 +20,7 @@ from camcad.linkage.synthesis import FgenOptions, synthesize
 from camcad.linkage.target import make_target
 
 # the known six-bar (mm, deg): loop 1 O(0,0)-A-B-C(100,0), loop 2 C-D-E-F, lever angle BCD = KAPPA
-O, C, F = 0j, 100 + 0j, 158.5 - 84j
+PIVOT_O, C, F = 0j, 100 + 0j, 158.5 - 84j
 LOOP1 = (40.0, 95.0, 55.0, -1)       # OA, AB, CB, side of B
 LOOP2 = (55.0, 90.0, 45.0, 1)        # CD, DE, FE, side of E
 TH0, SPAN, KAPPA = math.radians(265.0), 80.0, math.radians(253.0)
@@ -47,7 +47,7 @@ def worst_mu(a_pt, b_pt, q):
 
 def known_output(x_deg):
     theta = TH0 + np.radians(x_deg)
-    chi, _, _ = rocker(O, C, *LOOP1[:3], theta, LOOP1[3])
+    chi, _, _ = rocker(PIVOT_O, C, *LOOP1[:3], theta, LOOP1[3])
     beta, _, _ = rocker(C, F, *LOOP2[:3], chi + KAPPA, LOOP2[3])
     return np.degrees(beta)
 
@@ -87,7 +87,7 @@ def test_q_vanishes_at_the_known_sixbar():
     t = known_target()
     phi = nodes(9, t.dphi)
     problem = SixbarProblem(t, phi, Limits(30.0, 10.0), Work())
-    _, _, b_pt = rocker(O, C, *LOOP1[:3], np.array([TH0 + phi[0]]), LOOP1[3])
+    _, _, b_pt = rocker(PIVOT_O, C, *LOOP1[:3], np.array([TH0 + phi[0]]), LOOP1[3])
     chi = np.angle(b_pt[0] - C)
     _, d_pt, e_pt = rocker(C, F, *LOOP2[:3], np.array([chi + KAPPA]), LOOP2[3])
     alpha2 = np.angle((e_pt[0] - d_pt[0]) / (d_pt[0] - C))
@@ -116,8 +116,8 @@ def test_synthesis_recovers_a_known_sixbar():
     assert r.linkage.loops[0].d == pytest.approx(100.0)
 
 
-@pytest.mark.reference("second method", "log10 over a decade: camcad's four-bar Q and least-squares results against the "
-                                        "six-bar, each replayed against numpy's log10")
+@pytest.mark.reference("second method", "log10 over a decade: camcad's four-bar Q and least-squares results against "
+                                        "the six-bar, each replayed against numpy's log10")
 def test_sixbar_beats_the_fourbar_on_log10_over_a_decade():
     t = make_target(np.log10, 1.0, 10.0, 90.0, 90.0, "log10(x)")
     six = synthesize_sixbar(t, SixbarOptions(seed=0))
