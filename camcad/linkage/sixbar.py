@@ -247,7 +247,7 @@ class SixbarProblem:
         pen = PENALTY_WEIGHT * (np.maximum(0.0, -mu1) + np.maximum(0.0, -mu2) + np.maximum(0.0, -ratio))
         objective = np.where(found, best_q + pen, PENALTY + gaps + (~closed) * PENALTY)
         return {"objective": objective, "q": best_q, "found": found, "centre": best_centre, "pivots": best_pick,
-                "mu1": mu1, "mu2": mu2, "ratio": ratio}
+                "mu1": mu1, "mu2": mu2, "ratio": ratio, "g": g}
 
     def state(self, x: np.ndarray, branch_1: int) -> SixbarQ:
         """``evaluate`` for one parameter vector, as a ``SixbarQ``."""

@@ -165,3 +165,36 @@ def test_even_nodes_refused():
     t = make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)")
     with pytest.raises(CamcadError, match="--nodes"):
         synthesize_sixbar(t, SixbarOptions(nodes=10))
+
+
+@pytest.mark.reference("closed form", "Sunkuev 1984 Fig. 6 as camcad reads it: three members made by moving the known "
+                                      "six-bar's pivot F on an arc (loop closure written in this test)")
+def test_adjustable_sixbar_family_of_a_known_arc():
+    from camcad.linkage.sixbar_family import synthesize_sixbar_family
+
+    centre = F + 25 * np.exp(1j * math.radians(200))
+
+    def member(angle_deg):
+        pivot = centre + 25 * np.exp(1j * math.radians(20 + angle_deg))
+
+        def out(x):
+            chi, _, _ = rocker(PIVOT_O, C, *LOOP1[:3], TH0 + np.radians(x), LOOP1[3])
+            return np.degrees(rocker(C, pivot, *LOOP2[:3], chi + KAPPA, LOOP2[3])[0])
+
+        y = out(np.array([0.0, SPAN]))
+        return make_target(out, 0.0, SPAN, SPAN, float(y[1] - y[0]), f"F at {angle_deg} deg")
+
+    family = [member(a) for a in (-10.0, 0.0, 10.0)]
+    r = synthesize_sixbar_family(family)
+    assert len(r.members) == 3 and r.arc_residual < 1e-9 and r.g_spread < 1e-6
+    for m in r.members:
+        err, mu1, mu2 = replay_error_deg(m)
+        assert err <= 0.01 * abs(m.target.output_range_deg), err      # fgen's default tolerance: 1 % of the range
+        assert min(mu1, mu2) >= 30.0 - 1e-5
+    # one mechanism: every member shares loop 1 and the links of loop 2; only F moves, on the arc
+    l1 = {m.linkage.loops[0] for m in r.members}
+    assert len(l1) == 1
+    for m in r.members:
+        f_pt = complex(*m.linkage.loops[1].q)
+        assert abs(abs(f_pt - r.arc_centre) - r.arc_radius) < 1e-9 * r.arc_radius
+        assert m.linkage.loops[1].c == pytest.approx(r.members[0].linkage.loops[1].c, rel=1e-12)
