@@ -110,13 +110,15 @@ def fgen(function: Annotated[str | None, _opt("--function", 'y = f(x), e.g. "log
          seed: SeedOpt = 0,
          max_error: Annotated[float | None, _opt("--max-error", "Accuracy asked for (deg); default 1 % of the "
                                                                 "output range.")] = None,
+         chain: Annotated[str, _opt("--chain", "fourbar, or sixbar: two four-bars in series by the six-bar Q "
+                                               "method (S >= 9 nodes).")] = "fourbar",
          output: OutOpt = None, no_plots: NoPlotsOpt = False, as_json: JsonOpt = False) -> None:
-    """Synthesise a four-bar function generator y = f(x); exit 1 when a check (accuracy, transmission angle, link
-    ratio, branch) fails (--method all compares and exits 0)."""
+    """Synthesise a four-bar (or, with --chain sixbar, a six-bar) function generator y = f(x); exit 1 when a check
+    (accuracy, transmission angle, link ratio, branch) fails (--method all compares and exits 0)."""
     from camcad.linkage.runners import FgenRequest
 
     _go(FgenRequest(function, table, x, input_range, output_range, method, nodes, spacing, mu_min, ratio_max, frame,
-                    phi0, psi0, pick, seed, max_error), output, not no_plots, as_json)
+                    phi0, psi0, pick, seed, max_error, chain), output, not no_plots, as_json)
 
 
 @linkage_app.command()

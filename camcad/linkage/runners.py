@@ -42,6 +42,8 @@ from camcad.linkage.path import (
 )
 from camcad.linkage.path import make_target as make_path_target
 from camcad.linkage.schemes import annotate_schemes
+from camcad.linkage.sixbar import SixbarOptions, SixbarResult, synthesize_sixbar
+from camcad.linkage.sixbar import report as sixbar_report
 from camcad.linkage.synthesis import CONSTRAINED, METHODS, FgenOptions, FgenResult, report, synthesize
 from camcad.linkage.target import Target, make_target, target_from_table
 from camcad.linkage.variator import VariatorResult, synthesise_variator
@@ -282,6 +284,9 @@ class FgenRequest:
         q: the scan grid's random shift.
     max_error : float or None
         The accuracy asked for, deg; default 1 % of the output range.
+    chain : str
+        ``fourbar`` (default) or ``sixbar``: two four-bars in series by the six-bar Q method
+        (``camcad.linkage.sixbar``; method q only, S >= 9 nodes, default 9).
 
     Examples
     --------
@@ -307,6 +312,54 @@ class FgenRequest:
     pick: str = "centre"
     seed: int = 0
     max_error: float | None = None
+    chain: str = "fourbar"
+
+
+@dataclass
+class SixbarReport(LinkageReport):
+    """A six-bar function generator (``fgen --chain sixbar``)."""
+
+    result: SixbarResult | None = None
+
+
+def _sixbar_lines(p: dict) -> list[str]:
+    l1, l2 = p["links"], p["links_2"]
+    q = p["q"]
+    lines = [f"camcad linkage fgen: {p['function']} on [{p['x'][0]:g}, {p['x'][1]:g}], input "
+             f"{p['input_range_deg']:g} deg, output {p['output_range_deg']:g} deg, six-bar (two four-bars in "
+             "series), method q",
+             f"  max error      {p['max_error_deg']:.5g} deg, RMS {p['rms_error_deg']:.5g} deg",
+             f"  mu min         loop 1 {p['mu_loop_deg'][0]:.2f} deg, loop 2 {p['mu_loop_deg'][1]:.2f} deg",
+             f"  loop 1 (mm)    OA {l1['a']:.3f}, AB {l1['b']:.3f}, CB {l1['c']:.3f}, OC {l1['d']:.3f}, branch "
+             f"{p['branch']:+d}, phi0 {p['offsets_deg']['phi0']:.4f} deg",
+             f"  loop 2 (mm)    CD {l2['e']:.3f}, DE {l2['f']:.3f}, FE {l2['g']:.3f}, CF {l2['h']:.3f}, branch "
+             f"{p['branch_2']:+d}, lever angle BCD {p['coupling_2_deg']:.1f} deg, psi0 "
+             f"{p['offsets_deg']['psi0']:.4f} deg",
+             f"  pivot F (mm)   {p['pivots']['F'][0]:.3f}, {p['pivots']['F'][1]:.3f}; link ratio {p['link_ratio']:.4g}",
+             f"  Q              {q['value']:.4e} {q['unit']}; subsets {q['subsets']}; pivot: centre",
+             f"  positions      q {p['position_evaluations']} (+ {p['verification_positions']} to check the result)"]
+    for name, c in p["checks"].items():
+        lines.append(f"  check {name:<15} value {c['value']:.5g}, limit {c['limit']:.5g}, margin {c['margin']:+.4g}: "
+                     + ("ok" if c["passed"] else "FAILED") + (f" ({c['note']})" if c.get("note") else ""))
+    lines += [f"  note           {note}" for note in p.get("notes", [])]
+    return lines
+
+
+def _run_sixbar(request: FgenRequest, target: Target, inputs: tuple[Path, ...]) -> SixbarReport:
+    if request.method != "q":
+        raise CamcadError(f"the six-bar is synthesised by the Q method only, not {request.method!r}", "--method",
+                          "drop --method (or give --method q) with --chain sixbar")
+    for given, option in ((request.phi0 is not None or request.psi0 is not None, "--phi0/--psi0"),
+                          (request.pick != "centre", "--pick")):
+        if given:
+            raise CamcadError("is not an option of the six-bar Q method", option, "drop it with --chain sixbar")
+    options = SixbarOptions(nodes=9 if request.nodes is None else request.nodes, spacing=request.spacing,
+                            limits=Limits(request.mu_min, request.ratio_max), frame_mm=request.frame,
+                            max_error_deg=request.max_error, seed=request.seed)
+    result = synthesize_sixbar(target, options)
+    payload = sixbar_report(result)
+    return SixbarReport("fgen", payload, bool(payload["passed"]), _sixbar_lines(payload), "fgen-sixbar", inputs,
+                        result)
 
 
 @dataclass
@@ -393,7 +446,7 @@ def fgen_target(request: FgenRequest) -> Target:
     return target_from_table(table, x0, x1, request.input_range, request.output_range)
 
 
-def run_linkage_fgen(request: FgenRequest) -> FgenReport:
+def run_linkage_fgen(request: FgenRequest) -> FgenReport | SixbarReport:
     """Synthesise a four-bar function generator y = f(x) (``camcad linkage fgen``).
 
     Parameters
@@ -404,11 +457,12 @@ def run_linkage_fgen(request: FgenRequest) -> FgenReport:
 
     Returns
     -------
-    FgenReport
+    FgenReport or SixbarReport
         ``to_dict()``: ``method``, ``links`` (mm), ``max_error_deg``, ``rms_error_deg``, ``mu_min_deg``,
         ``position_evaluations``, ``nodes_deg``, ``checks``; with ``method="all"`` the methods side by side
         (``table``, ``results``; the comparison exits 0). Every optimiser keeps the limits as constraints;
-        ``remez`` is the reference without limits.
+        ``remez`` is the reference without limits. With ``chain="sixbar"`` a ``SixbarReport`` whose JSON adds
+        ``chain``, ``links_2`` (e, f, g, h mm), ``mu_loop_deg``, ``pivots`` (``camcad.linkage.sixbar.report``).
 
     References
     ----------
@@ -423,9 +477,13 @@ def run_linkage_fgen(request: FgenRequest) -> FgenReport:
     """
     if request.method != "all" and request.method not in METHODS:
         raise CamcadError(f"unknown method {request.method!r}", "--method", f"use one of {', '.join(METHODS)} or all")
+    if request.chain not in ("fourbar", "sixbar"):
+        raise CamcadError(f"unknown chain {request.chain!r}", "--chain", "use fourbar or sixbar")
     target = fgen_target(request)
     limits = Limits(request.mu_min, request.ratio_max)
     inputs = () if request.table is None else (Path(request.table),)
+    if request.chain == "sixbar":
+        return _run_sixbar(request, target, inputs)
     methods = list(METHODS) if request.method == "all" else [request.method]
     results: list[FgenResult] = []
     for name in methods:

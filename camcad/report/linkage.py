@@ -434,6 +434,59 @@ def error_figure(result):
     return fig
 
 
+def sixbar_error_figure(result, payload: dict):
+    """A six-bar function generator (``camcad.linkage.sixbar``): structural error (deg) against the input
+    angle with the nodes where the error is, and the transmission angle of each loop with the limit.
+
+    Examples
+    --------
+    >>> from camcad.linkage.sixbar import SixbarOptions, report, synthesize_sixbar
+    >>> from camcad.linkage.target import make_target
+    >>> r = synthesize_sixbar(make_target(np.log10, 1.0, 2.0, 60.0, 90.0, "log10(x)"), SixbarOptions(scan=500, keep=1))
+    >>> [ax.get_ylabel() for ax in sixbar_error_figure(r, report(r)).axes[:2]]
+    ['output angle error Δψ (deg)', 'μ (deg)']
+    """
+    from matplotlib.figure import Figure
+
+    t = result.target
+    phi = np.degrees(result.phi)
+    err = np.degrees(result.error)
+    fig = Figure(figsize=(8.5, 6.2), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    ax.axhline(0, color="grey", lw=0.6)
+    ax.plot(phi, err, color="#1f4e9c", lw=1.4, label="structural error")
+    ax.plot(payload["nodes_deg"], payload["node_errors_deg"], "o", color="#c0392b", ms=5,
+            label=f"{len(payload['nodes_deg'])} nodes (F at the centre: not exact)")
+    tolerance = payload["max_error_tolerance_deg"]
+    if tolerance <= 4 * max(float(np.max(np.abs(err))), 1e-300):
+        ax.axhline(tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--", label=f"tolerance ±{tolerance:.3g} deg")
+        ax.axhline(-tolerance, color=FORBIDDEN_EDGE, lw=0.8, ls="--")
+    k = int(np.argmax(np.abs(err)))
+    ax.plot(phi[k], err[k], "D", color="black", ms=5, label="largest |error|")
+    ax.set_ylabel("output angle error Δψ (deg)")
+    ax.set_title(f"six-bar, Q method: {t.label} on [{t.x0:g}, {t.x1:g}], input {t.input_range_deg:g} deg, "
+                 f"output {t.output_range_deg:g} deg\nmax |error| {abs(err[k]):.4g} deg at φ = {phi[k]:.1f} deg, "
+                 f"RMS {result.rms_error_deg:.3g} deg", fontsize=10)
+    ax.grid(True, lw=0.4, alpha=0.6)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    lk = result.linkage
+    mus = lk.transmission(np.abs(result.phi))
+    limit = result.options.limits.mu_min_deg
+    ax2.axhspan(0, limit, color=FORBIDDEN, lw=0, label=f"below μ_min = {limit:g} deg")
+    ax2.axhspan(180 - limit, 180, color=FORBIDDEN, lw=0)
+    for mu, colour, name in zip(mus, ("#2d7f3b", "#7b3294"), ("loop 1 (OABC)", "loop 2 (CDEF)")):
+        ax2.plot(phi, np.degrees(mu), color=colour, lw=1.3, label=f"μ {name}")
+    ax2.set_ylim(0, 180)
+    ax2.set_yticks([0, 30, 60, 90, 120, 150, 180])
+    ax2.set_ylabel("μ (deg)")
+    ax2.set_xlabel("input angle φ from the first position (deg)")
+    ax2.grid(True, lw=0.4, alpha=0.6)
+    ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    m1, m2 = result.mu_deg
+    ax2.set_title(f"worst min(μ, 180−μ): loop 1 {m1:.2f} deg, loop 2 {m2:.2f} deg (limit {limit:g})", fontsize=9)
+    return fig
+
+
 def pivot_figure(result):
     """The Q method's signature picture: the circles of possible output pivots (one per node ≥ 2), the K
     pivots of the node subsets, their bounding rectangle and its diagonal Q (zoomed on the right).
@@ -849,9 +902,11 @@ def kinematic_drawing(linkage, psi_max: float, settings=(), arc=None, profile=No
                    layers=tuple(layers))
 
 
-def diagram_figure(linkage, psi_max: float, settings=(), arc=None, title: str = ""):
+def diagram_figure(linkage, psi_max: float, settings=(), arc=None, title: str = "",
+                   ends: tuple[str, str] | None = None):
     """The kinematic diagram as a figure: the chain in both extreme positions (blue ψ = 0, red ψ_max), faint
-    intermediate positions, joint and coupler-point paths, the settings (thin, coloured) and the arc.
+    intermediate positions, joint and coupler-point paths, the settings (thin, coloured) and the arc;
+    ``ends`` names the two extreme positions in the legend (default: the follower's).
 
     Examples
     --------
@@ -878,9 +933,10 @@ def diagram_figure(linkage, psi_max: float, settings=(), arc=None, title: str = 
         colour = SETTING_COLOURS[k % len(SETTING_COLOURS)]
         draw(lk, 0.0, color=colour, lw=0.9, ls="--", label=f"setting {label}")  # label carries its unit
         draw(lk, psi_max, color=colour, lw=0.9, ls="--")
-    draw(linkage, 0.0, color="#1f4e9c", lw=2.0, marker="o", ms=4, label="follower on the base circle (ψ = 0)")
-    draw(linkage, psi_max, color="#c0392b", lw=2.0, marker="o", ms=4,
-         label=f"follower at its swing ({math.degrees(psi_max):.4g} deg)")
+    if ends is None:
+        ends = ("follower on the base circle (ψ = 0)", f"follower at its swing ({math.degrees(psi_max):.4g} deg)")
+    draw(linkage, 0.0, color="#1f4e9c", lw=2.0, marker="o", ms=4, label=ends[0])
+    draw(linkage, psi_max, color="#c0392b", lw=2.0, marker="o", ms=4, label=ends[1])
     grid = np.linspace(0.0, psi_max, 121)
     j = linkage.joints(grid)
     for name in ("A", "B") + (("D", "E") if loops > 1 else ()):

@@ -26,6 +26,7 @@ from camcad.linkage.runners import (
     LinkageReport,
     PathReport,
     PathRequest,
+    SixbarReport,
     VariatorReport,
     VariatorRequest,
     outputs_line,
@@ -45,6 +46,7 @@ from camcad.report.linkage import (
     kinematic_drawing,
     rows_csv,
     settings_figure,
+    sixbar_error_figure,
     tune_figure,
     working_figure,
     write_atlas_outputs,
@@ -126,7 +128,8 @@ def write_report(report: LinkageReport, out, plots: bool) -> list[Path]:
     # (texts, figures, drawing) of each report type
     writers: dict[type, Callable[[Any, bool], Any]] = {
         FamilyReport: _family_files, AnalyseReport: _analyse_files, AdjustReport: _adjust_files,
-        TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files}
+        TuneReport: _tune_files, PathReport: path_files, VariatorReport: _variator_files,
+        SixbarReport: _sixbar_files}
     texts, figures, drawing = writers[type(report)](report, plots)
     out.plan([(name,) for name in [*texts, *figures, *animation_files(report), f"{report.command}.dxf",
                                    f"{report.command}.json"]])
@@ -161,6 +164,23 @@ def _write_fgen(report: FgenReport, out, plots: bool) -> list[Path]:
     report.payload["outputs"] = [str(p) for p in outputs]
     write_json(out.path("compare.json"), report.payload)
     return outputs
+
+
+def _sixbar_files(report: SixbarReport, plots: bool):
+    result, p = report.result, report.payload
+    assert result is not None  # a six-bar report carries its result
+    t = result.target
+    rows = [{"phi_deg": math.degrees(f), "x": float(t.x_of(f)), "psi_target_deg": math.degrees(float(t.psi(f))),
+             "error_deg": math.degrees(e)} for f, e in zip(result.phi, result.error)]
+    swing = abs(t.dphi)
+    figures = {} if not plots else {
+        "error.png": lambda: sixbar_error_figure(result, p),
+        "diagram.png": lambda: diagram_figure(result.linkage, swing, title=(
+            f"six-bar function generator for {t.label}"), ends=(f"x = {t.x0:g}", f"x = {t.x1:g}"))}
+    drawing = kinematic_drawing(result.linkage, swing, title=(
+        f"camcad linkage fgen --chain sixbar: {t.label} on [{t.x0:g}, {t.x1:g}]",
+        f"max error {p['max_error_deg']:.4g} deg, mu min {p['mu_min_deg']:.2f} deg, Q {p['q']['value']:.3g}"))
+    return {"error.csv": rows_csv(rows, "structural error of the six-bar over the input range")}, figures, drawing
 
 
 def _family_files(report: FamilyReport, plots: bool):
