@@ -153,9 +153,13 @@ class Limits:
     ratio_max: float = 10.0
 
     def ratio_margin(self, fg: FunctionGenerator) -> float:
-        """log(ratio_max) − log(max link / min link) (≥ 0: within the limit)."""
+        """log(ratio_max) − log(max link / min link) (≥ 0: within the limit); a link of no length (a degenerate
+        start an optimiser may reach, e.g. for a linear function) is −1000, far outside, not a division by 0."""
         links = fg.links()
-        return math.log(self.ratio_max) - math.log(max(links) / min(links))
+        shortest, longest = min(links), max(links)
+        if not (shortest > 0.0 and math.isfinite(longest)):
+            return -1000.0
+        return math.log(self.ratio_max) - math.log(longest / shortest)
 
     def mu_margin(self, fg: FunctionGenerator, target: Target, work: Work | None = None) -> float:
         """Worst min(μ, 180° − μ) over the working range minus μ_min, rad (closed form, ≤ 4 positions);

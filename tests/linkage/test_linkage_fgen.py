@@ -8,6 +8,7 @@ them again), Chebyshev's equioscillation (S + 1 equal alternating extrema), and 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -333,3 +334,12 @@ def test_docstring_examples_run():
         module = importlib.import_module(name)
         failed, _ = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert failed == 0, name
+
+
+@pytest.mark.reference("closed form", "a linear function over equal input and output turns is generated exactly "
+                                      "(psi = phi: a parallelogram); fuzz seed 12 case 4975 was ZeroDivisionError")
+def test_a_linear_function_is_generated_exactly_and_a_link_of_no_length_is_outside_the_limits():
+    target = make_target(parse_expression("x"), 0.0, 1.0, 90.0, 90.0, "x")
+    result = synthesize(target, FgenOptions(method="q"))
+    assert result.evaluation.max_error_deg <= 1e-9
+    assert Limits(30.0, 10.0).ratio_margin(replace(result.mechanism, b=0.0)) == -1000.0
