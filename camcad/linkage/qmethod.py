@@ -120,6 +120,22 @@ def circle_intersections(z1: complex, r1: float, z2: complex, r2: float) -> tupl
     return [base + h * normal, base - h * normal], 0.0
 
 
+def circles_meet(z1, r1, z2, r2):
+    """Where the circles (z1, r1) and (z2, r2) meet, element by element (complex centres, lengths): (meet, base,
+    offset, gap) — the two points are base ± offset where ``meet``; ``gap`` is how far apart the circles are where
+    they do not meet (0 where they do)."""
+    dz = z2 - z1
+    dist = np.abs(dz)
+    with np.errstate(all="ignore"):
+        along = (r1 ** 2 - r2 ** 2 + dist ** 2) / (2 * dist)
+        h = np.sqrt(np.maximum(r1 ** 2 - along ** 2, 0.0))
+        meet = (dist > 0) & (dist <= r1 + r2) & (dist >= np.abs(r1 - r2))
+        base = z1 + along * dz / dist
+        offset = h * (1j * dz / dist)
+    gap = np.where(meet, 0.0, np.maximum(dist - (r1 + r2), np.abs(r1 - r2) - dist))
+    return meet, base, offset, gap
+
+
 def _cross(u: complex, v: complex) -> float:
     return (u.conjugate() * v).imag
 
@@ -225,19 +241,11 @@ class QProblem:
         cands, gaps = [], np.zeros(m)
         for subset in self.subsets:
             i, j = subset[1] - 1, subset[2] - 1
-            z1, r1, z2, r2 = centres[i], radii[i], centres[j], radii[j]
-            dz = z2 - z1
-            dist = np.abs(dz)
-            with np.errstate(all="ignore"):
-                along = (r1 ** 2 - r2 ** 2 + dist ** 2) / (2 * dist)
-                h = np.sqrt(np.maximum(r1 ** 2 - along ** 2, 0.0))
-                meet = (dist > 0) & (dist <= r1 + r2) & (dist >= np.abs(r1 - r2))
-                base = z1 + along * dz / dist
-                normal = 1j * dz / dist
-            gaps += np.where(meet, 0.0, np.maximum(dist - (r1 + r2), np.abs(r1 - r2) - dist))
+            meet, base, offset, gap = circles_meet(centres[i], radii[i], centres[j], radii[j])
+            gaps += gap
             pair = []
             for sign in (1.0, -1.0):
-                c = base + sign * h * normal
+                c = base + sign * offset
                 ok = meet.copy()
                 signs = [branch(c, k - 1) for k in subset]
                 ok &= (signs[0] == signs[1]) & (signs[0] == signs[2])

@@ -49,7 +49,7 @@ from camcad.errors import CamcadError
 from camcad.linkage.analysis import Linkage, Loop
 from camcad.linkage.fgen import CHECK_POINTS, DEAD_POINT, Limits, Work, nodes, wrap
 from camcad.linkage.fourbar import output_angle
-from camcad.linkage.qmethod import node_subsets
+from camcad.linkage.qmethod import circles_meet, node_subsets
 from camcad.linkage.target import Target
 
 #: Q of a parameter set whose circles do not meet (crank lengths of loop 2, plus the gap)
@@ -197,19 +197,11 @@ class SixbarProblem:
         cands, gaps = [], np.zeros(m)
         for subset in self.subsets:
             i, j = subset[1] - 1, subset[2] - 1
-            z1, r1, z2, r2 = centres[i], radii[i], centres[j], radii[j]
-            dz = z2 - z1
-            dist = np.abs(dz)
-            with np.errstate(all="ignore"):
-                along = (r1 ** 2 - r2 ** 2 + dist ** 2) / (2 * dist)
-                h = np.sqrt(np.maximum(r1 ** 2 - along ** 2, 0.0))
-                meet = (dist > 0) & (dist <= r1 + r2) & (dist >= np.abs(r1 - r2))
-                base = z1 + along * dz / dist
-                normal = 1j * dz / dist
-            gaps += np.where(meet, 0.0, np.maximum(dist - (r1 + r2), np.abs(r1 - r2) - dist))
+            meet, base, offset, gap = circles_meet(centres[i], radii[i], centres[j], radii[j])
+            gaps += gap
             pair = []
             for sign in (1.0, -1.0):
-                f_pt = np.where(meet, base + sign * h * normal, 0.0)
+                f_pt = np.where(meet, base + sign * offset, 0.0)
                 signs = [side(f_pt, k - 1) for k in subset]
                 ok = meet & (signs[0] == signs[1]) & (signs[0] == signs[2]) & (signs[0] != 0)
                 pair.append((f_pt, ok, signs[0]))

@@ -485,6 +485,45 @@ table.readout td.value { text-align: right; font-family: ui-monospace, monospace
 @media print { .controls { display: none; } body { background: white; } }
 """
 
+#: the player both pages share: the end of ``show`` (slider, label, the state tests read), the clock, the
+#: controls and keys, the frame-count check
+_PLAYER = r"""
+    slider.value = frame;
+    label.textContent = "frame " + (frame + 1) + " / " + n;
+    shown += 1;
+    document.body.dataset.frame = frame;
+    window.camcadAnimation = {frames: n, frame: frame, shown: shown, playing: playing};
+  }
+  function tick(now) {
+    if (last === null) { last = now; }
+    var dt = (now - last) / 1000;
+    last = now;
+    if (playing) {
+      clock += dt * speed * n / data.turn_seconds;
+      if (clock >= 1) { var steps = Math.floor(clock); clock -= steps; show(frame + steps); }
+    }
+    window.requestAnimationFrame(tick);
+  }
+  function play(on) {
+    playing = on;
+    button.textContent = on ? "pause" : "play";
+    last = null;
+    window.camcadAnimation.playing = on;
+  }
+  slider.max = n - 1;
+  slider.addEventListener("input", function () { play(false); show(Number(slider.value)); });
+  button.addEventListener("click", function () { play(!playing); });
+  el("camcad-back").addEventListener("click", function () { play(false); show(frame - 1); });
+  el("camcad-forward").addEventListener("click", function () { play(false); show(frame + 1); });
+  el("camcad-speed").addEventListener("change", function (e) { speed = Number(e.target.value); });
+  document.addEventListener("keydown", function (e) {
+    if (e.key === " ") { play(!playing); e.preventDefault(); }
+    else if (e.key === "ArrowRight") { play(false); show(frame + 1); }
+    else if (e.key === "ArrowLeft") { play(false); show(frame - 1); }
+  });
+  if (Number(svg.dataset.frames) !== n) { throw new Error("frame count mismatch"); }
+""".lstrip("\n")
+
 _SCRIPT = r"""
 (function () {
   "use strict";
@@ -554,41 +593,7 @@ _SCRIPT = r"""
     cursor("camcad-phi", data.scales.phi, data.phi[frame], frame);
     if (data.working) { cursor("camcad-work", data.scales.work, data.working[frame], frame); }
     readout(frame);
-    slider.value = frame;
-    label.textContent = "frame " + (frame + 1) + " / " + n;
-    shown += 1;
-    document.body.dataset.frame = frame;
-    window.camcadAnimation = {frames: n, frame: frame, shown: shown, playing: playing};
-  }
-  function tick(now) {
-    if (last === null) { last = now; }
-    var dt = (now - last) / 1000;
-    last = now;
-    if (playing) {
-      clock += dt * speed * n / data.turn_seconds;
-      if (clock >= 1) { var steps = Math.floor(clock); clock -= steps; show(frame + steps); }
-    }
-    window.requestAnimationFrame(tick);
-  }
-  function play(on) {
-    playing = on;
-    button.textContent = on ? "pause" : "play";
-    last = null;
-    window.camcadAnimation.playing = on;
-  }
-  slider.max = n - 1;
-  slider.addEventListener("input", function () { play(false); show(Number(slider.value)); });
-  button.addEventListener("click", function () { play(!playing); });
-  el("camcad-back").addEventListener("click", function () { play(false); show(frame - 1); });
-  el("camcad-forward").addEventListener("click", function () { play(false); show(frame + 1); });
-  el("camcad-speed").addEventListener("change", function (e) { speed = Number(e.target.value); });
-  document.addEventListener("keydown", function (e) {
-    if (e.key === " ") { play(!playing); e.preventDefault(); }
-    else if (e.key === "ArrowRight") { play(false); show(frame + 1); }
-    else if (e.key === "ArrowLeft") { play(false); show(frame - 1); }
-  });
-  if (Number(svg.dataset.frames) !== n) { throw new Error("frame count mismatch"); }
-  if (!data.working) { el("camcad-row-working").style.display = "none"; }
+""" + _PLAYER + r"""  if (!data.working) { el("camcad-row-working").style.display = "none"; }
   if (!data.mu) { el("camcad-row-mu").style.display = "none"; }
   window.camcadAnimation = {frames: n, frame: 0, shown: 0, playing: true};
   show(0);
@@ -893,41 +898,7 @@ _LINKAGE_SCRIPT = r"""
     el("camcad-output").textContent = fmt(data.output[frame], 4) + " deg" +
       (data.target ? " (wanted " + fmt(data.target[frame], 4) + ")" : "");
     el("camcad-mu").textContent = data.mu.map(function (m) { return fmt(m[frame], 1); }).join(", ") + " deg";
-    slider.value = frame;
-    label.textContent = "frame " + (frame + 1) + " / " + n;
-    shown += 1;
-    document.body.dataset.frame = frame;
-    window.camcadAnimation = {frames: n, frame: frame, shown: shown, playing: playing};
-  }
-  function tick(now) {
-    if (last === null) { last = now; }
-    var dt = (now - last) / 1000;
-    last = now;
-    if (playing) {
-      clock += dt * speed * n / data.turn_seconds;
-      if (clock >= 1) { var steps = Math.floor(clock); clock -= steps; show(frame + steps); }
-    }
-    window.requestAnimationFrame(tick);
-  }
-  function play(on) {
-    playing = on;
-    button.textContent = on ? "pause" : "play";
-    last = null;
-    window.camcadAnimation.playing = on;
-  }
-  slider.max = n - 1;
-  slider.addEventListener("input", function () { play(false); show(Number(slider.value)); });
-  button.addEventListener("click", function () { play(!playing); });
-  el("camcad-back").addEventListener("click", function () { play(false); show(frame - 1); });
-  el("camcad-forward").addEventListener("click", function () { play(false); show(frame + 1); });
-  el("camcad-speed").addEventListener("change", function (e) { speed = Number(e.target.value); });
-  document.addEventListener("keydown", function (e) {
-    if (e.key === " ") { play(!playing); e.preventDefault(); }
-    else if (e.key === "ArrowRight") { play(false); show(frame + 1); }
-    else if (e.key === "ArrowLeft") { play(false); show(frame - 1); }
-  });
-  if (Number(svg.dataset.frames) !== n) { throw new Error("frame count mismatch"); }
-  window.camcadAnimation = {frames: n, frame: 0, shown: 0, playing: true};
+""" + _PLAYER + r"""  window.camcadAnimation = {frames: n, frame: 0, shown: 0, playing: true};
   show(0);
   window.requestAnimationFrame(tick);
 })();

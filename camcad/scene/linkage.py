@@ -1,28 +1,8 @@
 """What the pipeline does with a scene's ``[linkage]`` (parsed by ``camcad.scene.sections.linkage``): the linkage
 between the follower and the working member, built for the follower, and its step in the pipeline.
 
-``[linkage]`` describes the chain after the follower (lengths in mm in the cam's frame: origin at the cam
-centre, the oscillating follower's pivot at (pivot, 0); angles in deg, counter-clockwise):
-
-- ``type = "fourbar"``: the input link of length ``input_link`` is clamped to the follower's arm
-  (``input_offset``, deg from the arm, or ``input_angle``, its absolute angle with the roller on the base
-  circle), a ``coupler`` joins it to the ``output_link`` pivoted at ``output_pivot`` = [x, y]; the output link
-  is the working member. ``branch`` = ±1 picks the assembly (``camcad.linkage.fourbar``).
-- ``type = "sixbar"``: a second four-bar in series whose input link ``input_link_2`` is rigid with the first
-  output link (``coupling_2`` deg from it), ``coupler_2``, ``output_link_2`` pivoted at ``output_pivot_2``,
-  ``branch_2``; its output link is the working member.
-- ``type = "table"``: Π as a table of (ψ, y) rows (``file`` = a .csv/.txt file, or ``table`` = [[ψ, y], …]),
-  ψ in ``input_unit``, y in ``output_unit``.
-- ``type = "ratio"``: Π = ``ratio`` · ψ (the constant ratio of camcad's [stops]).
-
-``output_unit`` is also the unit of the [law] when ``[law] law_of = "output"`` (the law then describes the
-working member, and the cam is designed for ψ = Π⁻¹(y)). ``mu_min`` is the transmission-angle limit (deg).
-``output_inertia`` (kg·m², or kg for a sliding member) and ``output_load`` (N·m or N, resisting its motion,
-within ``output_load_range_deg``) are the working member's, reduced to the follower and the contact through
-Π' (``camcad.linkage.transfer``).
-
-``[linkage.adjust]``: one adjustable element (``camcad.linkage.adjust``) and its ``settings``; the pipeline
-runs every setting and reports each and the governing one.
+The keys of ``[linkage]`` and ``[linkage.adjust]``, their units and frames, are in
+``camcad.scene.sections.linkage``'s docstring (and docs/SCENE.md).
 """
 
 from __future__ import annotations
